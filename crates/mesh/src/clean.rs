@@ -1,0 +1,2 @@
+//! Cleaning: welding exact duplicate positions, dropping degenerate/duplicate faces and
+//! unreferenced vertices.

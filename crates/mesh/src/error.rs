@@ -1,0 +1,1 @@
+//! Typed errors and warnings for mesh loading, saving and validation.

@@ -1,0 +1,1 @@
+//! Loading and saving meshes (OBJ, PLY, STL), chosen by file extension.

@@ -1,0 +1,1 @@
+//! Surface sampling: seeded area-weighted Monte Carlo samples and Metro-style stratified samples.

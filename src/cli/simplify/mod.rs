@@ -1,0 +1,60 @@
+//! `gng3d simplify`: reduce a mesh with QEM or GNG3D and write the result atomically.
+
+mod gng;
+mod qem;
+
+use clap::{Args, ValueEnum};
+use std::path::PathBuf;
+
+/// Simplification method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// Garland–Heckbert quadric error metrics (pair contraction).
+    Qem,
+    /// GNG3D: Growing Neural Gas training plus reconstruction.
+    Gng,
+}
+
+/// Arguments of `gng3d simplify`.
+#[derive(Debug, Args)]
+pub struct SimplifyArgs {
+    /// Input mesh (.obj, .ply, .stl).
+    pub input: PathBuf,
+    /// Output mesh (.obj, .ply, .stl); written to a temporary file, then renamed.
+    pub output: PathBuf,
+    /// Simplification method.
+    #[arg(long, value_enum, default_value_t = Method::Qem)]
+    pub method: Method,
+    /// Target vertex count.
+    #[arg(long, group = "target")]
+    pub vertices: Option<usize>,
+    /// Target face count (QEM only).
+    #[arg(long, group = "target")]
+    pub faces: Option<usize>,
+    /// Target as a fraction of the input (vertices for GNG, faces for QEM), in (0, 1].
+    #[arg(long, group = "target")]
+    pub ratio: Option<f64>,
+    /// QEM pair distance threshold t in model units (0: edges only).
+    #[arg(long, default_value_t = 0.0)]
+    pub threshold: f64,
+    /// GNG3D maximum training time in seconds.
+    #[arg(long)]
+    pub time_limit: Option<f64>,
+    /// GNG3D random seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Keep exact duplicate positions unwelded (welding is on by default).
+    #[arg(long)]
+    pub no_weld: bool,
+    /// Print a JSON summary on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Run `gng3d simplify`.
+pub fn run(args: SimplifyArgs) -> anyhow::Result<()> {
+    match args.method {
+        Method::Qem => qem::run(&args),
+        Method::Gng => gng::run(&args),
+    }
+}
