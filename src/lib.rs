@@ -10,3 +10,6 @@ pub use gng3d_core;
 pub use mesh;
 pub use metrics;
 pub use qem;
+
+pub mod report;
+pub mod experiment;

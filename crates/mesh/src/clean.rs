@@ -1,2 +1,238 @@
 //! Cleaning: welding exact duplicate positions, dropping degenerate/duplicate faces and
-//! unreferenced vertices.
+//! unreferenced vertices. [`prepare`] does all of it and is what algorithms get by default.
+
+use crate::TriMesh;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// Counts of faces removed by [`drop_degenerate_and_duplicate_faces`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DroppedFaces {
+    /// Faces with a repeated vertex index.
+    pub degenerate: usize,
+    /// Faces whose vertex set equals that of an earlier face (any rotation or orientation).
+    pub duplicate: usize,
+}
+
+/// What [`prepare`] changed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CleanReport {
+    /// Vertex records before cleaning.
+    pub input_vertices: usize,
+    /// Faces before cleaning.
+    pub input_faces: usize,
+    /// Vertices merged into another vertex at the identical position.
+    pub welded_vertices: usize,
+    /// Faces dropped because two corners were the same vertex (after welding).
+    pub degenerate_faces: usize,
+    /// Faces dropped because they repeated an earlier face's vertex set (after welding).
+    pub duplicate_faces: usize,
+    /// Vertices dropped because no face used them.
+    pub unreferenced_vertices: usize,
+    /// Vertices after cleaning.
+    pub vertices: usize,
+    /// Faces after cleaning.
+    pub faces: usize,
+}
+
+/// Bit pattern of a position with -0.0 folded into +0.0, so equal coordinates compare equal.
+#[inline]
+fn position_key(p: Vec3) -> [u32; 3] {
+    [(p.x + 0.0).to_bits(), (p.y + 0.0).to_bits(), (p.z + 0.0).to_bits()]
+}
+
+/// Merge vertices with exactly equal positions (first occurrence wins, order kept) and remap
+/// the faces. Returns the welded mesh and the number of vertices merged away. Faces may become
+/// degenerate; see [`drop_degenerate_and_duplicate_faces`]. O(V log V).
+pub fn weld_exact(mesh: &TriMesh) -> (TriMesh, usize) {
+    let n = mesh.positions.len();
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    let keys: Vec<[u32; 3]> = mesh.positions.iter().map(|&p| position_key(p)).collect();
+    order.sort_unstable_by_key(|&i| (keys[i as usize], i));
+    // representative[i] = smallest original index with the same position.
+    let mut representative: Vec<u32> = (0..n as u32).collect();
+    let mut group_start = 0;
+    for k in 1..=n {
+        if k == n || keys[order[k] as usize] != keys[order[group_start] as usize] {
+            let rep = order[group_start];
+            for &i in &order[group_start..k] {
+                representative[i as usize] = rep;
+            }
+            group_start = k;
+        }
+    }
+    let mut new_index = vec![u32::MAX; n];
+    let mut positions = Vec::with_capacity(n);
+    for i in 0..n {
+        if representative[i] == i as u32 {
+            new_index[i] = positions.len() as u32;
+            positions.push(mesh.positions[i]);
+        }
+    }
+    let merged = n - positions.len();
+    let triangles = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| new_index[representative[v as usize] as usize]))
+        .collect();
+    (TriMesh::new(positions, triangles), merged)
+}
+
+/// Drop vertices that no face references, keeping the order of the rest and remapping faces.
+pub fn remove_unreferenced(mesh: &TriMesh) -> TriMesh {
+    let mut new_index = vec![u32::MAX; mesh.positions.len()];
+    for t in &mesh.triangles {
+        for &v in t {
+            new_index[v as usize] = 0;
+        }
+    }
+    let mut positions = Vec::new();
+    for (i, slot) in new_index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = positions.len() as u32;
+            positions.push(mesh.positions[i]);
+        }
+    }
+    let triangles = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| new_index[v as usize]))
+        .collect();
+    TriMesh::new(positions, triangles)
+}
+
+/// Drop faces with a repeated vertex index and faces whose vertex set equals an earlier face's
+/// (in any rotation or orientation; the first one in file order is kept). Vertices are
+/// untouched. O(F log F).
+pub fn drop_degenerate_and_duplicate_faces(mesh: &TriMesh) -> (TriMesh, DroppedFaces) {
+    let mut dropped = DroppedFaces::default();
+    let mut keep = vec![true; mesh.triangles.len()];
+    let mut keyed: Vec<([u32; 3], u32)> = Vec::with_capacity(mesh.triangles.len());
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+            keep[f] = false;
+            dropped.degenerate += 1;
+        } else {
+            let mut k = *t;
+            k.sort_unstable();
+            keyed.push((k, f as u32));
+        }
+    }
+    keyed.sort_unstable();
+    for w in keyed.windows(2) {
+        if w[0].0 == w[1].0 {
+            keep[w[1].1 as usize] = false;
+            dropped.duplicate += 1;
+        }
+    }
+    if dropped.degenerate + dropped.duplicate == 0 {
+        return (mesh.clone(), dropped);
+    }
+    let triangles = mesh
+        .triangles
+        .iter()
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(t, _)| *t)
+        .collect();
+    (TriMesh::new(mesh.positions.clone(), triangles), dropped)
+}
+
+/// Weld exact duplicates, drop degenerate and duplicate faces, remove unreferenced vertices.
+pub fn prepare(mesh: &TriMesh) -> (TriMesh, CleanReport) {
+    let (welded, welded_vertices) = weld_exact(mesh);
+    let (faces_clean, dropped) = drop_degenerate_and_duplicate_faces(&welded);
+    let out = remove_unreferenced(&faces_clean);
+    let report = CleanReport {
+        input_vertices: mesh.positions.len(),
+        input_faces: mesh.triangles.len(),
+        welded_vertices,
+        degenerate_faces: dropped.degenerate,
+        duplicate_faces: dropped.duplicate,
+        unreferenced_vertices: faces_clean.positions.len() - out.positions.len(),
+        vertices: out.positions.len(),
+        faces: out.triangles.len(),
+    };
+    (out, report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural::icosphere;
+
+    /// An icosphere whose faces are given their own copies of the corner positions.
+    fn unwelded(mesh: &TriMesh) -> TriMesh {
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for f in 0..mesh.triangles.len() {
+            let base = positions.len() as u32;
+            positions.extend_from_slice(&mesh.triangle(f));
+            triangles.push([base, base + 1, base + 2]);
+        }
+        TriMesh::new(positions, triangles)
+    }
+
+    #[test]
+    fn weld_restores_shared_vertices() {
+        let sphere = icosphere(2);
+        let soup = unwelded(&sphere);
+        let (welded, merged) = weld_exact(&soup);
+        assert_eq!(welded.positions.len(), sphere.positions.len());
+        assert_eq!(merged, soup.positions.len() - sphere.positions.len());
+        // Same geometry, face by face.
+        for f in 0..sphere.triangles.len() {
+            assert_eq!(welded.triangle(f), sphere.triangle(f));
+        }
+    }
+
+    #[test]
+    fn weld_treats_negative_zero_as_zero() {
+        let m = TriMesh::new(
+            vec![Vec3::new(0.0, 1.0, 2.0), Vec3::new(-0.0, 1.0, 2.0), Vec3::X],
+            vec![[0, 1, 2]],
+        );
+        let (w, merged) = weld_exact(&m);
+        assert_eq!(merged, 1);
+        assert_eq!(w.triangles, vec![[0, 0, 1]]);
+    }
+
+    #[test]
+    fn drops_degenerate_and_rotated_or_flipped_duplicates() {
+        let m = TriMesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            vec![[0, 1, 2], [1, 2, 0], [2, 1, 0], [0, 0, 3], [0, 1, 3]],
+        );
+        let (out, d) = drop_degenerate_and_duplicate_faces(&m);
+        assert_eq!(d, DroppedFaces { degenerate: 1, duplicate: 2 });
+        assert_eq!(out.triangles, vec![[0, 1, 2], [0, 1, 3]]);
+    }
+
+    #[test]
+    fn remove_unreferenced_keeps_order() {
+        let m = TriMesh::new(
+            vec![Vec3::splat(9.0), Vec3::ZERO, Vec3::X, Vec3::splat(7.0), Vec3::Y],
+            vec![[1, 2, 4]],
+        );
+        let out = remove_unreferenced(&m);
+        assert_eq!(out.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
+        assert_eq!(out.triangles, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn prepare_reports_every_step() {
+        let mut soup = unwelded(&icosphere(1));
+        soup.positions.push(Vec3::splat(5.0));
+        let dup = soup.triangles[0];
+        soup.triangles.push([dup[2], dup[0], dup[1]]);
+        let (out, r) = prepare(&soup);
+        assert_eq!(r.input_faces, 81);
+        assert_eq!(r.duplicate_faces, 1);
+        assert_eq!(r.degenerate_faces, 0);
+        assert_eq!(r.unreferenced_vertices, 1);
+        assert_eq!(r.vertices, 42);
+        assert_eq!(r.faces, 80);
+        assert_eq!(r.welded_vertices, 240 - 42);
+        assert_eq!(out.positions.len(), 42);
+    }
+}

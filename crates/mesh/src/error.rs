@@ -1,1 +1,136 @@
 //! Typed errors and warnings for mesh loading, saving and validation.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Everything that can go wrong reading, validating or writing a mesh file; every variant names
+/// the file.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The file is missing or could not be read.
+    #[error("{}: cannot read file: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        source: std::io::Error,
+    },
+    /// The extension is not one of obj, ply, stl (case-insensitive).
+    #[error("{}: unknown mesh format (expected .obj, .ply or .stl)", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file content is malformed.
+    #[error("{}: parse error at {location}: {message}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// Where: "line N", "vertex N", "face N", "header", "byte N", ...
+        location: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("{}: vertex {vertex} has a non-finite coordinate", path.display())]
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// Zero-based vertex index.
+        vertex: usize,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("{}: face {face} refers to vertex {index}, but there are only {vertex_count} vertices", path.display())]
+    IndexOutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// Zero-based face index (face record in the file).
+        face: usize,
+        /// The offending (zero-based) vertex index.
+        index: i64,
+        /// Number of vertices in the file.
+        vertex_count: usize,
+    },
+    /// The file has no vertices.
+    #[error("{}: the mesh has no vertices", path.display())]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file has vertices but no faces (a point cloud).
+    #[error("{}: the mesh has {vertex_count} vertices but no faces (point cloud)", path.display())]
+    NoFaces {
+        /// The file.
+        path: PathBuf,
+        /// Number of vertices.
+        vertex_count: usize,
+    },
+    /// Writing the output failed.
+    #[error("{}: cannot write mesh: {message}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+impl MeshError {
+    /// A [`MeshError::Parse`] for `path` at `location`.
+    pub fn parse(
+        path: impl Into<PathBuf>,
+        location: impl Into<String>,
+        message: impl Into<String>,
+    ) -> MeshError {
+        MeshError::Parse {
+            path: path.into(),
+            location: location.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// Non-fatal problems found while loading; the offending elements were dropped.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum MeshWarning {
+    /// Faces with a repeated vertex index, dropped.
+    DegenerateFaces {
+        /// How many were dropped.
+        count: usize,
+    },
+    /// Faces with the same vertex set as an earlier face (any rotation or orientation), dropped.
+    DuplicateFaces {
+        /// How many were dropped.
+        count: usize,
+    },
+    /// Polygons with more than three corners, fan-triangulated.
+    PolygonsTriangulated {
+        /// How many polygons were split.
+        count: usize,
+    },
+    /// Faces with fewer than three corners (points/lines), ignored.
+    ShortFaces {
+        /// How many were ignored.
+        count: usize,
+    },
+}
+
+impl fmt::Display for MeshWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MeshWarning::DegenerateFaces { count } => {
+                write!(f, "dropped {count} degenerate face(s) with a repeated vertex")
+            }
+            MeshWarning::DuplicateFaces { count } => {
+                write!(f, "dropped {count} duplicate face(s)")
+            }
+            MeshWarning::PolygonsTriangulated { count } => {
+                write!(f, "fan-triangulated {count} polygon(s) with more than 3 corners")
+            }
+            MeshWarning::ShortFaces { count } => {
+                write!(f, "ignored {count} face(s) with fewer than 3 corners")
+            }
+        }
+    }
+}

@@ -95,6 +95,139 @@ pub fn torus(major: f32, minor: f32, rings: u32, sides: u32) -> TriMesh {
     TriMesh::new(positions, triangles)
 }
 
+/// Field value of [`blob`]'s implicit surface at `p`: a sum of inverse-square metaballs plus a
+/// small smooth sinusoidal ripple; the surface is the level set `field = 1`, inside is `> 1`.
+fn blob_field(p: Vec3) -> f32 {
+    // (centre, radius): an overlapping tree of balls, so the union is genus 0.
+    const BALLS: [([f32; 3], f32); 6] = [
+        ([0.0, 0.0, 0.0], 0.55),
+        ([0.45, 0.15, 0.05], 0.42),
+        ([-0.42, 0.2, -0.1], 0.38),
+        ([0.05, -0.45, 0.15], 0.40),
+        ([0.1, 0.35, 0.42], 0.33),
+        ([-0.15, -0.1, -0.5], 0.35),
+    ];
+    let mut f = 0.0;
+    for (c, r) in BALLS {
+        let d2 = p.distance_squared(Vec3::from_array(c)).max(1e-6);
+        f += r * r / d2;
+    }
+    let ripple = (5.0 * p.x + 0.3).sin() * (4.0 * p.y + 1.1).sin() * (6.0 * p.z + 2.0).sin();
+    f + 0.12 * ripple
+}
+
+/// An organic, closed, genus-0 "blob" of about 7,500 vertices: the `field = 1` level set of a
+/// few overlapping metaballs with a smooth ripple, extracted by marching tetrahedra (Freudenthal
+/// split of a 28³ grid over [-1.25, 1.25]³), vertices shared through grid edges. Deterministic.
+pub fn blob() -> TriMesh {
+    const N: usize = 28;
+    const LO: f32 = -1.25;
+    const HI: f32 = 1.25;
+    let h = (HI - LO) / N as f32;
+    let np = N + 1;
+    let grid_point = |i: usize, j: usize, k: usize| {
+        Vec3::new(LO + i as f32 * h, LO + j as f32 * h, LO + k as f32 * h)
+    };
+    let id = |i: usize, j: usize, k: usize| ((i * np + j) * np + k) as u32;
+    let mut values = vec![0f32; np * np * np];
+    for i in 0..np {
+        for j in 0..np {
+            for k in 0..np {
+                values[id(i, j, k) as usize] = blob_field(grid_point(i, j, k));
+            }
+        }
+    }
+    let point_of = |g: u32| {
+        let g = g as usize;
+        grid_point(g / (np * np), (g / np) % np, g % np)
+    };
+    let inside = |g: u32| values[g as usize] > 1.0;
+    let mut positions: Vec<Vec3> = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut edge_vertex: HashMap<(u32, u32), u32> = HashMap::new();
+    // Surface vertex on the grid edge between an inside point `a` and an outside point `b`.
+    let mut crossing = |a: u32, b: u32, positions: &mut Vec<Vec3>| -> u32 {
+        let key = (a.min(b), a.max(b));
+        *edge_vertex.entry(key).or_insert_with(|| {
+            let (fa, fb) = (values[a as usize], values[b as usize]);
+            let t = ((fa - 1.0) / (fa - fb)).clamp(0.01, 0.99);
+            positions.push(point_of(a).lerp(point_of(b), t));
+            (positions.len() - 1) as u32
+        })
+    };
+    // The six tetrahedra of the Freudenthal split: walks from corner 000 to 111 along axes.
+    const AXES: [[usize; 3]; 6] = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    let emit = |tri: [u32; 3], outward: Vec3, positions: &[Vec3], out: &mut Vec<[u32; 3]>| {
+        let [a, b, c] = tri.map(|v| positions[v as usize]);
+        if (b - a).cross(c - a).dot(outward) < 0.0 {
+            out.push([tri[0], tri[2], tri[1]]);
+        } else {
+            out.push(tri);
+        }
+    };
+    for i in 0..N {
+        for j in 0..N {
+            for k in 0..N {
+                for axes in AXES {
+                    let mut c = [i, j, k];
+                    let mut tet = [id(i, j, k); 4];
+                    for (s, &axis) in axes.iter().enumerate() {
+                        c[axis] += 1;
+                        tet[s + 1] = id(c[0], c[1], c[2]);
+                    }
+                    let (ins, outs): (Vec<u32>, Vec<u32>) = tet.iter().partition(|&&g| inside(g));
+                    if ins.is_empty() || outs.is_empty() {
+                        continue;
+                    }
+                    let centroid =
+                        |s: &[u32]| s.iter().map(|&g| point_of(g)).sum::<Vec3>() / s.len() as f32;
+                    let outward = centroid(&outs) - centroid(&ins);
+                    match (ins.len(), outs.len()) {
+                        (1, 3) => {
+                            let a = ins[0];
+                            let tri = outs.clone().map_to3(|o| crossing(a, o, &mut positions));
+                            emit(tri, outward, &positions, &mut triangles);
+                        }
+                        (3, 1) => {
+                            let b = outs[0];
+                            let tri = ins.clone().map_to3(|g| crossing(g, b, &mut positions));
+                            emit(tri, outward, &positions, &mut triangles);
+                        }
+                        _ => {
+                            let (a, b, c2, d) = (ins[0], ins[1], outs[0], outs[1]);
+                            let ac = crossing(a, c2, &mut positions);
+                            let ad = crossing(a, d, &mut positions);
+                            let bd = crossing(b, d, &mut positions);
+                            let bc = crossing(b, c2, &mut positions);
+                            emit([ac, ad, bd], outward, &positions, &mut triangles);
+                            emit([ac, bd, bc], outward, &positions, &mut triangles);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    TriMesh::new(positions, triangles)
+}
+
+/// Map a three-element Vec into an array.
+trait MapTo3 {
+    fn map_to3(self, f: impl FnMut(u32) -> u32) -> [u32; 3];
+}
+
+impl MapTo3 for Vec<u32> {
+    fn map_to3(self, mut f: impl FnMut(u32) -> u32) -> [u32; 3] {
+        [f(self[0]), f(self[1]), f(self[2])]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -117,5 +250,19 @@ mod tests {
         let exact = 4.0 * std::f64::consts::PI.powi(2) * 1.0 * 0.25;
         assert!((m.area() - exact).abs() / exact < 0.01);
         assert!(m.signed_volume() > 0.0);
+    }
+
+    #[test]
+    fn blob_is_a_closed_genus_zero_manifold() {
+        let m = blob();
+        let r = crate::topology::analyze(&m);
+        assert!(r.closed && r.manifold, "{r:?}");
+        assert_eq!(r.components, 1);
+        assert_eq!(r.genus, Some(0));
+        assert!((3000..15000).contains(&m.vertex_count()), "{}", m.vertex_count());
+        assert!(m.signed_volume() > 0.0);
+        let (_, dropped) = crate::clean::drop_degenerate_and_duplicate_faces(&m);
+        assert_eq!(dropped, crate::clean::DroppedFaces::default());
+        assert_eq!(blob(), m);
     }
 }

@@ -1,2 +1,347 @@
 //! Topology report: edges, boundary loops, non-manifold elements, components, Euler
-//! characteristic and genus.
+//! characteristic and genus, plus the reusable [`EdgeTable`] adjacency and a [`UnionFind`].
+//!
+//! Definitions follow `shared/meshes/README.md`: edges are unique undirected triangle edges; a
+//! boundary edge has one incident face, a non-manifold edge three or more; boundary loops are
+//! the connected components of the boundary-edge graph; a non-manifold vertex has incident faces
+//! forming more than one edge-connected fan; χ = V_referenced − E + F; genus is
+//! `(2C − χ' − b) / 2` with χ' computed after splitting every vertex into its fans and C the
+//! number of components of that split surface (faces connected through shared edges).
+//! Everything is sort-based, O(F log F).
+
+use crate::TriMesh;
+use serde::{Deserialize, Serialize};
+
+/// Disjoint-set forest with path halving and union by size.
+#[derive(Debug, Clone)]
+pub struct UnionFind {
+    parent: Vec<u32>,
+    size: Vec<u32>,
+}
+
+impl UnionFind {
+    /// `n` singleton sets.
+    pub fn new(n: usize) -> UnionFind {
+        UnionFind {
+            parent: (0..n as u32).collect(),
+            size: vec![1; n],
+        }
+    }
+
+    /// Representative of `x`'s set.
+    #[inline]
+    pub fn find(&mut self, mut x: u32) -> u32 {
+        while self.parent[x as usize] != x {
+            let grand = self.parent[self.parent[x as usize] as usize];
+            self.parent[x as usize] = grand;
+            x = grand;
+        }
+        x
+    }
+
+    /// Merge the sets of `a` and `b`; true when they were different.
+    #[inline]
+    pub fn union(&mut self, a: u32, b: u32) -> bool {
+        let (mut ra, mut rb) = (self.find(a), self.find(b));
+        if ra == rb {
+            return false;
+        }
+        if self.size[ra as usize] < self.size[rb as usize] {
+            std::mem::swap(&mut ra, &mut rb);
+        }
+        self.parent[rb as usize] = ra;
+        self.size[ra as usize] += self.size[rb as usize];
+        true
+    }
+}
+
+/// Unique undirected edges of a triangle mesh with their incident faces.
+///
+/// Edge `e` joins `edges[e] = [a, b]` with `a < b`; edges are sorted. The faces around edge `e`
+/// are `corners(e)` / 3, and `face_edges[f][i]` is the edge from corner `i` to corner `(i+1)%3`
+/// of face `f`.
+#[derive(Debug, Clone)]
+pub struct EdgeTable {
+    /// Endpoints of each unique edge, smaller index first, sorted.
+    pub edges: Vec<[u32; 2]>,
+    /// `offsets[e]..offsets[e+1]` indexes `edge_corners` for edge `e` (length edges + 1).
+    pub offsets: Vec<u32>,
+    /// Half-edge ids `3 * face + i` grouped by edge; face = id / 3.
+    pub edge_corners: Vec<u32>,
+    /// For each face, the edge index of its three sides (side i: corner i → corner i+1).
+    pub face_edges: Vec<[u32; 3]>,
+}
+
+impl EdgeTable {
+    /// Build the table by sorting the 3F half-edges. O(F log F).
+    pub fn new(mesh: &TriMesh) -> EdgeTable {
+        let f = mesh.triangles.len();
+        let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * f);
+        for (fi, t) in mesh.triangles.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
+                half.push((key, (3 * fi + i) as u32));
+            }
+        }
+        half.sort_unstable();
+        let mut edges = Vec::with_capacity(3 * f / 2 + 1);
+        let mut offsets = Vec::with_capacity(3 * f / 2 + 2);
+        let mut edge_corners = Vec::with_capacity(3 * f);
+        let mut face_edges = vec![[0u32; 3]; f];
+        let mut last = u64::MAX;
+        for &(key, corner) in &half {
+            if key != last {
+                offsets.push(edge_corners.len() as u32);
+                edges.push([(key >> 32) as u32, key as u32]);
+                last = key;
+            }
+            let e = (edges.len() - 1) as u32;
+            face_edges[corner as usize / 3][corner as usize % 3] = e;
+            edge_corners.push(corner);
+        }
+        offsets.push(edge_corners.len() as u32);
+        EdgeTable {
+            edges,
+            offsets,
+            edge_corners,
+            face_edges,
+        }
+    }
+
+    /// Number of unique edges.
+    pub fn len(&self) -> usize {
+        self.edges.len()
+    }
+
+    /// True when the mesh has no edges.
+    pub fn is_empty(&self) -> bool {
+        self.edges.is_empty()
+    }
+
+    /// Number of faces incident to edge `e`.
+    #[inline]
+    pub fn face_count(&self, e: usize) -> usize {
+        (self.offsets[e + 1] - self.offsets[e]) as usize
+    }
+
+    /// Half-edge ids (`3 * face + side`) of edge `e`.
+    #[inline]
+    pub fn corners(&self, e: usize) -> &[u32] {
+        &self.edge_corners[self.offsets[e] as usize..self.offsets[e + 1] as usize]
+    }
+
+    /// Faces incident to edge `e`.
+    pub fn faces(&self, e: usize) -> impl Iterator<Item = u32> + '_ {
+        self.corners(e).iter().map(|c| c / 3)
+    }
+
+    /// True when edge `e` has exactly one incident face.
+    #[inline]
+    pub fn is_boundary(&self, e: usize) -> bool {
+        self.face_count(e) == 1
+    }
+}
+
+/// Topological summary of a triangle mesh (see the module docs for the definitions).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TopologyReport {
+    /// Vertex records, including unreferenced ones.
+    pub vertices: usize,
+    /// Vertices used by at least one face.
+    pub referenced_vertices: usize,
+    /// Triangles.
+    pub faces: usize,
+    /// Unique undirected edges.
+    pub edges: usize,
+    /// Edges with exactly one incident face.
+    pub boundary_edges: usize,
+    /// Connected components of the boundary-edge graph.
+    pub boundary_loops: usize,
+    /// Edges with three or more incident faces.
+    pub non_manifold_edges: usize,
+    /// Vertices whose incident faces form more than one edge-connected fan.
+    pub non_manifold_vertices: usize,
+    /// Connected components of faces joined through shared edges.
+    pub components: usize,
+    /// χ = referenced vertices − edges + faces.
+    pub euler_characteristic: i64,
+    /// χ after splitting every non-manifold vertex into its fans.
+    pub euler_characteristic_split: i64,
+    /// `(2C − χ' − b) / 2`; None with non-manifold edges or when the formula is not an integer.
+    pub genus: Option<i64>,
+    /// No boundary edges.
+    pub closed: bool,
+    /// No non-manifold edges or vertices.
+    pub manifold: bool,
+}
+
+/// Compute the [`TopologyReport`] of `mesh`. Faces must index valid vertices.
+pub fn analyze(mesh: &TriMesh) -> TopologyReport {
+    analyze_with(mesh, &EdgeTable::new(mesh))
+}
+
+/// [`analyze`] with a prebuilt [`EdgeTable`] of the same mesh.
+pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
+    let v = mesh.positions.len();
+    let f = mesh.triangles.len();
+    let mut referenced = vec![false; v];
+    for t in &mesh.triangles {
+        for &i in t {
+            referenced[i as usize] = true;
+        }
+    }
+    let referenced_vertices = referenced.iter().filter(|&&r| r).count();
+
+    let mut boundary_edges = 0;
+    let mut non_manifold_edges = 0;
+    let mut boundary_graph = UnionFind::new(v);
+    let mut on_boundary = vec![false; v];
+    let mut faces_uf = UnionFind::new(f);
+    // Corners 3*face+i; corners of the same vertex joined across shared edges form fans.
+    let mut fans_uf = UnionFind::new(3 * f);
+    let corner_of = |face: u32, vertex: u32| -> u32 {
+        let t = mesh.triangles[face as usize];
+        let i = t.iter().position(|&x| x == vertex).unwrap_or(0);
+        3 * face + i as u32
+    };
+    for e in 0..table.len() {
+        let corners = table.corners(e);
+        match corners.len() {
+            1 => {
+                boundary_edges += 1;
+                let [a, b] = table.edges[e];
+                boundary_graph.union(a, b);
+                on_boundary[a as usize] = true;
+                on_boundary[b as usize] = true;
+            }
+            2 => {}
+            _ => non_manifold_edges += 1,
+        }
+        let [a, b] = table.edges[e];
+        let first = corners[0] / 3;
+        for &c in &corners[1..] {
+            let face = c / 3;
+            faces_uf.union(first, face);
+            fans_uf.union(corner_of(first, a), corner_of(face, a));
+            fans_uf.union(corner_of(first, b), corner_of(face, b));
+        }
+    }
+    let boundary_loops = (0..v as u32)
+        .filter(|&i| on_boundary[i as usize] && boundary_graph.find(i) == i)
+        .count();
+    let components = (0..f as u32).filter(|&i| faces_uf.find(i) == i).count();
+    let mut fans_at = vec![0u32; v];
+    let mut fans_total = 0i64;
+    for c in 0..3 * f as u32 {
+        if fans_uf.find(c) == c {
+            fans_total += 1;
+            fans_at[mesh.triangles[c as usize / 3][c as usize % 3] as usize] += 1;
+        }
+    }
+    let non_manifold_vertices = fans_at.iter().filter(|&&n| n > 1).count();
+    let edges = table.len() as i64;
+    let euler = referenced_vertices as i64 - edges + f as i64;
+    let euler_split = fans_total - edges + f as i64;
+    let twice_genus = 2 * components as i64 - euler_split - boundary_loops as i64;
+    let genus = (non_manifold_edges == 0 && twice_genus % 2 == 0).then_some(twice_genus / 2);
+    TopologyReport {
+        vertices: v,
+        referenced_vertices,
+        faces: f,
+        edges: table.len(),
+        boundary_edges,
+        boundary_loops,
+        non_manifold_edges,
+        non_manifold_vertices,
+        components,
+        euler_characteristic: euler,
+        euler_characteristic_split: euler_split,
+        genus,
+        closed: boundary_edges == 0,
+        manifold: non_manifold_edges == 0 && non_manifold_vertices == 0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural::{icosphere, torus};
+    use glam::Vec3;
+
+    #[test]
+    fn icosphere_is_closed_genus_zero() {
+        let m = icosphere(2);
+        let r = analyze(&m);
+        assert_eq!(r.edges, 3 * m.face_count() / 2);
+        assert_eq!(r.euler_characteristic, 2);
+        assert_eq!(r.genus, Some(0));
+        assert_eq!(r.components, 1);
+        assert!(r.closed && r.manifold);
+    }
+
+    #[test]
+    fn torus_has_genus_one() {
+        let r = analyze(&torus(1.0, 0.3, 24, 12));
+        assert_eq!(r.euler_characteristic, 0);
+        assert_eq!(r.genus, Some(1));
+    }
+
+    #[test]
+    fn two_triangles_form_an_open_disc() {
+        let m = TriMesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::ONE, Vec3::Y, Vec3::splat(3.0)],
+            vec![[0, 1, 2], [0, 2, 3]],
+        );
+        let r = analyze(&m);
+        assert_eq!((r.vertices, r.referenced_vertices), (5, 4));
+        assert_eq!((r.edges, r.boundary_edges, r.boundary_loops), (5, 4, 1));
+        assert_eq!(r.genus, Some(0));
+        assert!(!r.closed);
+    }
+
+    #[test]
+    fn two_spheres_touching_at_a_vertex() {
+        // Second sphere shares vertex 0 of the first: one pinch vertex, two fans there.
+        let a = icosphere(1);
+        let mut positions = a.positions.clone();
+        let n = positions.len() as u32;
+        positions.extend(a.positions.iter().map(|p| *p + Vec3::new(0.0, 0.0, 0.0)));
+        let mut triangles = a.triangles.clone();
+        triangles.extend(
+            a.triangles
+                .iter()
+                .map(|t| t.map(|i| if i == 0 { 0 } else { i + n })),
+        );
+        let r = analyze(&TriMesh::new(positions, triangles));
+        assert_eq!(r.non_manifold_vertices, 1);
+        assert_eq!(r.non_manifold_edges, 0);
+        assert_eq!(r.components, 2);
+        assert_eq!(r.euler_characteristic, 3);
+        assert_eq!(r.euler_characteristic_split, 4);
+        assert_eq!(r.genus, Some(0));
+        assert!(!r.manifold);
+    }
+
+    #[test]
+    fn three_faces_on_an_edge_are_non_manifold() {
+        let m = TriMesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, Vec3::NEG_Y],
+            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        );
+        let r = analyze(&m);
+        assert_eq!(r.non_manifold_edges, 1);
+        assert_eq!(r.genus, None);
+        let t = EdgeTable::new(&m);
+        let e = t.edges.iter().position(|e| *e == [0, 1]).unwrap();
+        assert_eq!(t.face_count(e), 3);
+        assert_eq!(t.faces(e).collect::<Vec<_>>(), vec![0, 1, 2]);
+        for (f, fe) in t.face_edges.iter().enumerate() {
+            for i in 0..3 {
+                let tri = m.triangles[f];
+                let (a, b) = (tri[i].min(tri[(i + 1) % 3]), tri[i].max(tri[(i + 1) % 3]));
+                assert_eq!(t.edges[fe[i] as usize], [a, b]);
+            }
+        }
+    }
+}

@@ -1,6 +1,7 @@
 //! The GNG3D paper's error measures: vertex-to-nearest-vertex E_avg/E_max and area difference E_sur.
 
 use glam::Vec3;
+use mesh::TriMesh;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -73,9 +74,69 @@ pub fn vertex_errors(original: &[Vec3], simplified: &[Vec3]) -> Option<VertexErr
     })
 }
 
+/// The paper's area error: `e_sur = S_K − S_A` (original minus simplified surface area).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SurfaceError {
+    /// Signed area difference `S_K − S_A`, squared model units (positive: the simplified mesh
+    /// lost area).
+    pub e_sur: f64,
+    /// `|S_K − S_A|`, squared model units.
+    pub e_sur_abs: f64,
+    /// `|S_K − S_A| / S_K` (0 when the original has no area).
+    pub e_sur_relative: f64,
+    /// Original surface area `S_K`.
+    pub original_area: f64,
+    /// Simplified surface area `S_A`.
+    pub simplified_area: f64,
+}
+
+/// Surface area in f64, skipping faces with out-of-range indices.
+fn checked_area(mesh: &TriMesh) -> f64 {
+    let p = &mesh.positions;
+    mesh.triangles
+        .iter()
+        .filter_map(|t| {
+            let a = p.get(t[0] as usize)?.as_dvec3();
+            let b = p.get(t[1] as usize)?.as_dvec3();
+            let c = p.get(t[2] as usize)?.as_dvec3();
+            Some(0.5 * (b - a).cross(c - a).length())
+        })
+        .sum()
+}
+
+/// E_sur of `simplified` against `original` (areas accumulated in f64).
+pub fn surface_error(original: &TriMesh, simplified: &TriMesh) -> SurfaceError {
+    let s_k = checked_area(original);
+    let s_a = checked_area(simplified);
+    let e_sur = s_k - s_a;
+    SurfaceError {
+        e_sur,
+        e_sur_abs: e_sur.abs(),
+        e_sur_relative: if s_k > 0.0 { e_sur.abs() / s_k } else { 0.0 },
+        original_area: s_k,
+        simplified_area: s_a,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn surface_error_of_scaled_sphere() {
+        let m = mesh::procedural::icosphere(2);
+        let scaled = TriMesh::new(
+            m.positions.iter().map(|p| *p * 0.5).collect(),
+            m.triangles.clone(),
+        );
+        let e = surface_error(&m, &scaled);
+        // Scaling by 1/2 quarters the area.
+        assert!((e.e_sur - 0.75 * m.area()).abs() < 1e-9 * m.area());
+        assert!((e.e_sur_relative - 0.75).abs() < 1e-9);
+        let back = surface_error(&scaled, &m);
+        assert!((back.e_sur + 3.0 * scaled.area()).abs() < 1e-9 * m.area());
+        assert_eq!(back.e_sur_abs, -back.e_sur);
+    }
 
     fn brute(original: &[Vec3], simplified: &[Vec3]) -> VertexErrors {
         let d: Vec<f64> = original

@@ -1,1 +1,142 @@
-//! placeholder
+//! Garland–Heckbert quadric error metric (QEM) simplification of triangle meshes.
+//!
+//! [`simplify`] contracts vertex pairs (mesh edges, plus non-edge pairs closer than
+//! [`QemParams::pair_threshold`]) in order of increasing area-weighted quadric error, placing each
+//! merged vertex at the quadric minimiser (with segment / endpoint fallbacks). Boundary edges get
+//! weighted perpendicular constraint planes, and with [`QemParams::preserve_topology`] collapses
+//! that break the link condition or flip a face are rejected. All arithmetic is in f64.
+
+mod pairs;
+pub mod quadric;
+mod simplifier;
+
+pub use quadric::Quadric;
+
+use mesh::TriMesh;
+use serde::{Deserialize, Serialize};
+
+/// What to simplify down to.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Target {
+    /// Stop at this many referenced vertices.
+    Vertices(usize),
+    /// Stop at this many faces (the result may have one face fewer: an interior collapse removes two).
+    Faces(usize),
+    /// Stop at this fraction of the input face count, in (0, 1].
+    Ratio(f64),
+}
+
+/// Parameters of [`simplify`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct QemParams {
+    /// Size to reach.
+    pub target: Target,
+    /// Stop before the first contraction whose quadric error exceeds this (model units⁴: area ×
+    /// squared distance, the same units as [`QemReport::max_error`]).
+    pub max_error: Option<f64>,
+    /// Pair distance threshold `t` in model units: 0 contracts edges only, `t > 0` also contracts
+    /// non-edge vertex pairs closer than `t` (aggregation of nearby parts).
+    pub pair_threshold: f64,
+    /// At most this many non-edge pairs (the closest ones) per vertex when `pair_threshold > 0`.
+    pub max_pairs_per_vertex: usize,
+    /// Add perpendicular constraint planes along boundary edges.
+    pub preserve_boundary: bool,
+    /// Weight of the boundary constraint planes (multiplied by the squared edge length).
+    pub boundary_weight: f64,
+    /// Reject contractions that break the link condition (manifoldness, genus) or flip faces.
+    pub preserve_topology: bool,
+    /// With `preserve_topology`: a contraction is rejected if some face normal would turn so that
+    /// cos(angle between old and new normal) falls to or below this value.
+    pub min_normal_cos: f64,
+}
+
+impl Default for QemParams {
+    fn default() -> Self {
+        QemParams {
+            target: Target::Ratio(0.5),
+            max_error: None,
+            pair_threshold: 0.0,
+            max_pairs_per_vertex: 8,
+            preserve_boundary: true,
+            boundary_weight: 1000.0,
+            preserve_topology: true,
+            min_normal_cos: 0.2,
+        }
+    }
+}
+
+impl QemParams {
+    /// Default parameters with the given target.
+    pub fn with_target(target: Target) -> Self {
+        QemParams { target, ..Default::default() }
+    }
+}
+
+/// Why the contraction loop ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// The requested vertex or face count was reached.
+    TargetReached,
+    /// The next contraction would have exceeded `max_error`.
+    MaxError,
+    /// No valid contraction was left (topology / flip checks blocked the rest): best effort.
+    NoValidPairs,
+}
+
+/// Outcome of [`simplify`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct QemReport {
+    /// Referenced vertices of the input.
+    pub input_vertices: usize,
+    /// Faces of the input that were used (faces repeating a vertex index are dropped).
+    pub input_faces: usize,
+    /// Contractions performed.
+    pub collapses: usize,
+    /// Vertices of the output.
+    pub vertices: usize,
+    /// Faces of the output.
+    pub faces: usize,
+    /// Largest quadric error of a performed contraction (model units⁴).
+    pub max_error: f64,
+    /// Wall-clock seconds spent in [`simplify`].
+    pub seconds: f64,
+    /// Whether the target was reached.
+    pub target_reached: bool,
+    /// Why the loop ended.
+    pub stop_reason: StopReason,
+    /// Contractions rejected by the topology / normal checks.
+    pub rejected: usize,
+    /// Non-edge pairs found within `pair_threshold`.
+    pub virtual_pairs: usize,
+}
+
+/// Errors of [`simplify`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QemError {
+    /// The mesh has no usable face.
+    #[error("the mesh has no (non-degenerate) faces")]
+    EmptyMesh,
+    /// A face references a vertex that does not exist.
+    #[error("face {face} references vertex {index}, but the mesh has {vertices} vertices")]
+    InvalidIndex {
+        /// Face index.
+        face: usize,
+        /// Offending vertex index.
+        index: u32,
+        /// Number of vertices.
+        vertices: usize,
+    },
+    /// A referenced vertex has a NaN or infinite coordinate.
+    #[error("vertex {0} has a non-finite coordinate")]
+    NonFiniteVertex(usize),
+    /// A parameter is out of range.
+    #[error("invalid parameter: {0}")]
+    InvalidParameter(String),
+}
+
+/// Simplify `mesh` by quadric-error pair contraction; returns the simplified mesh (no unreferenced
+/// vertices, no degenerate or duplicate faces) and a report.
+pub fn simplify(mesh: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), QemError> {
+    simplifier::run(mesh, params)
+}

@@ -1,1 +1,214 @@
-//! Loading and saving meshes (OBJ, PLY, STL), chosen by file extension.
+//! Loading and saving meshes (OBJ, PLY, STL), chosen by file extension (case-insensitive).
+//!
+//! [`load`] returns the mesh as stored in the file: every vertex record is kept (also
+//! unreferenced ones) in file order, polygons are fan-triangulated, and only faces with a
+//! repeated vertex index or a vertex set equal to an earlier face are dropped (reported as
+//! [`MeshWarning`]s). Malformed input gives a [`MeshError`] naming the file and the line or
+//! element. [`save`] writes to a temporary file in the target directory and renames it, so a
+//! failed write never leaves a partial output.
+
+mod obj;
+mod ply;
+mod stl;
+
+use crate::TriMesh;
+use crate::clean::drop_degenerate_and_duplicate_faces;
+use crate::error::{MeshError, MeshWarning};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+/// A mesh file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ (ASCII).
+    Obj,
+    /// Stanford PLY (ASCII or binary; written as binary little-endian).
+    Ply,
+    /// STL (ASCII or binary; written as binary).
+    Stl,
+}
+
+impl Format {
+    /// The format named by `path`'s extension (case-insensitive), if known.
+    pub fn from_path(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "obj" => Some(Format::Obj),
+            "ply" => Some(Format::Ply),
+            "stl" => Some(Format::Stl),
+            _ => None,
+        }
+    }
+}
+
+/// A mesh as loaded from a file, with the non-fatal problems found and optional per-vertex
+/// normals stored in the file (PLY `nx ny nz`).
+#[derive(Debug, Clone)]
+pub struct LoadedMesh {
+    /// Positions (all vertex records, in file order) and triangles.
+    pub mesh: TriMesh,
+    /// Problems that were repaired by dropping faces.
+    pub warnings: Vec<MeshWarning>,
+    /// Per-vertex normals from the file, when it has them (same length as positions).
+    pub vertex_normals: Option<Vec<Vec3>>,
+}
+
+/// What a format parser hands back before validation.
+#[derive(Debug, Default)]
+pub(crate) struct RawMesh {
+    /// Vertex positions in file order.
+    pub positions: Vec<Vec3>,
+    /// Triangles (polygons already fan-triangulated; indices already range-checked).
+    pub triangles: Vec<[u32; 3]>,
+    /// Per-vertex normals, when the file stores them.
+    pub normals: Option<Vec<Vec3>>,
+    /// Number of polygons with more than three corners that were split.
+    pub polygons: usize,
+    /// Number of face records with fewer than three corners that were ignored.
+    pub short_faces: usize,
+}
+
+impl RawMesh {
+    /// Fan-triangulate `poly` (already zero-based, range-checked indices) into `self.triangles`.
+    pub(crate) fn push_polygon(&mut self, poly: &[u32]) {
+        match poly.len() {
+            0..=2 => self.short_faces += 1,
+            3 => self.triangles.push([poly[0], poly[1], poly[2]]),
+            n => {
+                self.polygons += 1;
+                for i in 1..n - 1 {
+                    self.triangles.push([poly[0], poly[i], poly[i + 1]]);
+                }
+            }
+        }
+    }
+}
+
+/// Load a mesh from `path`; the format is chosen by the extension (obj, ply, stl; any case).
+pub fn load(path: &Path) -> Result<LoadedMesh, MeshError> {
+    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
+    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    load_bytes(&bytes, format, path)
+}
+
+/// Parse `bytes` in `format`; `path` is used only in error messages.
+pub fn load_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<LoadedMesh, MeshError> {
+    let raw = match format {
+        Format::Obj => obj::parse(bytes, path)?,
+        Format::Ply => ply::parse(bytes, path)?,
+        Format::Stl => stl::parse(bytes, path)?,
+    };
+    validate(raw, path)
+}
+
+/// Check for empty meshes, non-finite coordinates and point clouds; drop degenerate and
+/// duplicate faces with warnings.
+fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
+    if raw.positions.is_empty() {
+        return Err(MeshError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    if let Some(vertex) = raw.positions.iter().position(|p| !p.is_finite()) {
+        return Err(MeshError::NonFinite {
+            path: path.to_path_buf(),
+            vertex,
+        });
+    }
+    let mut warnings = Vec::new();
+    if raw.polygons > 0 {
+        warnings.push(MeshWarning::PolygonsTriangulated {
+            count: raw.polygons,
+        });
+    }
+    if raw.short_faces > 0 {
+        warnings.push(MeshWarning::ShortFaces {
+            count: raw.short_faces,
+        });
+    }
+    let vertex_count = raw.positions.len();
+    let mesh = TriMesh::new(raw.positions, raw.triangles);
+    let (mesh, dropped) = drop_degenerate_and_duplicate_faces(&mesh);
+    if dropped.degenerate > 0 {
+        warnings.push(MeshWarning::DegenerateFaces {
+            count: dropped.degenerate,
+        });
+    }
+    if dropped.duplicate > 0 {
+        warnings.push(MeshWarning::DuplicateFaces {
+            count: dropped.duplicate,
+        });
+    }
+    if mesh.triangles.is_empty() {
+        return Err(MeshError::NoFaces {
+            path: path.to_path_buf(),
+            vertex_count,
+        });
+    }
+    Ok(LoadedMesh {
+        mesh,
+        warnings,
+        vertex_normals: raw.normals,
+    })
+}
+
+/// Write `mesh` to `path` (OBJ, binary little-endian PLY or binary STL, by extension).
+/// The data goes to a temporary file in the same directory that is then renamed over `path`.
+pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
+    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
+    let write_err = |message: String| MeshError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    let vertex_count = mesh.positions.len();
+    for (face, t) in mesh.triangles.iter().enumerate() {
+        if let Some(&index) = t.iter().find(|&&i| i as usize >= vertex_count) {
+            return Err(MeshError::IndexOutOfRange {
+                path: path.to_path_buf(),
+                face,
+                index: index as i64,
+                vertex_count,
+            });
+        }
+    }
+    let bytes = match format {
+        Format::Obj => obj::write(mesh),
+        Format::Ply => ply::write(mesh),
+        Format::Stl => stl::write(mesh).map_err(|e| write_err(e.to_string()))?,
+    };
+    let temp = temp_path(path);
+    if let Err(e) = std::fs::write(&temp, &bytes) {
+        let _ = std::fs::remove_file(&temp);
+        return Err(write_err(e.to_string()));
+    }
+    if let Err(e) = std::fs::rename(&temp, path) {
+        let _ = std::fs::remove_file(&temp);
+        return Err(write_err(e.to_string()));
+    }
+    Ok(())
+}
+
+/// A hidden sibling of `path` unique to this process and call.
+fn temp_path(path: &Path) -> PathBuf {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
+    path.with_file_name(format!(
+        ".{name}.{}.{unique}.tmp",
+        std::process::id()
+    ))
+}
+
+#[cfg(test)]
+mod tests;

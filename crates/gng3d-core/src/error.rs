@@ -1,0 +1,47 @@
+//! Errors of GNG3D training and simplification.
+
+use thiserror::Error;
+
+/// Why GNG3D could not run on the given mesh and parameters.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum GngError {
+    /// Fewer than three distinct referenced vertices: nothing to approximate.
+    #[error("the mesh has {vertices} distinct referenced vertices; GNG3D needs at least 3")]
+    TooFewVertices {
+        /// Distinct referenced vertices found.
+        vertices: usize,
+    },
+    /// The target vertex count is below 3 or above the number of distinct input vertices.
+    #[error(
+        "target of {target} vertices is out of range: it must be between 3 and the {available} distinct input vertices"
+    )]
+    Target {
+        /// Requested target.
+        target: usize,
+        /// Distinct referenced vertices of the input.
+        available: usize,
+    },
+    /// A parameter is outside its valid range.
+    #[error("parameter {name} = {value} is out of range")]
+    Parameter {
+        /// Field name in `GngParams`.
+        name: &'static str,
+        /// Offending value.
+        value: f64,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error("face {face} refers to a vertex index beyond the vertex list")]
+    BadIndex {
+        /// Offending face index.
+        face: usize,
+    },
+    /// A vertex position is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate")]
+    NonFinite {
+        /// Offending vertex index.
+        vertex: usize,
+    },
+    /// Surface signals were requested but every triangle has zero area.
+    #[error("surface sampling needs a mesh with positive area")]
+    ZeroArea,
+}

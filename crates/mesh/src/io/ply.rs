@@ -1,0 +1,542 @@
+//! Stanford PLY reader (ASCII, binary little- and big-endian) and binary little-endian writer.
+//!
+//! A hand-written reader over the raw bytes: it reads `x y z` (any scalar type), optional
+//! `nx ny nz`, skips any other vertex property (e.g. `uchar red`) and any other element, and
+//! takes the face list property `vertex_indices` / `vertex_index` with any integer count and
+//! index types; polygons are fan-triangulated. Header counts are never trusted for allocation.
+
+use super::RawMesh;
+use crate::TriMesh;
+use crate::error::MeshError;
+use glam::Vec3;
+use std::path::Path;
+
+/// A PLY scalar type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn parse(name: &str) -> Option<Scalar> {
+        Some(match name {
+            "char" | "int8" => Scalar::I8,
+            "uchar" | "uint8" => Scalar::U8,
+            "short" | "int16" => Scalar::I16,
+            "ushort" | "uint16" => Scalar::U16,
+            "int" | "int32" => Scalar::I32,
+            "uint" | "uint32" => Scalar::U32,
+            "float" | "float32" => Scalar::F32,
+            "double" | "float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    fn is_integer(self) -> bool {
+        !matches!(self, Scalar::F32 | Scalar::F64)
+    }
+}
+
+/// One property of an element.
+#[derive(Debug, Clone)]
+enum Property {
+    Scalar(String, Scalar),
+    List(String, Scalar, Scalar),
+}
+
+/// One element declaration.
+#[derive(Debug, Clone)]
+struct Element {
+    name: String,
+    count: usize,
+    properties: Vec<Property>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Encoding {
+    Ascii,
+    BinaryLe,
+    BinaryBe,
+}
+
+struct Header {
+    encoding: Encoding,
+    elements: Vec<Element>,
+    /// Byte offset of the body.
+    body: usize,
+}
+
+fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, MeshError> {
+    let mut pos = 0usize;
+    let mut line_no = 0usize;
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    loop {
+        line_no += 1;
+        let loc = format!("header line {line_no}");
+        let end = bytes[pos..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map(|i| pos + i)
+            .ok_or_else(|| MeshError::parse(path, &loc, "header ends without end_header"))?;
+        let line = std::str::from_utf8(&bytes[pos..end])
+            .map_err(|_| MeshError::parse(path, &loc, "header is not text"))?
+            .trim();
+        pos = end + 1;
+        let mut words = line.split_ascii_whitespace();
+        let keyword = words.next().unwrap_or("");
+        if line_no == 1 {
+            if line != "ply" {
+                return Err(MeshError::parse(path, &loc, "missing 'ply' magic"));
+            }
+            continue;
+        }
+        let bad = |msg: &str| MeshError::parse(path, &loc, format!("{msg}: {line:?}"));
+        match keyword {
+            "format" => {
+                encoding = Some(match words.next() {
+                    Some("ascii") => Encoding::Ascii,
+                    Some("binary_little_endian") => Encoding::BinaryLe,
+                    Some("binary_big_endian") => Encoding::BinaryBe,
+                    _ => return Err(bad("unknown format")),
+                });
+            }
+            "comment" | "obj_info" | "" => {}
+            "element" => {
+                let name = words.next().ok_or_else(|| bad("element without name"))?;
+                let count = words
+                    .next()
+                    .and_then(|c| c.parse::<usize>().ok())
+                    .ok_or_else(|| bad("element without a valid count"))?;
+                elements.push(Element {
+                    name: name.to_string(),
+                    count,
+                    properties: Vec::new(),
+                });
+            }
+            "property" => {
+                let element = elements
+                    .last_mut()
+                    .ok_or_else(|| bad("property before any element"))?;
+                let ty = words.next().ok_or_else(|| bad("property without type"))?;
+                let property = if ty == "list" {
+                    let count = words.next().and_then(Scalar::parse);
+                    let item = words.next().and_then(Scalar::parse);
+                    let name = words.next();
+                    match (count, item, name) {
+                        (Some(c), Some(i), Some(n)) if c.is_integer() => {
+                            Property::List(n.to_string(), c, i)
+                        }
+                        _ => return Err(bad("bad list property")),
+                    }
+                } else {
+                    let ty = Scalar::parse(ty).ok_or_else(|| bad("unknown property type"))?;
+                    let name = words.next().ok_or_else(|| bad("property without name"))?;
+                    Property::Scalar(name.to_string(), ty)
+                };
+                element.properties.push(property);
+            }
+            "end_header" => break,
+            _ => return Err(bad("unknown header keyword")),
+        }
+    }
+    let encoding = encoding.ok_or_else(|| MeshError::parse(path, "header", "no format line"))?;
+    Ok(Header {
+        encoding,
+        elements,
+        body: pos,
+    })
+}
+
+/// Where the vertex fields we want sit among the vertex element's properties.
+struct VertexLayout {
+    position: [usize; 3],
+    normal: Option<[usize; 3]>,
+}
+
+fn vertex_layout(element: &Element, path: &Path) -> Result<VertexLayout, MeshError> {
+    let find = |name: &str| {
+        element
+            .properties
+            .iter()
+            .position(|p| matches!(p, Property::Scalar(n, _) if n == name))
+    };
+    let position = match (find("x"), find("y"), find("z")) {
+        (Some(x), Some(y), Some(z)) => [x, y, z],
+        _ => {
+            return Err(MeshError::parse(
+                path,
+                "header",
+                "vertex element lacks scalar x, y, z properties",
+            ));
+        }
+    };
+    let normal = match (find("nx"), find("ny"), find("nz")) {
+        (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+        _ => None,
+    };
+    Ok(VertexLayout { position, normal })
+}
+
+fn face_list_index(element: &Element) -> Option<usize> {
+    element.properties.iter().position(|p| {
+        matches!(p, Property::List(n, _, _) if n == "vertex_indices" || n == "vertex_index")
+    })
+}
+
+/// Parse a PLY file.
+pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
+    let header = parse_header(bytes, path)?;
+    let body = &bytes[header.body..];
+    let mut raw = RawMesh::default();
+    match header.encoding {
+        Encoding::Ascii => parse_ascii(&header, body, path, &mut raw)?,
+        Encoding::BinaryLe => parse_binary::<false>(&header, body, path, &mut raw)?,
+        Encoding::BinaryBe => parse_binary::<true>(&header, body, path, &mut raw)?,
+    }
+    Ok(raw)
+}
+
+/// Which role an element plays.
+enum Role {
+    Vertex(VertexLayout),
+    Face(usize),
+    Other,
+}
+
+fn role(element: &Element, seen_vertex: bool, path: &Path) -> Result<Role, MeshError> {
+    Ok(match element.name.as_str() {
+        "vertex" if !seen_vertex => Role::Vertex(vertex_layout(element, path)?),
+        "face" => match face_list_index(element) {
+            Some(i) => Role::Face(i),
+            None => {
+                return Err(MeshError::parse(
+                    path,
+                    "header",
+                    "face element lacks a vertex_indices list",
+                ));
+            }
+        },
+        _ => Role::Other,
+    })
+}
+
+fn check_index(
+    raw: &RawMesh,
+    value: i64,
+    face: usize,
+    path: &Path,
+) -> Result<u32, MeshError> {
+    let n = raw.positions.len();
+    if value < 0 || value >= n as i64 {
+        return Err(MeshError::IndexOutOfRange {
+            path: path.to_path_buf(),
+            face,
+            index: value,
+            vertex_count: n,
+        });
+    }
+    Ok(value as u32)
+}
+
+fn parse_ascii(
+    header: &Header,
+    body: &[u8],
+    path: &Path,
+    raw: &mut RawMesh,
+) -> Result<(), MeshError> {
+    let text = std::str::from_utf8(body)
+        .map_err(|_| MeshError::parse(path, "body", "ASCII PLY body is not text"))?;
+    let mut tokens = text.split_ascii_whitespace();
+    let mut seen_vertex = false;
+    let mut values: Vec<f64> = Vec::new();
+    let mut poly: Vec<u32> = Vec::new();
+    for element in &header.elements {
+        let role = role(element, seen_vertex, path)?;
+        if let Role::Vertex(_) = role {
+            seen_vertex = true;
+        }
+        if element.properties.is_empty() {
+            continue;
+        }
+        for record in 0..element.count {
+            let loc = || format!("{} {record}", element.name);
+            let mut next = |what: &str| -> Result<f64, MeshError> {
+                let t = tokens.next().ok_or_else(|| {
+                    MeshError::parse(path, loc(), format!("file ends while reading {what}"))
+                })?;
+                t.parse::<f64>().map_err(|_| {
+                    MeshError::parse(path, loc(), format!("bad number {t:?} in {what}"))
+                })
+            };
+            values.clear();
+            poly.clear();
+            for (pi, property) in element.properties.iter().enumerate() {
+                match property {
+                    Property::Scalar(name, _) => values.push(next(name)?),
+                    Property::List(name, _, _) => {
+                        let count = next(name)?;
+                        if count < 0.0 || count.fract() != 0.0 {
+                            return Err(MeshError::parse(path, loc(), "bad list length"));
+                        }
+                        values.push(f64::NAN);
+                        for _ in 0..count as usize {
+                            let v = next(name)?;
+                            if let Role::Face(fi) = role
+                                && fi == pi
+                            {
+                                if v.fract() != 0.0 {
+                                    return Err(MeshError::parse(
+                                        path,
+                                        loc(),
+                                        format!("vertex index {v} is not an integer"),
+                                    ));
+                                }
+                                poly.push(check_index(raw, v as i64, record, path)?);
+                            }
+                        }
+                    }
+                }
+            }
+            match &role {
+                Role::Vertex(layout) => {
+                    let [x, y, z] = layout.position;
+                    raw.positions.push(Vec3::new(
+                        values[x] as f32,
+                        values[y] as f32,
+                        values[z] as f32,
+                    ));
+                    if let Some([a, b, c]) = layout.normal {
+                        raw.normals.get_or_insert_with(Vec::new).push(Vec3::new(
+                            values[a] as f32,
+                            values[b] as f32,
+                            values[c] as f32,
+                        ));
+                    }
+                }
+                Role::Face(_) => raw.push_polygon(&poly),
+                Role::Other => {}
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Read scalar `ty` at `at` as f64 (caller checked bounds).
+#[inline(always)]
+fn read_scalar<const BE: bool>(b: &[u8], at: usize, ty: Scalar) -> f64 {
+    macro_rules! rd {
+        ($t:ty, $n:expr) => {{
+            let a: [u8; $n] = b[at..at + $n].try_into().unwrap();
+            (if BE {
+                <$t>::from_be_bytes(a)
+            } else {
+                <$t>::from_le_bytes(a)
+            }) as f64
+        }};
+    }
+    match ty {
+        Scalar::I8 => b[at] as i8 as f64,
+        Scalar::U8 => b[at] as f64,
+        Scalar::I16 => rd!(i16, 2),
+        Scalar::U16 => rd!(u16, 2),
+        Scalar::I32 => rd!(i32, 4),
+        Scalar::U32 => rd!(u32, 4),
+        Scalar::F32 => rd!(f32, 4),
+        Scalar::F64 => rd!(f64, 8),
+    }
+}
+
+/// Read integer `ty` at `at` as i64 (caller checked bounds).
+#[inline(always)]
+fn read_int<const BE: bool>(b: &[u8], at: usize, ty: Scalar) -> i64 {
+    macro_rules! rd {
+        ($t:ty, $n:expr) => {{
+            let a: [u8; $n] = b[at..at + $n].try_into().unwrap();
+            (if BE {
+                <$t>::from_be_bytes(a)
+            } else {
+                <$t>::from_le_bytes(a)
+            }) as i64
+        }};
+    }
+    match ty {
+        Scalar::I8 => b[at] as i8 as i64,
+        Scalar::U8 => b[at] as i64,
+        Scalar::I16 => rd!(i16, 2),
+        Scalar::U16 => rd!(u16, 2),
+        Scalar::I32 => rd!(i32, 4),
+        Scalar::U32 => rd!(u32, 4),
+        // Float list entries used as indices: truncated; a non-integral value is unusual
+        // enough that we do not special-case it.
+        Scalar::F32 | Scalar::F64 => read_scalar::<BE>(b, at, ty) as i64,
+    }
+}
+
+fn parse_binary<const BE: bool>(
+    header: &Header,
+    body: &[u8],
+    path: &Path,
+    raw: &mut RawMesh,
+) -> Result<(), MeshError> {
+    let mut at = 0usize;
+    let mut seen_vertex = false;
+    let mut poly: Vec<u32> = Vec::new();
+    let eof = |element: &Element, record: usize| {
+        MeshError::parse(
+            path,
+            format!("{} {record}", element.name),
+            "file ends inside the element data",
+        )
+    };
+    for element in &header.elements {
+        let role = role(element, seen_vertex, path)?;
+        let fixed: Option<Vec<(usize, Scalar)>> = {
+            let mut offset = 0;
+            let mut out = Vec::new();
+            let mut all_scalar = true;
+            for p in &element.properties {
+                match p {
+                    Property::Scalar(_, ty) => {
+                        out.push((offset, *ty));
+                        offset += ty.size();
+                    }
+                    Property::List(..) => all_scalar = false,
+                }
+            }
+            all_scalar.then_some(out)
+        };
+        match (&role, fixed) {
+            (Role::Vertex(layout), Some(offsets)) => {
+                seen_vertex = true;
+                // Fixed-size records: the fast path.
+                let stride: usize = offsets.last().map(|(o, t)| o + t.size()).unwrap_or(0);
+                let need = stride
+                    .checked_mul(element.count)
+                    .filter(|&n| n <= body.len() - at)
+                    .ok_or_else(|| eof(element, (body.len() - at) / stride.max(1)))?;
+                let data = &body[at..at + need];
+                let px = layout.position.map(|i| offsets[i]);
+                let nx = layout.normal.map(|n| n.map(|i| offsets[i]));
+                raw.positions.reserve(element.count);
+                let mut normals = nx.map(|_| Vec::with_capacity(element.count));
+                for r in 0..element.count {
+                    let base = r * stride;
+                    let get = |(o, t): (usize, Scalar)| read_scalar::<BE>(data, base + o, t) as f32;
+                    raw.positions
+                        .push(Vec3::new(get(px[0]), get(px[1]), get(px[2])));
+                    if let (Some(n), Some(ns)) = (nx, normals.as_mut()) {
+                        ns.push(Vec3::new(get(n[0]), get(n[1]), get(n[2])));
+                    }
+                }
+                raw.normals = normals;
+                at += need;
+            }
+            (Role::Other, Some(offsets)) => {
+                let stride: usize = offsets.last().map(|(o, t)| o + t.size()).unwrap_or(0);
+                let need = stride
+                    .checked_mul(element.count)
+                    .filter(|&n| n <= body.len() - at)
+                    .ok_or_else(|| eof(element, 0))?;
+                at += need;
+            }
+            _ => {
+                if let Role::Vertex(_) = role {
+                    return Err(MeshError::parse(
+                        path,
+                        "header",
+                        "list properties in the vertex element are not supported",
+                    ));
+                }
+                let face_list = match role {
+                    Role::Face(i) => Some(i),
+                    _ => None,
+                };
+                for record in 0..element.count {
+                    poly.clear();
+                    for (pi, p) in element.properties.iter().enumerate() {
+                        match p {
+                            Property::Scalar(_, ty) => {
+                                if body.len() - at < ty.size() {
+                                    return Err(eof(element, record));
+                                }
+                                at += ty.size();
+                            }
+                            Property::List(_, count_ty, item_ty) => {
+                                if body.len() - at < count_ty.size() {
+                                    return Err(eof(element, record));
+                                }
+                                let count = read_int::<BE>(body, at, *count_ty);
+                                at += count_ty.size();
+                                if count < 0 {
+                                    return Err(MeshError::parse(
+                                        path,
+                                        format!("{} {record}", element.name),
+                                        format!("negative list length {count}"),
+                                    ));
+                                }
+                                let len = (count as usize)
+                                    .checked_mul(item_ty.size())
+                                    .filter(|&n| n <= body.len() - at)
+                                    .ok_or_else(|| eof(element, record))?;
+                                if face_list == Some(pi) {
+                                    for k in 0..count as usize {
+                                        let v = read_int::<BE>(body, at + k * item_ty.size(), *item_ty);
+                                        poly.push(check_index(raw, v, record, path)?);
+                                    }
+                                }
+                                at += len;
+                            }
+                        }
+                    }
+                    if face_list.is_some() {
+                        raw.push_polygon(&poly);
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Binary little-endian PLY for `mesh` (`float x y z`, `list uchar int vertex_indices`).
+pub(crate) fn write(mesh: &TriMesh) -> Vec<u8> {
+    let header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment written by gng3d\n\
+         element vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
+         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        mesh.positions.len(),
+        mesh.triangles.len()
+    );
+    let mut out =
+        Vec::with_capacity(header.len() + mesh.positions.len() * 12 + mesh.triangles.len() * 13);
+    out.extend_from_slice(header.as_bytes());
+    for p in &mesh.positions {
+        for c in p.to_array() {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for t in &mesh.triangles {
+        out.push(3);
+        for &i in t {
+            out.extend_from_slice(&(i as i32).to_le_bytes());
+        }
+    }
+    out
+}

@@ -1,0 +1,327 @@
+//! Exact closest point on a triangle (Ericson, "Real-Time Collision Detection", 5.1.5): the
+//! Voronoi region of the query point (3 vertices, 3 edges, interior) decides the answer.
+//! Degenerate triangles (collinear or coincident corners) fall back to the three segments.
+
+use glam::{DVec3, Vec3A};
+
+/// Closest point to `p` on segment `ab` (f64).
+#[inline]
+pub fn closest_point_segment(p: DVec3, a: DVec3, b: DVec3) -> DVec3 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    if len2 <= 0.0 {
+        return a;
+    }
+    a + ab * ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+}
+
+/// True when the triangle has (numerically) no area: `|ab × ac|² ≤ 1e-14 · |ab|² · |ac|²`.
+#[inline]
+pub fn is_degenerate(a: DVec3, b: DVec3, c: DVec3) -> bool {
+    let (ab, ac) = (b - a, c - a);
+    let cross = ab.cross(ac).length_squared();
+    !(cross > 1e-14 * ab.length_squared() * ac.length_squared())
+}
+
+/// Closest point to `p` on triangle `abc` (f64, exact up to rounding, any triangle shape).
+pub fn closest_point_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
+    if is_degenerate(a, b, c) {
+        let candidates = [
+            closest_point_segment(p, a, b),
+            closest_point_segment(p, b, c),
+            closest_point_segment(p, c, a),
+        ];
+        return candidates
+            .into_iter()
+            .min_by(|x, y| (p - *x).length_squared().total_cmp(&(p - *y).length_squared()))
+            .unwrap_or(a);
+    }
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    let e = d4 - d3;
+    let f = d5 - d6;
+    if va <= 0.0 && e >= 0.0 && f >= 0.0 {
+        return b + (c - b) * (e / (e + f));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+/// A triangle prepared for fast f32 distance tests.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PackedTriangle {
+    pub a: Vec3A,
+    pub b: Vec3A,
+    pub c: Vec3A,
+}
+
+/// Squared distance from `p` to a non-degenerate packed triangle, in f32 (same regions as
+/// [`closest_point_triangle`]; used to pick candidates, the winner is re-evaluated in f64).
+#[inline(always)]
+pub(crate) fn squared_distance_f32(p: Vec3A, t: &PackedTriangle) -> f32 {
+    let (a, b, c) = (t.a, t.b, t.c);
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return ap.length_squared();
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return bp.length_squared();
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let q = a + ab * (d1 / (d1 - d3));
+        return (p - q).length_squared();
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return cp.length_squared();
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let q = a + ac * (d2 / (d2 - d6));
+        return (p - q).length_squared();
+    }
+    let va = d3 * d6 - d5 * d4;
+    let e = d4 - d3;
+    let f = d5 - d6;
+    if va <= 0.0 && e >= 0.0 && f >= 0.0 {
+        let q = b + (c - b) * (e / (e + f));
+        return (p - q).length_squared();
+    }
+    let denom = va + vb + vc;
+    if !(denom > 0.0) {
+        // Rounding made a thin sliver look flat: take the closest of the three edges.
+        return squared_distance_segments_f32(p, t);
+    }
+    // Distance to the plane: cheaper and better conditioned than reconstructing the point.
+    let n = ab.cross(ac);
+    let h = ap.dot(n);
+    h * h / n.length_squared()
+}
+
+/// Squared distance from `p` to the closest of the three edges of `t` (f32).
+#[inline]
+pub(crate) fn squared_distance_segments_f32(p: Vec3A, t: &PackedTriangle) -> f32 {
+    let seg = |a: Vec3A, b: Vec3A| {
+        let ab = b - a;
+        let len2 = ab.length_squared();
+        let s = if len2 > 0.0 {
+            ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (p - (a + ab * s)).length_squared()
+    };
+    seg(t.a, t.b).min(seg(t.b, t.c)).min(seg(t.c, t.a))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_pcg::Pcg64Mcg;
+
+    /// Independent reference: project onto the plane and keep the projection when it is inside
+    /// (sign of the three edge functions), otherwise the best of the three clamped segment
+    /// projections. For degenerate triangles only the segments count.
+    fn reference(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+        let mut best = [(a, b), (b, c), (c, a)]
+            .iter()
+            .map(|&(u, w)| (p - closest_point_segment(p, u, w)).length())
+            .fold(f64::INFINITY, f64::min);
+        let n = (b - a).cross(c - a);
+        if n.length_squared() > 1e-20 {
+            let nn = n.normalize();
+            let q = p - nn * (p - a).dot(nn);
+            let inside = [(a, b), (b, c), (c, a)]
+                .iter()
+                .all(|&(u, w)| (w - u).cross(q - u).dot(n) >= 0.0);
+            if inside {
+                best = best.min((p - q).length());
+            }
+        }
+        best
+    }
+
+    /// Dense barycentric grid: an upper bound on the true distance that converges to it.
+    fn grid_min(p: DVec3, a: DVec3, b: DVec3, c: DVec3, n: usize) -> f64 {
+        let mut best = f64::INFINITY;
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let q = a + (b - a) * u + (c - a) * v;
+                best = best.min((p - q).length());
+            }
+        }
+        best
+    }
+
+    fn random_point(rng: &mut Pcg64Mcg, scale: f64) -> DVec3 {
+        DVec3::new(
+            rng.random_range(-scale..scale),
+            rng.random_range(-scale..scale),
+            rng.random_range(-scale..scale),
+        )
+    }
+
+    #[test]
+    fn matches_reference_on_random_triangles_in_every_region() {
+        let mut rng = Pcg64Mcg::seed_from_u64(11);
+        let mut regions = [0usize; 7]; // 3 vertices, 3 edges, interior
+        for _ in 0..20_000 {
+            let (a, b, c) = (
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+            );
+            // Points near and far, inside and outside of the triangle's prism.
+            let p = random_point(&mut rng, 2.0);
+            let q = closest_point_triangle(p, a, b, c);
+            let d = (p - q).length();
+            let r = reference(p, a, b, c);
+            assert!((d - r).abs() <= 1e-9 * (1.0 + r), "{d} vs {r}");
+            // The returned point lies on the triangle (barycentric coordinates in [0,1]).
+            assert!(reference(q, a, b, c) < 1e-9);
+            let region = if (q - a).length() < 1e-12 {
+                0
+            } else if (q - b).length() < 1e-12 {
+                1
+            } else if (q - c).length() < 1e-12 {
+                2
+            } else if (q - closest_point_segment(q, a, b)).length() < 1e-12 {
+                3
+            } else if (q - closest_point_segment(q, b, c)).length() < 1e-12 {
+                4
+            } else if (q - closest_point_segment(q, c, a)).length() < 1e-12 {
+                5
+            } else {
+                6
+            };
+            regions[region] += 1;
+        }
+        for (i, &n) in regions.iter().enumerate() {
+            assert!(n > 300, "region {i} hit only {n} times: {regions:?}");
+        }
+    }
+
+    #[test]
+    fn never_below_a_dense_grid_and_close_to_it() {
+        let mut rng = Pcg64Mcg::seed_from_u64(5);
+        for _ in 0..300 {
+            let (a, b, c) = (
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+            );
+            let p = random_point(&mut rng, 1.5);
+            let d = (p - closest_point_triangle(p, a, b, c)).length();
+            let g = grid_min(p, a, b, c, 200);
+            let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+            assert!(d <= g + 1e-12, "exact {d} above grid {g}");
+            assert!(g - d <= longest / 200.0, "grid {g} too far above exact {d}");
+        }
+    }
+
+    #[test]
+    fn degenerate_triangles() {
+        let mut rng = Pcg64Mcg::seed_from_u64(3);
+        for _ in 0..5000 {
+            let a = random_point(&mut rng, 1.0);
+            let dir = random_point(&mut rng, 1.0);
+            let kind = rng.random_range(0..4);
+            let (b, c) = match kind {
+                // Collinear, c between a and b.
+                0 => (a + dir, a + dir * rng.random_range(0.0..1.0)),
+                // Collinear, c outside ab.
+                1 => (a + dir, a + dir * rng.random_range(1.0..3.0)),
+                // Two coincident corners.
+                2 => (a, a + dir),
+                // All three coincident.
+                _ => (a, a),
+            };
+            let p = random_point(&mut rng, 2.0);
+            for (x, y, z) in [(a, b, c), (b, c, a), (c, a, b), (a, c, b)] {
+                let q = closest_point_triangle(p, x, y, z);
+                assert!(q.is_finite());
+                let d = (p - q).length();
+                let r = reference(p, x, y, z);
+                assert!((d - r).abs() <= 1e-9 * (1.0 + r), "kind {kind}: {d} vs {r}");
+                let packed = PackedTriangle {
+                    a: x.as_vec3a(),
+                    b: y.as_vec3a(),
+                    c: z.as_vec3a(),
+                };
+                let ds = squared_distance_segments_f32(p.as_vec3a(), &packed).sqrt() as f64;
+                assert!((ds - r).abs() <= 1e-5 * (1.0 + r));
+            }
+        }
+    }
+
+    #[test]
+    fn f32_path_agrees_with_f64() {
+        let mut rng = Pcg64Mcg::seed_from_u64(17);
+        for _ in 0..20_000 {
+            let (a, b, c) = (
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+            );
+            if is_degenerate(a, b, c) {
+                continue;
+            }
+            let p = random_point(&mut rng, 2.0);
+            let t = PackedTriangle {
+                a: a.as_vec3a(),
+                b: b.as_vec3a(),
+                c: c.as_vec3a(),
+            };
+            // Compare against the f64 routine on the same f32-rounded inputs.
+            let exact = (p.as_vec3a().as_dvec3()
+                - closest_point_triangle(
+                    p.as_vec3a().as_dvec3(),
+                    t.a.as_dvec3(),
+                    t.b.as_dvec3(),
+                    t.c.as_dvec3(),
+                ))
+            .length();
+            let fast = (squared_distance_f32(p.as_vec3a(), &t) as f64).sqrt();
+            assert!((fast - exact).abs() <= 2e-5 * (1.0 + exact), "{fast} vs {exact}");
+        }
+    }
+}

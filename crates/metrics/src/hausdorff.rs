@@ -1,0 +1,600 @@
+//! Metro-style sampled surface distance between two meshes (Cignoni, Rocchini, Scopigno 1998).
+//!
+//! One direction samples the *source* surface (vertices, edges, area-weighted faces; see
+//! [`mesh::sampling::sample_stratified`]) and finds each sample's exact closest point on the
+//! *target* through a [`SurfaceDistanceIndex`]. Statistics per direction: the maximum over all
+//! samples, and mean / RMS over the area-weighted face samples (so they estimate
+//! `(1/A)∫d dA` and `sqrt((1/A)∫d² dA)` whatever share of the budget went to vertices and
+//! edges). The symmetric Hausdorff distance is the larger of the two maxima.
+//!
+//! Work is split into fixed-size chunks of samples, each chunk processed sequentially and the
+//! chunk results reduced in chunk order, so results are bit-identical for any thread count.
+
+use crate::MetricsError;
+use crate::index::{NO_SLOT, SurfaceDistanceIndex, bound_f32};
+use glam::{Vec3, Vec3A};
+use mesh::TriMesh;
+use mesh::sampling::{FaceSampling, StratifiedParams, sample_stratified};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Samples per work chunk (fixed so that results do not depend on the thread count).
+const CHUNK: usize = 8192;
+
+/// Bins of the normal-deviation histogram (one per degree).
+const ANGLE_BINS: usize = 180;
+
+/// Parameters of the sampled surface distance.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HausdorffParams {
+    /// Samples per direction (vertices + edges + faces); `None` uses Metro's default,
+    /// 10 × the larger face count.
+    pub samples: Option<usize>,
+    /// Seed of the sampler (the two directions use seeds derived from it).
+    pub seed: u64,
+    /// Sample the source's referenced vertices.
+    pub vertices: bool,
+    /// Sample the source's edges at `sqrt(density)` per unit length (Metro).
+    pub edges: bool,
+    /// Placement of the face samples.
+    pub faces: FaceSampling,
+    /// Samples with no target point within this distance (model units) are excluded from all
+    /// statistics and counted in `excluded` (MeshLab's `maxdist`); `None` keeps every sample.
+    pub max_distance: Option<f64>,
+}
+
+impl Default for HausdorffParams {
+    fn default() -> Self {
+        HausdorffParams {
+            samples: None,
+            seed: 1,
+            vertices: true,
+            edges: true,
+            faces: FaceSampling::Random,
+            max_distance: None,
+        }
+    }
+}
+
+impl HausdorffParams {
+    /// Default parameters with `samples` samples per direction.
+    pub fn with_samples(samples: usize) -> HausdorffParams {
+        HausdorffParams {
+            samples: Some(samples),
+            ..Default::default()
+        }
+    }
+}
+
+/// Max, mean and RMS of a distance, in model units (or relative to a diagonal).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct DistanceStats {
+    /// Largest sampled distance.
+    pub max: f64,
+    /// Area-weighted mean distance.
+    pub mean: f64,
+    /// Area-weighted root mean square distance.
+    pub rms: f64,
+}
+
+/// One-sided distance from a source surface to a target surface.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct OneSided {
+    /// Largest distance over all counted samples (vertices, edges, faces), model units.
+    pub max: f64,
+    /// Mean distance over the counted face samples (area-weighted), model units.
+    pub mean: f64,
+    /// Root mean square distance over the counted face samples, model units.
+    pub rms: f64,
+    /// Counted samples (all kinds, excluding `excluded`).
+    pub samples: usize,
+    /// Vertex samples drawn.
+    pub vertex_samples: usize,
+    /// Edge samples drawn.
+    pub edge_samples: usize,
+    /// Face samples drawn.
+    pub face_samples: usize,
+    /// Samples dropped because no target point was within `max_distance`.
+    pub excluded: usize,
+    /// Position of the sample that attained `max`.
+    pub max_at: Vec3,
+    /// `max`, `mean`, `rms` divided by the original mesh's bounding-box diagonal.
+    pub relative: DistanceStats,
+}
+
+/// Symmetric sampled surface distance between an original and a simplified mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Hausdorff {
+    /// Original → simplified (samples on the original).
+    pub forward: OneSided,
+    /// Simplified → original (samples on the simplified mesh).
+    pub backward: OneSided,
+    /// Symmetric Hausdorff distance: the larger of the two maxima, model units.
+    pub max: f64,
+    /// Mean of the two one-sided means, model units.
+    pub mean: f64,
+    /// `sqrt((forward.rms² + backward.rms²) / 2)`, model units.
+    pub rms: f64,
+    /// Bounding-box diagonal of the original's referenced vertices, model units.
+    pub bbox_diagonal: f64,
+    /// `max`, `mean`, `rms` divided by `bbox_diagonal`.
+    pub relative: DistanceStats,
+}
+
+/// Angle between each face sample's source face normal and the normal of the target face
+/// holding its closest point, in degrees (0 = parallel, 180 = flipped).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct NormalDeviation {
+    /// Mean angle over face samples.
+    pub mean_degrees: f64,
+    /// 95th percentile (1° resolution, upper bin edge).
+    pub p95_degrees: f64,
+    /// Largest angle.
+    pub max_degrees: f64,
+    /// Face samples with a defined angle (both faces non-degenerate).
+    pub samples: usize,
+}
+
+/// Per-chunk partial sums, merged in chunk order.
+#[derive(Clone)]
+struct Partial {
+    max: f64,
+    max_at: Vec3,
+    face_sum: f64,
+    face_sum2: f64,
+    face_n: usize,
+    all_sum: f64,
+    all_sum2: f64,
+    all_n: usize,
+    excluded: usize,
+    angle_sum: f64,
+    angle_max: f64,
+    angle_hist: [u32; ANGLE_BINS],
+    angle_n: usize,
+}
+
+impl Partial {
+    fn new() -> Partial {
+        Partial {
+            max: 0.0,
+            max_at: Vec3::ZERO,
+            face_sum: 0.0,
+            face_sum2: 0.0,
+            face_n: 0,
+            all_sum: 0.0,
+            all_sum2: 0.0,
+            all_n: 0,
+            excluded: 0,
+            angle_sum: 0.0,
+            angle_max: 0.0,
+            angle_hist: [0; ANGLE_BINS],
+            angle_n: 0,
+        }
+    }
+
+    fn merge(mut self, o: Partial) -> Partial {
+        if o.all_n > 0 && (self.all_n == 0 || o.max > self.max) {
+            self.max = o.max;
+            self.max_at = o.max_at;
+        }
+        self.face_sum += o.face_sum;
+        self.face_sum2 += o.face_sum2;
+        self.face_n += o.face_n;
+        self.all_sum += o.all_sum;
+        self.all_sum2 += o.all_sum2;
+        self.all_n += o.all_n;
+        self.excluded += o.excluded;
+        self.angle_sum += o.angle_sum;
+        self.angle_max = self.angle_max.max(o.angle_max);
+        for (a, b) in self.angle_hist.iter_mut().zip(o.angle_hist.iter()) {
+            *a += b;
+        }
+        self.angle_n += o.angle_n;
+        self
+    }
+}
+
+/// Derives the per-direction seed (splitmix64 finaliser of `seed + salt`).
+fn derive_seed(seed: u64, salt: u64) -> u64 {
+    let mut z = seed.wrapping_add(salt.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Metro's default sample count: 10 × the larger face count.
+fn default_samples(a: &TriMesh, b: &TriMesh) -> usize {
+    10 * a.face_count().max(b.face_count())
+}
+
+/// One-sided distance from `source` to the mesh behind `target`, with statistics made relative
+/// to `diagonal` (normally the original's bounding-box diagonal). `params.samples = None` means
+/// 10 × the source's face count.
+pub fn one_sided(
+    source: &TriMesh,
+    target: &SurfaceDistanceIndex,
+    params: &HausdorffParams,
+    diagonal: f64,
+) -> Result<OneSided, MetricsError> {
+    let samples = params.samples.unwrap_or(10 * source.face_count());
+    one_sided_inner(source, target, params, samples, params.seed, diagonal).map(|(o, _)| o)
+}
+
+/// The work of one direction: sample, query in fixed chunks, reduce in order.
+pub(crate) fn one_sided_inner(
+    source: &TriMesh,
+    target: &SurfaceDistanceIndex,
+    params: &HausdorffParams,
+    samples: usize,
+    seed: u64,
+    diagonal: f64,
+) -> Result<(OneSided, NormalDeviation), MetricsError> {
+    if source.triangles.is_empty() {
+        return Err(MetricsError::NoTriangles { mesh: "source" });
+    }
+    let plan = StratifiedParams {
+        total: samples,
+        vertices: params.vertices,
+        edges: params.edges,
+        faces: params.faces,
+    };
+    let drawn = sample_stratified(source, &plan, seed).map_err(|source| MetricsError::Invalid {
+        mesh: "source",
+        source,
+    })?;
+    let source_normals = source.face_normals();
+    let face_start = drawn.vertex_count + drawn.edge_count;
+    let bound2 = params.max_distance.map_or(f32::INFINITY, bound_f32);
+    let max_distance = params.max_distance.unwrap_or(f64::INFINITY);
+
+    let partials: Vec<Partial> = drawn
+        .samples
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(chunk, batch)| {
+            let mut acc = Partial::new();
+            let mut stack = Vec::with_capacity(64);
+            let mut hint = NO_SLOT;
+            for (k, s) in batch.iter().enumerate() {
+                let i = chunk * CHUNK + k;
+                let slot = target.nearest_slot(Vec3A::from(s.position), hint, bound2, &mut stack);
+                if slot == NO_SLOT {
+                    acc.excluded += 1;
+                    continue;
+                }
+                hint = slot;
+                let hit = target.exact(s.position.as_dvec3(), slot);
+                let d = hit.distance;
+                if d > max_distance {
+                    acc.excluded += 1;
+                    continue;
+                }
+                if acc.all_n == 0 || d > acc.max {
+                    acc.max = d;
+                    acc.max_at = s.position;
+                }
+                acc.all_sum += d;
+                acc.all_sum2 += d * d;
+                acc.all_n += 1;
+                if i >= face_start {
+                    acc.face_sum += d;
+                    acc.face_sum2 += d * d;
+                    acc.face_n += 1;
+                    let n_src = source_normals[s.face as usize];
+                    let n_dst = target.face_normal(hit.face);
+                    if n_src != Vec3::ZERO && n_dst != Vec3::ZERO {
+                        let cos = (n_src.as_dvec3().dot(n_dst.as_dvec3())).clamp(-1.0, 1.0);
+                        let angle = cos.acos().to_degrees();
+                        acc.angle_sum += angle;
+                        acc.angle_max = acc.angle_max.max(angle);
+                        acc.angle_hist[(angle as usize).min(ANGLE_BINS - 1)] += 1;
+                        acc.angle_n += 1;
+                    }
+                }
+            }
+            acc
+        })
+        .collect();
+    let total = partials.into_iter().fold(Partial::new(), Partial::merge);
+
+    // Mean and RMS from the area-weighted face samples; fall back to all samples if the source
+    // got no face samples (tiny budgets).
+    let (sum, sum2, n) = if total.face_n > 0 {
+        (total.face_sum, total.face_sum2, total.face_n)
+    } else {
+        (total.all_sum, total.all_sum2, total.all_n)
+    };
+    let (mean, rms) = if n > 0 {
+        (sum / n as f64, (sum2 / n as f64).sqrt())
+    } else {
+        (0.0, 0.0)
+    };
+    let rel = |x: f64| if diagonal > 0.0 { x / diagonal } else { 0.0 };
+    let one = OneSided {
+        max: total.max,
+        mean,
+        rms,
+        samples: total.all_n,
+        vertex_samples: drawn.vertex_count,
+        edge_samples: drawn.edge_count,
+        face_samples: drawn.face_count,
+        excluded: total.excluded,
+        max_at: total.max_at,
+        relative: DistanceStats {
+            max: rel(total.max),
+            mean: rel(mean),
+            rms: rel(rms),
+        },
+    };
+    let p95 = {
+        let target_count = (total.angle_n as f64 * 0.95).ceil() as u64;
+        let mut seen = 0u64;
+        let mut edge = 0.0;
+        for (bin, &c) in total.angle_hist.iter().enumerate() {
+            seen += c as u64;
+            if seen >= target_count {
+                edge = (bin + 1) as f64;
+                break;
+            }
+        }
+        edge.min(total.angle_max.ceil().max(0.0))
+    };
+    let normals = NormalDeviation {
+        mean_degrees: if total.angle_n > 0 {
+            total.angle_sum / total.angle_n as f64
+        } else {
+            0.0
+        },
+        p95_degrees: if total.angle_n > 0 { p95 } else { 0.0 },
+        max_degrees: total.angle_max,
+        samples: total.angle_n,
+    };
+    Ok((one, normals))
+}
+
+/// Combines the two directions into the symmetric figures.
+fn combine(forward: OneSided, backward: OneSided, diagonal: f64) -> Hausdorff {
+    let max = forward.max.max(backward.max);
+    let mean = 0.5 * (forward.mean + backward.mean);
+    let rms = (0.5 * (forward.rms * forward.rms + backward.rms * backward.rms)).sqrt();
+    let rel = |x: f64| if diagonal > 0.0 { x / diagonal } else { 0.0 };
+    Hausdorff {
+        forward,
+        backward,
+        max,
+        mean,
+        rms,
+        bbox_diagonal: diagonal,
+        relative: DistanceStats {
+            max: rel(max),
+            mean: rel(mean),
+            rms: rel(rms),
+        },
+    }
+}
+
+/// Both directions with prebuilt indices; returns the distances and the normal deviations
+/// (forward, backward).
+pub(crate) fn hausdorff_full(
+    original: &TriMesh,
+    original_index: &SurfaceDistanceIndex,
+    simplified: &TriMesh,
+    simplified_index: &SurfaceDistanceIndex,
+    params: &HausdorffParams,
+) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
+    let samples = params
+        .samples
+        .unwrap_or_else(|| default_samples(original, simplified));
+    let diagonal = original.bbox_diagonal();
+    let (fwd, bwd) = rayon::join(
+        || {
+            one_sided_inner(
+                original,
+                simplified_index,
+                params,
+                samples,
+                derive_seed(params.seed, 1),
+                diagonal,
+            )
+        },
+        || {
+            one_sided_inner(
+                simplified,
+                original_index,
+                params,
+                samples,
+                derive_seed(params.seed, 2),
+                diagonal,
+            )
+        },
+    );
+    let (fwd, nf) = fwd.map_err(|e| rename(e, "original"))?;
+    let (bwd, nb) = bwd.map_err(|e| rename(e, "simplified"))?;
+    Ok((combine(fwd, bwd, diagonal), nf, nb))
+}
+
+/// Replaces the generic mesh role in an error with the caller's name for it.
+fn rename(e: MetricsError, which: &'static str) -> MetricsError {
+    match e {
+        MetricsError::NoTriangles { .. } => MetricsError::NoTriangles { mesh: which },
+        MetricsError::NoVertices { .. } => MetricsError::NoVertices { mesh: which },
+        MetricsError::Invalid { source, .. } => MetricsError::Invalid {
+            mesh: which,
+            source,
+        },
+    }
+}
+
+/// Symmetric sampled surface distance with prebuilt indices (reuse them across many calls).
+pub fn hausdorff_indexed(
+    original: &TriMesh,
+    original_index: &SurfaceDistanceIndex,
+    simplified: &TriMesh,
+    simplified_index: &SurfaceDistanceIndex,
+    params: &HausdorffParams,
+) -> Result<Hausdorff, MetricsError> {
+    hausdorff_full(
+        original,
+        original_index,
+        simplified,
+        simplified_index,
+        params,
+    )
+    .map(|(h, _, _)| h)
+}
+
+/// Builds the two BVHs (in parallel).
+pub(crate) fn build_indices(
+    original: &TriMesh,
+    simplified: &TriMesh,
+) -> Result<(SurfaceDistanceIndex, SurfaceDistanceIndex), MetricsError> {
+    let (a, b) = rayon::join(
+        || SurfaceDistanceIndex::new(original),
+        || SurfaceDistanceIndex::new(simplified),
+    );
+    Ok((
+        a.map_err(|e| rename(e, "original"))?,
+        b.map_err(|e| rename(e, "simplified"))?,
+    ))
+}
+
+/// Symmetric Metro-style surface distance between `original` and `simplified`
+/// (forward = original → simplified). Deterministic for a given `params.seed`.
+pub fn hausdorff(
+    original: &TriMesh,
+    simplified: &TriMesh,
+    params: &HausdorffParams,
+) -> Result<Hausdorff, MetricsError> {
+    let (oi, si) = build_indices(original, simplified)?;
+    hausdorff_indexed(original, &oi, simplified, &si, params)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mesh::procedural::{icosphere, torus};
+
+    #[test]
+    fn mesh_to_itself_is_zero() {
+        let m = torus(1.0, 0.3, 32, 16);
+        let h = hausdorff(&m, &m, &HausdorffParams::with_samples(50_000)).unwrap();
+        let diag = m.bbox_diagonal();
+        assert!(h.max <= 1e-6 * diag, "{h:?}");
+        assert!(h.mean <= 1e-7 * diag);
+        assert_eq!(h.forward.samples, 50_000);
+        assert_eq!(h.forward.excluded, 0);
+    }
+
+    #[test]
+    fn sphere_against_scaled_copy_gives_the_offset() {
+        // A fine icosphere against a copy scaled by s: away from the facets the distance is
+        // (s - 1) · r up to the facet sag (1 - cos of half the edge angle), which at 5 levels of
+        // subdivision is ~2e-4; so max, mean and RMS must all be within that of 0.1.
+        let m = icosphere(5);
+        let s = 1.1f32;
+        let scaled = TriMesh::new(
+            m.positions.iter().map(|p| *p * s).collect(),
+            m.triangles.clone(),
+        );
+        let h = hausdorff(&m, &scaled, &HausdorffParams::with_samples(200_000)).unwrap();
+        let sag = 1e-3;
+        for d in [
+            h.forward.max,
+            h.forward.mean,
+            h.forward.rms,
+            h.backward.max,
+            h.backward.mean,
+            h.backward.rms,
+        ] {
+            assert!((d - 0.1).abs() < sag, "{d} vs 0.1: {h:?}");
+        }
+        // Relative figures use the original's diagonal (2 · sqrt(3) for the unit sphere's box,
+        // computed from the vertices).
+        assert!((h.relative.max - h.max / m.bbox_diagonal()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn deterministic_regardless_of_thread_count() {
+        let a = torus(1.0, 0.3, 40, 20);
+        let b = icosphere(3);
+        let params = HausdorffParams::with_samples(40_000);
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| hausdorff(&a, &b, &params).unwrap());
+        let three = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap()
+            .install(|| hausdorff(&a, &b, &params).unwrap());
+        assert_eq!(one, three);
+        let other_seed = hausdorff(
+            &a,
+            &b,
+            &HausdorffParams {
+                seed: 2,
+                ..params
+            },
+        )
+        .unwrap();
+        assert_ne!(one.forward.mean, other_seed.forward.mean);
+    }
+
+    #[test]
+    fn max_distance_excludes_far_samples() {
+        // A unit square and a copy of it with one far-away extra triangle: samples on the extra
+        // triangle are excluded when max_distance is below their distance.
+        let square = TriMesh::new(
+            vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        );
+        let mut far = square.clone();
+        far.positions.extend([
+            Vec3::new(0.0, 0.0, 5.0),
+            Vec3::new(1.0, 0.0, 5.0),
+            Vec3::new(0.0, 1.0, 5.0),
+        ]);
+        far.triangles.push([4, 5, 6]);
+        let all = hausdorff(&square, &far, &HausdorffParams::with_samples(3000)).unwrap();
+        assert!((all.backward.max - 5.0).abs() < 1e-6);
+        let cut = hausdorff(
+            &square,
+            &far,
+            &HausdorffParams {
+                max_distance: Some(1.0),
+                ..HausdorffParams::with_samples(3000)
+            },
+        )
+        .unwrap();
+        assert!(cut.backward.excluded > 0);
+        assert!(cut.backward.max < 1e-6);
+        assert_eq!(
+            cut.backward.samples + cut.backward.excluded,
+            all.backward.samples
+        );
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let good = icosphere(1);
+        let no_faces = TriMesh::new(vec![Vec3::ZERO], vec![]);
+        assert!(matches!(
+            hausdorff(&good, &no_faces, &HausdorffParams::default()),
+            Err(MetricsError::NoTriangles { mesh: "simplified" })
+        ));
+        let bad = TriMesh::new(vec![Vec3::ZERO], vec![[0, 0, 9]]);
+        assert!(matches!(
+            hausdorff(&bad, &good, &HausdorffParams::default()),
+            Err(MetricsError::Invalid {
+                mesh: "original",
+                ..
+            })
+        ));
+    }
+}

@@ -1,0 +1,788 @@
+//! The contraction engine: flat arrays, per-vertex face lists in one growing buffer (CSR-like,
+//! rewritten on collapse and compacted now and then), and a sorted candidate list processed in
+//! passes instead of a heap.
+//!
+//! Each pass walks the pairs in increasing cost and contracts every pair whose endpoints were not
+//! touched earlier in the pass, up to a cost cap (1.5 × the cost at the middle of the pass's goal),
+//! so the order stays close to the greedy order of Garland & Heckbert. Pairs of untouched vertices
+//! keep their exact cost and order for the next pass; pairs of the merged vertices are evaluated
+//! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
+
+use crate::{QemError, QemParams, QemReport, Quadric, StopReason, Target, pairs};
+use glam::{DVec3, Vec3};
+use mesh::TriMesh;
+use std::time::Instant;
+
+/// Marks a dead face (in its first slot) and an empty linked list.
+const DEAD: u32 = u32::MAX;
+
+/// A candidate pair with its cost (as `f32` bits, which order like the non-negative cost).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Cand {
+    key: u32,
+    a: u32,
+    b: u32,
+}
+
+#[inline]
+fn cost_key(cost: f64) -> u32 {
+    let c = cost as f32;
+    if c.is_nan() { f32::MAX.to_bits() } else { c.max(0.0).to_bits() }
+}
+
+/// Linked lists of non-edge pairs per (representative) vertex, plus union-find to resolve merges.
+struct VirtualPairs {
+    parent: Vec<u32>,
+    head: Vec<u32>,
+    tail: Vec<u32>,
+    next: Vec<u32>,
+    /// Node `2p + s` belongs to pair `p` on side `s`; `other` is the vertex on the other side.
+    other: Vec<u32>,
+}
+
+impl VirtualPairs {
+    fn new(vertices: usize, pairs: &[[u32; 2]]) -> Self {
+        let mut vp = VirtualPairs {
+            parent: (0..vertices as u32).collect(),
+            head: vec![DEAD; vertices],
+            tail: vec![DEAD; vertices],
+            next: vec![DEAD; pairs.len() * 2],
+            other: Vec::with_capacity(pairs.len() * 2),
+        };
+        for (p, &[u, v]) in pairs.iter().enumerate() {
+            vp.other.push(v);
+            vp.other.push(u);
+            vp.append(u as usize, (2 * p) as u32);
+            vp.append(v as usize, (2 * p + 1) as u32);
+        }
+        vp
+    }
+
+    fn append(&mut self, v: usize, node: u32) {
+        if self.head[v] == DEAD {
+            self.head[v] = node;
+        } else {
+            self.next[self.tail[v] as usize] = node;
+        }
+        self.tail[v] = node;
+    }
+
+    fn find(&mut self, mut v: u32) -> u32 {
+        while self.parent[v as usize] != v {
+            let g = self.parent[self.parent[v as usize] as usize];
+            self.parent[v as usize] = g;
+            v = g;
+        }
+        v
+    }
+
+    /// Vertex `b` merged into `a`: union, and concatenate `b`'s list onto `a`'s.
+    fn merge(&mut self, a: usize, b: usize) {
+        self.parent[b] = a as u32;
+        if self.head[b] == DEAD {
+            return;
+        }
+        if self.head[a] == DEAD {
+            self.head[a] = self.head[b];
+        } else {
+            self.next[self.tail[a] as usize] = self.head[b];
+        }
+        self.tail[a] = self.tail[b];
+        self.head[b] = DEAD;
+        self.tail[b] = DEAD;
+    }
+}
+
+/// Mutable simplification state.
+struct Engine {
+    pos: Vec<DVec3>,
+    quadric: Vec<Quadric>,
+    faces: Vec<[u32; 3]>,
+    face_start: Vec<u32>,
+    face_len: Vec<u32>,
+    refs: Vec<u32>,
+    refs_limit: usize,
+    stamp: Vec<u32>,
+    alive: Vec<bool>,
+    /// Vertex on a boundary edge (or on a non-manifold edge).
+    boundary: Vec<bool>,
+    mark: Vec<u32>,
+    tick: u32,
+    /// Pass number in which a vertex was last touched by a contraction.
+    touched: Vec<u32>,
+    scratch: Vec<u32>,
+    virt: Option<VirtualPairs>,
+    live_faces: usize,
+    live_vertices: usize,
+    preserve_topology: bool,
+    min_normal_cos: f64,
+}
+
+#[inline]
+fn contains(t: &[u32; 3], v: u32) -> bool {
+    t[0] == v || t[1] == v || t[2] == v
+}
+
+impl Engine {
+    #[inline]
+    fn list(&self, v: usize) -> std::ops::Range<usize> {
+        let s = self.face_start[v] as usize;
+        s..s + self.face_len[v] as usize
+    }
+
+    #[inline]
+    fn next_tick(&mut self) -> u32 {
+        self.tick = self.tick.wrapping_add(1);
+        if self.tick == 0 {
+            self.mark.fill(0);
+            self.tick = 1;
+        }
+        self.tick
+    }
+
+    /// Placement for the pair (optimal, else best on the segment, else best of ends/midpoint).
+    #[inline]
+    fn place(q: &Quadric, pa: DVec3, pb: DVec3) -> DVec3 {
+        let d = pb - pa;
+        let len2 = d.length_squared();
+        let mid = 0.5 * (pa + pb);
+        if let Some(x) = q.minimizer() {
+            // Guard against nearly singular systems that throw the point far away.
+            if (x - mid).length_squared() <= 9.0 * len2 {
+                return x;
+            }
+        }
+        let dad = d.dot(q.mul_a(d));
+        if dad > 1e-12 * q.trace() * len2 {
+            let t = (-d.dot(q.mul_a(pa) + q.b_vec()) / dad).clamp(0.0, 1.0);
+            return pa + d * t;
+        }
+        let (ea, eb, em) = (q.eval(pa), q.eval(pb), q.eval(mid));
+        if em <= ea && em <= eb {
+            mid
+        } else if ea <= eb {
+            pa
+        } else {
+            pb
+        }
+    }
+
+    #[inline]
+    fn evaluate(&self, a: usize, b: usize) -> (f64, DVec3) {
+        let q = self.quadric[a] + self.quadric[b];
+        let p = Self::place(&q, self.pos[a], self.pos[b]);
+        (q.eval(p).max(0.0), p)
+    }
+
+    #[inline]
+    fn candidate(&self, a: usize, b: usize) -> Cand {
+        let (cost, _) = self.evaluate(a, b);
+        Cand { key: cost_key(cost), a: a as u32, b: b as u32 }
+    }
+
+    /// Append the pairs of the merged vertex `a` (mesh edges and non-edge pairs) to `out`; a pair
+    /// with another vertex touched in pass `pass` is produced by the smaller index only.
+    fn pairs_of(&mut self, a: usize, pass: u32, out: &mut Vec<Cand>) {
+        let t = self.next_tick();
+        self.mark[a] = t;
+        let keep = |e: &Self, v: usize| e.touched[v] != pass || a < v;
+        for i in self.list(a) {
+            let tri = self.faces[self.refs[i] as usize];
+            if tri[0] == DEAD {
+                continue;
+            }
+            for v in tri {
+                let v = v as usize;
+                if self.mark[v] != t {
+                    self.mark[v] = t;
+                    if keep(self, v) {
+                        out.push(self.candidate(a, v));
+                    }
+                }
+            }
+        }
+        if self.virt.is_some() {
+            let mut node = self.virt.as_ref().map_or(DEAD, |vp| vp.head[a]);
+            while node != DEAD {
+                let vp = self.virt.as_mut().expect("checked");
+                let o = vp.find(vp.other[node as usize]) as usize;
+                node = vp.next[node as usize];
+                if self.alive[o] && self.mark[o] != t {
+                    self.mark[o] = t;
+                    if keep(self, o) {
+                        out.push(self.candidate(a, o));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether moving vertex `u` of face `tri` to `p` turns the face normal too far.
+    #[inline]
+    fn flips(&self, tri: [u32; 3], u: u32, p: DVec3) -> bool {
+        let i = if tri[0] == u {
+            0
+        } else if tri[1] == u {
+            1
+        } else {
+            2
+        };
+        let p1 = self.pos[tri[(i + 1) % 3] as usize];
+        let p2 = self.pos[tri[(i + 2) % 3] as usize];
+        let pu = self.pos[u as usize];
+        let old = (p1 - pu).cross(p2 - pu);
+        let ol = old.length_squared();
+        if ol == 0.0 {
+            return false;
+        }
+        let new = (p1 - p).cross(p2 - p);
+        let nl = new.length_squared();
+        old.dot(new) <= self.min_normal_cos * (ol * nl).sqrt()
+    }
+
+    fn alive_face_count(&self, v: usize, at_least: u32) -> u32 {
+        let mut n = 0;
+        for i in self.list(v) {
+            if self.faces[self.refs[i] as usize][0] != DEAD {
+                n += 1;
+                if n >= at_least {
+                    break;
+                }
+            }
+        }
+        n
+    }
+
+    /// Check the topology/normal conditions for contracting `b` into `a` at `p`.
+    fn allowed(&mut self, a: usize, b: usize, p: DVec3) -> bool {
+        let (au, bu) = (a as u32, b as u32);
+        let mut shared = 0usize;
+        let mut opp = [DEAD; 2];
+        let mut alive_a = 0usize;
+        for i in self.list(a) {
+            let t = self.faces[self.refs[i] as usize];
+            if t[0] == DEAD {
+                continue;
+            }
+            alive_a += 1;
+            if contains(&t, bu) {
+                if shared < 2 {
+                    opp[shared] = t[0] ^ t[1] ^ t[2] ^ au ^ bu;
+                }
+                shared += 1;
+            }
+        }
+        if !self.preserve_topology {
+            return true;
+        }
+        if shared > 2 || (shared == 2 && self.boundary[a] && self.boundary[b]) {
+            return false;
+        }
+        // Link condition: common neighbours must be exactly the opposite vertices.
+        let ta = self.next_tick();
+        let tb = self.next_tick();
+        for i in self.list(a) {
+            let t = self.faces[self.refs[i] as usize];
+            if t[0] == DEAD {
+                continue;
+            }
+            for v in t {
+                self.mark[v as usize] = ta;
+            }
+        }
+        let mut common = 0usize;
+        let mut alive_b = 0usize;
+        for i in self.list(b) {
+            let t = self.faces[self.refs[i] as usize];
+            if t[0] == DEAD {
+                continue;
+            }
+            alive_b += 1;
+            for v in t {
+                if v != au && v != bu && self.mark[v as usize] == ta {
+                    self.mark[v as usize] = tb;
+                    common += 1;
+                }
+            }
+        }
+        if common != shared || alive_a + alive_b <= 2 * shared {
+            return false;
+        }
+        // No opposite vertex may be left without faces.
+        for &c in &opp[..shared] {
+            if self.alive_face_count(c as usize, 2) < 2 {
+                return false;
+            }
+        }
+        // Tetrahedron-like configurations: a face (x, c, d) on the opposite edge would be doubled.
+        if shared == 2 {
+            let (c, d) = (opp[0], opp[1]);
+            for v in [a, b] {
+                for i in self.list(v) {
+                    let t = self.faces[self.refs[i] as usize];
+                    if t[0] != DEAD && contains(&t, c) && contains(&t, d) {
+                        return false;
+                    }
+                }
+            }
+        }
+        // Normal flips.
+        for (v, other) in [(au, bu), (bu, au)] {
+            for i in self.list(v as usize) {
+                let t = self.faces[self.refs[i] as usize];
+                if t[0] == DEAD || contains(&t, other) {
+                    continue;
+                }
+                if self.flips(t, v, p) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Contract `b` into `a`, moving `a` to `p`.
+    fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
+        let (au, bu) = (a as u32, b as u32);
+        self.pos[a] = p;
+        let qb = self.quadric[b];
+        self.quadric[a] += qb;
+        self.boundary[a] |= self.boundary[b];
+        self.alive[b] = false;
+        self.live_vertices -= 1;
+        self.stamp[a] = self.stamp[a].wrapping_add(1);
+        self.stamp[b] = self.stamp[b].wrapping_add(1);
+        self.scratch.clear();
+        for i in self.list(b) {
+            let f = self.refs[i] as usize;
+            let t = &mut self.faces[f];
+            if t[0] == DEAD {
+                continue;
+            }
+            if contains(t, au) {
+                t[0] = DEAD;
+                self.live_faces -= 1;
+            } else {
+                for v in t.iter_mut() {
+                    if *v == bu {
+                        *v = au;
+                    }
+                }
+                self.scratch.push(f as u32);
+            }
+        }
+        let start = self.refs.len();
+        for i in self.list(a) {
+            let f = self.refs[i];
+            if self.faces[f as usize][0] != DEAD {
+                self.refs.push(f);
+            }
+        }
+        self.refs.extend_from_slice(&self.scratch);
+        self.face_start[a] = start as u32;
+        self.face_len[a] = (self.refs.len() - start) as u32;
+        self.face_len[b] = 0;
+        if let Some(vp) = self.virt.as_mut() {
+            vp.merge(a, b);
+        }
+        if self.refs.len() > self.refs_limit {
+            self.compact_refs();
+        }
+    }
+
+    /// Rewrite the face lists without dead faces and free space.
+    fn compact_refs(&mut self) {
+        let mut fresh = Vec::with_capacity(self.refs_limit);
+        for v in 0..self.pos.len() {
+            let range = self.list(v);
+            let start = fresh.len();
+            if self.alive[v] {
+                for i in range {
+                    let f = self.refs[i];
+                    if self.faces[f as usize][0] != DEAD {
+                        fresh.push(f);
+                    }
+                }
+            }
+            self.face_start[v] = start as u32;
+            self.face_len[v] = (fresh.len() - start) as u32;
+        }
+        self.refs = fresh;
+        self.refs_limit = (self.refs.len() * 3).max(1024);
+    }
+}
+
+/// Run the whole simplification.
+pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), QemError> {
+    let started = Instant::now();
+    validate(params)?;
+    let n = input.positions.len();
+    if n >= u32::MAX as usize || input.triangles.len() >= u32::MAX as usize / 2 {
+        return Err(QemError::InvalidParameter("mesh too large for 32-bit indices".into()));
+    }
+    // Validate and drop faces that repeat a vertex index.
+    let mut faces: Vec<[u32; 3]> = Vec::with_capacity(input.triangles.len());
+    for (fi, t) in input.triangles.iter().enumerate() {
+        for &v in t {
+            if v as usize >= n {
+                return Err(QemError::InvalidIndex { face: fi, index: v, vertices: n });
+            }
+        }
+        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+            faces.push(*t);
+        }
+    }
+    if faces.is_empty() {
+        return Err(QemError::EmptyMesh);
+    }
+    let mut face_len = vec![0u32; n];
+    for t in &faces {
+        for &v in t {
+            face_len[v as usize] += 1;
+        }
+    }
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for (i, p) in input.positions.iter().enumerate() {
+        if face_len[i] > 0 {
+            if !p.is_finite() {
+                return Err(QemError::NonFiniteVertex(i));
+            }
+            lo = lo.min(p.as_dvec3());
+            hi = hi.max(p.as_dvec3());
+        }
+    }
+    // Work in a normalised frame (centred, unit bounding-box diagonal) for conditioning.
+    let center = 0.5 * (lo + hi);
+    let diag = (hi - lo).length();
+    let scale = if diag > 0.0 { 1.0 / diag } else { 1.0 };
+    let pos: Vec<DVec3> = input.positions.iter().map(|p| (p.as_dvec3() - center) * scale).collect();
+
+    // Vertex -> face lists (CSR).
+    let mut face_start = vec![0u32; n];
+    let mut acc = 0u32;
+    for v in 0..n {
+        face_start[v] = acc;
+        acc += face_len[v];
+    }
+    let mut refs = vec![0u32; acc as usize];
+    let mut fill = face_start.clone();
+    for (f, t) in faces.iter().enumerate() {
+        for &v in t {
+            refs[fill[v as usize] as usize] = f as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    drop(fill);
+
+    // Area-weighted face quadrics.
+    let mut quadric = vec![Quadric::default(); n];
+    for t in &faces {
+        let [p0, p1, p2] = t.map(|v| pos[v as usize]);
+        let cross = (p1 - p0).cross(p2 - p0);
+        let len = cross.length();
+        if len > 0.0 && len.is_finite() {
+            let nrm = cross / len;
+            let q = Quadric::from_plane(nrm, -nrm.dot(p0), 0.5 * len);
+            for &v in t {
+                quadric[v as usize] += q;
+            }
+        }
+    }
+
+    let referenced_vertices = face_len.iter().filter(|&&l| l > 0).count();
+    let input_faces = faces.len();
+    let refs_limit = (refs.len() * 3).max(1024);
+    let mut e = Engine {
+        pos,
+        quadric,
+        faces,
+        face_start,
+        face_len,
+        refs,
+        refs_limit,
+        stamp: vec![0; n],
+        alive: vec![true; n],
+        boundary: vec![false; n],
+        mark: vec![0; n],
+        tick: 0,
+        touched: vec![0; n],
+        scratch: Vec::new(),
+        virt: None,
+        live_faces: input_faces,
+        live_vertices: referenced_vertices,
+        preserve_topology: params.preserve_topology,
+        min_normal_cos: params.min_normal_cos,
+    };
+
+    // Edges, boundary detection and boundary constraint planes.
+    let mut count = vec![0u32; n];
+    let mut last_face = vec![0u32; n];
+    let mut edges: Vec<[u32; 2]> = Vec::with_capacity(input_faces * 3 / 2 + 16);
+    for u in 0..n {
+        if e.face_len[u] == 0 {
+            continue;
+        }
+        let t1 = e.next_tick();
+        let t2 = e.next_tick();
+        for i in e.list(u) {
+            let f = e.refs[i];
+            for v in e.faces[f as usize] {
+                let vi = v as usize;
+                if vi == u {
+                    continue;
+                }
+                if e.mark[vi] != t1 {
+                    e.mark[vi] = t1;
+                    count[vi] = 0;
+                }
+                count[vi] += 1;
+                last_face[vi] = f;
+            }
+        }
+        for i in e.list(u) {
+            let f = e.refs[i];
+            for v in e.faces[f as usize] {
+                let vi = v as usize;
+                if vi == u || e.mark[vi] != t1 {
+                    continue;
+                }
+                e.mark[vi] = t2;
+                if count[vi] != 2 {
+                    e.boundary[u] = true;
+                }
+                if vi > u {
+                    edges.push([u as u32, v]);
+                    if count[vi] == 1 && params.preserve_boundary {
+                        let [p0, p1, p2] = e.faces[last_face[vi] as usize].map(|w| e.pos[w as usize]);
+                        let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                        let edge = e.pos[vi] - e.pos[u];
+                        let m = edge.cross(face_normal).normalize_or_zero();
+                        if m != DVec3::ZERO {
+                            let w = params.boundary_weight * edge.length_squared();
+                            let q = Quadric::from_plane(m, -m.dot(e.pos[u]), w);
+                            e.quadric[u] += q;
+                            e.quadric[vi] += q;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    drop(count);
+    drop(last_face);
+
+    // Non-edge pairs within the threshold.
+    let mut virtual_pairs = 0;
+    if params.pair_threshold > 0.0 {
+        let used: Vec<bool> = e.face_len.iter().map(|&l| l > 0).collect();
+        let close = pairs::close_pairs(&e.pos, &used, params.pair_threshold * scale, params.max_pairs_per_vertex);
+        let mut sorted_edges = edges.clone();
+        sorted_edges.sort_unstable();
+        let non_edge: Vec<[u32; 2]> =
+            close.into_iter().filter(|p| sorted_edges.binary_search(p).is_err()).collect();
+        virtual_pairs = non_edge.len();
+        edges.extend_from_slice(&non_edge);
+        e.virt = Some(VirtualPairs::new(n, &non_edge));
+    }
+
+    let mut list: Vec<Cand> = edges.iter().map(|&[u, v]| e.candidate(u as usize, v as usize)).collect();
+    drop(edges);
+    list.sort_unstable();
+
+    let (target_faces, target_vertices) = match params.target {
+        Target::Vertices(v) => (usize::MAX, v),
+        Target::Faces(f) => (f, usize::MAX),
+        Target::Ratio(r) => (((input_faces as f64) * r).round() as usize, usize::MAX),
+    };
+    let scale4 = scale.powi(4);
+    let max_error = params.max_error.map_or(f64::INFINITY, |m| m * scale4);
+
+    let mut collapses = 0usize;
+    let mut rejected = 0usize;
+    let mut worst = 0.0f64;
+    let mut pass = 0u32;
+    let mut carried: Vec<Cand> = Vec::with_capacity(list.len());
+    let mut fresh: Vec<Cand> = Vec::new();
+    let mut survivors: Vec<u32> = Vec::new();
+    let reached = |e: &Engine| e.live_faces <= target_faces && e.live_vertices <= target_vertices;
+    let stop_reason = loop {
+        if reached(&e) {
+            break StopReason::TargetReached;
+        }
+        if list.is_empty() {
+            break StopReason::NoValidPairs;
+        }
+        pass += 1;
+        // Contractions still needed (an interior edge collapse removes two faces).
+        let goal = if target_faces != usize::MAX {
+            (e.live_faces - target_faces).div_ceil(2)
+        } else {
+            e.live_vertices - target_vertices
+        };
+        let cap = 1.5 * f32::from_bits(list[(goal / 2).min(list.len() - 1)].key);
+        let mut done = 0usize;
+        let mut stop = None;
+        survivors.clear();
+        for c in &list {
+            let (a, b) = (c.a as usize, c.b as usize);
+            if e.touched[a] == pass || e.touched[b] == pass || !e.alive[a] || !e.alive[b] {
+                continue;
+            }
+            if done > 0 && f32::from_bits(c.key) > cap {
+                break;
+            }
+            let (cost, p) = e.evaluate(a, b);
+            if cost > max_error {
+                stop = Some(StopReason::MaxError);
+                break;
+            }
+            // Keep the vertex with the longer face list (less relinking).
+            let (a, b) = if e.face_len[b] > e.face_len[a] { (b, a) } else { (a, b) };
+            if !e.allowed(a, b, p) {
+                rejected += 1;
+                continue;
+            }
+            e.collapse(a, b, p);
+            e.touched[a] = pass;
+            e.touched[b] = pass;
+            survivors.push(a as u32);
+            done += 1;
+            worst = worst.max(cost);
+            if reached(&e) {
+                break;
+            }
+        }
+        collapses += done;
+        if let Some(reason) = stop {
+            break reason;
+        }
+        if done == 0 {
+            break StopReason::NoValidPairs;
+        }
+        if reached(&e) {
+            break StopReason::TargetReached;
+        }
+        // Next list: untouched pairs in their order, merged with the fresh pairs of merged vertices.
+        carried.clear();
+        carried.extend(list.iter().filter(|c| {
+            let (a, b) = (c.a as usize, c.b as usize);
+            e.touched[a] != pass && e.touched[b] != pass && e.alive[a] && e.alive[b]
+        }));
+        fresh.clear();
+        for &a in &survivors {
+            e.pairs_of(a as usize, pass, &mut fresh);
+        }
+        fresh.sort_unstable();
+        list.clear();
+        merge_sorted(&carried, &fresh, &mut list);
+    };
+
+    let out = e.output(center, diag, scale);
+    let report = QemReport {
+        input_vertices: referenced_vertices,
+        input_faces,
+        collapses,
+        vertices: out.positions.len(),
+        faces: out.triangles.len(),
+        max_error: worst / scale4,
+        seconds: started.elapsed().as_secs_f64(),
+        target_reached: stop_reason == StopReason::TargetReached,
+        stop_reason,
+        rejected,
+        virtual_pairs,
+    };
+    Ok((out, report))
+}
+
+impl Engine {
+    /// Compact into a `TriMesh`: live faces without duplicates, referenced vertices only (in
+    /// original index order), positions mapped back to model units.
+    fn output(&self, center: DVec3, diag: f64, scale: f64) -> TriMesh {
+        let _ = diag;
+        let mut tris: Vec<[u32; 3]> = self.faces.iter().copied().filter(|t| t[0] != DEAD).collect();
+        // Drop duplicate faces (same vertex set), keeping the first.
+        let mut keys: Vec<([u32; 3], u32)> = tris
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let mut k = *t;
+                k.sort_unstable();
+                (k, i as u32)
+            })
+            .collect();
+        keys.sort_unstable();
+        let mut keep = vec![true; tris.len()];
+        for w in keys.windows(2) {
+            if w[0].0 == w[1].0 {
+                keep[w[1].1 as usize] = false;
+            }
+        }
+        let mut i = 0;
+        tris.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
+        let mut remap = vec![DEAD; self.pos.len()];
+        for t in &tris {
+            for &v in t {
+                remap[v as usize] = 0;
+            }
+        }
+        let mut positions = Vec::new();
+        for (v, r) in remap.iter_mut().enumerate() {
+            if *r == 0 {
+                *r = positions.len() as u32;
+                let p = self.pos[v] / scale + center;
+                positions.push(Vec3::new(p.x as f32, p.y as f32, p.z as f32));
+            }
+        }
+        for t in &mut tris {
+            for v in t.iter_mut() {
+                *v = remap[*v as usize];
+            }
+        }
+        TriMesh::new(positions, tris)
+    }
+}
+
+/// Merge two sorted slices into `out`.
+fn merge_sorted(x: &[Cand], y: &[Cand], out: &mut Vec<Cand>) {
+    out.reserve(x.len() + y.len());
+    let (mut i, mut j) = (0, 0);
+    while i < x.len() && j < y.len() {
+        if x[i] <= y[j] {
+            out.push(x[i]);
+            i += 1;
+        } else {
+            out.push(y[j]);
+            j += 1;
+        }
+    }
+    out.extend_from_slice(&x[i..]);
+    out.extend_from_slice(&y[j..]);
+}
+
+fn validate(p: &QemParams) -> Result<(), QemError> {
+    let bad = |s: String| Err(QemError::InvalidParameter(s));
+    if let Target::Ratio(r) = p.target
+        && !(r > 0.0 && r <= 1.0)
+    {
+        return bad(format!("target ratio {r} is not in (0, 1]"));
+    }
+    if !(p.pair_threshold >= 0.0 && p.pair_threshold.is_finite()) {
+        return bad(format!("pair threshold {} must be finite and >= 0", p.pair_threshold));
+    }
+    if !(p.boundary_weight >= 0.0 && p.boundary_weight.is_finite()) {
+        return bad(format!("boundary weight {} must be finite and >= 0", p.boundary_weight));
+    }
+    if let Some(m) = p.max_error
+        && m.is_nan()
+    {
+        return bad("max error is NaN".into());
+    }
+    if !(-1.0..=1.0).contains(&p.min_normal_cos) {
+        return bad(format!("min_normal_cos {} is not in [-1, 1]", p.min_normal_cos));
+    }
+    Ok(())
+}

@@ -1,0 +1,817 @@
+//! wgpu rendering of the 3D viewports: an orbit camera, GPU copies of meshes and of the live
+//! network, and pipelines that draw them with depth into an offscreen colour+depth target per
+//! viewport. Each target's colour texture is registered with egui and shown as an image.
+
+use bytemuck::{Pod, Zeroable};
+use egui_wgpu::RenderState;
+use glam::{Mat4, Vec3};
+use mesh::{Aabb, TriMesh};
+use wgpu::util::DeviceExt;
+
+/// Colour format of the offscreen targets (egui samples it as linear and converts itself).
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Depth format of the offscreen targets.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Clear colour of the viewports (linear RGB).
+pub const CLEAR_COLOR: [f64; 3] = [0.010, 0.012, 0.018];
+/// Distance between per-draw uniform slots in bytes (wgpu's minimum dynamic offset alignment).
+const UNIFORM_STRIDE: u64 = 256;
+/// Draw calls one viewport can issue per frame.
+const MAX_DRAWS: u64 = 8;
+
+/// Orbit camera shared by both viewports: yaw/pitch around a target point at a distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitCamera {
+    /// Point orbited around, in model units.
+    pub target: Vec3,
+    /// Distance from target to eye, in model units.
+    pub distance: f32,
+    /// Rotation about the vertical axis, radians.
+    pub yaw: f32,
+    /// Elevation, radians, clamped to just under ±π/2.
+    pub pitch: f32,
+    /// Vertical field of view, radians.
+    pub fov_y: f32,
+    /// Radius of the framed model, for near/far planes and pan speed.
+    pub scene_radius: f32,
+}
+
+impl Default for OrbitCamera {
+    fn default() -> Self {
+        OrbitCamera {
+            target: Vec3::ZERO,
+            distance: 3.0,
+            yaw: 0.6,
+            pitch: 0.35,
+            fov_y: 40f32.to_radians(),
+            scene_radius: 1.0,
+        }
+    }
+}
+
+impl OrbitCamera {
+    /// A camera that frames `bounds` from the default direction.
+    pub fn framing(bounds: &Aabb) -> OrbitCamera {
+        let mut camera = OrbitCamera::default();
+        if !bounds.is_empty() {
+            let radius = (bounds.diagonal() as f32 * 0.5).max(1e-6);
+            camera.target = bounds.center();
+            camera.scene_radius = radius;
+            camera.distance = radius / (camera.fov_y * 0.5).sin() * 1.05;
+        }
+        camera
+    }
+
+    /// Eye position in model units.
+    pub fn eye(&self) -> Vec3 {
+        let dir = Vec3::new(
+            self.pitch.cos() * self.yaw.sin(),
+            self.pitch.sin(),
+            self.pitch.cos() * self.yaw.cos(),
+        );
+        self.target + dir * self.distance
+    }
+
+    /// Combined projection × view matrix for a target of the given aspect ratio (width/height).
+    pub fn view_proj(&self, aspect: f32) -> Mat4 {
+        let near = (self.distance - self.scene_radius * 2.0).max(self.distance * 1e-3);
+        let far = self.distance + self.scene_radius * 2.0;
+        perspective(self.fov_y, aspect.max(1e-3), near, far) * look_at(self.eye(), self.target)
+    }
+
+    /// Rotate by a mouse drag of `dx`, `dy` points.
+    pub fn orbit(&mut self, dx: f32, dy: f32) {
+        self.yaw -= dx * 0.008;
+        self.pitch = (self.pitch + dy * 0.008).clamp(-1.55, 1.55);
+    }
+
+    /// Move the target by a drag of `dx`, `dy` points in a viewport `height` points tall.
+    pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {
+        let eye = self.eye();
+        let forward = (self.target - eye).normalize_or_zero();
+        let right = forward.cross(Vec3::Y).normalize_or_zero();
+        let up = right.cross(forward);
+        let units_per_point = 2.0 * self.distance * (self.fov_y * 0.5).tan() / height.max(1.0);
+        self.target += (-right * dx + up * dy) * units_per_point;
+    }
+
+    /// Zoom by `factor` (> 1 moves closer).
+    pub fn zoom(&mut self, factor: f32) {
+        if factor.is_finite() && factor > 0.0 {
+            self.distance = (self.distance / factor)
+                .clamp(self.scene_radius * 0.05, self.scene_radius * 50.0);
+        }
+    }
+}
+
+/// Right-handed perspective projection with wgpu's 0..1 depth range.
+fn perspective(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
+    let f = 1.0 / (fov_y * 0.5).tan();
+    let r = far / (near - far);
+    Mat4::from_cols_array(&[
+        f / aspect, 0.0, 0.0, 0.0, //
+        0.0, f, 0.0, 0.0, //
+        0.0, 0.0, r, -1.0, //
+        0.0, 0.0, r * near, 0.0,
+    ])
+}
+
+/// Right-handed view matrix looking from `eye` at `center` with +Y up.
+fn look_at(eye: Vec3, center: Vec3) -> Mat4 {
+    let f = (center - eye).normalize_or_zero();
+    let s = f.cross(Vec3::Y).normalize_or(Vec3::X);
+    let u = s.cross(f);
+    Mat4::from_cols_array(&[
+        s.x, u.x, -f.x, 0.0, //
+        s.y, u.y, -f.y, 0.0, //
+        s.z, u.z, -f.z, 0.0, //
+        -s.dot(eye), -u.dot(eye), f.dot(eye), 1.0,
+    ])
+}
+
+/// Per-draw uniforms, laid out like `Draw` in shader.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct DrawUniform {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    light: [f32; 4],
+    color: [f32; 4],
+    params: [f32; 4],
+    viewport: [f32; 4],
+}
+
+/// Vertex of a surface: position and smooth normal.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct SurfaceVertex {
+    position: [f32; 3],
+    normal: [f32; 3],
+}
+
+/// A triangle mesh uploaded to the GPU: vertices with smooth normals, triangle indices and the
+/// unique edges for wireframe.
+pub struct GpuMesh {
+    vertices: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    triangle_index_count: u32,
+    edges: wgpu::Buffer,
+    edge_index_count: u32,
+    /// Vertex count of the source mesh.
+    pub vertex_count: usize,
+    /// Face count of the source mesh.
+    pub face_count: usize,
+}
+
+impl GpuMesh {
+    /// Upload `mesh` (vertex normals are computed here).
+    pub fn new(device: &wgpu::Device, mesh: &TriMesh) -> GpuMesh {
+        let normals = mesh.vertex_normals();
+        let vertices: Vec<SurfaceVertex> = mesh
+            .positions
+            .iter()
+            .zip(&normals)
+            .map(|(p, n)| SurfaceVertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            })
+            .collect();
+        let triangle_indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        let mut edges: Vec<[u32; 2]> = mesh
+            .triangles
+            .iter()
+            .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
+            .map(|[a, b]| [a.min(b), a.max(b)])
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let edge_indices: Vec<u32> = edges.into_iter().flatten().collect();
+        GpuMesh {
+            vertices: buffer_init(device, "mesh vertices", &vertices, wgpu::BufferUsages::VERTEX),
+            triangles: buffer_init(
+                device,
+                "mesh triangles",
+                &triangle_indices,
+                wgpu::BufferUsages::INDEX,
+            ),
+            triangle_index_count: triangle_indices.len() as u32,
+            edges: buffer_init(device, "mesh edges", &edge_indices, wgpu::BufferUsages::INDEX),
+            edge_index_count: edge_indices.len() as u32,
+            vertex_count: mesh.vertex_count(),
+            face_count: mesh.face_count(),
+        }
+    }
+}
+
+/// Create a buffer holding `data` (at least 16 bytes so empty data stays valid).
+fn buffer_init<T: Pod>(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[T],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let bytes: &[u8] = bytemuck::cast_slice(data);
+    if bytes.is_empty() {
+        return device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: 16,
+            usage,
+            mapped_at_creation: false,
+        });
+    }
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage,
+    })
+}
+
+/// The live GNG network on the GPU: node positions (instanced points, line vertices) and edges.
+pub struct GpuNetwork {
+    positions: wgpu::Buffer,
+    position_capacity: u64,
+    edges: wgpu::Buffer,
+    edge_capacity: u64,
+    node_count: u32,
+    edge_index_count: u32,
+}
+
+impl GpuNetwork {
+    /// An empty network.
+    pub fn new(device: &wgpu::Device) -> GpuNetwork {
+        GpuNetwork {
+            positions: growable(device, "network nodes", 4096, wgpu::BufferUsages::VERTEX),
+            position_capacity: 4096,
+            edges: growable(device, "network edges", 4096, wgpu::BufferUsages::INDEX),
+            edge_capacity: 4096,
+            node_count: 0,
+            edge_index_count: 0,
+        }
+    }
+
+    /// Replace the network with `positions` and `edges` (buffers grow geometrically).
+    pub fn update(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        positions: &[Vec3],
+        edges: &[[u32; 2]],
+    ) {
+        let position_bytes: &[u8] = bytemuck::cast_slice(positions);
+        let edge_bytes: &[u8] = bytemuck::cast_slice(edges);
+        if position_bytes.len() as u64 > self.position_capacity {
+            self.position_capacity = (position_bytes.len() as u64).next_power_of_two();
+            self.positions = growable(
+                device,
+                "network nodes",
+                self.position_capacity,
+                wgpu::BufferUsages::VERTEX,
+            );
+        }
+        if edge_bytes.len() as u64 > self.edge_capacity {
+            self.edge_capacity = (edge_bytes.len() as u64).next_power_of_two();
+            self.edges = growable(
+                device,
+                "network edges",
+                self.edge_capacity,
+                wgpu::BufferUsages::INDEX,
+            );
+        }
+        if !position_bytes.is_empty() {
+            queue.write_buffer(&self.positions, 0, position_bytes);
+        }
+        if !edge_bytes.is_empty() {
+            queue.write_buffer(&self.edges, 0, edge_bytes);
+        }
+        self.node_count = positions.len() as u32;
+        // Only edges whose endpoints exist are drawn; the worker guarantees that.
+        self.edge_index_count = (edges.len() * 2) as u32;
+    }
+
+    /// Number of nodes currently uploaded.
+    pub fn node_count(&self) -> u32 {
+        self.node_count
+    }
+}
+
+fn growable(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16).next_multiple_of(4),
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// How surfaces are shaded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shading {
+    /// One normal per triangle (from screen-space derivatives).
+    Flat,
+    /// Interpolated area-weighted vertex normals.
+    Smooth,
+}
+
+/// One thing to draw into a viewport.
+pub enum DrawItem<'a> {
+    /// An opaque lit surface.
+    Surface {
+        /// The mesh.
+        mesh: &'a GpuMesh,
+        /// Linear RGB base colour.
+        color: [f32; 3],
+        /// Flat or smooth.
+        shading: Shading,
+    },
+    /// The mesh's edges as lines.
+    Wireframe {
+        /// The mesh.
+        mesh: &'a GpuMesh,
+        /// Linear RGBA line colour.
+        color: [f32; 4],
+    },
+    /// A translucent lit surface drawn over everything else (the "original" overlay).
+    Overlay {
+        /// The mesh.
+        mesh: &'a GpuMesh,
+        /// Linear RGB colour and opacity.
+        color: [f32; 4],
+    },
+    /// GNG nodes as round points and GNG edges as lines.
+    Network {
+        /// The network.
+        network: &'a GpuNetwork,
+        /// Linear RGB node colour.
+        node_color: [f32; 3],
+        /// Linear RGBA edge colour.
+        edge_color: [f32; 4],
+        /// Node diameter in pixels.
+        point_px: f32,
+    },
+}
+
+/// An offscreen colour+depth target registered with egui as a texture.
+pub struct ViewTarget {
+    color: wgpu::Texture,
+    color_view: wgpu::TextureView,
+    depth_view: wgpu::TextureView,
+    uniforms: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    /// The texture's id for `egui::Image`.
+    pub texture_id: egui::TextureId,
+    /// Size in pixels.
+    pub size: [u32; 2],
+}
+
+impl ViewTarget {
+    /// The colour texture (for read-back in tests and screenshots).
+    pub fn color_texture(&self) -> &wgpu::Texture {
+        &self.color
+    }
+}
+
+/// Pipelines shared by all viewports.
+pub struct SceneRenderer {
+    layout: wgpu::BindGroupLayout,
+    surface: wgpu::RenderPipeline,
+    overlay: wgpu::RenderPipeline,
+    mesh_lines: wgpu::RenderPipeline,
+    network_lines: wgpu::RenderPipeline,
+    points: wgpu::RenderPipeline,
+}
+
+impl SceneRenderer {
+    /// Compile the shaders and build the pipelines.
+    pub fn new(device: &wgpu::Device) -> SceneRenderer {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("viewer shader"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("viewer draw uniforms"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(size_of::<DrawUniform>() as u64),
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("viewer pipeline layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let surface_vertex = wgpu::VertexBufferLayout {
+            array_stride: size_of::<SurfaceVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+        };
+        let surface_position_only = wgpu::VertexBufferLayout {
+            array_stride: size_of::<SurfaceVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        };
+        let node_vertex = wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        };
+        let node_instance = wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        };
+        let premultiplied = Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING);
+        let make = |label: &str,
+                    vs: &str,
+                    fs: &str,
+                    buffer: wgpu::VertexBufferLayout<'_>,
+                    topology: wgpu::PrimitiveTopology,
+                    depth_write: bool,
+                    blend: Option<wgpu::BlendState>| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    buffers: &[Some(buffer)],
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR_FORMAT,
+                        blend,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let tri = wgpu::PrimitiveTopology::TriangleList;
+        let lines = wgpu::PrimitiveTopology::LineList;
+        SceneRenderer {
+            surface: make(
+                "surface",
+                "vs_surface",
+                "fs_surface",
+                surface_vertex.clone(),
+                tri,
+                true,
+                None,
+            ),
+            overlay: make(
+                "overlay",
+                "vs_surface",
+                "fs_surface",
+                surface_vertex,
+                tri,
+                false,
+                premultiplied,
+            ),
+            mesh_lines: make(
+                "mesh lines",
+                "vs_line",
+                "fs_line",
+                surface_position_only,
+                lines,
+                true,
+                premultiplied,
+            ),
+            network_lines: make(
+                "network lines",
+                "vs_line",
+                "fs_line",
+                node_vertex,
+                lines,
+                true,
+                premultiplied,
+            ),
+            points: make(
+                "points",
+                "vs_point",
+                "fs_point",
+                node_instance,
+                tri,
+                true,
+                None,
+            ),
+            layout,
+        }
+    }
+
+    /// A new viewport target of `size` pixels, registered with egui.
+    pub fn create_target(&self, render_state: &RenderState, size: [u32; 2]) -> ViewTarget {
+        let device = &render_state.device;
+        let (color, color_view, depth_view) = make_textures(device, size);
+        let texture_id = render_state.renderer.write().register_native_texture(
+            device,
+            &color_view,
+            wgpu::FilterMode::Linear,
+        );
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("viewport uniforms"),
+            size: UNIFORM_STRIDE * MAX_DRAWS,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("viewport bind group"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &uniforms,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(size_of::<DrawUniform>() as u64),
+                }),
+            }],
+        });
+        ViewTarget {
+            color,
+            color_view,
+            depth_view,
+            uniforms,
+            bind_group,
+            texture_id,
+            size,
+        }
+    }
+
+    /// Resize `target` to `size` pixels (no-op when unchanged); egui's texture follows.
+    pub fn resize_target(&self, render_state: &RenderState, target: &mut ViewTarget, size: [u32; 2]) {
+        let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
+        if target.size == size {
+            return;
+        }
+        let device = &render_state.device;
+        let (color, color_view, depth_view) = make_textures(device, size);
+        render_state
+            .renderer
+            .write()
+            .update_egui_texture_from_wgpu_texture(
+                device,
+                &color_view,
+                wgpu::FilterMode::Linear,
+                target.texture_id,
+            );
+        target.color = color;
+        target.color_view = color_view;
+        target.depth_view = depth_view;
+        target.size = size;
+    }
+
+    /// Record the drawing of `items` into `target` seen through `camera`.
+    pub fn render(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &ViewTarget,
+        camera: &OrbitCamera,
+        items: &[DrawItem<'_>],
+    ) {
+        let [w, h] = target.size;
+        let view_proj = camera.view_proj(w as f32 / h as f32);
+        let eye = camera.eye();
+        // Key light from above-left of the camera, so shading follows the view.
+        let forward = (camera.target - eye).normalize_or_zero();
+        let right = forward.cross(Vec3::Y).normalize_or_zero();
+        let light = (-forward + Vec3::Y * 0.8 - right * 0.5).normalize_or_zero();
+        let uniform = |color: [f32; 4], params: [f32; 4]| DrawUniform {
+            view_proj: view_proj.to_cols_array_2d(),
+            eye: eye.extend(1.0).to_array(),
+            light: light.extend(0.0).to_array(),
+            color,
+            params,
+            viewport: [w as f32, h as f32, 0.0, 0.0],
+        };
+        // One uniform slot per item; networks take a second slot for their edges.
+        let mut slots: Vec<DrawUniform> = Vec::with_capacity(items.len() + 1);
+        let mut slot_of: Vec<(usize, Option<usize>)> = Vec::with_capacity(items.len());
+        for item in items {
+            let needed = if matches!(item, DrawItem::Network { .. }) { 2 } else { 1 };
+            if slots.len() + needed > MAX_DRAWS as usize {
+                break;
+            }
+            let main = slots.len();
+            let mut extra = None;
+            match item {
+                DrawItem::Surface { color, shading, .. } => slots.push(uniform(
+                    [color[0], color[1], color[2], 1.0],
+                    [f32::from(*shading == Shading::Smooth), 0.0, 0.0, 0.0],
+                )),
+                DrawItem::Wireframe { color, .. } => {
+                    slots.push(uniform(*color, [0.0, 2e-4, 0.0, 0.0]));
+                }
+                DrawItem::Overlay { color, .. } => {
+                    slots.push(uniform(*color, [1.0, 0.0, 0.0, 0.0]));
+                }
+                DrawItem::Network {
+                    node_color,
+                    edge_color,
+                    point_px,
+                    ..
+                } => {
+                    slots.push(uniform(
+                        [node_color[0], node_color[1], node_color[2], 1.0],
+                        [0.0, 1e-4, *point_px, 0.0],
+                    ));
+                    slots.push(uniform(*edge_color, [0.0, 5e-5, 0.0, 0.0]));
+                    extra = Some(main + 1);
+                }
+            }
+            slot_of.push((main, extra));
+        }
+        let mut bytes = vec![0u8; (UNIFORM_STRIDE * MAX_DRAWS) as usize];
+        for (i, slot) in slots.iter().enumerate() {
+            let offset = i * UNIFORM_STRIDE as usize;
+            bytes[offset..offset + size_of::<DrawUniform>()].copy_from_slice(bytemuck::bytes_of(slot));
+        }
+        queue.write_buffer(&target.uniforms, 0, &bytes);
+
+        let [r, g, b] = CLEAR_COLOR;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("viewport"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &target.color_view,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }),
+                    store: wgpu::StoreOp::Store,
+                },
+                depth_slice: None,
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        // Opaque first, overlays last so they blend over finished depth.
+        let drawn = &items[..slot_of.len()];
+        let order = drawn
+            .iter()
+            .enumerate()
+            .filter(|(_, it)| !matches!(it, DrawItem::Overlay { .. }))
+            .chain(
+                drawn
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, it)| matches!(it, DrawItem::Overlay { .. })),
+            );
+        for (i, item) in order {
+            let (main_slot, edge_slot) = slot_of[i];
+            let offset = (main_slot as u64 * UNIFORM_STRIDE) as u32;
+            pass.set_bind_group(0, &target.bind_group, &[offset]);
+            match item {
+                DrawItem::Surface { mesh, .. } | DrawItem::Overlay { mesh, .. } => {
+                    if mesh.triangle_index_count == 0 {
+                        continue;
+                    }
+                    let pipeline = if matches!(item, DrawItem::Overlay { .. }) {
+                        &self.overlay
+                    } else {
+                        &self.surface
+                    };
+                    pass.set_pipeline(pipeline);
+                    pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+                    pass.set_index_buffer(mesh.triangles.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..mesh.triangle_index_count, 0, 0..1);
+                }
+                DrawItem::Wireframe { mesh, .. } => {
+                    if mesh.edge_index_count == 0 {
+                        continue;
+                    }
+                    pass.set_pipeline(&self.mesh_lines);
+                    pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+                    pass.set_index_buffer(mesh.edges.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..mesh.edge_index_count, 0, 0..1);
+                }
+                DrawItem::Network { network, .. } => {
+                    if network.node_count == 0 {
+                        continue;
+                    }
+                    let node_bytes = network.node_count as u64 * 12;
+                    pass.set_pipeline(&self.points);
+                    pass.set_vertex_buffer(0, network.positions.slice(..node_bytes));
+                    pass.draw(0..6, 0..network.node_count);
+                    if let (Some(slot), true) = (edge_slot, network.edge_index_count > 0) {
+                        let edge_offset = (slot as u64 * UNIFORM_STRIDE) as u32;
+                        pass.set_bind_group(0, &target.bind_group, &[edge_offset]);
+                        pass.set_pipeline(&self.network_lines);
+                        pass.set_vertex_buffer(0, network.positions.slice(..node_bytes));
+                        pass.set_index_buffer(
+                            network.edges.slice(..network.edge_index_count as u64 * 4),
+                            wgpu::IndexFormat::Uint32,
+                        );
+                        pass.draw_indexed(0..network.edge_index_count, 0, 0..1);
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn make_textures(
+    device: &wgpu::Device,
+    size: [u32; 2],
+) -> (wgpu::Texture, wgpu::TextureView, wgpu::TextureView) {
+    let extent = wgpu::Extent3d {
+        width: size[0].max(1),
+        height: size[1].max(1),
+        depth_or_array_layers: 1,
+    };
+    let color = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("viewport colour"),
+        size: extent,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: COLOR_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let depth = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("viewport depth"),
+        size: extent,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
+    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor::default());
+    (color, color_view, depth_view)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn framing_camera_sees_whole_box_and_projects_center_to_origin() {
+        let bounds = Aabb {
+            min: Vec3::new(-1.0, 2.0, 0.0),
+            max: Vec3::new(3.0, 4.0, 1.0),
+        };
+        let camera = OrbitCamera::framing(&bounds);
+        let vp = camera.view_proj(1.0);
+        let c = vp.project_point3(bounds.center());
+        assert!(c.x.abs() < 1e-4 && c.y.abs() < 1e-4, "{c:?}");
+        for corner in 0..8 {
+            let p = Vec3::new(
+                if corner & 1 == 0 { bounds.min.x } else { bounds.max.x },
+                if corner & 2 == 0 { bounds.min.y } else { bounds.max.y },
+                if corner & 4 == 0 { bounds.min.z } else { bounds.max.z },
+            );
+            let q = vp.project_point3(p);
+            assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0, "corner {p} -> {q}");
+            assert!((0.0..=1.0).contains(&q.z), "depth {q}");
+        }
+    }
+
+    #[test]
+    fn zoom_and_orbit_stay_in_range() {
+        let mut camera = OrbitCamera::default();
+        camera.zoom(1e9);
+        assert!(camera.distance >= camera.scene_radius * 0.05 - 1e-6);
+        camera.orbit(0.0, 1e6);
+        assert!(camera.pitch <= 1.55);
+        let before = camera.target;
+        camera.pan(10.0, 0.0, 100.0);
+        assert!(camera.target.distance(before) > 0.0);
+    }
+}

@@ -1,0 +1,528 @@
+//! Background work: the GNG3D training thread (full speed, publishes a network snapshot about
+//! every 16 ms and vertex errors within a 10 % time budget) and one-shot jobs (QEM simplification,
+//! evaluation of a simplified mesh). The UI only ever polls; nothing here blocks a frame.
+
+use crate::engine::{self, Engine, NetworkSnapshot, TrainParams};
+use mesh::TriMesh;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// How fast training runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Speed {
+    /// As many signals as the thread can do.
+    Unlimited,
+    /// This many signals per UI frame (for watching the network grow).
+    PerFrame(u64),
+}
+
+/// What a training session works on.
+#[derive(Clone)]
+pub struct Session {
+    /// The (cleaned) original mesh.
+    pub mesh: Arc<TriMesh>,
+    /// Training parameters.
+    pub params: TrainParams,
+    /// Reconstruct automatically every this many signals (checkpoints for the table).
+    pub checkpoint_every: Option<u64>,
+    /// Start running immediately.
+    pub autoplay: bool,
+}
+
+/// Requests from the UI to the training thread.
+pub enum Command {
+    /// Start a new session (drops the old one).
+    Reset(Box<Session>),
+    /// Run / pause.
+    SetRunning(bool),
+    /// Present this many signals now (while paused).
+    Step(u64),
+    /// Change the speed.
+    SetSpeed(Speed),
+    /// Reconstruct a mesh from the current network.
+    Reconstruct,
+    /// End the thread.
+    Shutdown,
+}
+
+/// Results sent back to the UI, tagged with the session they belong to.
+pub enum Event {
+    /// Vertex errors of the current network against the original vertices.
+    Errors {
+        /// Session number.
+        session: u64,
+        /// Signals presented when measured.
+        signals: u64,
+        /// E_avg, squared model units.
+        e_avg: f64,
+        /// E_max, squared model units.
+        e_max: f64,
+    },
+    /// A mesh reconstructed from the network.
+    Reconstructed {
+        /// Session number.
+        session: u64,
+        /// Signals presented when reconstructed.
+        signals: u64,
+        /// The mesh.
+        mesh: Arc<TriMesh>,
+        /// Training time so far (seconds, pauses excluded).
+        train_seconds: f64,
+    },
+    /// Something failed (shown in the UI).
+    Failed {
+        /// Session number.
+        session: u64,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// The latest state of the training thread, read by the UI each frame.
+#[derive(Clone, Default)]
+pub struct Live {
+    /// Session number (increases with every reset).
+    pub session: u64,
+    /// The network as of the last publish.
+    pub snapshot: Arc<NetworkSnapshot>,
+    /// Whether training is running.
+    pub running: bool,
+    /// Whether training reached its target or limits.
+    pub finished: bool,
+    /// Signals per second over the last second of running.
+    pub signals_per_second: f64,
+    /// Training time, seconds (pauses excluded).
+    pub train_seconds: f64,
+}
+
+struct Shared {
+    live: Mutex<Live>,
+    frame_budget: AtomicU64,
+    repaint: Mutex<Option<egui::Context>>,
+}
+
+/// Handle to the training thread.
+pub struct Trainer {
+    commands: Sender<Command>,
+    events: Receiver<Event>,
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Trainer {
+    /// Spawn the training thread (idle until a [`Command::Reset`]).
+    pub fn spawn() -> Trainer {
+        let (commands, command_rx) = mpsc::channel();
+        let (event_tx, events) = mpsc::channel();
+        let shared = Arc::new(Shared {
+            live: Mutex::new(Live::default()),
+            frame_budget: AtomicU64::new(0),
+            repaint: Mutex::new(None),
+        });
+        let thread_shared = Arc::clone(&shared);
+        let thread = std::thread::Builder::new()
+            .name("gng-training".into())
+            .spawn(move || training_loop(&command_rx, &event_tx, &thread_shared))
+            .ok();
+        Trainer {
+            commands,
+            events,
+            shared,
+            thread,
+        }
+    }
+
+    /// Ask the UI to repaint through `ctx` whenever something new is published.
+    pub fn set_repaint_context(&self, ctx: &egui::Context) {
+        *self
+            .shared
+            .repaint
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner) = Some(ctx.clone());
+    }
+
+    /// Send a command (ignored if the thread is gone).
+    pub fn send(&self, command: Command) {
+        let _ = self.commands.send(command);
+    }
+
+    /// Latest published state (cheap: the snapshot is shared).
+    pub fn live(&self) -> Live {
+        self.shared
+            .live
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .clone()
+    }
+
+    /// Grant `signals` more signals for [`Speed::PerFrame`] mode.
+    pub fn grant_frame_budget(&self, signals: u64) {
+        // Cap the backlog at a few frames so a stalled UI cannot queue up a burst.
+        let current = self.shared.frame_budget.load(Ordering::Relaxed);
+        if current < signals.saturating_mul(3) {
+            self.shared.frame_budget.fetch_add(signals, Ordering::Relaxed);
+        }
+    }
+
+    /// Events that arrived since the last call.
+    pub fn drain_events(&self) -> Vec<Event> {
+        self.events.try_iter().collect()
+    }
+}
+
+impl Drop for Trainer {
+    fn drop(&mut self) {
+        let _ = self.commands.send(Command::Shutdown);
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// Mutable state of the training thread.
+struct Training {
+    session: u64,
+    source: Option<Arc<TriMesh>>,
+    engine: Option<Engine>,
+    running: bool,
+    finished: bool,
+    speed: Speed,
+    batch: u64,
+    checkpoint_every: Option<u64>,
+    next_checkpoint: u64,
+    train_time: Duration,
+    last_publish: Instant,
+    last_errors: Instant,
+    error_interval: Duration,
+    rate_window: (Instant, u64),
+    signals_per_second: f64,
+}
+
+fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &Shared) {
+    let mut t = Training {
+        session: 0,
+        source: None,
+        engine: None,
+        running: false,
+        finished: false,
+        speed: Speed::Unlimited,
+        batch: 256,
+        checkpoint_every: None,
+        next_checkpoint: u64::MAX,
+        train_time: Duration::ZERO,
+        last_publish: Instant::now(),
+        last_errors: Instant::now(),
+        error_interval: Duration::from_millis(200),
+        rate_window: (Instant::now(), 0),
+        signals_per_second: 0.0,
+    };
+    loop {
+        let busy = t.running && !t.finished && t.engine.is_some();
+        let command = if busy {
+            match commands.try_recv() {
+                Ok(c) => Some(c),
+                Err(TryRecvError::Empty) => None,
+                Err(TryRecvError::Disconnected) => return,
+            }
+        } else {
+            match commands.recv_timeout(Duration::from_millis(50)) {
+                Ok(c) => Some(c),
+                Err(RecvTimeoutError::Timeout) => None,
+                Err(RecvTimeoutError::Disconnected) => return,
+            }
+        };
+        if let Some(command) = command {
+            match command {
+                Command::Shutdown => return,
+                Command::Reset(session) => {
+                    t.session += 1;
+                    t.finished = false;
+                    t.train_time = Duration::ZERO;
+                    t.signals_per_second = 0.0;
+                    t.rate_window = (Instant::now(), 0);
+                    t.checkpoint_every = session.checkpoint_every.filter(|&c| c > 0);
+                    t.next_checkpoint = t.checkpoint_every.unwrap_or(u64::MAX);
+                    shared.frame_budget.store(0, Ordering::Relaxed);
+                    match Engine::new(&session.mesh, &session.params) {
+                        Ok(engine) => {
+                            t.engine = Some(engine);
+                            t.running = session.autoplay;
+                        }
+                        Err(message) => {
+                            t.engine = None;
+                            t.running = false;
+                            let _ = events.send(Event::Failed {
+                                session: t.session,
+                                message: format!("GNG3D could not start: {message}"),
+                            });
+                        }
+                    }
+                    t.source = Some(session.mesh);
+                    publish(&mut t, shared);
+                }
+                Command::SetRunning(running) => {
+                    t.running = running;
+                    t.rate_window = (Instant::now(), signals_of(&t));
+                    publish(&mut t, shared);
+                }
+                Command::SetSpeed(speed) => {
+                    t.speed = speed;
+                    shared.frame_budget.store(0, Ordering::Relaxed);
+                }
+                Command::Step(n) => {
+                    if let Some(engine) = t.engine.as_mut() {
+                        let started = Instant::now();
+                        engine.step(n);
+                        t.train_time += started.elapsed();
+                        t.finished = engine.is_finished();
+                        measure_errors(&mut t, events);
+                        publish(&mut t, shared);
+                    }
+                }
+                Command::Reconstruct => reconstruct(&mut t, events),
+            }
+            continue;
+        }
+        if busy {
+            train_batch(&mut t, shared, events);
+        } else if t.last_publish.elapsed() > Duration::from_millis(250) {
+            publish(&mut t, shared);
+        }
+    }
+}
+
+fn signals_of(t: &Training) -> u64 {
+    t.engine.as_ref().map_or(0, Engine::signals)
+}
+
+fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
+    let Some(engine) = t.engine.as_mut() else {
+        return;
+    };
+    let n = match t.speed {
+        Speed::Unlimited => t.batch,
+        Speed::PerFrame(_) => {
+            let budget = shared.frame_budget.load(Ordering::Relaxed);
+            let n = budget.min(t.batch);
+            shared.frame_budget.fetch_sub(n, Ordering::Relaxed);
+            n
+        }
+    };
+    if n == 0 {
+        std::thread::sleep(Duration::from_millis(1));
+    } else {
+        let started = Instant::now();
+        engine.step(n);
+        let spent = started.elapsed();
+        t.train_time += spent;
+        // Aim at ~2 ms per call: commands stay responsive, call overhead stays negligible.
+        let per_signal = spent.as_secs_f64() / n as f64;
+        if per_signal > 0.0 {
+            let ideal = (0.002 / per_signal) as u64;
+            t.batch = ideal.clamp(16, 1 << 20);
+        }
+        t.finished = engine.is_finished();
+    }
+    let signals = signals_of(t);
+    let window = t.rate_window.0.elapsed();
+    if window >= Duration::from_millis(500) {
+        t.signals_per_second =
+            signals.saturating_sub(t.rate_window.1) as f64 / window.as_secs_f64();
+        t.rate_window = (Instant::now(), signals);
+    }
+    if t.last_errors.elapsed() >= t.error_interval || t.finished {
+        measure_errors(t, events);
+    }
+    if signals >= t.next_checkpoint && !t.finished {
+        while t.next_checkpoint <= signals {
+            t.next_checkpoint = t
+                .next_checkpoint
+                .saturating_add(t.checkpoint_every.unwrap_or(u64::MAX));
+        }
+        reconstruct(t, events);
+    }
+    if t.finished {
+        t.running = false;
+        reconstruct(t, events);
+        publish(t, shared);
+    } else if t.last_publish.elapsed() >= Duration::from_millis(16) {
+        publish(t, shared);
+    }
+}
+
+/// E_avg/E_max of the original vertices against the current nodes; the interval adapts so this
+/// takes at most ~10 % of the training thread's time.
+fn measure_errors(t: &mut Training, events: &Sender<Event>) {
+    let (Some(engine), Some(source)) = (t.engine.as_ref(), t.source.as_ref()) else {
+        return;
+    };
+    let started = Instant::now();
+    let snapshot = engine.snapshot();
+    if let Some((e_avg, e_max)) = engine::vertex_errors(&source.positions, &snapshot.positions) {
+        let _ = events.send(Event::Errors {
+            session: t.session,
+            signals: snapshot.signals,
+            e_avg,
+            e_max,
+        });
+    }
+    let cost = started.elapsed();
+    t.error_interval = (cost * 10).max(Duration::from_millis(100));
+    t.last_errors = Instant::now();
+}
+
+fn reconstruct(t: &mut Training, events: &Sender<Event>) {
+    let Some(engine) = t.engine.as_mut() else {
+        return;
+    };
+    let signals = engine.signals();
+    let event = match engine.reconstruct() {
+        Ok(mesh) => Event::Reconstructed {
+            session: t.session,
+            signals,
+            mesh: Arc::new(mesh),
+            train_seconds: t.train_time.as_secs_f64(),
+        },
+        Err(message) => Event::Failed {
+            session: t.session,
+            message: format!("reconstruction failed: {message}"),
+        },
+    };
+    let _ = events.send(event);
+}
+
+fn publish(t: &mut Training, shared: &Shared) {
+    let snapshot = t
+        .engine
+        .as_ref()
+        .map(|e| Arc::new(e.snapshot()))
+        .unwrap_or_default();
+    {
+        let mut live = shared.live.lock().unwrap_or_else(PoisonError::into_inner);
+        *live = Live {
+            session: t.session,
+            snapshot,
+            running: t.running,
+            finished: t.finished,
+            signals_per_second: if t.running {
+                t.signals_per_second
+            } else {
+                0.0
+            },
+            train_seconds: t.train_time.as_secs_f64(),
+        };
+    }
+    t.last_publish = Instant::now();
+    if let Some(ctx) = shared
+        .repaint
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .as_ref()
+    {
+        ctx.request_repaint();
+    }
+}
+
+/// Errors of a simplified mesh against the original (what the plots and the table show).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Evaluation {
+    /// Vertices of the simplified mesh.
+    pub vertices: usize,
+    /// Faces of the simplified mesh.
+    pub faces: usize,
+    /// E_avg, squared model units.
+    pub e_avg: f64,
+    /// E_max, squared model units.
+    pub e_max: f64,
+    /// E_sur = |ΔArea|, squared model units.
+    pub e_sur: f64,
+    /// Symmetric Hausdorff distance, model units (when available).
+    pub hausdorff: Option<f64>,
+}
+
+/// Evaluate `simplified` against `original` (runs on the calling thread).
+pub fn evaluate(original: &TriMesh, simplified: &TriMesh) -> Evaluation {
+    let (e_avg, e_max) =
+        engine::vertex_errors(&original.positions, &simplified.positions).unwrap_or((0.0, 0.0));
+    Evaluation {
+        vertices: simplified.vertex_count(),
+        faces: simplified.face_count(),
+        e_avg,
+        e_max,
+        e_sur: engine::surface_error(original, simplified),
+        hausdorff: engine::hausdorff(original, simplified),
+    }
+}
+
+/// A QEM result for a given vertex target.
+pub struct QemOutcome {
+    /// The vertex target it was computed for.
+    pub target: usize,
+    /// The mesh, its evaluation and the time QEM took (seconds), or an error.
+    pub result: Result<(Arc<TriMesh>, Evaluation, f64), String>,
+}
+
+/// Run QEM (and its evaluation) on a new thread; poll the receiver.
+pub fn spawn_qem(
+    original: Arc<TriMesh>,
+    target: usize,
+    ctx: Option<egui::Context>,
+) -> Receiver<QemOutcome> {
+    let (tx, rx) = mpsc::channel();
+    let _ = std::thread::Builder::new()
+        .name("qem".into())
+        .spawn(move || {
+            let started = Instant::now();
+            let result = engine::qem_simplify(&original, target).map(|mesh| {
+                let seconds = started.elapsed().as_secs_f64();
+                let evaluation = evaluate(&original, &mesh);
+                (Arc::new(mesh), evaluation, seconds)
+            });
+            let _ = tx.send(QemOutcome { target, result });
+            if let Some(ctx) = ctx {
+                ctx.request_repaint();
+            }
+        });
+    rx
+}
+
+/// A finished evaluation of a GNG3D reconstruction.
+pub struct ReconstructionEvaluation {
+    /// Session it belongs to.
+    pub session: u64,
+    /// Signals presented when reconstructed.
+    pub signals: u64,
+    /// Training seconds when reconstructed.
+    pub train_seconds: f64,
+    /// The errors.
+    pub evaluation: Evaluation,
+}
+
+/// Evaluate a reconstruction on a new thread; the result arrives on `tx`.
+pub fn spawn_evaluation(
+    original: Arc<TriMesh>,
+    mesh: Arc<TriMesh>,
+    session: u64,
+    signals: u64,
+    train_seconds: f64,
+    tx: Sender<ReconstructionEvaluation>,
+    ctx: Option<egui::Context>,
+) {
+    let _ = std::thread::Builder::new()
+        .name("evaluation".into())
+        .spawn(move || {
+            let evaluation = evaluate(&original, &mesh);
+            let _ = tx.send(ReconstructionEvaluation {
+                session,
+                signals,
+                train_seconds,
+                evaluation,
+            });
+            if let Some(ctx) = ctx {
+                ctx.request_repaint();
+            }
+        });
+}

@@ -1,0 +1,214 @@
+//! egui_kittest harness tests with the wgpu renderer (lavapipe in CI, no X server needed): the
+//! viewports render the model, controls change state, the plots fill while training runs.
+
+use egui_kittest::kittest::Queryable;
+use egui_kittest::{Harness, wgpu::WgpuTestRenderer};
+use std::time::{Duration, Instant};
+use viewer::app::Side;
+use viewer::render::{CLEAR_COLOR, Shading};
+use viewer::{ViewerApp, ViewerOptions};
+
+/// Window size of the harness, in points (pixels_per_point = 1).
+const SIZE: egui::Vec2 = egui::vec2(1400.0, 900.0);
+
+/// A harness around the app with a wgpu render state shared by the app and the snapshot
+/// renderer; `None` (skip) when no wgpu adapter exists, except under CI where that fails.
+fn harness(options: ViewerOptions) -> Option<Harness<'static, ViewerApp>> {
+    let render_state = std::panic::catch_unwind(|| {
+        egui_kittest::wgpu::create_render_state(
+            egui_kittest::wgpu::default_wgpu_setup(),
+            egui_wgpu::RendererOptions::PREDICTABLE,
+        )
+    });
+    let render_state = match render_state {
+        Ok(rs) => rs,
+        Err(_) if std::env::var_os("CI").is_some() => {
+            panic!("CI: no wgpu adapter (install mesa-vulkan-drivers for lavapipe)")
+        }
+        Err(_) => {
+            eprintln!("skipping: no wgpu adapter (install mesa-vulkan-drivers)");
+            return None;
+        }
+    };
+    let app = ViewerApp::new(&egui::Context::default(), Some(render_state.clone()), options);
+    Some(
+        Harness::builder()
+            .with_size(SIZE)
+            .renderer(WgpuTestRenderer::from_render_state(render_state))
+            .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app),
+    )
+}
+
+/// Step frames until `done` holds (panics after `timeout`).
+fn step_until(
+    harness: &mut Harness<'static, ViewerApp>,
+    timeout: Duration,
+    what: &str,
+    done: impl Fn(&ViewerApp) -> bool,
+) {
+    let start = Instant::now();
+    loop {
+        harness.step();
+        if done(harness.state()) {
+            return;
+        }
+        assert!(start.elapsed() < timeout, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// sRGB byte of a linear channel value.
+fn srgb_byte(linear: f64) -> u8 {
+    let s = if linear <= 0.003_130_8 {
+        linear * 12.92
+    } else {
+        1.055 * linear.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+/// Pixels in `rect` (points = pixels here) below the label strip that differ from the clear
+/// colour by more than a few levels, and the clear colour's share of the strip-free area.
+fn count_drawn(image: &image::RgbaImage, rect: egui::Rect) -> (usize, usize) {
+    let clear = CLEAR_COLOR.map(srgb_byte);
+    let (mut drawn, mut total) = (0, 0);
+    let y0 = rect.min.y as u32 + 30; // skip the text label in the top-left corner
+    for y in y0..(rect.max.y as u32).min(image.height()) {
+        for x in (rect.min.x as u32)..(rect.max.x as u32).min(image.width()) {
+            let p = image.get_pixel(x, y).0;
+            total += 1;
+            if (0..3).any(|c| p[c].abs_diff(clear[c]) > 6) {
+                drawn += 1;
+            }
+        }
+    }
+    (drawn, total)
+}
+
+#[test]
+fn model_renders_in_both_viewports() {
+    let Some(mut h) = harness(ViewerOptions {
+        target: Some(300),
+        ..Default::default()
+    }) else {
+        return;
+    };
+    step_until(&mut h, Duration::from_secs(60), "QEM result and a trained network", |a| {
+        a.has_qem_mesh() && a.live().snapshot.positions.len() >= 300
+    });
+    h.step();
+    let image = h.render().expect("render");
+    let app = h.state();
+    let [Some(left), Some(right)] = app.viewport_rects else {
+        panic!("viewports were not laid out");
+    };
+    assert!(left.width() > 300.0 && right.width() > 300.0);
+    for (side, rect) in [("GNG3D", left), ("QEM", right)] {
+        let (drawn, total) = count_drawn(&image, rect);
+        let share = drawn as f64 / total as f64;
+        // The framed model covers a good part of the view but not all of it: both a model and
+        // the clear colour must be visible.
+        assert!(share > 0.03, "{side} viewport nearly empty: {drawn}/{total} pixels drawn");
+        assert!(share < 0.9, "{side} viewport has no background: {drawn}/{total}");
+    }
+    assert!(app.viewport_texture(Side::Gng).is_some());
+    // The QEM side is a real simplification at the requested vertex count.
+    let qem = app.history.qem.as_ref().expect("QEM row");
+    assert!(qem.vertices <= 300 && qem.vertices > 200, "QEM vertices {}", qem.vertices);
+    assert!(qem.faces > 0 && qem.faces < app.original().face_count());
+}
+
+#[test]
+fn controls_change_state() {
+    let Some(mut h) = harness(ViewerOptions {
+        target: Some(200),
+        ..Default::default()
+    }) else {
+        return;
+    };
+    // Effectively unlimited training so Play/Pause have something to act on.
+    h.state_mut().params.max_signals = Some(u64::MAX / 4);
+    h.state_mut().reset_training();
+    step_until(&mut h, Duration::from_secs(30), "training to run", |a| {
+        a.live().running && a.live().snapshot.signals > 0
+    });
+
+    h.get_by_label("Pause").click();
+    step_until(&mut h, Duration::from_secs(10), "pause", |a| !a.live().running);
+    let paused_at = h.state().live().snapshot.signals;
+    for _ in 0..5 {
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(h.state().live().snapshot.signals, paused_at, "training continued while paused");
+
+    h.get_by_label("Step").click();
+    step_until(&mut h, Duration::from_secs(10), "a step", |a| {
+        a.live().snapshot.signals > paused_at
+    });
+    assert!(!h.state().live().running);
+
+    h.get_by_label("Play").click();
+    step_until(&mut h, Duration::from_secs(10), "play", |a| a.live().running);
+
+    assert_eq!(h.state().display.shading, Shading::Smooth);
+    h.get_by_label("flat").click();
+    h.step();
+    assert_eq!(h.state().display.shading, Shading::Flat);
+    assert!(!h.state().display.wireframe);
+    h.get_by_label("wireframe").click();
+    h.step();
+    assert!(h.state().display.wireframe);
+    assert!(!h.state().display.show_original);
+    h.get_by_label("original overlay").click();
+    h.step();
+    assert!(h.state().display.show_original);
+
+    let session = h.state().live().session;
+    h.get_by_label("Reset").click();
+    step_until(&mut h, Duration::from_secs(10), "a new session", |a| {
+        a.live().session > session
+    });
+
+    // A new vertex target recomputes QEM at that size.
+    h.state_mut().set_target(150);
+    step_until(&mut h, Duration::from_secs(60), "QEM at 150 vertices", |a| {
+        a.history.qem.as_ref().is_some_and(|q| q.vertices <= 150)
+    });
+    assert_eq!(h.state().params.target_vertices, 150);
+}
+
+#[test]
+fn plot_gains_points_as_training_runs() {
+    let Some(mut h) = harness(ViewerOptions {
+        target: Some(400),
+        ..Default::default()
+    }) else {
+        return;
+    };
+    h.state_mut().params.max_signals = Some(u64::MAX / 4);
+    h.state_mut().reset_training();
+    step_until(&mut h, Duration::from_secs(30), "first error points", |a| {
+        a.history.errors.len() >= 2
+    });
+    let first = h.state().history.errors.len();
+    step_until(&mut h, Duration::from_secs(30), "more error points", |a| {
+        a.history.errors.len() >= first + 3
+    });
+    let errors = &h.state().history.errors;
+    assert!(errors.windows(2).all(|w| w[0][0] < w[1][0]), "iterations not increasing");
+    assert!(errors.iter().all(|e| e[1] > 0.0 && e[2] >= e[1]), "E_max < E_avg somewhere");
+    // The network approaches the surface: the last E_avg is below the first one.
+    assert!(errors.last().unwrap()[1] < errors[0][1]);
+
+    // "Reconstruct now" adds an evaluated checkpoint row.
+    h.get_by_label("Reconstruct now").click();
+    step_until(&mut h, Duration::from_secs(60), "a checkpoint row", |a| {
+        !a.history.reconstructions.is_empty()
+    });
+    let row = h.state().history.reconstructions[0].clone();
+    assert!(row.vertices <= 400 && row.faces > 0, "{row:?}");
+    assert!(row.e_sur >= 0.0 && row.e_avg > 0.0);
+    let csv = h.state().history.csv_string().unwrap();
+    assert!(csv.lines().count() >= 2, "{csv}");
+}

@@ -1,0 +1,171 @@
+//! `gng3d reproduce`: the paper's checkpoint protocol on one mesh, or a survey of a folder.
+
+use super::load_prepared;
+use anyhow::Context;
+use clap::Args;
+use gng3d::experiment::reproduce::{ReproduceParams, reproduce};
+use gng3d::experiment::survey::{SurveyParams, SurveyRow, survey_mesh};
+use gng3d::report::paper::{summary_markdown, summary_table, write_reproduction};
+use indicatif::{ProgressBar, ProgressStyle};
+use metrics::HausdorffParams;
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `gng3d reproduce`.
+#[derive(Debug, Args)]
+pub struct ReproduceArgs {
+    /// Input mesh (.obj, .ply, .stl).
+    #[arg(required_unless_present = "all")]
+    pub input: Option<PathBuf>,
+    /// Survey every mesh in this folder at 10/25/50% vertices instead of one mesh.
+    #[arg(long, value_name = "DIR", conflicts_with = "input")]
+    pub all: Option<PathBuf>,
+    /// Training length in epochs of |V| signals (one checkpoint per epoch).
+    #[arg(long, default_value_t = 30)]
+    pub epochs: u64,
+    /// GNG3D target as a fraction of the original vertex count.
+    #[arg(long, default_value_t = 0.5)]
+    pub target_ratio: f64,
+    /// Output folder (default: reproduce-<mesh> or survey).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Surface samples per direction for every Hausdorff distance.
+    #[arg(long, default_value_t = 100_000)]
+    pub samples: usize,
+    /// Random seed for GNG3D and the surface sampler.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// With --all: skip meshes with more faces than this.
+    #[arg(long)]
+    pub max_faces: Option<usize>,
+    /// Print the report as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned())
+}
+
+fn bar(len: u64, what: &str) -> ProgressBar {
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+/// Run `gng3d reproduce`.
+pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
+    match (&args.input, &args.all) {
+        (_, Some(dir)) => run_all(&args, dir),
+        (Some(input), None) => run_one(&args, input),
+        (None, None) => anyhow::bail!("give a mesh or --all DIR"),
+    }
+}
+
+fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
+    let original = load_prepared(input, false)?;
+    let mut params = ReproduceParams {
+        epochs: args.epochs,
+        target_ratio: args.target_ratio,
+        hausdorff: HausdorffParams::with_samples(args.samples),
+        ..Default::default()
+    };
+    params.gng.seed = args.seed;
+    params.hausdorff.seed = args.seed;
+    let progress = bar(args.epochs, "training");
+    let report = reproduce(&original, &params, |done, _| progress.set_position(done))
+        .with_context(|| format!("reproducing on {}", input.display()))?;
+    progress.finish_and_clear();
+    let name = stem(input);
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("reproduce-{name}")));
+    let written = write_reproduction(&report, &name, &dir)?;
+    if args.json {
+        return super::print_json(&report);
+    }
+    print!(
+        "{}",
+        gng3d::report::paper::checkpoint_table(&report).to_text()
+    );
+    println!(
+        "training {:.2} s, evaluation {:.2} s, total {:.2} s; wrote {} files to {}",
+        report.seconds.training,
+        report.seconds.evaluation,
+        report.seconds.total,
+        written.len(),
+        dir.display()
+    );
+    Ok(())
+}
+
+fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("reading folder {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| mesh::io::Format::from_path(p).is_some())
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        anyhow::bail!("{}: no .obj, .ply or .stl files", dir.display());
+    }
+    let mut params = SurveyParams {
+        epochs: args.epochs,
+        hausdorff: HausdorffParams::with_samples(args.samples),
+        ..Default::default()
+    };
+    params.gng.seed = args.seed;
+    params.hausdorff.seed = args.seed;
+    let progress = bar(files.len() as u64, "meshes");
+    let results: Vec<(String, anyhow::Result<Vec<SurveyRow>>)> = files
+        .par_iter()
+        .map(|path| {
+            let name = path
+                .file_name()
+                .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+            let rows = (|| {
+                let original = load_prepared(path, false)?;
+                if args.max_faces.is_some_and(|m| original.face_count() > m) {
+                    return Ok(Vec::new());
+                }
+                survey_mesh(&name, &original, &params)
+                    .with_context(|| format!("surveying {}", path.display()))
+            })();
+            progress.inc(1);
+            (name, rows)
+        })
+        .collect();
+    progress.finish_and_clear();
+    let mut rows = Vec::new();
+    for (name, r) in results {
+        match r {
+            Ok(r) => rows.extend(r),
+            Err(e) => eprintln!("warning: {name}: {e:#}"),
+        }
+    }
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("survey"));
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let table = summary_table(&rows);
+    table.write_csv(&out.join("summary.csv"))?;
+    super::write_atomic(
+        &out.join("summary.md"),
+        summary_markdown(&rows, args.epochs).as_bytes(),
+    )?;
+    super::write_atomic(
+        &out.join("summary.json"),
+        serde_json::to_string_pretty(&rows)?.as_bytes(),
+    )?;
+    if args.json {
+        return super::print_json(&rows);
+    }
+    print!("{}", table.to_text());
+    println!("wrote summary.csv, summary.md and summary.json to {}", out.display());
+    Ok(())
+}

@@ -1,0 +1,181 @@
+//! The paper's protocol: train GNG3D with a checkpoint every |V| signals, reconstruct at each
+//! checkpoint, and measure it against QEM at the same vertex count and at the final target.
+
+use super::{ExperimentError, PaperEvaluator, PaperRow};
+use gng3d_core::{GngParams, Trainer};
+use mesh::TriMesh;
+use metrics::HausdorffParams;
+use qem::{QemParams, Target};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// Parameters of [`reproduce`].
+#[derive(Debug, Clone)]
+pub struct ReproduceParams {
+    /// Training length in epochs of |V| signals (the paper: 30).
+    pub epochs: u64,
+    /// Target vertex count as a fraction of the original vertex count (the paper: 0.5).
+    pub target_ratio: f64,
+    /// GNG3D parameters; `target_vertices` and `max_signals` are set from the fields above.
+    pub gng: GngParams,
+    /// QEM parameters; the target is set per checkpoint.
+    pub qem: QemParams,
+    /// Surface sampling of the Hausdorff distance at every checkpoint.
+    pub hausdorff: HausdorffParams,
+}
+
+impl Default for ReproduceParams {
+    fn default() -> Self {
+        ReproduceParams {
+            epochs: 30,
+            target_ratio: 0.5,
+            gng: GngParams::default(),
+            qem: QemParams::default(),
+            hausdorff: HausdorffParams::with_samples(100_000),
+        }
+    }
+}
+
+/// One row of the paper's Table 1, extended with QEM at the same vertex count.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// Signals presented so far (the paper's "iteration").
+    pub iteration: u64,
+    /// Live GNG nodes at this checkpoint.
+    pub nodes: usize,
+    /// GNG3D reconstructed at this checkpoint.
+    pub gng: PaperRow,
+    /// QEM simplified to the reconstructed mesh's vertex count.
+    pub qem_equal: PaperRow,
+}
+
+/// Wall-clock seconds spent in each stage.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Timings {
+    /// GNG3D phase 1 (all checkpoints).
+    pub training: f64,
+    /// Reconstruction, QEM and metrics at every checkpoint.
+    pub evaluation: f64,
+    /// Everything.
+    pub total: f64,
+}
+
+/// The whole protocol's output.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReproduceReport {
+    /// Vertices of the (welded) original.
+    pub original_vertices: usize,
+    /// Faces of the original.
+    pub original_faces: usize,
+    /// Original surface area.
+    pub original_area: f64,
+    /// Bounding-box diagonal of the original (model units).
+    pub bbox_diagonal: f64,
+    /// GNG3D target vertex count.
+    pub target_vertices: usize,
+    /// Signals per checkpoint (|V|).
+    pub signals_per_epoch: u64,
+    /// Table rows, in increasing iteration.
+    pub checkpoints: Vec<Checkpoint>,
+    /// QEM held at the target vertex count, as in the paper.
+    pub qem_fixed: PaperRow,
+    /// Time per stage.
+    pub seconds: Timings,
+}
+
+/// Run the paper's protocol on `original` (expected welded, e.g. by `mesh::clean::prepare`).
+///
+/// `on_checkpoint(done, total)` is called after each training checkpoint, for progress bars.
+pub fn reproduce(
+    original: &TriMesh,
+    params: &ReproduceParams,
+    mut on_checkpoint: impl FnMut(u64, u64),
+) -> Result<ReproduceReport, ExperimentError> {
+    let start = Instant::now();
+    let n = original.vertex_count();
+    if !(params.target_ratio > 0.0 && params.target_ratio <= 1.0) {
+        return Err(ExperimentError::BadTarget(format!(
+            "target ratio {} is not in (0, 1]",
+            params.target_ratio
+        )));
+    }
+    if params.epochs == 0 {
+        return Err(ExperimentError::BadTarget("epochs must be at least 1".into()));
+    }
+    let target = ((n as f64 * params.target_ratio).round() as usize).max(4);
+    let per_epoch = n as u64;
+    let mut gng = params.gng.clone();
+    gng.target_vertices = target;
+    gng.max_signals = Some(per_epoch * params.epochs);
+    gng.time_limit = None;
+    let mut trainer = Trainer::new(original, gng)?;
+
+    // Phase 1 with snapshots; reconstruction and metrics run afterwards, in parallel.
+    let mut snapshots = Vec::new();
+    while !trainer.is_finished() {
+        let done = trainer.step(per_epoch);
+        if done == 0 {
+            break;
+        }
+        snapshots.push(trainer.snapshot());
+        on_checkpoint(snapshots.len() as u64, params.epochs);
+    }
+    let training = start.elapsed().as_secs_f64();
+
+    let eval_start = Instant::now();
+    let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
+    let qem_at = |vertices: usize| -> Result<PaperRow, ExperimentError> {
+        let mut qp = params.qem.clone();
+        qp.target = Target::Vertices(vertices.max(4));
+        let (mesh, _) = qem::simplify(original, &qp)?;
+        evaluator.evaluate(&mesh)
+    };
+    let gng_rows: Vec<(u64, usize, PaperRow)> = snapshots
+        .par_iter()
+        .map(|snap| {
+            let rec = gng3d_core::reconstruct(
+                original,
+                &snap.positions,
+                &snap.edges,
+                &params.gng.reconstruction,
+            );
+            Ok((snap.signals, snap.positions.len(), evaluator.evaluate(&rec.mesh)?))
+        })
+        .collect::<Result<_, ExperimentError>>()?;
+    // Many checkpoints share a vertex count once the network holds its target: QEM runs once each.
+    let mut counts: Vec<usize> = gng_rows.iter().map(|r| r.2.vertices).collect();
+    counts.push(target);
+    counts.sort_unstable();
+    counts.dedup();
+    let qem_rows: BTreeMap<usize, PaperRow> = counts
+        .par_iter()
+        .map(|&v| Ok((v, qem_at(v)?)))
+        .collect::<Result<_, ExperimentError>>()?;
+    let checkpoints = gng_rows
+        .into_iter()
+        .map(|(iteration, nodes, gng)| Checkpoint {
+            iteration,
+            nodes,
+            gng,
+            qem_equal: qem_rows[&gng.vertices],
+        })
+        .collect();
+    let evaluation = eval_start.elapsed().as_secs_f64();
+    Ok(ReproduceReport {
+        original_vertices: n,
+        original_faces: original.face_count(),
+        original_area: original.area(),
+        bbox_diagonal: original.bbox_diagonal(),
+        target_vertices: target,
+        signals_per_epoch: per_epoch,
+        checkpoints,
+        qem_fixed: qem_rows[&target],
+        seconds: Timings {
+            training,
+            evaluation,
+            total: start.elapsed().as_secs_f64(),
+        },
+    })
+}

@@ -1,0 +1,107 @@
+//! `reproduce --all`: GNG3D against QEM on many meshes at several vertex ratios, with a
+//! winner per metric.
+
+use super::{ExperimentError, PaperEvaluator, PaperRow};
+use gng3d_core::GngParams;
+use mesh::TriMesh;
+use metrics::HausdorffParams;
+use qem::{QemParams, Target};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Parameters of [`survey_mesh`].
+#[derive(Debug, Clone)]
+pub struct SurveyParams {
+    /// Target vertex counts as fractions of the original vertex count.
+    pub ratios: Vec<f64>,
+    /// GNG3D training length in epochs of |V| signals.
+    pub epochs: u64,
+    /// GNG3D parameters (target and signal budget are set per run).
+    pub gng: GngParams,
+    /// QEM parameters (target set per run).
+    pub qem: QemParams,
+    /// Surface sampling of the Hausdorff distance.
+    pub hausdorff: HausdorffParams,
+}
+
+impl Default for SurveyParams {
+    fn default() -> Self {
+        SurveyParams {
+            ratios: vec![0.1, 0.25, 0.5],
+            epochs: 30,
+            gng: GngParams::default(),
+            qem: QemParams::default(),
+            hausdorff: HausdorffParams::with_samples(200_000),
+        }
+    }
+}
+
+/// One mesh at one ratio: both methods' measures and the output topology.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SurveyRow {
+    /// Mesh name (file name).
+    pub mesh: String,
+    /// Target ratio of vertices.
+    pub ratio: f64,
+    /// Welded original vertex count.
+    pub original_vertices: usize,
+    /// Genus of the original (None when undefined).
+    pub original_genus: Option<i64>,
+    /// GNG3D's measures.
+    pub gng: PaperRow,
+    /// QEM's measures at GNG3D's output vertex count.
+    pub qem: PaperRow,
+    /// GNG3D output: edge-manifold without boundary.
+    pub gng_closed_manifold: bool,
+    /// GNG3D output genus.
+    pub gng_genus: Option<i64>,
+    /// QEM output genus.
+    pub qem_genus: Option<i64>,
+    /// GNG3D seconds (both phases).
+    pub gng_seconds: f64,
+    /// QEM seconds.
+    pub qem_seconds: f64,
+}
+
+/// Run GNG3D and QEM on `original` (welded) at every ratio of `params`.
+pub fn survey_mesh(
+    name: &str,
+    original: &TriMesh,
+    params: &SurveyParams,
+) -> Result<Vec<SurveyRow>, ExperimentError> {
+    let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
+    let topo = mesh::topology::analyze(original);
+    let n = original.vertex_count();
+    let mut rows = Vec::new();
+    for &ratio in &params.ratios {
+        let target = ((n as f64 * ratio).round() as usize).clamp(4, n);
+        let mut gp = params.gng.clone();
+        gp.target_vertices = target;
+        gp.max_signals = Some(params.epochs.max(1) * n as u64);
+        let t = Instant::now();
+        let gng = gng3d_core::simplify(original, &gp)?;
+        let gng_seconds = t.elapsed().as_secs_f64();
+        // QEM gets exactly GNG3D's output vertex count (reconstruction may drop a few nodes).
+        let mut qp = params.qem.clone();
+        qp.target = Target::Vertices(gng.mesh.vertex_count().max(4));
+        let t = Instant::now();
+        let (qem_mesh, _) = qem::simplify(original, &qp)?;
+        let qem_seconds = t.elapsed().as_secs_f64();
+        let gt = mesh::topology::analyze(&gng.mesh);
+        let qt = mesh::topology::analyze(&qem_mesh);
+        rows.push(SurveyRow {
+            mesh: name.to_string(),
+            ratio,
+            original_vertices: n,
+            original_genus: topo.genus,
+            gng: evaluator.evaluate(&gng.mesh)?,
+            qem: evaluator.evaluate(&qem_mesh)?,
+            gng_closed_manifold: gt.closed && gt.manifold,
+            gng_genus: gt.genus,
+            qem_genus: qt.genus,
+            gng_seconds,
+            qem_seconds,
+        });
+    }
+    Ok(rows)
+}

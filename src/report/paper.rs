@@ -1,0 +1,267 @@
+//! Files written by `gng3d reproduce`: the paper's Table 1 (CSV, Markdown) and its plots.
+
+use super::plot::{Chart, Series};
+use super::table::Table;
+use crate::experiment::reproduce::ReproduceReport;
+use std::path::{Path, PathBuf};
+
+/// Scientific notation with 3 significant digits, as in the paper's tables.
+pub fn sci(v: f64) -> String {
+    format!("{v:.3e}")
+}
+
+/// The paper's Table 1 columns (iteration, vertices, faces, E_avg, E_max, E_sur) for GNG3D,
+/// followed by Hausdorff and the same measures for QEM at the same vertex count and at the
+/// fixed target.
+pub fn checkpoint_table(report: &ReproduceReport) -> Table {
+    let mut t = Table::new([
+        "iteration",
+        "vertices",
+        "faces",
+        "E_avg",
+        "E_max",
+        "E_sur",
+        "Hausdorff",
+        "QEM= vertices",
+        "QEM= faces",
+        "QEM= E_avg",
+        "QEM= E_max",
+        "QEM= E_sur",
+        "QEM= Hausdorff",
+        "QEM@target E_avg",
+        "QEM@target E_max",
+        "QEM@target E_sur",
+        "QEM@target Hausdorff",
+    ]);
+    let f = &report.qem_fixed;
+    for c in &report.checkpoints {
+        let (g, q) = (&c.gng, &c.qem_equal);
+        t.push([
+            c.iteration.to_string(),
+            g.vertices.to_string(),
+            g.faces.to_string(),
+            sci(g.e_avg),
+            sci(g.e_max),
+            sci(g.e_sur),
+            sci(g.hausdorff_max),
+            q.vertices.to_string(),
+            q.faces.to_string(),
+            sci(q.e_avg),
+            sci(q.e_max),
+            sci(q.e_sur),
+            sci(q.hausdorff_max),
+            sci(f.e_avg),
+            sci(f.e_max),
+            sci(f.e_sur),
+            sci(f.hausdorff_max),
+        ]);
+    }
+    t
+}
+
+fn series(label: &str, report: &ReproduceReport, y: impl Fn(usize) -> f64) -> Series {
+    Series {
+        label: label.into(),
+        points: report
+            .checkpoints
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (c.iteration as f64, y(i)))
+            .collect(),
+        reference: false,
+    }
+}
+
+fn reference(label: &str, report: &ReproduceReport, value: f64) -> Series {
+    let first = report.checkpoints.first().map_or(0.0, |c| c.iteration as f64);
+    let last = report.checkpoints.last().map_or(1.0, |c| c.iteration as f64);
+    Series {
+        label: label.into(),
+        points: vec![(first, value), (last, value)],
+        reference: true,
+    }
+}
+
+/// The report's charts: the paper's Figure 1 (E_sur vs iteration) and E_avg, E_max and
+/// Hausdorff vs iteration on log scales, QEM as reference; returned with their file stems.
+pub fn charts(report: &ReproduceReport, mesh_name: &str) -> Vec<(&'static str, Chart)> {
+    let c = &report.checkpoints;
+    let f = &report.qem_fixed;
+    let metric = |name: &str,
+                  title: &str,
+                  log_y: bool,
+                  get: &dyn Fn(&crate::experiment::PaperRow) -> f64| Chart {
+        title: format!("{title} — {mesh_name}"),
+        x_label: "iteration (signals)".into(),
+        y_label: name.into(),
+        log_y,
+        series: vec![
+            series("GNG3D", report, |i| get(&c[i].gng)),
+            series("QEM, same vertex count", report, |i| get(&c[i].qem_equal)),
+            reference(
+                &format!("QEM at target ({} vertices)", f.vertices),
+                report,
+                get(f),
+            ),
+        ],
+    };
+    vec![
+        (
+            "figure1_esur",
+            metric("E_sur (area difference)", "Figure 1: E_sur vs iteration", false, &|r| {
+                r.e_sur
+            }),
+        ),
+        (
+            "e_avg",
+            metric("E_avg (squared units)", "E_avg vs iteration", true, &|r| r.e_avg),
+        ),
+        (
+            "e_max",
+            metric("E_max (squared units)", "E_max vs iteration", true, &|r| r.e_max),
+        ),
+        (
+            "hausdorff",
+            metric("symmetric Hausdorff (model units)", "Hausdorff vs iteration", true, &|r| {
+                r.hausdorff_max
+            }),
+        ),
+    ]
+}
+
+/// Write `table.csv`, `table.md`, `report.json` and the plots (SVG + PNG) into `dir`.
+pub fn write_reproduction(
+    report: &ReproduceReport,
+    mesh_name: &str,
+    dir: &Path,
+) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", dir.display()))?;
+    let table = checkpoint_table(report);
+    let mut written = Vec::new();
+    let csv = dir.join("table.csv");
+    table.write_csv(&csv)?;
+    written.push(csv);
+    let md = dir.join("table.md");
+    let text = format!(
+        "# GNG3D vs QEM on {mesh_name}\n\n{} vertices, {} faces; GNG3D target {} vertices, \
+         {} signals per checkpoint. E_avg/E_max in squared model units, E_sur in squared model \
+         units (original minus simplified area), Hausdorff in model units (bbox diagonal {:.4}).\n\
+         `QEM=`: QEM at the GNG3D mesh's vertex count; `QEM@target`: QEM fixed at the target, \
+         as in the paper.\n\n{}",
+        report.original_vertices,
+        report.original_faces,
+        report.target_vertices,
+        report.signals_per_epoch,
+        report.bbox_diagonal,
+        table.to_markdown()
+    );
+    std::fs::write(&md, text).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
+    written.push(md);
+    let json = dir.join("report.json");
+    std::fs::write(&json, serde_json::to_string_pretty(report)?)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", json.display()))?;
+    written.push(json);
+    for (stem, chart) in charts(report, mesh_name) {
+        written.extend(chart.write(&dir.join(stem))?);
+    }
+    Ok(written)
+}
+
+/// The survey as one table: per mesh and ratio, both methods' values and the winner per metric.
+pub fn summary_table(rows: &[crate::experiment::survey::SurveyRow]) -> Table {
+    use crate::experiment::compare::winner;
+    let mut t = Table::new([
+        "mesh",
+        "ratio",
+        "vertices",
+        "E_avg GNG3D",
+        "E_avg QEM",
+        "E_avg better",
+        "E_max GNG3D",
+        "E_max QEM",
+        "E_max better",
+        "|E_sur| GNG3D",
+        "|E_sur| QEM",
+        "|E_sur| better",
+        "Hausdorff GNG3D",
+        "Hausdorff QEM",
+        "Hausdorff better",
+        "mean dist GNG3D",
+        "mean dist QEM",
+        "mean dist better",
+        "GNG3D closed manifold",
+        "genus orig/GNG3D/QEM",
+    ]);
+    let genus = |g: Option<i64>| g.map_or("-".to_string(), |g| g.to_string());
+    for r in rows {
+        let (g, q) = (&r.gng, &r.qem);
+        t.push([
+            r.mesh.clone(),
+            format!("{:.2}", r.ratio),
+            g.vertices.to_string(),
+            sci(g.e_avg),
+            sci(q.e_avg),
+            winner(q.e_avg, g.e_avg).into(),
+            sci(g.e_max),
+            sci(q.e_max),
+            winner(q.e_max, g.e_max).into(),
+            sci(g.e_sur.abs()),
+            sci(q.e_sur.abs()),
+            winner(q.e_sur.abs(), g.e_sur.abs()).into(),
+            sci(g.hausdorff_max),
+            sci(q.hausdorff_max),
+            winner(q.hausdorff_max, g.hausdorff_max).into(),
+            sci(g.hausdorff_mean),
+            sci(q.hausdorff_mean),
+            winner(q.hausdorff_mean, g.hausdorff_mean).into(),
+            if r.gng_closed_manifold { "yes" } else { "no" }.into(),
+            format!(
+                "{}/{}/{}",
+                genus(r.original_genus),
+                genus(r.gng_genus),
+                genus(r.qem_genus)
+            ),
+        ]);
+    }
+    t
+}
+
+/// Markdown summary of a survey: win counts per metric, then the full table.
+pub fn summary_markdown(rows: &[crate::experiment::survey::SurveyRow], epochs: u64) -> String {
+    use crate::experiment::compare::winner;
+    type Get = fn(&crate::experiment::PaperRow) -> f64;
+    let metrics: [(&str, Get); 5] = [
+        ("E_avg", |r| r.e_avg),
+        ("E_max", |r| r.e_max),
+        ("|E_sur|", |r| r.e_sur.abs()),
+        ("Hausdorff (max)", |r| r.hausdorff_max),
+        ("mean surface distance", |r| r.hausdorff_mean),
+    ];
+    let mut wins = Table::new(["metric", "GNG3D wins", "QEM wins", "ties"]);
+    for (name, get) in metrics {
+        let mut count = [0usize; 3];
+        for r in rows {
+            match winner(get(&r.qem), get(&r.gng)) {
+                "GNG3D" => count[0] += 1,
+                "QEM" => count[1] += 1,
+                _ => count[2] += 1,
+            }
+        }
+        wins.push([
+            name.to_string(),
+            count[0].to_string(),
+            count[1].to_string(),
+            count[2].to_string(),
+        ]);
+    }
+    let manifold = rows.iter().filter(|r| r.gng_closed_manifold).count();
+    format!(
+        "## Wins over {} runs (GNG3D: {epochs} epochs of |V| signals; QEM at GNG3D's vertex count)\n\n{}\n\
+         GNG3D output closed and manifold in {manifold} of {} runs.\n\n## All runs\n\n{}",
+        rows.len(),
+        wins.to_markdown(),
+        rows.len(),
+        summary_table(rows).to_markdown()
+    )
+}
