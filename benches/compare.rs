@@ -1,1 +1,44 @@
-fn main() {}
+//! End-to-end benchmark: `compare` (QEM + GNG3D + all metrics) on gargoyle-10k, plus each
+//! stage alone so the share of each is visible in one run.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use gng3d::experiment::compare::{CompareParams, compare};
+use gng3d::mesh::TriMesh;
+use std::path::PathBuf;
+use std::time::Duration;
+
+fn gargoyle() -> Option<TriMesh> {
+    let dir = match std::env::var_os("GNG3D_MESHES") {
+        Some(d) => PathBuf::from(d),
+        None if std::env::var_os("CI").is_some() => panic!("CI is set but GNG3D_MESHES is not"),
+        None => {
+            eprintln!("skipping: set GNG3D_MESHES to the shared meshes folder");
+            return None;
+        }
+    };
+    let loaded = gng3d::mesh::io::load(&dir.join("gargoyle-10k.obj")).expect("gargoyle-10k.obj");
+    Some(gng3d::mesh::clean::prepare(&loaded.mesh).0)
+}
+
+fn bench(c: &mut Criterion) {
+    let Some(mesh) = gargoyle() else { return };
+    let target = mesh.vertex_count() / 2;
+    let params = CompareParams::new(target);
+    let mut group = c.benchmark_group("compare_gargoyle10k");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
+    group.bench_function("end_to_end", |b| {
+        b.iter(|| compare(&mesh, &params).expect("compare"))
+    });
+    group.bench_function("qem_only", |b| {
+        b.iter(|| gng3d::qem::simplify(&mesh, &params.qem).expect("qem"))
+    });
+    group.bench_function("gng_only", |b| {
+        b.iter(|| gng3d::gng3d_core::simplify(&mesh, &params.gng).expect("gng"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

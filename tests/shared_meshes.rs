@@ -35,12 +35,17 @@ fn meshes_dir() -> Option<PathBuf> {
 }
 
 fn int(text: &str) -> i64 {
-    text.trim().replace(',', "").parse().unwrap_or_else(|_| panic!("not an integer: {text:?}"))
+    text.trim()
+        .replace(',', "")
+        .parse()
+        .unwrap_or_else(|_| panic!("not an integer: {text:?}"))
 }
 
 /// The number right before `word` in `text` (e.g. "556 edges" → 556), or 0 if absent.
 fn count_before(text: &str, word: &str) -> usize {
-    let words: Vec<&str> = text.split(|c: char| c.is_whitespace() || c == ';' || c == '/').collect();
+    let words: Vec<&str> = text
+        .split(|c: char| c.is_whitespace() || c == ';' || c == '/')
+        .collect();
     words
         .windows(2)
         .find(|w| w[1].starts_with(word))
@@ -52,11 +57,19 @@ fn parse_table(readme: &str) -> Vec<Expected> {
         .lines()
         .filter(|l| l.starts_with("| `"))
         .map(|line| {
-            let cells: Vec<&str> = line.trim().trim_matches('|').split('|').map(str::trim).collect();
+            let cells: Vec<&str> = line
+                .trim()
+                .trim_matches('|')
+                .split('|')
+                .map(str::trim)
+                .collect();
             assert_eq!(cells.len(), 13, "unexpected table row: {line}");
             let boundary = cells[7];
             let (boundary_edges, boundary_loops) = if boundary.starts_with("boundary:") {
-                (count_before(boundary, "edges"), count_before(boundary, "loops"))
+                (
+                    count_before(boundary, "edges"),
+                    count_before(boundary, "loops"),
+                )
             } else {
                 assert!(boundary.starts_with("closed"), "{boundary}");
                 (0, 0)
@@ -96,7 +109,12 @@ fn shared_meshes_match_the_readme_table() {
     for e in &table {
         let loaded = mesh::io::load(&dir.join(&e.file)).unwrap_or_else(|err| panic!("{err}"));
         let m = &loaded.mesh;
-        assert!(loaded.warnings.is_empty(), "{}: {:?}", e.file, loaded.warnings);
+        assert!(
+            loaded.warnings.is_empty(),
+            "{}: {:?}",
+            e.file,
+            loaded.warnings
+        );
         let t = mesh::topology::analyze(m);
         let got = (
             t.vertices,
@@ -121,15 +139,36 @@ fn shared_meshes_match_the_readme_table() {
         assert_eq!(got, want, "{}", e.file);
         // The README gives six significant digits.
         let rel = (m.bbox_diagonal() - e.bbox_diagonal).abs() / e.bbox_diagonal;
-        assert!(rel < 1e-5, "{}: bbox diagonal {} vs {}", e.file, m.bbox_diagonal(), e.bbox_diagonal);
+        assert!(
+            rel < 1e-5,
+            "{}: bbox diagonal {} vs {}",
+            e.file,
+            m.bbox_diagonal(),
+            e.bbox_diagonal
+        );
     }
 }
 
 #[test]
 fn table_parser_reads_boundary_descriptions() {
-    assert_eq!(count_before("boundary: 556 edges / 32 loops; 6 non-manifold vertices", "edges"), 556);
-    assert_eq!(count_before("boundary: 556 edges / 32 loops; 6 non-manifold vertices", "loops"), 32);
-    assert_eq!(count_before("closed; 1 non-manifold vertex", "non-manifold"), 1);
+    assert_eq!(
+        count_before(
+            "boundary: 556 edges / 32 loops; 6 non-manifold vertices",
+            "edges"
+        ),
+        556
+    );
+    assert_eq!(
+        count_before(
+            "boundary: 556 edges / 32 loops; 6 non-manifold vertices",
+            "loops"
+        ),
+        32
+    );
+    assert_eq!(
+        count_before("closed; 1 non-manifold vertex", "non-manifold"),
+        1
+    );
     assert_eq!(count_before("closed", "non-manifold"), 0);
     assert_eq!(int("1,074,744"), 1_074_744);
 }

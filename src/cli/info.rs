@@ -45,8 +45,8 @@ struct Info {
 /// Run `gng3d info`.
 pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let start = std::time::Instant::now();
-    let loaded = mesh::io::load(&args.mesh)
-        .with_context(|| format!("loading {}", args.mesh.display()))?;
+    let loaded =
+        mesh::io::load(&args.mesh).with_context(|| format!("loading {}", args.mesh.display()))?;
     let load_seconds = start.elapsed().as_secs_f64();
     let m = &loaded.mesh;
     let t: TopologyReport = analyze(m);

@@ -29,7 +29,7 @@ fn main() {
                 let diag2 = m.bbox_diagonal().powi(2);
                 let rr = &r.report.reconstruction;
                 println!(
-                    "{:<22} V={:>6} g_in={:?} target={:>6} out V={:>6} F={:>6} | train {:.3}s ({:.2} M sig/s, {} sig) rec {:.3}s | bnd={} nm_e={} nm_v={} comp={} genus={:?} closed={} manifold={} | deg={} dup={} opp={} fins={} holes={} | e_avg/d2={:.2e}",
+                    "{:<22} V={:>6} g_in={:?} target={:>6} out V={:>6} F={:>6} | train {:.3}s ({:.2} M sig/s, {} sig) rec {:.3}s | bnd={} nm_e={} nm_v={} comp={} genus={:?} closed={} manifold={} | relab={} deg={} dup={} opp={} fins={} holes={} | e_avg/d2={:.2e}",
                     Path::new(file).file_name().unwrap().to_string_lossy(),
                     m.vertex_count(),
                     input.genus,
@@ -47,6 +47,7 @@ fn main() {
                     t.genus,
                     t.closed,
                     t.manifold,
+                    rr.relabelled_vertices,
                     rr.degenerate_faces,
                     rr.duplicate_faces,
                     rr.opposite_faces,

@@ -40,6 +40,11 @@ pub enum OppositeFaces {
 /// cleanup pass and no projection.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReconstructionParams {
+    /// Make every node's cell edge-connected on the original mesh before mapping faces (vertices
+    /// cut off from the part of the cell nearest to the node join an adjacent cell). This
+    /// prevents one node from joining two sheets of a thin part. Default `true`; `false` gives the
+    /// plain nearest-node labels of the paper.
+    pub connected_cells: bool,
     /// (a) Keep only triangles whose three nodes are pairwise GNG neighbours. Default `false`.
     pub require_gng_edges: bool,
     /// Resolution of triples seen in both orientations. Default [`OppositeFaces::KeepMajority`].
@@ -57,6 +62,7 @@ pub struct ReconstructionParams {
 impl Default for ReconstructionParams {
     fn default() -> Self {
         ReconstructionParams {
+            connected_cells: true,
             require_gng_edges: false,
             opposite_faces: OppositeFaces::KeepMajority,
             cleanup: true,

@@ -28,6 +28,8 @@ pub struct Reconstruction {
 pub struct ReconstructionReport {
     /// Faces of the original mesh.
     pub original_faces: usize,
+    /// Original vertices moved to a neighbouring cell to make every node's cell edge-connected.
+    pub relabelled_vertices: usize,
     /// Original faces whose corners fell on fewer than three distinct nodes.
     pub degenerate_faces: usize,
     /// Original faces dropped because another face mapped to the same node triple with the same
@@ -75,6 +77,106 @@ pub fn label_vertices(original: &[Vec3], nodes: &[Vec3]) -> Vec<u32> {
         .collect()
 }
 
+/// Make every node's cell (the original vertices labelled with it) edge-connected on the
+/// original mesh: keep the component holding the vertex closest to the node and give the other
+/// vertices, by breadth-first growth, the label of an adjacent vertex whose node is closest.
+/// Returns the number of vertices relabelled.
+pub fn make_cells_connected(original: &TriMesh, nodes: &[Vec3], labels: &mut [u32]) -> usize {
+    let n = original.positions.len();
+    if nodes.is_empty() || n == 0 {
+        return 0;
+    }
+    // Vertex adjacency (CSR) from triangle edges; duplicates are harmless.
+    let mut degree = vec![0u32; n + 1];
+    for t in &original.triangles {
+        for &v in t {
+            degree[v as usize] += 2;
+        }
+    }
+    let mut offset = vec![0usize; n + 1];
+    for v in 0..n {
+        offset[v + 1] = offset[v] + degree[v] as usize;
+    }
+    let mut fill = offset.clone();
+    let mut nbrs = vec![0u32; offset[n]];
+    for t in &original.triangles {
+        for k in 0..3 {
+            let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            for w in [b, c] {
+                nbrs[fill[a as usize]] = w;
+                fill[a as usize] += 1;
+            }
+        }
+    }
+    let neighbours = |v: usize| &nbrs[offset[v]..offset[v + 1]];
+    // Anchor of each node: its labelled vertex nearest to it.
+    let mut anchor = vec![(f32::INFINITY, u32::MAX); nodes.len()];
+    for (v, &l) in labels.iter().enumerate() {
+        if l == u32::MAX || offset[v] == offset[v + 1] {
+            continue;
+        }
+        let d = (original.positions[v] - nodes[l as usize]).length_squared();
+        if d < anchor[l as usize].0 {
+            anchor[l as usize] = (d, v as u32);
+        }
+    }
+    // Flood each node's cell from its anchor; vertices not reached are orphans.
+    let mut keep = vec![false; n];
+    let mut stack = Vec::new();
+    for (l, &(_, a)) in anchor.iter().enumerate() {
+        if a == u32::MAX {
+            continue;
+        }
+        keep[a as usize] = true;
+        stack.push(a);
+        while let Some(v) = stack.pop() {
+            for &w in neighbours(v as usize) {
+                if !keep[w as usize] && labels[w as usize] == l as u32 {
+                    keep[w as usize] = true;
+                    stack.push(w);
+                }
+            }
+        }
+    }
+    let mut queue: std::collections::VecDeque<u32> = std::collections::VecDeque::new();
+    for v in 0..n {
+        if !keep[v] && offset[v] != offset[v + 1] && neighbours(v).iter().any(|&w| keep[w as usize]) {
+            queue.push_back(v as u32);
+        }
+    }
+    let mut relabelled = 0;
+    while let Some(v) = queue.pop_front() {
+        let v = v as usize;
+        if keep[v] {
+            continue;
+        }
+        let p = original.positions[v];
+        let best = neighbours(v)
+            .iter()
+            .filter(|&&w| keep[w as usize])
+            .map(|&w| labels[w as usize])
+            .min_by(|&a, &b| {
+                (nodes[a as usize] - p)
+                    .length_squared()
+                    .total_cmp(&(nodes[b as usize] - p).length_squared())
+                    .then(a.cmp(&b))
+            });
+        if let Some(l) = best {
+            if labels[v] != l {
+                relabelled += 1;
+            }
+            labels[v] = l;
+            keep[v] = true;
+            for &w in neighbours(v) {
+                if !keep[w as usize] {
+                    queue.push_back(w);
+                }
+            }
+        }
+    }
+    relabelled
+}
+
 /// Key of an undirected edge.
 #[inline]
 fn edge_key(a: u32, b: u32) -> (u32, u32) {
@@ -100,6 +202,7 @@ pub fn reconstruct(
     let start = Instant::now();
     let mut report = ReconstructionReport {
         original_faces: original.triangles.len(),
+        relabelled_vertices: 0,
         degenerate_faces: 0,
         duplicate_faces: 0,
         opposite_faces: 0,
@@ -114,7 +217,10 @@ pub fn reconstruct(
         topology: mesh::topology::analyze(&TriMesh::default()),
         seconds: 0.0,
     };
-    let labels = label_vertices(&original.positions, nodes);
+    let mut labels = label_vertices(&original.positions, nodes);
+    if params.connected_cells {
+        report.relabelled_vertices = make_cells_connected(original, nodes, &mut labels);
+    }
 
     // Map faces to triples, merge duplicates by sorted key with per-orientation votes.
     // Orientation sign: +1 when the triple rotated to start at its smallest label is ascending.

@@ -38,7 +38,11 @@ pub struct CleanReport {
 /// Bit pattern of a position with -0.0 folded into +0.0, so equal coordinates compare equal.
 #[inline]
 fn position_key(p: Vec3) -> [u32; 3] {
-    [(p.x + 0.0).to_bits(), (p.y + 0.0).to_bits(), (p.z + 0.0).to_bits()]
+    [
+        (p.x + 0.0).to_bits(),
+        (p.y + 0.0).to_bits(),
+        (p.z + 0.0).to_bits(),
+    ]
 }
 
 /// Merge vertices with exactly equal positions (first occurrence wins, order kept) and remap
@@ -204,14 +208,26 @@ mod tests {
             vec![[0, 1, 2], [1, 2, 0], [2, 1, 0], [0, 0, 3], [0, 1, 3]],
         );
         let (out, d) = drop_degenerate_and_duplicate_faces(&m);
-        assert_eq!(d, DroppedFaces { degenerate: 1, duplicate: 2 });
+        assert_eq!(
+            d,
+            DroppedFaces {
+                degenerate: 1,
+                duplicate: 2
+            }
+        );
         assert_eq!(out.triangles, vec![[0, 1, 2], [0, 1, 3]]);
     }
 
     #[test]
     fn remove_unreferenced_keeps_order() {
         let m = TriMesh::new(
-            vec![Vec3::splat(9.0), Vec3::ZERO, Vec3::X, Vec3::splat(7.0), Vec3::Y],
+            vec![
+                Vec3::splat(9.0),
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::splat(7.0),
+                Vec3::Y,
+            ],
             vec![[1, 2, 4]],
         );
         let out = remove_unreferenced(&m);

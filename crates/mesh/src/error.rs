@@ -120,13 +120,19 @@ impl fmt::Display for MeshWarning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             MeshWarning::DegenerateFaces { count } => {
-                write!(f, "dropped {count} degenerate face(s) with a repeated vertex")
+                write!(
+                    f,
+                    "dropped {count} degenerate face(s) with a repeated vertex"
+                )
             }
             MeshWarning::DuplicateFaces { count } => {
                 write!(f, "dropped {count} duplicate face(s)")
             }
             MeshWarning::PolygonsTriangulated { count } => {
-                write!(f, "fan-triangulated {count} polygon(s) with more than 3 corners")
+                write!(
+                    f,
+                    "fan-triangulated {count} polygon(s) with more than 3 corners"
+                )
             }
             MeshWarning::ShortFaces { count } => {
                 write!(f, "ignored {count} face(s) with fewer than 3 corners")

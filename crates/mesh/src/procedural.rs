@@ -259,7 +259,11 @@ mod tests {
         assert!(r.closed && r.manifold, "{r:?}");
         assert_eq!(r.components, 1);
         assert_eq!(r.genus, Some(0));
-        assert!((3000..15000).contains(&m.vertex_count()), "{}", m.vertex_count());
+        assert!(
+            (3000..15000).contains(&m.vertex_count()),
+            "{}",
+            m.vertex_count()
+        );
         assert!(m.signed_volume() > 0.0);
         let (_, dropped) = crate::clean::drop_degenerate_and_duplicate_faces(&m);
         assert_eq!(dropped, crate::clean::DroppedFaces::default());

@@ -228,6 +228,23 @@ pub enum FaceSampling {
     SimilarTriangles,
 }
 
+/// How many edge samples [`sample_stratified`] draws. Edge samples are interior points of the
+/// unique edges, spread by length with carried remainders.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EdgeSampling {
+    /// No edge samples.
+    None,
+    /// Metro: `sqrt(total / area)` samples per unit length, capped at half of what the vertex
+    /// samples leave of the budget.
+    #[default]
+    Metro,
+    /// This share (0..=1) of what the vertex samples leave of the budget. MeshLab's Hausdorff
+    /// filter with vertex, edge and face sampling draws all vertices plus `samplenum` edge and
+    /// `samplenum` face samples, i.e. `Share(0.5)` of `total = vertices + 2 · samplenum`.
+    Share(f64),
+}
+
 /// Parameters of the Metro-style stratified sampling plan.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct StratifiedParams {
@@ -236,9 +253,8 @@ pub struct StratifiedParams {
     /// Include the referenced vertices (all of them, or a seeded random half of the budget when
     /// there are more than `total / 2`).
     pub vertices: bool,
-    /// Sample unique edges at `sqrt(total / area)` samples per unit length (interior points,
-    /// remainders carried), capped at half of what the vertices leave.
-    pub edges: bool,
+    /// Number of edge samples.
+    pub edges: EdgeSampling,
     /// Placement of the face samples.
     pub faces: FaceSampling,
 }
@@ -248,7 +264,7 @@ impl Default for StratifiedParams {
         StratifiedParams {
             total: 100_000,
             vertices: true,
-            edges: true,
+            edges: EdgeSampling::Metro,
             faces: FaceSampling::Random,
         }
     }
@@ -320,8 +336,9 @@ fn unique_edges(mesh: &TriMesh) -> Vec<Edge> {
 /// Metro-style stratified sampling: vertices, edges and faces, reproducible for a given `seed`.
 ///
 /// Budget: `V` vertex samples (all referenced vertices, or a random subset of `total / 2`), then
-/// `E = min(sqrt(total / A) · L, (total - V) / 2)` edge samples spread over the unique edges of
-/// total length `L` by length with carried remainders, then exactly `total - V - E` face samples
+/// `E` edge samples (see [`EdgeSampling`]; Metro's default is
+/// `min(sqrt(total / A) · L, (total - V) / 2)` for total edge length `L`) spread over the unique
+/// edges by length with carried remainders, then exactly `total - V - E` face samples
 /// spread over the faces by area with carried remainders (so face samples are area-weighted and
 /// stratified: each face gets `floor` or `ceil` of its expected share).
 pub fn sample_stratified(
@@ -372,7 +389,7 @@ pub fn sample_stratified(
     let vertex_count = samples.len();
 
     // 2. Edges: interior points at a uniform linear density, remainders carried along.
-    if params.edges {
+    if params.edges != EdgeSampling::None {
         let edges = unique_edges(mesh);
         let length = |e: &Edge| {
             (mesh.positions[e.v[1] as usize].as_dvec3() - mesh.positions[e.v[0] as usize].as_dvec3())
@@ -380,9 +397,13 @@ pub fn sample_stratified(
         };
         let total_length: f64 = edges.iter().map(length).sum();
         if total_length > 0.0 {
-            let cap = (total.saturating_sub(vertex_count) / 2) as f64;
-            let wanted = (total as f64 / area).sqrt() * total_length;
-            let per_length = wanted.min(cap) / total_length;
+            let rest = total.saturating_sub(vertex_count) as f64;
+            let wanted = match params.edges {
+                EdgeSampling::Share(share) => (rest * share.clamp(0.0, 1.0)).round(),
+                _ => ((total as f64 / area).sqrt() * total_length).min((rest / 2.0).floor()),
+            };
+            // A hair above the wanted density so the carried remainder reaches the exact count.
+            let per_length = wanted / total_length * (1.0 + 1e-12);
             let mut carry = 0.0f64;
             for e in &edges {
                 carry += length(e) * per_length;
@@ -598,6 +619,16 @@ mod tests {
         }
         let again = sample_stratified(&mesh, &params, 3).unwrap();
         assert_eq!(s, again);
+        // MeshLab's plan: all vertices, then equal edge and face counts.
+        let meshlab = StratifiedParams {
+            total: mesh.vertex_count() + 2 * 20_000,
+            edges: EdgeSampling::Share(0.5),
+            ..params
+        };
+        let m = sample_stratified(&mesh, &meshlab, 3).unwrap();
+        assert_eq!(m.vertex_count, mesh.vertex_count());
+        assert!(m.edge_count.abs_diff(20_000) <= 1, "{}", m.edge_count);
+        assert_eq!(m.samples.len(), meshlab.total);
     }
 
     #[test]
@@ -620,7 +651,7 @@ mod tests {
         let params = StratifiedParams {
             total: 16,
             vertices: false,
-            edges: false,
+            edges: EdgeSampling::None,
             faces: FaceSampling::SimilarTriangles,
         };
         let s = sample_stratified(&mesh, &params, 1).unwrap();

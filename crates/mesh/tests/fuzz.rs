@@ -6,7 +6,11 @@ use mesh::procedural::icosphere;
 use proptest::prelude::*;
 use std::path::Path;
 
-const FORMATS: [(Format, &str); 3] = [(Format::Obj, "obj"), (Format::Ply, "ply"), (Format::Stl, "stl")];
+const FORMATS: [(Format, &str); 3] = [
+    (Format::Obj, "obj"),
+    (Format::Ply, "ply"),
+    (Format::Stl, "stl"),
+];
 
 /// Valid files of every kind we read: OBJ, binary PLY, ASCII PLY, binary STL, ASCII STL.
 fn seeds() -> Vec<(Format, Vec<u8>)> {
@@ -44,7 +48,10 @@ fn mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
         (any::<usize>(), any::<u8>()).prop_map(|(i, b)| Mutation::Set(i, b)),
         any::<usize>().prop_map(Mutation::Truncate),
-        (any::<usize>(), prop::sample::select(b"0123456789-. \nefv/".to_vec()))
+        (
+            any::<usize>(),
+            prop::sample::select(b"0123456789-. \nefv/".to_vec())
+        )
             .prop_map(|(i, b)| Mutation::Insert(i, b)),
         any::<usize>().prop_map(Mutation::Remove),
     ]

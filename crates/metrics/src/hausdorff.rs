@@ -2,10 +2,11 @@
 //!
 //! One direction samples the *source* surface (vertices, edges, area-weighted faces; see
 //! [`mesh::sampling::sample_stratified`]) and finds each sample's exact closest point on the
-//! *target* through a [`SurfaceDistanceIndex`]. Statistics per direction: the maximum over all
-//! samples, and mean / RMS over the area-weighted face samples (so they estimate
-//! `(1/A)∫d dA` and `sqrt((1/A)∫d² dA)` whatever share of the budget went to vertices and
-//! edges). The symmetric Hausdorff distance is the larger of the two maxima.
+//! *target* through a [`SurfaceDistanceIndex`]. Statistics per direction follow Metro and
+//! MeshLab: max, mean and RMS over all samples (vertices, edges and faces alike). The
+//! area-weighted figures over the face samples alone, which estimate `(1/A)∫d dA` and
+//! `sqrt((1/A)∫d² dA)` whatever share of the budget went to vertices and edges, are reported
+//! as well. The symmetric Hausdorff distance is the larger of the two maxima.
 //!
 //! Work is split into fixed-size chunks of samples, each chunk processed sequentially and the
 //! chunk results reduced in chunk order, so results are bit-identical for any thread count.
@@ -14,7 +15,7 @@ use crate::MetricsError;
 use crate::index::{NO_SLOT, SurfaceDistanceIndex, bound_f32};
 use glam::{Vec3, Vec3A};
 use mesh::TriMesh;
-use mesh::sampling::{FaceSampling, StratifiedParams, sample_stratified};
+use mesh::sampling::{EdgeSampling, FaceSampling, StratifiedParams, sample_stratified};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -34,8 +35,8 @@ pub struct HausdorffParams {
     pub seed: u64,
     /// Sample the source's referenced vertices.
     pub vertices: bool,
-    /// Sample the source's edges at `sqrt(density)` per unit length (Metro).
-    pub edges: bool,
+    /// Number of edge samples (Metro's `sqrt(density)` per unit length by default).
+    pub edges: EdgeSampling,
     /// Placement of the face samples.
     pub faces: FaceSampling,
     /// Samples with no target point within this distance (model units) are excluded from all
@@ -49,7 +50,7 @@ impl Default for HausdorffParams {
             samples: None,
             seed: 1,
             vertices: true,
-            edges: true,
+            edges: EdgeSampling::Metro,
             faces: FaceSampling::Random,
             max_distance: None,
         }
@@ -71,9 +72,9 @@ impl HausdorffParams {
 pub struct DistanceStats {
     /// Largest sampled distance.
     pub max: f64,
-    /// Area-weighted mean distance.
+    /// Mean distance.
     pub mean: f64,
-    /// Area-weighted root mean square distance.
+    /// Root mean square distance.
     pub rms: f64,
 }
 
@@ -82,10 +83,14 @@ pub struct DistanceStats {
 pub struct OneSided {
     /// Largest distance over all counted samples (vertices, edges, faces), model units.
     pub max: f64,
-    /// Mean distance over the counted face samples (area-weighted), model units.
+    /// Mean distance over all counted samples (Metro/MeshLab convention), model units.
     pub mean: f64,
-    /// Root mean square distance over the counted face samples, model units.
+    /// Root mean square distance over all counted samples, model units.
     pub rms: f64,
+    /// Mean over the counted face samples only: the area-weighted mean `(1/A)∫d dA`.
+    pub area_mean: f64,
+    /// RMS over the counted face samples only: `sqrt((1/A)∫d² dA)`.
+    pub area_rms: f64,
     /// Counted samples (all kinds, excluding `excluded`).
     pub samples: usize,
     /// Vertex samples drawn.
@@ -297,23 +302,27 @@ pub(crate) fn one_sided_inner(
         .collect();
     let total = partials.into_iter().fold(Partial::new(), Partial::merge);
 
-    // Mean and RMS from the area-weighted face samples; fall back to all samples if the source
-    // got no face samples (tiny budgets).
-    let (sum, sum2, n) = if total.face_n > 0 {
-        (total.face_sum, total.face_sum2, total.face_n)
-    } else {
-        (total.all_sum, total.all_sum2, total.all_n)
+    let stats = |sum: f64, sum2: f64, n: usize| {
+        if n > 0 {
+            (sum / n as f64, (sum2 / n as f64).sqrt())
+        } else {
+            (0.0, 0.0)
+        }
     };
-    let (mean, rms) = if n > 0 {
-        (sum / n as f64, (sum2 / n as f64).sqrt())
+    let (mean, rms) = stats(total.all_sum, total.all_sum2, total.all_n);
+    // Area-weighted figures fall back to all samples if no face sample was drawn.
+    let (area_mean, area_rms) = if total.face_n > 0 {
+        stats(total.face_sum, total.face_sum2, total.face_n)
     } else {
-        (0.0, 0.0)
+        (mean, rms)
     };
     let rel = |x: f64| if diagonal > 0.0 { x / diagonal } else { 0.0 };
     let one = OneSided {
         max: total.max,
         mean,
         rms,
+        area_mean,
+        area_rms,
         samples: total.all_n,
         vertex_samples: drawn.vertex_count,
         edge_samples: drawn.edge_count,

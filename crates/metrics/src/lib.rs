@@ -21,7 +21,7 @@ pub use hausdorff::{
     hausdorff_indexed, one_sided,
 };
 pub use index::{ClosestPoint, SurfaceDistanceIndex};
-pub use mesh::sampling::FaceSampling;
+pub use mesh::sampling::{EdgeSampling, FaceSampling};
 pub use paper::{NearestVertexIndex, SurfaceError, VertexErrors, surface_error, vertex_errors};
 pub use quality::{AspectBin, TriangleQuality, triangle_quality};
 pub use report::{MeshSummary, MetricsParams, MetricsReport, NormalDeviations, Pair, evaluate};

@@ -109,6 +109,8 @@ pub struct QemReport {
     pub rejected: usize,
     /// Non-edge pairs found within `pair_threshold`.
     pub virtual_pairs: usize,
+    /// Contraction passes over the sorted candidate list.
+    pub passes: usize,
 }
 
 /// Errors of [`simplify`].

@@ -15,6 +15,8 @@ use std::time::Instant;
 
 /// Marks a dead face (in its first slot) and an empty linked list.
 const DEAD: u32 = u32::MAX;
+/// Cost key of a candidate rejected in the current pass (dropped from the list).
+const REJECTED: u32 = u32::MAX;
 
 /// A candidate pair with its cost (as `f32` bits, which order like the non-negative cost).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -93,23 +95,43 @@ impl VirtualPairs {
     }
 }
 
+/// Geometry of a vertex in the normalised frame.
+#[derive(Debug, Clone, Copy, Default)]
+struct VertexData {
+    q: Quadric,
+    p: DVec3,
+}
+
+/// Per-vertex bookkeeping.
+#[derive(Debug, Clone, Copy, Default)]
+struct VertexInfo {
+    /// Start of the face list in `refs`.
+    start: u32,
+    /// Length of the face list (may include dead faces).
+    len: u32,
+    /// Live faces around the vertex.
+    valence: u32,
+    /// Pass in which the vertex was last touched by a contraction.
+    touched: u32,
+    /// Scratch mark (compared with `Engine::tick`).
+    mark: u32,
+    /// Not merged into another vertex.
+    alive: bool,
+    /// On a boundary edge (or a non-manifold edge).
+    boundary: bool,
+}
+
 /// Mutable simplification state.
 struct Engine {
-    pos: Vec<DVec3>,
-    quadric: Vec<Quadric>,
+    /// Quadric and position per vertex (read together by every evaluation).
+    vd: Vec<VertexData>,
+    /// Topology bookkeeping per vertex, packed so one cache line serves a vertex.
+    v: Vec<VertexInfo>,
     faces: Vec<[u32; 3]>,
-    face_start: Vec<u32>,
-    face_len: Vec<u32>,
     refs: Vec<u32>,
     refs_limit: usize,
-    stamp: Vec<u32>,
-    alive: Vec<bool>,
-    /// Vertex on a boundary edge (or on a non-manifold edge).
-    boundary: Vec<bool>,
-    mark: Vec<u32>,
+    /// Current scratch-mark value.
     tick: u32,
-    /// Pass number in which a vertex was last touched by a contraction.
-    touched: Vec<u32>,
     scratch: Vec<u32>,
     virt: Option<VirtualPairs>,
     live_faces: usize,
@@ -126,15 +148,17 @@ fn contains(t: &[u32; 3], v: u32) -> bool {
 impl Engine {
     #[inline]
     fn list(&self, v: usize) -> std::ops::Range<usize> {
-        let s = self.face_start[v] as usize;
-        s..s + self.face_len[v] as usize
+        let s = self.v[v].start as usize;
+        s..s + self.v[v].len as usize
     }
 
     #[inline]
     fn next_tick(&mut self) -> u32 {
         self.tick = self.tick.wrapping_add(1);
         if self.tick == 0 {
-            self.mark.fill(0);
+            for v in &mut self.v {
+                v.mark = 0;
+            }
             self.tick = 1;
         }
         self.tick
@@ -169,8 +193,8 @@ impl Engine {
 
     #[inline]
     fn evaluate(&self, a: usize, b: usize) -> (f64, DVec3) {
-        let q = self.quadric[a] + self.quadric[b];
-        let p = Self::place(&q, self.pos[a], self.pos[b]);
+        let q = self.vd[a].q + self.vd[b].q;
+        let p = Self::place(&q, self.vd[a].p, self.vd[b].p);
         (q.eval(p).max(0.0), p)
     }
 
@@ -184,8 +208,8 @@ impl Engine {
     /// with another vertex touched in pass `pass` is produced by the smaller index only.
     fn pairs_of(&mut self, a: usize, pass: u32, out: &mut Vec<Cand>) {
         let t = self.next_tick();
-        self.mark[a] = t;
-        let keep = |e: &Self, v: usize| e.touched[v] != pass || a < v;
+        self.v[a].mark = t;
+        let keep = |e: &Self, v: usize| e.v[v].touched != pass || a < v;
         for i in self.list(a) {
             let tri = self.faces[self.refs[i] as usize];
             if tri[0] == DEAD {
@@ -193,8 +217,8 @@ impl Engine {
             }
             for v in tri {
                 let v = v as usize;
-                if self.mark[v] != t {
-                    self.mark[v] = t;
+                if self.v[v].mark != t {
+                    self.v[v].mark = t;
                     if keep(self, v) {
                         out.push(self.candidate(a, v));
                     }
@@ -207,8 +231,8 @@ impl Engine {
                 let vp = self.virt.as_mut().expect("checked");
                 let o = vp.find(vp.other[node as usize]) as usize;
                 node = vp.next[node as usize];
-                if self.alive[o] && self.mark[o] != t {
-                    self.mark[o] = t;
+                if self.v[o].alive && self.v[o].mark != t {
+                    self.v[o].mark = t;
                     if keep(self, o) {
                         out.push(self.candidate(a, o));
                     }
@@ -227,9 +251,9 @@ impl Engine {
         } else {
             2
         };
-        let p1 = self.pos[tri[(i + 1) % 3] as usize];
-        let p2 = self.pos[tri[(i + 2) % 3] as usize];
-        let pu = self.pos[u as usize];
+        let p1 = self.vd[tri[(i + 1) % 3] as usize].p;
+        let p2 = self.vd[tri[(i + 2) % 3] as usize].p;
+        let pu = self.vd[u as usize].p;
         let old = (p1 - pu).cross(p2 - pu);
         let ol = old.length_squared();
         if ol == 0.0 {
@@ -238,19 +262,6 @@ impl Engine {
         let new = (p1 - p).cross(p2 - p);
         let nl = new.length_squared();
         old.dot(new) <= self.min_normal_cos * (ol * nl).sqrt()
-    }
-
-    fn alive_face_count(&self, v: usize, at_least: u32) -> u32 {
-        let mut n = 0;
-        for i in self.list(v) {
-            if self.faces[self.refs[i] as usize][0] != DEAD {
-                n += 1;
-                if n >= at_least {
-                    break;
-                }
-            }
-        }
-        n
     }
 
     /// Check the topology/normal conditions for contracting `b` into `a` at `p`.
@@ -275,7 +286,7 @@ impl Engine {
         if !self.preserve_topology {
             return true;
         }
-        if shared > 2 || (shared == 2 && self.boundary[a] && self.boundary[b]) {
+        if shared > 2 || (shared == 2 && self.v[a].boundary && self.v[b].boundary) {
             return false;
         }
         // Link condition: common neighbours must be exactly the opposite vertices.
@@ -287,7 +298,7 @@ impl Engine {
                 continue;
             }
             for v in t {
-                self.mark[v as usize] = ta;
+                self.v[v as usize].mark = ta;
             }
         }
         let mut common = 0usize;
@@ -299,8 +310,8 @@ impl Engine {
             }
             alive_b += 1;
             for v in t {
-                if v != au && v != bu && self.mark[v as usize] == ta {
-                    self.mark[v as usize] = tb;
+                if v != au && v != bu && self.v[v as usize].mark == ta {
+                    self.v[v as usize].mark = tb;
                     common += 1;
                 }
             }
@@ -310,7 +321,7 @@ impl Engine {
         }
         // No opposite vertex may be left without faces.
         for &c in &opp[..shared] {
-            if self.alive_face_count(c as usize, 2) < 2 {
+            if self.v[c as usize].valence < 2 {
                 return false;
             }
         }
@@ -344,14 +355,12 @@ impl Engine {
     /// Contract `b` into `a`, moving `a` to `p`.
     fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
         let (au, bu) = (a as u32, b as u32);
-        self.pos[a] = p;
-        let qb = self.quadric[b];
-        self.quadric[a] += qb;
-        self.boundary[a] |= self.boundary[b];
-        self.alive[b] = false;
+        self.vd[a].p = p;
+        let qb = self.vd[b].q;
+        self.vd[a].q += qb;
+        self.v[a].boundary |= self.v[b].boundary;
+        self.v[b].alive = false;
         self.live_vertices -= 1;
-        self.stamp[a] = self.stamp[a].wrapping_add(1);
-        self.stamp[b] = self.stamp[b].wrapping_add(1);
         self.scratch.clear();
         for i in self.list(b) {
             let f = self.refs[i] as usize;
@@ -360,7 +369,9 @@ impl Engine {
                 continue;
             }
             if contains(t, au) {
+                let third = t[0] ^ t[1] ^ t[2] ^ au ^ bu;
                 t[0] = DEAD;
+                self.v[third as usize].valence -= 1;
                 self.live_faces -= 1;
             } else {
                 for v in t.iter_mut() {
@@ -379,9 +390,11 @@ impl Engine {
             }
         }
         self.refs.extend_from_slice(&self.scratch);
-        self.face_start[a] = start as u32;
-        self.face_len[a] = (self.refs.len() - start) as u32;
-        self.face_len[b] = 0;
+        self.v[a].start = start as u32;
+        self.v[a].len = (self.refs.len() - start) as u32;
+        self.v[b].len = 0;
+        self.v[a].valence = self.v[a].len;
+        self.v[b].valence = 0;
         if let Some(vp) = self.virt.as_mut() {
             vp.merge(a, b);
         }
@@ -393,10 +406,10 @@ impl Engine {
     /// Rewrite the face lists without dead faces and free space.
     fn compact_refs(&mut self) {
         let mut fresh = Vec::with_capacity(self.refs_limit);
-        for v in 0..self.pos.len() {
+        for v in 0..self.v.len() {
             let range = self.list(v);
             let start = fresh.len();
-            if self.alive[v] {
+            if self.v[v].alive {
                 for i in range {
                     let f = self.refs[i];
                     if self.faces[f as usize][0] != DEAD {
@@ -404,8 +417,8 @@ impl Engine {
                     }
                 }
             }
-            self.face_start[v] = start as u32;
-            self.face_len[v] = (fresh.len() - start) as u32;
+            self.v[v].start = start as u32;
+            self.v[v].len = (fresh.len() - start) as u32;
         }
         self.refs = fresh;
         self.refs_limit = (self.refs.len() * 3).max(1024);
@@ -456,7 +469,40 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let center = 0.5 * (lo + hi);
     let diag = (hi - lo).length();
     let scale = if diag > 0.0 { 1.0 / diag } else { 1.0 };
-    let pos: Vec<DVec3> = input.positions.iter().map(|p| (p.as_dvec3() - center) * scale).collect();
+    // Renumber the referenced vertices along a Morton curve and sort the faces by their smallest
+    // new index: neighbouring elements then sit close in memory (inputs are often scan-ordered).
+    let mut order: Vec<u64> = (0..n)
+        .filter(|&i| face_len[i] > 0)
+        .map(|i| (morton((input.positions[i].as_dvec3() - center) * scale) << 32) | i as u64)
+        .collect();
+    order.sort_unstable();
+    let mut new_index = vec![DEAD; n];
+    for (k, &o) in order.iter().enumerate() {
+        new_index[o as u32 as usize] = k as u32;
+    }
+    let pos: Vec<DVec3> =
+        order.iter().map(|&o| (input.positions[o as u32 as usize].as_dvec3() - center) * scale).collect();
+    drop(order);
+    let n = pos.len();
+    let mut keyed: Vec<u64> = faces
+        .iter()
+        .enumerate()
+        .map(|(f, t)| {
+            let m = t.iter().map(|&v| new_index[v as usize]).min().unwrap_or(0);
+            (u64::from(m) << 32) | f as u64
+        })
+        .collect();
+    keyed.sort_unstable();
+    let faces: Vec<[u32; 3]> =
+        keyed.iter().map(|&k| faces[k as u32 as usize].map(|v| new_index[v as usize])).collect();
+    drop(keyed);
+    drop(new_index);
+    let mut face_len = vec![0u32; n];
+    for t in &faces {
+        for &v in t {
+            face_len[v as usize] += 1;
+        }
+    }
 
     // Vertex -> face lists (CSR).
     let mut face_start = vec![0u32; n];
@@ -490,23 +536,28 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         }
     }
 
-    let referenced_vertices = face_len.iter().filter(|&&l| l > 0).count();
+    let referenced_vertices = n;
     let input_faces = faces.len();
     let refs_limit = (refs.len() * 3).max(1024);
+    let vd: Vec<VertexData> = pos.iter().zip(&quadric).map(|(&p, &q)| VertexData { q, p }).collect();
+    drop(pos);
+    drop(quadric);
+    let v: Vec<VertexInfo> = (0..n)
+        .map(|i| VertexInfo {
+            start: face_start[i],
+            len: face_len[i],
+            valence: face_len[i],
+            alive: true,
+            ..Default::default()
+        })
+        .collect();
     let mut e = Engine {
-        pos,
-        quadric,
+        vd,
+        v,
         faces,
-        face_start,
-        face_len,
         refs,
         refs_limit,
-        stamp: vec![0; n],
-        alive: vec![true; n],
-        boundary: vec![false; n],
-        mark: vec![0; n],
         tick: 0,
-        touched: vec![0; n],
         scratch: Vec::new(),
         virt: None,
         live_faces: input_faces,
@@ -520,7 +571,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let mut last_face = vec![0u32; n];
     let mut edges: Vec<[u32; 2]> = Vec::with_capacity(input_faces * 3 / 2 + 16);
     for u in 0..n {
-        if e.face_len[u] == 0 {
+        if e.v[u].len == 0 {
             continue;
         }
         let t1 = e.next_tick();
@@ -532,8 +583,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                 if vi == u {
                     continue;
                 }
-                if e.mark[vi] != t1 {
-                    e.mark[vi] = t1;
+                if e.v[vi].mark != t1 {
+                    e.v[vi].mark = t1;
                     count[vi] = 0;
                 }
                 count[vi] += 1;
@@ -544,25 +595,25 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             let f = e.refs[i];
             for v in e.faces[f as usize] {
                 let vi = v as usize;
-                if vi == u || e.mark[vi] != t1 {
+                if vi == u || e.v[vi].mark != t1 {
                     continue;
                 }
-                e.mark[vi] = t2;
+                e.v[vi].mark = t2;
                 if count[vi] != 2 {
-                    e.boundary[u] = true;
+                    e.v[u].boundary = true;
                 }
                 if vi > u {
                     edges.push([u as u32, v]);
                     if count[vi] == 1 && params.preserve_boundary {
-                        let [p0, p1, p2] = e.faces[last_face[vi] as usize].map(|w| e.pos[w as usize]);
+                        let [p0, p1, p2] = e.faces[last_face[vi] as usize].map(|w| e.vd[w as usize].p);
                         let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                        let edge = e.pos[vi] - e.pos[u];
+                        let edge = e.vd[vi].p - e.vd[u].p;
                         let m = edge.cross(face_normal).normalize_or_zero();
                         if m != DVec3::ZERO {
                             let w = params.boundary_weight * edge.length_squared();
-                            let q = Quadric::from_plane(m, -m.dot(e.pos[u]), w);
-                            e.quadric[u] += q;
-                            e.quadric[vi] += q;
+                            let q = Quadric::from_plane(m, -m.dot(e.vd[u].p), w);
+                            e.vd[u].q += q;
+                            e.vd[vi].q += q;
                         }
                     }
                 }
@@ -575,8 +626,9 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     // Non-edge pairs within the threshold.
     let mut virtual_pairs = 0;
     if params.pair_threshold > 0.0 {
-        let used: Vec<bool> = e.face_len.iter().map(|&l| l > 0).collect();
-        let close = pairs::close_pairs(&e.pos, &used, params.pair_threshold * scale, params.max_pairs_per_vertex);
+        let used: Vec<bool> = e.v.iter().map(|v| v.len > 0).collect();
+        let positions: Vec<DVec3> = e.vd.iter().map(|d| d.p).collect();
+        let close = pairs::close_pairs(&positions, &used, params.pair_threshold * scale, params.max_pairs_per_vertex);
         let mut sorted_edges = edges.clone();
         sorted_edges.sort_unstable();
         let non_edge: Vec<[u32; 2]> =
@@ -586,6 +638,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         e.virt = Some(VirtualPairs::new(n, &non_edge));
     }
 
+    let t_edges = started.elapsed().as_secs_f64();
     let mut list: Vec<Cand> = edges.iter().map(|&[u, v]| e.candidate(u as usize, v as usize)).collect();
     drop(edges);
     list.sort_unstable();
@@ -605,6 +658,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let mut carried: Vec<Cand> = Vec::with_capacity(list.len());
     let mut fresh: Vec<Cand> = Vec::new();
     let mut survivors: Vec<u32> = Vec::new();
+    let mut rebuilt_without_progress = false;
     let reached = |e: &Engine| e.live_faces <= target_faces && e.live_vertices <= target_vertices;
     let stop_reason = loop {
         if reached(&e) {
@@ -616,6 +670,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         pass += 1;
         // Contractions still needed (an interior edge collapse removes two faces).
         let goal = if target_faces != usize::MAX {
+    let t_setup = started.elapsed().as_secs_f64();
             (e.live_faces - target_faces).div_ceil(2)
         } else {
             e.live_vertices - target_vertices
@@ -624,9 +679,10 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         let mut done = 0usize;
         let mut stop = None;
         survivors.clear();
-        for c in &list {
+        for i in 0..list.len() {
+            let c = list[i];
             let (a, b) = (c.a as usize, c.b as usize);
-            if e.touched[a] == pass || e.touched[b] == pass || !e.alive[a] || !e.alive[b] {
+            if e.v[a].touched == pass || e.v[b].touched == pass || !e.v[a].alive || !e.v[b].alive {
                 continue;
             }
             if done > 0 && f32::from_bits(c.key) > cap {
@@ -638,14 +694,17 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                 break;
             }
             // Keep the vertex with the longer face list (less relinking).
-            let (a, b) = if e.face_len[b] > e.face_len[a] { (b, a) } else { (a, b) };
+            let (a, b) = if e.v[b].len > e.v[a].len { (b, a) } else { (a, b) };
             if !e.allowed(a, b, p) {
+                // Dropped; the pair comes back when a neighbouring contraction touches an
+                // endpoint, or in a full rebuild.
+                list[i].key = REJECTED;
                 rejected += 1;
                 continue;
             }
             e.collapse(a, b, p);
-            e.touched[a] = pass;
-            e.touched[b] = pass;
+            e.v[a].touched = pass;
+            e.v[b].touched = pass;
             survivors.push(a as u32);
             done += 1;
             worst = worst.max(cost);
@@ -658,8 +717,25 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             break reason;
         }
         if done == 0 {
-            break StopReason::NoValidPairs;
+            if rebuilt_without_progress {
+                break StopReason::NoValidPairs;
+            }
+            // Everything left was rejected: re-offer every current pair once.
+            rebuilt_without_progress = true;
+            pass += 1;
+            list.clear();
+            for v in 0..e.v.len() {
+                e.v[v].touched = pass; // so that each pair is produced once, by its smaller index
+            }
+            for v in 0..e.v.len() {
+                if e.v[v].alive && e.v[v].len > 0 {
+                    e.pairs_of(v, pass, &mut list);
+                }
+            }
+            list.sort_unstable();
+            continue;
         }
+        rebuilt_without_progress = false;
         if reached(&e) {
             break StopReason::TargetReached;
         }
@@ -667,7 +743,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         carried.clear();
         carried.extend(list.iter().filter(|c| {
             let (a, b) = (c.a as usize, c.b as usize);
-            e.touched[a] != pass && e.touched[b] != pass && e.alive[a] && e.alive[b]
+            c.key != REJECTED && e.v[a].touched != pass && e.v[b].touched != pass && e.v[a].alive && e.v[b].alive
         }));
         fresh.clear();
         for &a in &survivors {
@@ -678,7 +754,9 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         merge_sorted(&carried, &fresh, &mut list);
     };
 
+    let t_loop = started.elapsed().as_secs_f64();
     let out = e.output(center, diag, scale);
+    if std::env::var_os("QEM_TIMING").is_some() { eprintln!("edges {t_edges:.4} loop {t_loop:.4} out {:.4}", started.elapsed().as_secs_f64()); }
     let report = QemReport {
         input_vertices: referenced_vertices,
         input_faces,
@@ -691,6 +769,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         stop_reason,
         rejected,
         virtual_pairs,
+        passes: pass as usize,
     };
     Ok((out, report))
 }
@@ -723,7 +802,7 @@ impl Engine {
             i += 1;
             keep[i - 1]
         });
-        let mut remap = vec![DEAD; self.pos.len()];
+        let mut remap = vec![DEAD; self.v.len()];
         for t in &tris {
             for &v in t {
                 remap[v as usize] = 0;
@@ -733,7 +812,7 @@ impl Engine {
         for (v, r) in remap.iter_mut().enumerate() {
             if *r == 0 {
                 *r = positions.len() as u32;
-                let p = self.pos[v] / scale + center;
+                let p = self.vd[v].p / scale + center;
                 positions.push(Vec3::new(p.x as f32, p.y as f32, p.z as f32));
             }
         }
@@ -744,6 +823,18 @@ impl Engine {
         }
         TriMesh::new(positions, tris)
     }
+}
+
+/// 30-bit Morton code of a point of the normalised frame (coordinates within ±1).
+fn morton(p: DVec3) -> u64 {
+    fn spread(x: f64) -> u64 {
+        let mut v = (((x + 1.0) * 512.0).clamp(0.0, 1023.0)) as u64;
+        v = (v | (v << 16)) & 0x0300_00ff;
+        v = (v | (v << 8)) & 0x0300_f00f;
+        v = (v | (v << 4)) & 0x030c_30c3;
+        (v | (v << 2)) & 0x0924_9249
+    }
+    spread(p.x) | (spread(p.y) << 1) | (spread(p.z) << 2)
 }
 
 /// Merge two sorted slices into `out`.

@@ -204,10 +204,7 @@ fn temp_path(path: &Path) -> PathBuf {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(
-        ".{name}.{}.{unique}.tmp",
-        std::process::id()
-    ))
+    path.with_file_name(format!(".{name}.{}.{unique}.tmp", std::process::id()))
 }
 
 #[cfg(test)]

@@ -14,7 +14,11 @@ use std::path::Path;
 /// Parse OBJ text.
 pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
+        let line = bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1;
         MeshError::parse(path, format!("line {line}"), "not valid UTF-8 text")
     })?;
     let mut raw = RawMesh::default();
@@ -58,7 +62,11 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
                         MeshError::parse(path, location(), format!("bad vertex index {corner:?}"))
                     })?;
                     // OBJ indices are 1-based; negative ones count back from the last vertex.
-                    let zero_based = if index < 0 { n as i64 + index } else { index - 1 };
+                    let zero_based = if index < 0 {
+                        n as i64 + index
+                    } else {
+                        index - 1
+                    };
                     if index == 0 || zero_based < 0 || zero_based >= n as i64 {
                         return Err(MeshError::IndexOutOfRange {
                             path: path.to_path_buf(),

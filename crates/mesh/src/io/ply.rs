@@ -195,9 +195,9 @@ fn vertex_layout(element: &Element, path: &Path) -> Result<VertexLayout, MeshErr
 }
 
 fn face_list_index(element: &Element) -> Option<usize> {
-    element.properties.iter().position(|p| {
-        matches!(p, Property::List(n, _, _) if n == "vertex_indices" || n == "vertex_index")
-    })
+    element.properties.iter().position(
+        |p| matches!(p, Property::List(n, _, _) if n == "vertex_indices" || n == "vertex_index"),
+    )
 }
 
 /// Parse a PLY file.
@@ -237,12 +237,7 @@ fn role(element: &Element, seen_vertex: bool, path: &Path) -> Result<Role, MeshE
     })
 }
 
-fn check_index(
-    raw: &RawMesh,
-    value: i64,
-    face: usize,
-    path: &Path,
-) -> Result<u32, MeshError> {
+fn check_index(raw: &RawMesh, value: i64, face: usize, path: &Path) -> Result<u32, MeshError> {
     let n = raw.positions.len();
     if value < 0 || value >= n as i64 {
         return Err(MeshError::IndexOutOfRange {
@@ -497,7 +492,8 @@ fn parse_binary<const BE: bool>(
                                     .ok_or_else(|| eof(element, record))?;
                                 if face_list == Some(pi) {
                                     for k in 0..count as usize {
-                                        let v = read_int::<BE>(body, at + k * item_ty.size(), *item_ty);
+                                        let v =
+                                            read_int::<BE>(body, at + k * item_ty.size(), *item_ty);
                                         poly.push(check_index(raw, v, record, path)?);
                                     }
                                 }

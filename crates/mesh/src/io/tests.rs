@@ -56,7 +56,10 @@ fn save_leaves_no_temp_files_and_reports_bad_directory() {
     let dir = tmp();
     let m = icosphere(0);
     save(&m, &dir.path().join("a.ply")).unwrap();
-    let names: Vec<_> = fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let names: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(names, vec![std::ffi::OsString::from("a.ply")]);
     let err = save(&m, &dir.path().join("missing/a.ply")).unwrap_err();
     assert!(matches!(err, MeshError::Write { .. }), "{err}");
@@ -64,7 +67,10 @@ fn save_leaves_no_temp_files_and_reports_bad_directory() {
     assert!(matches!(err, MeshError::UnknownFormat { .. }), "{err}");
     let bad = TriMesh::new(vec![Vec3::ZERO], vec![[0, 0, 5]]);
     let err = save(&bad, &dir.path().join("b.obj")).unwrap_err();
-    assert!(matches!(err, MeshError::IndexOutOfRange { index: 5, .. }), "{err}");
+    assert!(
+        matches!(err, MeshError::IndexOutOfRange { index: 5, .. }),
+        "{err}"
+    );
 }
 
 #[test]
@@ -76,8 +82,14 @@ fn obj_texcoord_corners_negative_indices_and_polygons() {
     assert_eq!(l.mesh.vertex_count(), 5);
     // Quad fans into [0,1,2] (duplicate of face 0, dropped) and [0,2,3] (duplicate of face 1).
     assert_eq!(l.mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
-    assert!(l.warnings.contains(&MeshWarning::PolygonsTriangulated { count: 1 }));
-    assert!(l.warnings.contains(&MeshWarning::DuplicateFaces { count: 2 }));
+    assert!(
+        l.warnings
+            .contains(&MeshWarning::PolygonsTriangulated { count: 1 })
+    );
+    assert!(
+        l.warnings
+            .contains(&MeshWarning::DuplicateFaces { count: 2 })
+    );
     assert!(l.vertex_normals.is_none());
 }
 
@@ -94,7 +106,13 @@ fn ply_ascii_with_colours_normals_and_polygon() {
     let dir = tmp();
     let props = "property double x\nproperty double y\nproperty double z\nproperty float nx\n\
                  property float ny\nproperty float nz\nproperty uchar red\n";
-    let mut s = ply_header("ascii", props, "property list uchar int vertex_indices", 4, 1);
+    let mut s = ply_header(
+        "ascii",
+        props,
+        "property list uchar int vertex_indices",
+        4,
+        1,
+    );
     for p in ["0 0 0", "1 0 0", "1 1 0", "0 1 0"] {
         s.push_str(&format!("{p} 0 0 1 255\n"));
     }
@@ -108,7 +126,11 @@ fn ply_ascii_with_colours_normals_and_polygon() {
 /// Binary PLY with the given endianness, double coordinates, a colour byte and the given face
 /// list types, built by hand.
 fn binary_ply(big: bool, count_ty: &str, index_ty: &str) -> Vec<u8> {
-    let format = if big { "binary_big_endian" } else { "binary_little_endian" };
+    let format = if big {
+        "binary_big_endian"
+    } else {
+        "binary_little_endian"
+    };
     let props = "property double x\nproperty double y\nproperty double z\nproperty uchar red\n";
     let face = format!("property list {count_ty} {index_ty} vertex_indices");
     let mut out = ply_header(format, props, &face, 4, 2).into_bytes();
@@ -116,17 +138,29 @@ fn binary_ply(big: bool, count_ty: &str, index_ty: &str) -> Vec<u8> {
     for p in &m.positions[..4] {
         for c in p.to_array() {
             let c = c as f64;
-            out.extend_from_slice(&if big { c.to_be_bytes() } else { c.to_le_bytes() });
+            out.extend_from_slice(&if big {
+                c.to_be_bytes()
+            } else {
+                c.to_le_bytes()
+            });
         }
         out.push(7);
     }
     for t in [[0u32, 1, 2], [0, 2, 3]] {
         match count_ty {
             "uchar" => out.push(3),
-            _ => out.extend_from_slice(&if big { 3i32.to_be_bytes() } else { 3i32.to_le_bytes() }),
+            _ => out.extend_from_slice(&if big {
+                3i32.to_be_bytes()
+            } else {
+                3i32.to_le_bytes()
+            }),
         }
         for i in t {
-            out.extend_from_slice(&if big { i.to_be_bytes() } else { i.to_le_bytes() });
+            out.extend_from_slice(&if big {
+                i.to_be_bytes()
+            } else {
+                i.to_le_bytes()
+            });
         }
     }
     out
@@ -152,7 +186,10 @@ fn expect_err(name: &str, bytes: &[u8]) -> MeshError {
     let dir = tmp();
     let p = write(dir.path(), name, bytes);
     let err = load(&p).unwrap_err();
-    assert!(err.to_string().contains(name), "error must name the file: {err}");
+    assert!(
+        err.to_string().contains(name),
+        "error must name the file: {err}"
+    );
     err
 }
 
@@ -161,14 +198,23 @@ fn missing_file_and_unknown_extension() {
     let dir = tmp();
     let err = load(&dir.path().join("nope.obj")).unwrap_err();
     assert!(matches!(err, MeshError::Io { .. }), "{err}");
-    assert!(matches!(expect_err("x.off", b"OFF\n"), MeshError::UnknownFormat { .. }));
-    assert!(matches!(expect_err("noext", b""), MeshError::UnknownFormat { .. }));
+    assert!(matches!(
+        expect_err("x.off", b"OFF\n"),
+        MeshError::UnknownFormat { .. }
+    ));
+    assert!(matches!(
+        expect_err("noext", b""),
+        MeshError::UnknownFormat { .. }
+    ));
 }
 
 #[test]
 fn parse_errors_name_the_line_or_element() {
     let e = expect_err("p.obj", b"v 0 0 0\nv 1 zero 0\n");
-    assert!(matches!(&e, MeshError::Parse { location, .. } if location == "line 2"), "{e}");
+    assert!(
+        matches!(&e, MeshError::Parse { location, .. } if location == "line 2"),
+        "{e}"
+    );
     let e = expect_err("p.obj", b"v 0 0\n");
     assert!(matches!(e, MeshError::Parse { .. }), "{e}");
     let e = expect_err("p.obj", b"v 0 0 0\nf 1 x 1\n");
@@ -178,8 +224,14 @@ fn parse_errors_name_the_line_or_element() {
     let mut truncated = binary_ply(false, "uchar", "int");
     truncated.truncate(truncated.len() - 5);
     let e = expect_err("t.ply", &truncated);
-    assert!(matches!(&e, MeshError::Parse { location, .. } if location == "face 1"), "{e}");
-    let e = expect_err("s.stl", b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n");
+    assert!(
+        matches!(&e, MeshError::Parse { location, .. } if location == "face 1"),
+        "{e}"
+    );
+    let e = expect_err(
+        "s.stl",
+        b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n",
+    );
     assert!(matches!(e, MeshError::Parse { .. }), "{e}");
 }
 
@@ -190,7 +242,13 @@ fn non_finite_coordinates() {
     let e = expect_err("n.obj", b"v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
     assert!(matches!(e, MeshError::NonFinite { vertex: 1, .. }), "{e}");
     let props = "property float x\nproperty float y\nproperty float z\n";
-    let mut s = ply_header("ascii", props, "property list uchar int vertex_indices", 3, 1);
+    let mut s = ply_header(
+        "ascii",
+        props,
+        "property list uchar int vertex_indices",
+        3,
+        1,
+    );
     s.push_str("0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n");
     let e = expect_err("n.ply", s.as_bytes());
     assert!(matches!(e, MeshError::NonFinite { vertex: 1, .. }), "{e}");
@@ -200,32 +258,70 @@ fn non_finite_coordinates() {
 fn out_of_range_indices() {
     let e = expect_err("r.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n");
     assert!(
-        matches!(e, MeshError::IndexOutOfRange { face: 1, index: 3, vertex_count: 3, .. }),
+        matches!(
+            e,
+            MeshError::IndexOutOfRange {
+                face: 1,
+                index: 3,
+                vertex_count: 3,
+                ..
+            }
+        ),
         "{e}"
     );
     let e = expect_err("r.obj", b"v 0 0 0\nf 0 1 1\n");
-    assert!(matches!(e, MeshError::IndexOutOfRange { face: 0, .. }), "{e}");
+    assert!(
+        matches!(e, MeshError::IndexOutOfRange { face: 0, .. }),
+        "{e}"
+    );
     let props = "property float x\nproperty float y\nproperty float z\n";
-    let mut s = ply_header("ascii", props, "property list uchar int vertex_indices", 3, 1);
+    let mut s = ply_header(
+        "ascii",
+        props,
+        "property list uchar int vertex_indices",
+        3,
+        1,
+    );
     s.push_str("0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n");
     let e = expect_err("r.ply", s.as_bytes());
-    assert!(matches!(e, MeshError::IndexOutOfRange { index: -1, .. }), "{e}");
+    assert!(
+        matches!(e, MeshError::IndexOutOfRange { index: -1, .. }),
+        "{e}"
+    );
 }
 
 #[test]
 fn empty_and_point_cloud() {
-    assert!(matches!(expect_err("e.obj", b"# nothing\n"), MeshError::Empty { .. }));
+    assert!(matches!(
+        expect_err("e.obj", b"# nothing\n"),
+        MeshError::Empty { .. }
+    ));
     assert!(matches!(
         expect_err("e.obj", b"v 0 0 0\nv 1 0 0\n"),
-        MeshError::NoFaces { vertex_count: 2, .. }
+        MeshError::NoFaces {
+            vertex_count: 2,
+            ..
+        }
     ));
     let props = "property float x\nproperty float y\nproperty float z\n";
-    let s = ply_header("ascii", props, "property list uchar int vertex_indices", 0, 0);
-    assert!(matches!(expect_err("e.ply", s.as_bytes()), MeshError::Empty { .. }));
+    let s = ply_header(
+        "ascii",
+        props,
+        "property list uchar int vertex_indices",
+        0,
+        0,
+    );
+    assert!(matches!(
+        expect_err("e.ply", s.as_bytes()),
+        MeshError::Empty { .. }
+    ));
     // Only degenerate faces: nothing left, so it is a point cloud.
     let e = expect_err("d.obj", b"v 0 0 0\nv 1 0 0\nf 1 1 2\n");
     assert!(matches!(e, MeshError::NoFaces { .. }), "{e}");
-    assert!(matches!(expect_err("e.stl", &[0u8; 84]), MeshError::Empty { .. }));
+    assert!(matches!(
+        expect_err("e.stl", &[0u8; 84]),
+        MeshError::Empty { .. }
+    ));
 }
 
 #[test]
@@ -234,7 +330,13 @@ fn degenerate_and_duplicate_faces_are_warnings() {
     let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 1 2\nf 3 2 1\nf 2 3 1\nf 1 2 4\n";
     let l = load(&write(dir.path(), "w.obj", text)).unwrap();
     assert_eq!(l.mesh.triangles, vec![[0, 1, 2], [0, 1, 3]]);
-    assert!(l.warnings.contains(&MeshWarning::DegenerateFaces { count: 1 }));
-    assert!(l.warnings.contains(&MeshWarning::DuplicateFaces { count: 2 }));
+    assert!(
+        l.warnings
+            .contains(&MeshWarning::DegenerateFaces { count: 1 })
+    );
+    assert!(
+        l.warnings
+            .contains(&MeshWarning::DuplicateFaces { count: 2 })
+    );
     assert!(l.warnings.iter().all(|w| !w.to_string().is_empty()));
 }

@@ -1,0 +1,111 @@
+//! Cross-crate tests of the paper's experiment: `compare`, `reproduce` and their reports.
+
+use gng3d::experiment::compare::{CompareParams, compare, comparison_table};
+use gng3d::experiment::reproduce::{ReproduceParams, ReproduceReport, reproduce};
+use gng3d::mesh::procedural;
+use gng3d::metrics::HausdorffParams;
+use gng3d::report::paper::{checkpoint_table, write_reproduction};
+
+fn small_params(epochs: u64) -> ReproduceParams {
+    ReproduceParams {
+        epochs,
+        target_ratio: 0.5,
+        hausdorff: HausdorffParams::with_samples(20_000),
+        ..Default::default()
+    }
+}
+
+#[test]
+fn reproduce_table_has_paper_columns_and_falling_error() {
+    let sphere = procedural::icosphere(4); // 2,562 vertices
+    let start = std::time::Instant::now();
+    let report = reproduce(&sphere, &small_params(8), |_, _| {}).unwrap();
+    assert!(start.elapsed().as_secs_f64() < 60.0);
+    assert_eq!(report.original_vertices, 2562);
+    assert_eq!(report.target_vertices, 1281);
+    assert!(report.checkpoints.len() >= 8, "one checkpoint per epoch");
+    // Iterations increase strictly, one epoch of |V| signals apart.
+    for w in report.checkpoints.windows(2) {
+        assert_eq!(w[1].iteration - w[0].iteration, report.signals_per_epoch);
+    }
+    let first = report.checkpoints.first().unwrap();
+    let last = report.checkpoints.last().unwrap();
+    assert!(
+        last.gng.e_avg < first.gng.e_avg,
+        "E_avg should fall: {} -> {}",
+        first.gng.e_avg,
+        last.gng.e_avg
+    );
+    // QEM at equal count really has the GNG3D mesh's vertex count (± 1 for the last collapse).
+    for c in &report.checkpoints {
+        assert!(c.qem_equal.vertices.abs_diff(c.gng.vertices) <= 1, "{c:?}");
+        assert!(c.gng.vertices <= c.nodes);
+    }
+    // E_sur is the plain area difference: check it independently for QEM at the target.
+    assert!(report.qem_fixed.e_sur.abs() < 0.05 * report.original_area);
+
+    let table = checkpoint_table(&report);
+    assert_eq!(
+        &table.headers[..6],
+        &["iteration", "vertices", "faces", "E_avg", "E_max", "E_sur"]
+    );
+    assert_eq!(table.rows.len(), report.checkpoints.len());
+}
+
+#[test]
+fn reproduce_files_parse_back() {
+    let torus = procedural::torus(1.0, 0.35, 40, 20);
+    let report = reproduce(&torus, &small_params(4), |_, _| {}).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let written = write_reproduction(&report, "torus", dir.path()).unwrap();
+    for name in [
+        "table.csv",
+        "table.md",
+        "report.json",
+        "figure1_esur.svg",
+        "figure1_esur.png",
+        "e_avg.png",
+        "e_max.svg",
+        "hausdorff.png",
+    ] {
+        let p = dir.path().join(name);
+        assert!(written.contains(&p), "{name} not reported");
+        assert!(std::fs::metadata(&p).unwrap().len() > 100, "{name} empty");
+    }
+    let back: ReproduceReport =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
+            .unwrap();
+    assert_eq!(back, report);
+    let mut csv = csv::Reader::from_path(dir.path().join("table.csv")).unwrap();
+    assert_eq!(csv.records().count(), report.checkpoints.len());
+}
+
+#[test]
+fn compare_hits_target_and_reports_both_methods() {
+    let blob = procedural::blob();
+    let n = blob.vertex_count() / 4;
+    let mut params = CompareParams::new(n);
+    params.metrics.hausdorff = HausdorffParams::with_samples(30_000);
+    let result = compare(&blob, &params).unwrap();
+    let r = &result.report;
+    assert!(r.qem.vertices.abs_diff(n) <= 1, "QEM {} vs {n}", r.qem.vertices);
+    assert!(r.gng.vertices <= n && r.gng.vertices * 10 >= n * 9, "GNG {}", r.gng.vertices);
+    assert_eq!(result.qem_mesh.vertex_count(), r.qem.vertices);
+    assert_eq!(result.gng_mesh.face_count(), r.gng.faces);
+    // Independent check of E_sur for both methods.
+    let area = blob.area();
+    assert!((r.qem.metrics.e_sur - (area - result.qem_mesh.area())).abs() < 1e-9 * area);
+    assert!((r.gng.metrics.e_sur - (area - result.gng_mesh.area())).abs() < 1e-9 * area);
+    let json = serde_json::to_string(r).unwrap();
+    let back: gng3d::experiment::compare::CompareReport = serde_json::from_str(&json).unwrap();
+    assert_eq!(&back, r);
+    let text = comparison_table(r).to_text();
+    assert!(text.contains("E_avg") && text.contains("Hausdorff max"));
+}
+
+#[test]
+fn compare_rejects_impossible_targets() {
+    let sphere = procedural::icosphere(2);
+    assert!(compare(&sphere, &CompareParams::new(2)).is_err());
+    assert!(compare(&sphere, &CompareParams::new(sphere.vertex_count() + 1)).is_err());
+}
