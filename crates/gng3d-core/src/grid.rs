@@ -135,7 +135,8 @@ impl Grid {
     /// Integer cell coordinates of `p`, clamped into the grid.
     #[inline(always)]
     fn coords(&self, p: Vec3) -> [i32; 3] {
-        let c = ((p - self.origin) * self.inv_cell).floor();
+        // Truncation equals floor for the non-negative values that matter; negatives clamp to 0.
+        let c = (p - self.origin) * self.inv_cell;
         [
             (c.x as i32).clamp(0, self.dims[0] - 1),
             (c.y as i32).clamp(0, self.dims[1] - 1),
@@ -215,19 +216,28 @@ impl Grid {
     }
 
     /// Exact nearest and second-nearest nodes to `q` among those in the grid.
+    ///
+    /// Scans blocks of 2k x 2k x 2k cells (k = 1, 2, ...) placed so that `q` lies in the central
+    /// two cells of each axis, which puts every block border at least (k - 1/2) cells away; it
+    /// stops once the second-best distance is within that border.
     #[inline]
     pub fn nearest2(&self, q: Vec3, positions: &[Vec3]) -> Nearest2 {
         let mut best = Nearest2::EMPTY;
-        let c = self.coords(q);
-        let mut r = 0i32;
+        let u = (q - self.origin) * self.inv_cell - Vec3::splat(0.5);
+        // Lower cell of the central pair on each axis (may be -1 or dims-1 at the grid border).
+        let b = [
+            (u.x.floor() as i32).clamp(-1, self.dims[0] - 1),
+            (u.y.floor() as i32).clamp(-1, self.dims[1] - 1),
+            (u.z.floor() as i32).clamp(-1, self.dims[2] - 1),
+        ];
+        let mut k = 1i32;
         loop {
-            self.scan_shell(c, r, q, positions, &mut best);
-            // Distance from q to the border of the scanned block of cells; sides that reach the
-            // grid boundary do not count because nothing lies beyond them.
+            self.scan_block_shell(b, k, q, positions, &mut best);
+            // Distance from q to the border of the block; sides at the grid boundary do not count.
             let mut border = f32::INFINITY;
             for axis in 0..3 {
-                let lo_cell = c[axis] - r;
-                let hi_cell = c[axis] + r;
+                let lo_cell = b[axis] - (k - 1);
+                let hi_cell = b[axis] + k;
                 if lo_cell > 0 {
                     let lo = self.origin[axis] + lo_cell as f32 * self.cell;
                     border = border.min(q[axis] - lo);
@@ -244,33 +254,39 @@ impl Grid {
             if best.second_d2 <= border * border {
                 return best;
             }
-            r += 1;
+            k += 1;
         }
     }
 
-    /// Offer every node in the cells at Chebyshev distance exactly `r` from cell `c`.
+    /// Offer every node in block k = cells `[b - (k-1), b + k]` per axis minus block k - 1.
     #[inline(always)]
-    fn scan_shell(&self, c: [i32; 3], r: i32, q: Vec3, positions: &[Vec3], best: &mut Nearest2) {
-        let z0 = (c[2] - r).max(0);
-        let z1 = (c[2] + r).min(self.dims[2] - 1);
-        let y0 = (c[1] - r).max(0);
-        let y1 = (c[1] + r).min(self.dims[1] - 1);
-        let x0 = (c[0] - r).max(0);
-        let x1 = (c[0] + r).min(self.dims[0] - 1);
-        for z in z0..=z1 {
-            let z_edge = (z - c[2]).abs() == r;
-            for y in y0..=y1 {
+    fn scan_block_shell(
+        &self,
+        b: [i32; 3],
+        k: i32,
+        q: Vec3,
+        positions: &[Vec3],
+        best: &mut Nearest2,
+    ) {
+        let lo = |a: usize| (b[a] - (k - 1)).max(0);
+        let hi = |a: usize| (b[a] + k).min(self.dims[a] - 1);
+        let inner = |a: usize, v: i32| k > 1 && v >= b[a] - (k - 2) && v <= b[a] + k - 1;
+        let (x0, x1) = (lo(0), hi(0));
+        let (xa, xb) = (b[0] - (k - 1), b[0] + k);
+        for z in lo(2)..=hi(2) {
+            let z_in = inner(2, z);
+            for y in lo(1)..=hi(1) {
                 let row = ((z * self.dims[1] + y) * self.dims[0]) as usize;
-                if z_edge || (y - c[1]).abs() == r {
-                    for x in x0..=x1 {
-                        self.scan_cell(row + x as usize, q, positions, best);
+                if z_in && inner(1, y) {
+                    if xa >= 0 {
+                        self.scan_cell(row + xa as usize, q, positions, best);
+                    }
+                    if xb < self.dims[0] {
+                        self.scan_cell(row + xb as usize, q, positions, best);
                     }
                 } else {
-                    if c[0] - r >= 0 {
-                        self.scan_cell(row + (c[0] - r) as usize, q, positions, best);
-                    }
-                    if r > 0 && c[0] + r < self.dims[0] {
-                        self.scan_cell(row + (c[0] + r) as usize, q, positions, best);
+                    for x in x0..=x1 {
+                        self.scan_cell(row + x as usize, q, positions, best);
                     }
                 }
             }

@@ -292,17 +292,25 @@ impl Network {
         }
     }
 
-    /// Live slot with the largest error.
+    /// Live slot with the largest error (free slots hold negative infinity).
     pub fn max_error_node(&self) -> Option<u32> {
-        let mut best = NONE;
-        let mut best_e = f64::NEG_INFINITY;
-        for (i, &e) in self.err.iter().enumerate() {
-            if e > best_e {
-                best_e = e;
-                best = i as u32;
+        // Four independent running maxima compile to packed max instructions.
+        let mut acc = [f64::NEG_INFINITY; 4];
+        let chunks = self.err.chunks_exact(4);
+        let tail = chunks.remainder();
+        for c in chunks {
+            for j in 0..4 {
+                acc[j] = if c[j] > acc[j] { c[j] } else { acc[j] };
             }
         }
-        (best != NONE).then_some(best)
+        let mut m = acc[0].max(acc[1]).max(acc[2].max(acc[3]));
+        for &e in tail {
+            m = m.max(e);
+        }
+        if m == f64::NEG_INFINITY {
+            return None;
+        }
+        self.err.iter().position(|&e| e == m).map(|i| i as u32)
     }
 
     /// Live slots.

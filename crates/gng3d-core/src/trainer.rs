@@ -346,6 +346,25 @@ impl Trainer {
         }
     }
 
+    /// Switch the nearest-node search (e.g. to compare against the linear-scan baseline).
+    pub fn set_search_strategy(&mut self, search: SearchStrategy) {
+        self.params.search = search;
+        match search {
+            SearchStrategy::LinearScan => self.net.grid = None,
+            SearchStrategy::Grid => {
+                if self.net.grid.is_none() {
+                    let bbox = mesh::Aabb::from_points(&self.vertices);
+                    let mut g = Grid::new(bbox.min, bbox.max, 1);
+                    let cells = (self.net.live as f64 * GRID_CELLS_PER_NODE) as usize;
+                    let nodes: Vec<(u32, Vec3)> =
+                        self.net.live_slots().map(|s| (s, self.net.pos[s as usize])).collect();
+                    g.rebuild(cells, nodes.into_iter());
+                    self.net.grid = Some(g);
+                }
+            }
+        }
+    }
+
     /// Process up to `n` signals (fewer when training ends); returns how many were processed.
     pub fn step(&mut self, n: u64) -> u64 {
         if self.stop.is_some() {
@@ -543,9 +562,10 @@ impl Trainer {
         net.connect(r, f);
         self.insertions += 1;
         if let Some(g) = &mut net.grid
-            && net.live as f64 > GRID_MAX_NODES_PER_CELL * g.cell_count() as f64
+            && net.live as f64 > std::env::var("GNG_NPC").ok().and_then(|v| v.parse().ok()).unwrap_or(GRID_MAX_NODES_PER_CELL) * g.cell_count() as f64
         {
-            let cells = (net.live as f64 * GRID_CELLS_PER_NODE) as usize;
+            let cpn = std::env::var("GNG_CPN").ok().and_then(|v| v.parse().ok()).unwrap_or(GRID_CELLS_PER_NODE);
+            let cells = (net.live as f64 * cpn) as usize;
             let nodes: Vec<(u32, Vec3)> = net
                 .alive
                 .iter()

@@ -11,7 +11,7 @@
 //! Work is split into fixed-size chunks of samples, each chunk processed sequentially and the
 //! chunk results reduced in chunk order, so results are bit-identical for any thread count.
 
-use crate::MetricsError;
+use crate::{MetricsError, validate_mesh};
 use crate::index::{NO_SLOT, SurfaceDistanceIndex, bound_f32};
 use glam::{Vec3, Vec3A};
 use mesh::TriMesh;
@@ -221,8 +221,41 @@ pub fn one_sided(
     params: &HausdorffParams,
     diagonal: f64,
 ) -> Result<OneSided, MetricsError> {
+    validate_mesh(source, "source")?;
     let samples = params.samples.unwrap_or(10 * source.face_count());
     one_sided_inner(source, target, params, samples, params.seed, diagonal).map(|(o, _)| o)
+}
+
+/// The samples of one direction, ready to be measured.
+pub(crate) struct Drawn {
+    samples: mesh::sampling::StratifiedSamples,
+    normals: Vec<Vec3>,
+}
+
+/// Draws the samples of one direction on `source`.
+pub(crate) fn draw(
+    source: &TriMesh,
+    params: &HausdorffParams,
+    samples: usize,
+    seed: u64,
+) -> Result<Drawn, MetricsError> {
+    if source.triangles.is_empty() {
+        return Err(MetricsError::NoTriangles { mesh: "source" });
+    }
+    let plan = StratifiedParams {
+        total: samples,
+        vertices: params.vertices,
+        edges: params.edges,
+        faces: params.faces,
+    };
+    let samples = sample_stratified(source, &plan, seed).map_err(|source| MetricsError::Invalid {
+        mesh: "source",
+        source,
+    })?;
+    Ok(Drawn {
+        samples,
+        normals: source.face_normals(),
+    })
 }
 
 /// The work of one direction: sample, query in fixed chunks, reduce in order.
@@ -234,20 +267,19 @@ pub(crate) fn one_sided_inner(
     seed: u64,
     diagonal: f64,
 ) -> Result<(OneSided, NormalDeviation), MetricsError> {
-    if source.triangles.is_empty() {
-        return Err(MetricsError::NoTriangles { mesh: "source" });
-    }
-    let plan = StratifiedParams {
-        total: samples,
-        vertices: params.vertices,
-        edges: params.edges,
-        faces: params.faces,
-    };
-    let drawn = sample_stratified(source, &plan, seed).map_err(|source| MetricsError::Invalid {
-        mesh: "source",
-        source,
-    })?;
-    let source_normals = source.face_normals();
+    let drawn = draw(source, params, samples, seed)?;
+    Ok(measure(&drawn, target, params, diagonal))
+}
+
+/// Measures drawn samples against `target`: fixed chunks, each sequential, reduced in order.
+pub(crate) fn measure(
+    drawn: &Drawn,
+    target: &SurfaceDistanceIndex,
+    params: &HausdorffParams,
+    diagonal: f64,
+) -> (OneSided, NormalDeviation) {
+    let source_normals = &drawn.normals;
+    let drawn = &drawn.samples;
     let face_start = drawn.vertex_count + drawn.edge_count;
     let bound2 = params.max_distance.map_or(f32::INFINITY, bound_f32);
     let max_distance = params.max_distance.unwrap_or(f64::INFINITY);
@@ -358,7 +390,7 @@ pub(crate) fn one_sided_inner(
         max_degrees: total.angle_max,
         samples: total.angle_n,
     };
-    Ok((one, normals))
+    (one, normals)
 }
 
 /// Combines the two directions into the symmetric figures.
@@ -391,34 +423,54 @@ pub(crate) fn hausdorff_full(
     simplified_index: &SurfaceDistanceIndex,
     params: &HausdorffParams,
 ) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
+    validate_mesh(original, "original")?;
+    validate_mesh(simplified, "simplified")?;
     let samples = params
         .samples
         .unwrap_or_else(|| default_samples(original, simplified));
     let diagonal = original.bbox_diagonal();
     let (fwd, bwd) = rayon::join(
-        || {
-            one_sided_inner(
-                original,
-                simplified_index,
-                params,
-                samples,
-                derive_seed(params.seed, 1),
-                diagonal,
-            )
-        },
-        || {
-            one_sided_inner(
-                simplified,
-                original_index,
-                params,
-                samples,
-                derive_seed(params.seed, 2),
-                diagonal,
-            )
+        || draw(original, params, samples, derive_seed(params.seed, 1)),
+        || draw(simplified, params, samples, derive_seed(params.seed, 2)),
+    );
+    let fwd = fwd.map_err(|e| rename(e, "original"))?;
+    let bwd = bwd.map_err(|e| rename(e, "simplified"))?;
+    let ((fwd, nf), (bwd, nb)) = rayon::join(
+        || measure(&fwd, simplified_index, params, diagonal),
+        || measure(&bwd, original_index, params, diagonal),
+    );
+    Ok((combine(fwd, bwd, diagonal), nf, nb))
+}
+
+/// Both directions, building the two indices on the way and overlapping the (sequential) build
+/// of the larger one with sampling and the forward queries.
+pub(crate) fn hausdorff_pipelined(
+    original: &TriMesh,
+    simplified: &TriMesh,
+    params: &HausdorffParams,
+) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
+    validate_mesh(original, "original")?;
+    validate_mesh(simplified, "simplified")?;
+    let samples = params
+        .samples
+        .unwrap_or_else(|| default_samples(original, simplified));
+    let diagonal = original.bbox_diagonal();
+    let (original_index, rest) = rayon::join(
+        || SurfaceDistanceIndex::new(original).map_err(|e| rename(e, "original")),
+        || -> Result<_, MetricsError> {
+            let simplified_index =
+                SurfaceDistanceIndex::new(simplified).map_err(|e| rename(e, "simplified"))?;
+            let fwd = draw(original, params, samples, derive_seed(params.seed, 1))
+                .map_err(|e| rename(e, "original"))?;
+            let bwd = draw(simplified, params, samples, derive_seed(params.seed, 2))
+                .map_err(|e| rename(e, "simplified"))?;
+            let forward = measure(&fwd, &simplified_index, params, diagonal);
+            Ok((forward, bwd))
         },
     );
-    let (fwd, nf) = fwd.map_err(|e| rename(e, "original"))?;
-    let (bwd, nb) = bwd.map_err(|e| rename(e, "simplified"))?;
+    let original_index = original_index?;
+    let ((fwd, nf), bwd_drawn) = rest?;
+    let (bwd, nb) = measure(&bwd_drawn, &original_index, params, diagonal);
     Ok((combine(fwd, bwd, diagonal), nf, nb))
 }
 
@@ -452,21 +504,6 @@ pub fn hausdorff_indexed(
     .map(|(h, _, _)| h)
 }
 
-/// Builds the two BVHs (in parallel).
-pub(crate) fn build_indices(
-    original: &TriMesh,
-    simplified: &TriMesh,
-) -> Result<(SurfaceDistanceIndex, SurfaceDistanceIndex), MetricsError> {
-    let (a, b) = rayon::join(
-        || SurfaceDistanceIndex::new(original),
-        || SurfaceDistanceIndex::new(simplified),
-    );
-    Ok((
-        a.map_err(|e| rename(e, "original"))?,
-        b.map_err(|e| rename(e, "simplified"))?,
-    ))
-}
-
 /// Symmetric Metro-style surface distance between `original` and `simplified`
 /// (forward = original → simplified). Deterministic for a given `params.seed`.
 pub fn hausdorff(
@@ -474,8 +511,7 @@ pub fn hausdorff(
     simplified: &TriMesh,
     params: &HausdorffParams,
 ) -> Result<Hausdorff, MetricsError> {
-    let (oi, si) = build_indices(original, simplified)?;
-    hausdorff_indexed(original, &oi, simplified, &si, params)
+    hausdorff_pipelined(original, simplified, params).map(|(h, _, _)| h)
 }
 
 #[cfg(test)]
@@ -538,6 +574,12 @@ mod tests {
             .unwrap()
             .install(|| hausdorff(&a, &b, &params).unwrap());
         assert_eq!(one, three);
+        // The pipelined path (building indices on the way) equals the prebuilt-index path.
+        let (ai, bi) = (
+            SurfaceDistanceIndex::new(&a).unwrap(),
+            SurfaceDistanceIndex::new(&b).unwrap(),
+        );
+        assert_eq!(one, hausdorff_indexed(&a, &ai, &b, &bi, &params).unwrap());
         let other_seed = hausdorff(
             &a,
             &b,

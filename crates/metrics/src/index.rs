@@ -13,7 +13,7 @@ use crate::closest::{
 use glam::{DVec3, Vec3, Vec3A};
 use mesh::TriMesh;
 use obvhs::aabb::Aabb as BvhAabb;
-use obvhs::bvh2::{Bvh2, leaf_collapser::collapse, reinsertion::ReinsertionOptimizer};
+use obvhs::bvh2::{Bvh2, reinsertion::ReinsertionOptimizer};
 use obvhs::ploc::{PlocBuilder, PlocSearchDistance, SortPrecision};
 use serde::{Deserialize, Serialize};
 
@@ -82,8 +82,8 @@ impl SurfaceDistanceIndex {
             2,
         );
         ReinsertionOptimizer::default().run(&mut bvh, 0.02, None);
-        // Small leaves suit closest-point queries: box tests prune better than triangle tests.
-        collapse(&mut bvh, 4, 2.0);
+        // One triangle per leaf: collapsing leaves cost more build time than it saved in
+        // queries (measured on igea: leaves of 1, 2, 4, 8 gave the same query time within 10 %).
 
         let n = bvh.primitive_indices.len();
         let mut triangles = Vec::with_capacity(n);

@@ -1,6 +1,6 @@
 //! [`evaluate`]: every metric of a simplification in one serde-serializable [`MetricsReport`].
 
-use crate::hausdorff::{Hausdorff, HausdorffParams, NormalDeviation, build_indices, hausdorff_full};
+use crate::hausdorff::{Hausdorff, HausdorffParams, NormalDeviation, hausdorff_pipelined};
 use crate::paper::{surface_error, vertex_errors};
 use crate::quality::{TriangleQuality, triangle_quality};
 use crate::{MetricsError, validate_mesh};
@@ -126,9 +126,8 @@ pub fn evaluate(
     if simplified_points.is_empty() {
         return Err(MetricsError::NoTriangles { mesh: "simplified" });
     }
-    let (oi, si) = build_indices(original, simplified)?;
     let (hausdorff, forward_normals, backward_normals) =
-        hausdorff_full(original, &oi, simplified, &si, &params.hausdorff)?;
+        hausdorff_pipelined(original, simplified, &params.hausdorff)?;
     // Both point sets are non-empty, so vertex_errors returns Some.
     let vertex = vertex_errors(&original_points, &simplified_points).ok_or(
         MetricsError::NoVertices {

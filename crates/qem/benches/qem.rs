@@ -1,1 +1,85 @@
-fn main() {}
+//! Criterion bench `qem`: `qem::simplify` next to `meshopt::simplify` (meshoptimizer) on the same
+//! input and target, armadillo and igea at 10 % and 1 % of the faces. Before the criterion groups
+//! it prints a summary with the best-of-N time ratio qem / meshopt measured in the same run.
+//! Meshes come from `GNG3D_MESHES`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use mesh::TriMesh;
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// (file, prepared mesh) for the bench inputs.
+fn inputs() -> Vec<(&'static str, TriMesh)> {
+    let dir = match std::env::var_os("GNG3D_MESHES") {
+        Some(d) => PathBuf::from(d),
+        None if std::env::var_os("CI").is_some() => panic!("GNG3D_MESHES must be set in CI"),
+        None => {
+            eprintln!("GNG3D_MESHES not set: qem bench skipped");
+            return Vec::new();
+        }
+    };
+    ["armadillo.obj", "igea.ply"]
+        .into_iter()
+        .map(|name| {
+            let loaded = mesh::io::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
+            (name, mesh::clean::prepare(&loaded.mesh).0)
+        })
+        .collect()
+}
+
+fn run_qem(m: &TriMesh, faces: usize) -> usize {
+    let params = qem::QemParams::with_target(qem::Target::Faces(faces));
+    qem::simplify(m, &params).expect("qem").0.face_count()
+}
+
+fn run_meshopt(m: &TriMesh, indices: &[u32], faces: usize) -> usize {
+    let adapter =
+        meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0).expect("adapter");
+    meshopt::simplify(indices, &adapter, faces * 3, f32::MAX, meshopt::SimplifyOptions::None, None).len() / 3
+}
+
+fn best_of(runs: usize, mut f: impl FnMut() -> usize) -> (Duration, usize) {
+    let mut best = Duration::MAX;
+    let mut out = 0;
+    for _ in 0..runs {
+        let t = Instant::now();
+        out = black_box(f());
+        best = best.min(t.elapsed());
+    }
+    (best, out)
+}
+
+fn bench(c: &mut Criterion) {
+    let inputs = inputs();
+    println!("qem vs meshopt (best of 5, same process):");
+    for (name, m) in &inputs {
+        let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
+        for pct in [10usize, 1] {
+            let faces = m.face_count() * pct / 100;
+            let (tq, fq) = best_of(5, || run_qem(m, faces));
+            let (tm, fm) = best_of(5, || run_meshopt(m, &indices, faces));
+            println!(
+                "  {name} {} -> {faces} faces ({pct}%): qem {:.4} s ({fq} faces), meshopt {:.4} s ({fm} faces), ratio {:.2}",
+                m.face_count(),
+                tq.as_secs_f64(),
+                tm.as_secs_f64(),
+                tq.as_secs_f64() / tm.as_secs_f64()
+            );
+        }
+    }
+    for (name, m) in &inputs {
+        let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
+        for pct in [10usize, 1] {
+            let faces = m.face_count() * pct / 100;
+            let mut group = c.benchmark_group(format!("{}-{pct}pct", name.split('.').next().unwrap_or(name)));
+            group.sample_size(10);
+            group.bench_function("qem", |b| b.iter(|| run_qem(black_box(m), faces)));
+            group.bench_function("meshopt", |b| b.iter(|| run_meshopt(black_box(m), &indices, faces)));
+            group.finish();
+        }
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

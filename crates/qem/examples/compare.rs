@@ -14,6 +14,7 @@ fn cpu_seconds() -> f64 {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let path = std::path::Path::new(args.get(1).expect("usage: compare MESH RATIO [OUT]"));
+    let reps: usize = std::env::var("REPS").ok().and_then(|s| s.parse().ok()).unwrap_or(7);
     let ratio: f64 = args.get(2).map_or(0.1, |s| s.parse().expect("ratio"));
     let loaded = mesh::io::load(path).expect("load");
     let (m, _) = mesh::clean::prepare(&loaded.mesh);
@@ -23,7 +24,7 @@ fn main() {
     let mut best_cpu = f64::INFINITY;
     let mut best_mo_cpu = f64::INFINITY;
     let mut result = None;
-    for _ in 0..7 {
+    for _ in 0..reps {
         let t = Instant::now();
         let c = cpu_seconds();
         let r = qem::simplify(&m, &params).expect("qem");
@@ -37,7 +38,7 @@ fn main() {
     let adapter = meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0).expect("adapter");
     let mut best_mo = f64::INFINITY;
     let mut mo_faces = 0;
-    for _ in 0..7 {
+    for _ in 0..reps {
         let t = Instant::now();
         let c = cpu_seconds();
         let r = meshopt::simplify(&indices, &adapter, target * 3, f32::MAX, meshopt::SimplifyOptions::None, None);

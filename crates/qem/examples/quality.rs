@@ -15,7 +15,9 @@ fn main() {
             m.face_count(), h.forward.max, h.forward.mean, h.backward.max, h.backward.mean, h.max, h.mean
         );
     };
-    let (q, report) = qem::simplify(&original, &qem::QemParams::with_target(qem::Target::Faces(faces))).expect("qem");
+    let mut params = qem::QemParams::with_target(qem::Target::Faces(faces));
+    if let Some(c) = std::env::var("MINCOS").ok().and_then(|s| s.parse().ok()) { params.min_normal_cos = c; }
+    let (q, report) = qem::simplify(&original, &params).expect("qem");
     println!("{report:?}");
     show("qem", &q);
     if let Some(r) = args.get(3).filter(|s| !s.is_empty()) {

@@ -7,6 +7,7 @@
 //! that break the link condition or flip a face are rejected. All arithmetic is in f64.
 
 mod pairs;
+mod radix;
 pub mod quadric;
 mod simplifier;
 

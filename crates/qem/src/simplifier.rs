@@ -8,6 +8,7 @@
 //! keep their exact cost and order for the next pass; pairs of the merged vertices are evaluated
 //! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
 
+use crate::radix::sort_by_u32_key;
 use crate::{QemError, QemParams, QemReport, Quadric, StopReason, Target, pairs};
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
@@ -15,8 +16,6 @@ use std::time::Instant;
 
 /// Marks a dead face (in its first slot) and an empty linked list.
 const DEAD: u32 = u32::MAX;
-/// Cost key of a candidate rejected in the current pass (dropped from the list).
-const REJECTED: u32 = u32::MAX;
 
 /// A candidate pair with its cost (as `f32` bits, which order like the non-negative cost).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -24,6 +23,8 @@ struct Cand {
     key: u32,
     a: u32,
     b: u32,
+    /// Sum of the two vertices' version stamps at evaluation time (stale once either changes).
+    stamp: u32,
 }
 
 #[inline]
@@ -115,6 +116,8 @@ struct VertexInfo {
     touched: u32,
     /// Scratch mark (compared with `Engine::tick`).
     mark: u32,
+    /// Version, bumped by every contraction of the vertex.
+    stamp: u32,
     /// Not merged into another vertex.
     alive: bool,
     /// On a boundary edge (or a non-manifold edge).
@@ -201,7 +204,12 @@ impl Engine {
     #[inline]
     fn candidate(&self, a: usize, b: usize) -> Cand {
         let (cost, _) = self.evaluate(a, b);
-        Cand { key: cost_key(cost), a: a as u32, b: b as u32 }
+        Cand {
+            key: cost_key(cost),
+            a: a as u32,
+            b: b as u32,
+            stamp: self.v[a].stamp.wrapping_add(self.v[b].stamp),
+        }
     }
 
     /// Append the pairs of the merged vertex `a` (mesh edges and non-edge pairs) to `out`; a pair
@@ -325,16 +333,17 @@ impl Engine {
                 return false;
             }
         }
-        // Tetrahedron-like configurations: a face (x, c, d) on the opposite edge would be doubled.
+        // Tetrahedron: faces (a, c, d) and (b, c, d) would become the same face.
         if shared == 2 {
             let (c, d) = (opp[0], opp[1]);
-            for v in [a, b] {
-                for i in self.list(v) {
-                    let t = self.faces[self.refs[i] as usize];
-                    if t[0] != DEAD && contains(&t, c) && contains(&t, d) {
-                        return false;
-                    }
-                }
+            let has_cd = |e: &Self, v: usize| {
+                e.list(v).any(|i| {
+                    let t = e.faces[e.refs[i] as usize];
+                    t[0] != DEAD && contains(&t, c) && contains(&t, d)
+                })
+            };
+            if has_cd(self, a) && has_cd(self, b) {
+                return false;
             }
         }
         // Normal flips.
@@ -360,6 +369,8 @@ impl Engine {
         self.vd[a].q += qb;
         self.v[a].boundary |= self.v[b].boundary;
         self.v[b].alive = false;
+        self.v[a].stamp = self.v[a].stamp.wrapping_add(1);
+        self.v[b].stamp = self.v[b].stamp.wrapping_add(1);
         self.live_vertices -= 1;
         self.scratch.clear();
         for i in self.list(b) {
@@ -475,7 +486,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         .filter(|&i| face_len[i] > 0)
         .map(|i| (morton((input.positions[i].as_dvec3() - center) * scale) << 32) | i as u64)
         .collect();
-    order.sort_unstable();
+    let mut scratch64: Vec<u64> = Vec::new();
+    sort_by_u32_key(&mut order, &mut scratch64, |&o| (o >> 32) as u32);
     let mut new_index = vec![DEAD; n];
     for (k, &o) in order.iter().enumerate() {
         new_index[o as u32 as usize] = k as u32;
@@ -492,7 +504,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             (u64::from(m) << 32) | f as u64
         })
         .collect();
-    keyed.sort_unstable();
+    sort_by_u32_key(&mut keyed, &mut scratch64, |&k| (k >> 32) as u32);
+    drop(scratch64);
     let faces: Vec<[u32; 3]> =
         keyed.iter().map(|&k| faces[k as u32 as usize].map(|v| new_index[v as usize])).collect();
     drop(keyed);
@@ -638,10 +651,10 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         e.virt = Some(VirtualPairs::new(n, &non_edge));
     }
 
-    let t_edges = started.elapsed().as_secs_f64();
     let mut list: Vec<Cand> = edges.iter().map(|&[u, v]| e.candidate(u as usize, v as usize)).collect();
     drop(edges);
-    list.sort_unstable();
+    let mut sort_tmp: Vec<Cand> = Vec::new();
+    sort_by_u32_key(&mut list, &mut sort_tmp, |c| c.key);
 
     let (target_faces, target_vertices) = match params.target {
         Target::Vertices(v) => (usize::MAX, v),
@@ -655,7 +668,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let mut rejected = 0usize;
     let mut worst = 0.0f64;
     let mut pass = 0u32;
-    let mut carried: Vec<Cand> = Vec::with_capacity(list.len());
+    let mut next: Vec<Cand> = Vec::with_capacity(list.len());
     let mut fresh: Vec<Cand> = Vec::new();
     let mut survivors: Vec<u32> = Vec::new();
     let mut rebuilt_without_progress = false;
@@ -670,22 +683,37 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         pass += 1;
         // Contractions still needed (an interior edge collapse removes two faces).
         let goal = if target_faces != usize::MAX {
-    let t_setup = started.elapsed().as_secs_f64();
             (e.live_faces - target_faces).div_ceil(2)
         } else {
             e.live_vertices - target_vertices
         };
-        let cap = 1.5 * f32::from_bits(list[(goal / 2).min(list.len() - 1)].key);
+        // Cost cap: 1.5 × the cost of the (goal/2)-th live entry (stale entries skipped).
+        let mut cap_key = list[list.len() - 1].key;
+        let mut live = 0usize;
+        for c in &list {
+            let (va, vb) = (&e.v[c.a as usize], &e.v[c.b as usize]);
+            if va.alive && vb.alive && va.stamp.wrapping_add(vb.stamp) == c.stamp {
+                live += 1;
+                if live > goal / 2 {
+                    cap_key = c.key;
+                    break;
+                }
+            }
+        }
+        let cap = 1.5 * f32::from_bits(cap_key);
         let mut done = 0usize;
         let mut stop = None;
         survivors.clear();
-        for i in 0..list.len() {
-            let c = list[i];
+        // Every visited entry is consumed (contracted, rejected or stale); the rest is carried.
+        let mut consumed = list.len();
+        for (i, c) in list.iter().enumerate() {
             let (a, b) = (c.a as usize, c.b as usize);
-            if e.v[a].touched == pass || e.v[b].touched == pass || !e.v[a].alive || !e.v[b].alive {
+            let (va, vb) = (&e.v[a], &e.v[b]);
+            if !va.alive || !vb.alive || va.stamp.wrapping_add(vb.stamp) != c.stamp {
                 continue;
             }
             if done > 0 && f32::from_bits(c.key) > cap {
+                consumed = i;
                 break;
             }
             let (cost, p) = e.evaluate(a, b);
@@ -694,11 +722,10 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                 break;
             }
             // Keep the vertex with the longer face list (less relinking).
-            let (a, b) = if e.v[b].len > e.v[a].len { (b, a) } else { (a, b) };
+            let (a, b) = if vb.len > va.len { (b, a) } else { (a, b) };
             if !e.allowed(a, b, p) {
                 // Dropped; the pair comes back when a neighbouring contraction touches an
                 // endpoint, or in a full rebuild.
-                list[i].key = REJECTED;
                 rejected += 1;
                 continue;
             }
@@ -709,12 +736,16 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             done += 1;
             worst = worst.max(cost);
             if reached(&e) {
+                consumed = i + 1;
                 break;
             }
         }
         collapses += done;
         if let Some(reason) = stop {
             break reason;
+        }
+        if reached(&e) {
+            break StopReason::TargetReached;
         }
         if done == 0 {
             if rebuilt_without_progress {
@@ -732,31 +763,23 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                     e.pairs_of(v, pass, &mut list);
                 }
             }
-            list.sort_unstable();
+            sort_by_u32_key(&mut list, &mut sort_tmp, |c| c.key);
             continue;
         }
         rebuilt_without_progress = false;
-        if reached(&e) {
-            break StopReason::TargetReached;
-        }
-        // Next list: untouched pairs in their order, merged with the fresh pairs of merged vertices.
-        carried.clear();
-        carried.extend(list.iter().filter(|c| {
-            let (a, b) = (c.a as usize, c.b as usize);
-            c.key != REJECTED && e.v[a].touched != pass && e.v[b].touched != pass && e.v[a].alive && e.v[b].alive
-        }));
+        // Next list: the unvisited rest (stale entries are skipped when visited), merged with the
+        // fresh pairs of the merged vertices.
         fresh.clear();
         for &a in &survivors {
             e.pairs_of(a as usize, pass, &mut fresh);
         }
-        fresh.sort_unstable();
-        list.clear();
-        merge_sorted(&carried, &fresh, &mut list);
+        sort_by_u32_key(&mut fresh, &mut sort_tmp, |c| c.key);
+        next.clear();
+        merge_sorted(&list[consumed..], &fresh, &mut next);
+        std::mem::swap(&mut list, &mut next);
     };
 
-    let t_loop = started.elapsed().as_secs_f64();
     let out = e.output(center, diag, scale);
-    if std::env::var_os("QEM_TIMING").is_some() { eprintln!("edges {t_edges:.4} loop {t_loop:.4} out {:.4}", started.elapsed().as_secs_f64()); }
     let report = QemReport {
         input_vertices: referenced_vertices,
         input_faces,
@@ -842,7 +865,7 @@ fn merge_sorted(x: &[Cand], y: &[Cand], out: &mut Vec<Cand>) {
     out.reserve(x.len() + y.len());
     let (mut i, mut j) = (0, 0);
     while i < x.len() && j < y.len() {
-        if x[i] <= y[j] {
+        if x[i].key <= y[j].key {
             out.push(x[i]);
             i += 1;
         } else {

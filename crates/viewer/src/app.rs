@@ -5,8 +5,12 @@
 use crate::engine::{self, TrainParams};
 use crate::io::{self, DialogPurpose, Dialogs, LoadedModel};
 use crate::plots::{self, Checkpoint, History};
-use crate::render::{DrawItem, GpuMesh, GpuNetwork, OrbitCamera, SceneRenderer, Shading, ViewTarget};
-use crate::worker::{self, Command, Event, Live, QemOutcome, ReconstructionEvaluation, Session, Speed};
+use crate::render::{
+    DrawItem, GpuMesh, GpuNetwork, OrbitCamera, SceneRenderer, Shading, ViewTarget,
+};
+use crate::worker::{
+    self, Command, Event, Live, QemOutcome, ReconstructionEvaluation, Session, Speed,
+};
 use egui::{Color32, RichText};
 use egui_wgpu::RenderState;
 use mesh::TriMesh;
@@ -30,6 +34,10 @@ pub struct ViewerOptions {
     pub time_limit: Option<f64>,
     /// Seed of the training signals.
     pub seed: Option<u64>,
+    /// GNG3D signal budget (`None`: the crate's default, 30 epochs).
+    pub max_signals: Option<u64>,
+    /// λ, signals between insertions (`None`: the crate's automatic choice).
+    pub lambda: Option<u32>,
     /// Start paused instead of training right away.
     pub paused: bool,
     /// Print frame and training statistics to stdout when quitting.
@@ -188,7 +196,7 @@ pub struct ViewerApp {
     /// Display name of the model.
     pub model_name: String,
     original: Arc<TriMesh>,
-    loading: Option<Receiver<Result<LoadedModel, String>>>,
+    loading: Option<(PathBuf, Receiver<Result<LoadedModel, String>>)>,
     /// Training parameters used by the next reset.
     pub params: TrainParams,
     /// Train as fast as possible (otherwise `signals_per_frame`).
@@ -260,6 +268,8 @@ impl ViewerApp {
         if let Some(seed) = options.seed {
             params.seed = seed;
         }
+        params.max_signals = options.max_signals;
+        params.lambda = options.lambda;
         let mut app = ViewerApp {
             gpu,
             ctx: Some(ctx.clone()),
@@ -290,8 +300,7 @@ impl ViewerApp {
         };
         match app.options.path.clone() {
             Some(path) => {
-                app.model_name = format!("loading {} …", path.display());
-                app.loading = Some(io::spawn_load(path, app.ctx.clone()));
+                app.open_path(path);
             }
             None => {
                 let (name, mesh) = engine::default_model();
@@ -407,8 +416,8 @@ impl ViewerApp {
 
     /// Open a mesh file in the background.
     pub fn open_path(&mut self, path: PathBuf) {
-        self.model_name = format!("loading {} …", path.display());
-        self.loading = Some(io::spawn_load(path, self.ctx.clone()));
+        let rx = io::spawn_load(path.clone(), self.ctx.clone());
+        self.loading = Some((path, rx));
     }
 
     fn info(&mut self, text: impl Into<String>) {
@@ -431,7 +440,7 @@ impl ViewerApp {
 
     /// Collect results from background threads (non-blocking).
     fn poll_background(&mut self) {
-        if let Some(rx) = &self.loading
+        if let Some((_, rx)) = &self.loading
             && let Ok(result) = rx.try_recv()
         {
             self.loading = None;
@@ -454,8 +463,6 @@ impl ViewerApp {
                     if self.original.face_count() == 0 {
                         let (name, mesh) = engine::default_model();
                         self.set_model(name, Arc::new(mesh));
-                    } else {
-                        self.model_name = self.model_name.replace("loading ", "");
                     }
                 }
             }
@@ -561,14 +568,12 @@ impl ViewerApp {
     fn handle_dialog(&mut self, purpose: DialogPurpose, path: PathBuf) {
         match purpose {
             DialogPurpose::OpenMesh => self.open_path(path),
-            DialogPurpose::ExportGng => match self.reconstruction.clone() {
-                Some(mesh) => self.export(&mesh, path),
-                None => self.error("no GNG3D reconstruction to export yet"),
-            },
-            DialogPurpose::ExportQem => match self.qem.mesh.clone() {
-                Some(mesh) => self.export(&mesh, path),
-                None => self.error("no QEM result to export yet"),
-            },
+            DialogPurpose::ExportGng => {
+                let _ = self.export(Side::Gng, &path);
+            }
+            DialogPurpose::ExportQem => {
+                let _ = self.export(Side::Qem, &path);
+            }
             DialogPurpose::ExportCsv => match self.history.write_csv(&path) {
                 Ok(()) => self.info(format!("saved {}", path.display())),
                 Err(e) => self.error(e),
@@ -577,11 +582,22 @@ impl ViewerApp {
         }
     }
 
-    fn export(&mut self, mesh: &TriMesh, path: PathBuf) {
-        match io::export_mesh(mesh, &path) {
+    /// Save the simplified mesh of `side` to `path` (format by extension); the outcome is also
+    /// shown in the message strip.
+    pub fn export(&mut self, side: Side, path: &std::path::Path) -> Result<(), String> {
+        let mesh = match side {
+            Side::Gng => self.reconstruction.clone(),
+            Side::Qem => self.qem.mesh.clone(),
+        };
+        let result = match mesh {
+            Some(mesh) => io::export_mesh(&mesh, path),
+            None => Err(format!("{}: nothing to export yet", path.display())),
+        };
+        match &result {
             Ok(()) => self.info(format!("saved {}", path.display())),
-            Err(e) => self.error(e),
+            Err(e) => self.error(e.clone()),
         }
+        result
     }
 
     /// Save a PNG of the whole window to `path` once the next frame is rendered.
@@ -701,7 +717,12 @@ impl ViewerApp {
             }
             ctx.request_repaint_after(Duration::from_millis(15));
         }
-        if let Some(path) = ctx.input(|i| i.raw.dropped_files.iter().find_map(|f| Some(f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()))) {
+        if let Some(path) = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .find_map(|f| Some(f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()))
+        }) {
             self.open_path(path);
         }
 
@@ -741,13 +762,17 @@ impl ViewerApp {
                     self.dialogs.open(DialogPurpose::ExportGng, "gng3d.obj");
                 }
                 if ui
-                    .add_enabled(self.qem.mesh.is_some(), egui::Button::new("Export QEM mesh…"))
+                    .add_enabled(
+                        self.qem.mesh.is_some(),
+                        egui::Button::new("Export QEM mesh…"),
+                    )
                     .clicked()
                 {
                     self.dialogs.open(DialogPurpose::ExportQem, "qem.obj");
                 }
                 if ui.button("Export checkpoint table (CSV)…").clicked() {
-                    self.dialogs.open(DialogPurpose::ExportCsv, "checkpoints.csv");
+                    self.dialogs
+                        .open(DialogPurpose::ExportCsv, "checkpoints.csv");
                 }
                 if ui.button("Save screenshot (PNG)…").clicked() {
                     self.dialogs.open(DialogPurpose::Screenshot, "viewer.png");
@@ -774,8 +799,9 @@ impl ViewerApp {
                 self.original.vertex_count(),
                 self.original.face_count()
             ));
-            if self.loading.is_some() {
+            if let Some((path, _)) = &self.loading {
                 ui.spinner();
+                ui.label(format!("loading {} …", path.display()));
             }
         });
     }
@@ -797,14 +823,20 @@ impl ViewerApp {
                 snapshot.signals
             ));
             if let Some(m) = &self.reconstruction {
-                ui.label(format!("mesh {} V / {} F", m.vertex_count(), m.face_count()));
+                ui.label(format!(
+                    "mesh {} V / {} F",
+                    m.vertex_count(),
+                    m.face_count()
+                ));
             }
             ui.separator();
             match (&self.qem.mesh, &self.qem.pending) {
                 (_, Some(_)) => ui.label("QEM: computing…"),
-                (Some(m), None) => {
-                    ui.label(format!("QEM: {} V / {} F", m.vertex_count(), m.face_count()))
-                }
+                (Some(m), None) => ui.label(format!(
+                    "QEM: {} V / {} F",
+                    m.vertex_count(),
+                    m.face_count()
+                )),
                 (None, None) => ui.label("QEM: –"),
             };
             ui.separator();
@@ -832,15 +864,26 @@ impl ViewerApp {
         ui.horizontal(|ui| {
             let running = self.live.running;
             if ui
-                .add_enabled(!self.live.finished, egui::Button::new(if running { "Pause" } else { "Play" }))
+                .add_enabled(
+                    !self.live.finished,
+                    egui::Button::new(if running { "Pause" } else { "Play" }),
+                )
                 .clicked()
             {
                 self.set_running(!running);
             }
-            if ui.button("Step").on_hover_text("present λ signals (100 with auto λ)").clicked() {
+            if ui
+                .button("Step")
+                .on_hover_text("present λ signals (100 with auto λ)")
+                .clicked()
+            {
                 self.step(u64::from(self.params.lambda.unwrap_or(100).max(1)));
             }
-            if ui.button("Reset").on_hover_text("restart with the parameters below").clicked() {
+            if ui
+                .button("Reset")
+                .on_hover_text("restart with the parameters below")
+                .clicked()
+            {
                 self.reset_training();
             }
         });
@@ -851,7 +894,11 @@ impl ViewerApp {
         let mut target = self.params.target_vertices;
         egui::Grid::new("params").num_columns(2).show(ui, |ui| {
             ui.label("target vertices");
-            let r = ui.add(egui::DragValue::new(&mut target).range(4..=1_000_000).speed(10.0));
+            let r = ui.add(
+                egui::DragValue::new(&mut target)
+                    .range(4..=1_000_000)
+                    .speed(10.0),
+            );
             ui.end_row();
             if (r.changed() && !r.dragged()) || r.drag_stopped() || r.lost_focus() {
                 self.set_target(target);
@@ -864,7 +911,10 @@ impl ViewerApp {
                 let mut limited = self.params.time_limit.is_some();
                 ui.checkbox(&mut limited, "");
                 let mut seconds = self.params.time_limit.map_or(30.0, |d| d.as_secs_f64());
-                ui.add_enabled(limited, egui::DragValue::new(&mut seconds).range(0.1..=3600.0));
+                ui.add_enabled(
+                    limited,
+                    egui::DragValue::new(&mut seconds).range(0.1..=3600.0),
+                );
                 self.params.time_limit = limited.then(|| Duration::from_secs_f64(seconds));
             });
             ui.end_row();
@@ -878,7 +928,11 @@ impl ViewerApp {
             });
             ui.end_row();
             ui.label("ε_b (winner)");
-            ui.add(egui::DragValue::new(&mut self.params.eps_winner).range(0.0..=1.0).speed(0.001));
+            ui.add(
+                egui::DragValue::new(&mut self.params.eps_winner)
+                    .range(0.0..=1.0)
+                    .speed(0.001),
+            );
             ui.end_row();
             ui.label("ε_n (neighbours)");
             ui.add(
@@ -889,7 +943,11 @@ impl ViewerApp {
             );
             ui.end_row();
             ui.label("α (insertion)");
-            ui.add(egui::DragValue::new(&mut self.params.alpha).range(0.0..=1.0).speed(0.01));
+            ui.add(
+                egui::DragValue::new(&mut self.params.alpha)
+                    .range(0.0..=1.0)
+                    .speed(0.01),
+            );
             ui.end_row();
             ui.label("d (error decay)");
             ui.add(
@@ -904,7 +962,9 @@ impl ViewerApp {
             ui.end_row();
             ui.label("μ (removal window)");
             ui.add(egui::DragValue::new(&mut self.params.removal_window).range(0.0..=1000.0))
-                .on_hover_text("nodes without a win in the last μ·|A| signals are removed (0: off)");
+                .on_hover_text(
+                    "nodes without a win in the last μ·|A| signals are removed (0: off)",
+                );
             ui.end_row();
             ui.label("seed");
             ui.add(egui::DragValue::new(&mut self.params.seed));
@@ -957,9 +1017,11 @@ impl ViewerApp {
             self.camera = OrbitCamera::framing(&self.original.referenced_bounding_box());
         }
         ui.label(
-            RichText::new("drag: orbit · right/middle drag or shift: pan · wheel: zoom · double-click: reset")
-                .small()
-                .weak(),
+            RichText::new(
+                "drag: orbit · right/middle drag or shift: pan · wheel: zoom · double-click: reset",
+            )
+            .small()
+            .weak(),
         );
     }
 
@@ -985,7 +1047,8 @@ impl ViewerApp {
                     ui.horizontal(|ui| {
                         ui.label(RichText::new("Checkpoints (Table 1)").strong());
                         if ui.small_button("Export CSV…").clicked() {
-                            self.dialogs.open(DialogPurpose::ExportCsv, "checkpoints.csv");
+                            self.dialogs
+                                .open(DialogPurpose::ExportCsv, "checkpoints.csv");
                         }
                     });
                     plots::checkpoint_table(ui, &self.history);

@@ -103,7 +103,10 @@ pub struct LoadedModel {
 }
 
 /// Load and clean `path` on a new thread; poll the receiver.
-pub fn spawn_load(path: PathBuf, ctx: Option<egui::Context>) -> Receiver<Result<LoadedModel, String>> {
+pub fn spawn_load(
+    path: PathBuf,
+    ctx: Option<egui::Context>,
+) -> Receiver<Result<LoadedModel, String>> {
     let (tx, rx) = mpsc::channel();
     let _ = std::thread::Builder::new()
         .name("load-mesh".into())

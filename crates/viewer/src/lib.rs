@@ -13,6 +13,58 @@ pub mod worker;
 
 pub use app::{ViewerApp, ViewerOptions};
 
+/// Train without a window for `options.quit_after` seconds (default 5) on the same worker thread
+/// the viewer uses, and return a one-line summary with the mean signals/s (the headless baseline
+/// for the viewer's throughput target).
+pub fn run_headless(options: &ViewerOptions) -> Result<String, String> {
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+    let (name, mesh) = match &options.path {
+        Some(path) => {
+            let loaded = engine::load_mesh(path)?;
+            (path.display().to_string(), loaded.mesh)
+        }
+        None => engine::default_model(),
+    };
+    let mut params = engine::default_params(options.target.unwrap_or(1000));
+    params.max_signals = options.max_signals;
+    params.lambda = options.lambda;
+    params.time_limit = options.time_limit.map(Duration::from_secs_f64);
+    if let Some(seed) = options.seed {
+        params.seed = seed;
+    }
+    let trainer = worker::Trainer::spawn();
+    trainer.send(worker::Command::Reset(Box::new(worker::Session {
+        mesh: Arc::new(mesh),
+        params,
+        checkpoint_every: None,
+        autoplay: true,
+    })));
+    let seconds = options.quit_after.unwrap_or(5.0);
+    let start = Instant::now();
+    let mut rates = Vec::new();
+    let mut live = trainer.live();
+    while start.elapsed().as_secs_f64() < seconds {
+        std::thread::sleep(Duration::from_millis(16));
+        let _ = trainer.drain_events();
+        live = trainer.live();
+        if live.running && live.signals_per_second > 0.0 && start.elapsed().as_secs_f64() > 1.0 {
+            rates.push(live.signals_per_second);
+        }
+    }
+    let mean = if rates.is_empty() {
+        0.0
+    } else {
+        rates.iter().sum::<f64>() / rates.len() as f64
+    };
+    Ok(format!(
+        "headless stats: model={name} nodes={} signals={} mean_signals_per_s={mean:.0} train_s={:.2}",
+        live.snapshot.positions.len(),
+        live.snapshot.signals,
+        live.train_seconds
+    ))
+}
+
 /// Open the viewer window and run until it is closed.
 pub fn run(options: ViewerOptions) -> Result<(), String> {
     let native = eframe::NativeOptions {

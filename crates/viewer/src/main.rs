@@ -18,6 +18,15 @@ struct Args {
     /// Seed of the training signals.
     #[arg(long)]
     seed: Option<u64>,
+    /// GNG3D signal budget (default: 30 epochs of the vertex count).
+    #[arg(long)]
+    max_signals: Option<u64>,
+    /// λ: signals between node insertions (default: automatic).
+    #[arg(long)]
+    lambda: Option<u32>,
+    /// Train without a window for --quit-after seconds and print the throughput (baseline).
+    #[arg(long)]
+    headless: bool,
     /// Start with training paused.
     #[arg(long)]
     paused: bool,
@@ -41,9 +50,21 @@ fn main() {
         target: args.target,
         time_limit: args.time_limit,
         seed: args.seed,
+        max_signals: args.max_signals,
+        lambda: args.lambda,
         paused: args.paused,
         print_stats: args.stats || args.quit_after.is_some(),
     };
+    if args.headless {
+        match viewer::run_headless(&options) {
+            Ok(summary) => println!("{summary}"),
+            Err(e) => {
+                eprintln!("error: {e}");
+                std::process::exit(1);
+            }
+        }
+        return;
+    }
     if let Err(e) = viewer::run(options) {
         eprintln!("error: {e}");
         std::process::exit(1);

@@ -190,7 +190,11 @@ fn log_plot(id: &str, height: f32) -> Plot<'static> {
                 } => (*plot_name, *position),
                 egui_plot::HoverPosition::Elsewhere { position } => ("", *position),
             };
-            Some(format!("{name}\niteration {:.0}\n{:.3e}", p.x, 10f64.powf(p.y)))
+            Some(format!(
+                "{name}\niteration {:.0}\n{:.3e}",
+                p.x,
+                10f64.powf(p.y)
+            ))
         })
 }
 
@@ -268,7 +272,7 @@ pub fn surface_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
 
 /// The checkpoint table (paper's Table 1 columns plus Hausdorff and time).
 pub fn checkpoint_table(ui: &mut egui::Ui, history: &History) {
-    egui::ScrollArea::vertical()
+    egui::ScrollArea::both()
         .id_salt("checkpoints")
         .auto_shrink([false, true])
         .show(ui, |ui| {
@@ -278,7 +282,14 @@ pub fn checkpoint_table(ui: &mut egui::Ui, history: &History) {
                 .spacing([8.0, 2.0])
                 .show(ui, |ui| {
                     for h in [
-                        "method", "iter.", "V", "F", "E_avg", "E_max", "E_sur", "Hausdorff",
+                        "method",
+                        "iter.",
+                        "V",
+                        "F",
+                        "E_avg",
+                        "E_max",
+                        "E_sur",
+                        "Hausdorff",
                         "time (s)",
                     ] {
                         ui.strong(h);
@@ -369,6 +380,12 @@ mod tests {
             .map(|m| m.value)
             .collect();
         assert_eq!(decades, vec![-7.0, -6.0, -5.0, -4.0, -3.0, -2.0]);
-        assert_eq!(format_log_tick(GridMark { value: -3.0, step_size: 1.0 }), "1e-3");
+        assert_eq!(
+            format_log_tick(GridMark {
+                value: -3.0,
+                step_size: 1.0
+            }),
+            "1e-3"
+        );
     }
 }

@@ -98,8 +98,8 @@ impl OrbitCamera {
     /// Zoom by `factor` (> 1 moves closer).
     pub fn zoom(&mut self, factor: f32) {
         if factor.is_finite() && factor > 0.0 {
-            self.distance = (self.distance / factor)
-                .clamp(self.scene_radius * 0.05, self.scene_radius * 50.0);
+            self.distance =
+                (self.distance / factor).clamp(self.scene_radius * 0.05, self.scene_radius * 50.0);
         }
     }
 }
@@ -109,10 +109,22 @@ fn perspective(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
     let f = 1.0 / (fov_y * 0.5).tan();
     let r = far / (near - far);
     Mat4::from_cols_array(&[
-        f / aspect, 0.0, 0.0, 0.0, //
-        0.0, f, 0.0, 0.0, //
-        0.0, 0.0, r, -1.0, //
-        0.0, 0.0, r * near, 0.0,
+        f / aspect,
+        0.0,
+        0.0,
+        0.0, //
+        0.0,
+        f,
+        0.0,
+        0.0, //
+        0.0,
+        0.0,
+        r,
+        -1.0, //
+        0.0,
+        0.0,
+        r * near,
+        0.0,
     ])
 }
 
@@ -122,10 +134,22 @@ fn look_at(eye: Vec3, center: Vec3) -> Mat4 {
     let s = f.cross(Vec3::Y).normalize_or(Vec3::X);
     let u = s.cross(f);
     Mat4::from_cols_array(&[
-        s.x, u.x, -f.x, 0.0, //
-        s.y, u.y, -f.y, 0.0, //
-        s.z, u.z, -f.z, 0.0, //
-        -s.dot(eye), -u.dot(eye), f.dot(eye), 1.0,
+        s.x,
+        u.x,
+        -f.x,
+        0.0, //
+        s.y,
+        u.y,
+        -f.y,
+        0.0, //
+        s.z,
+        u.z,
+        -f.z,
+        0.0, //
+        -s.dot(eye),
+        -u.dot(eye),
+        f.dot(eye),
+        1.0,
     ])
 }
 
@@ -187,7 +211,12 @@ impl GpuMesh {
         edges.dedup();
         let edge_indices: Vec<u32> = edges.into_iter().flatten().collect();
         GpuMesh {
-            vertices: buffer_init(device, "mesh vertices", &vertices, wgpu::BufferUsages::VERTEX),
+            vertices: buffer_init(
+                device,
+                "mesh vertices",
+                &vertices,
+                wgpu::BufferUsages::VERTEX,
+            ),
             triangles: buffer_init(
                 device,
                 "mesh triangles",
@@ -195,7 +224,12 @@ impl GpuMesh {
                 wgpu::BufferUsages::INDEX,
             ),
             triangle_index_count: triangle_indices.len() as u32,
-            edges: buffer_init(device, "mesh edges", &edge_indices, wgpu::BufferUsages::INDEX),
+            edges: buffer_init(
+                device,
+                "mesh edges",
+                &edge_indices,
+                wgpu::BufferUsages::INDEX,
+            ),
             edge_index_count: edge_indices.len() as u32,
             vertex_count: mesh.vertex_count(),
             face_count: mesh.face_count(),
@@ -564,7 +598,12 @@ impl SceneRenderer {
     }
 
     /// Resize `target` to `size` pixels (no-op when unchanged); egui's texture follows.
-    pub fn resize_target(&self, render_state: &RenderState, target: &mut ViewTarget, size: [u32; 2]) {
+    pub fn resize_target(
+        &self,
+        render_state: &RenderState,
+        target: &mut ViewTarget,
+        size: [u32; 2],
+    ) {
         let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
         if target.size == size {
             return;
@@ -614,7 +653,11 @@ impl SceneRenderer {
         let mut slots: Vec<DrawUniform> = Vec::with_capacity(items.len() + 1);
         let mut slot_of: Vec<(usize, Option<usize>)> = Vec::with_capacity(items.len());
         for item in items {
-            let needed = if matches!(item, DrawItem::Network { .. }) { 2 } else { 1 };
+            let needed = if matches!(item, DrawItem::Network { .. }) {
+                2
+            } else {
+                1
+            };
             if slots.len() + needed > MAX_DRAWS as usize {
                 break;
             }
@@ -650,7 +693,8 @@ impl SceneRenderer {
         let mut bytes = vec![0u8; (UNIFORM_STRIDE * MAX_DRAWS) as usize];
         for (i, slot) in slots.iter().enumerate() {
             let offset = i * UNIFORM_STRIDE as usize;
-            bytes[offset..offset + size_of::<DrawUniform>()].copy_from_slice(bytemuck::bytes_of(slot));
+            bytes[offset..offset + size_of::<DrawUniform>()]
+                .copy_from_slice(bytemuck::bytes_of(slot));
         }
         queue.write_buffer(&target.uniforms, 0, &bytes);
 
@@ -793,9 +837,21 @@ mod tests {
         assert!(c.x.abs() < 1e-4 && c.y.abs() < 1e-4, "{c:?}");
         for corner in 0..8 {
             let p = Vec3::new(
-                if corner & 1 == 0 { bounds.min.x } else { bounds.max.x },
-                if corner & 2 == 0 { bounds.min.y } else { bounds.max.y },
-                if corner & 4 == 0 { bounds.min.z } else { bounds.max.z },
+                if corner & 1 == 0 {
+                    bounds.min.x
+                } else {
+                    bounds.max.x
+                },
+                if corner & 2 == 0 {
+                    bounds.min.y
+                } else {
+                    bounds.max.y
+                },
+                if corner & 4 == 0 {
+                    bounds.min.z
+                } else {
+                    bounds.max.z
+                },
             );
             let q = vp.project_point3(p);
             assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0, "corner {p} -> {q}");

@@ -163,7 +163,9 @@ impl Trainer {
         // Cap the backlog at a few frames so a stalled UI cannot queue up a burst.
         let current = self.shared.frame_budget.load(Ordering::Relaxed);
         if current < signals.saturating_mul(3) {
-            self.shared.frame_budget.fetch_add(signals, Ordering::Relaxed);
+            self.shared
+                .frame_budget
+                .fetch_add(signals, Ordering::Relaxed);
         }
     }
 
@@ -407,11 +409,7 @@ fn publish(t: &mut Training, shared: &Shared) {
             snapshot,
             running: t.running,
             finished: t.finished,
-            signals_per_second: if t.running {
-                t.signals_per_second
-            } else {
-                0.0
-            },
+            signals_per_second: if t.running { t.signals_per_second } else { 0.0 },
             train_seconds: t.train_time.as_secs_f64(),
         };
     }

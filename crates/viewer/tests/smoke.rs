@@ -35,15 +35,31 @@ fn binary_opens_mesh_trains_and_saves_non_blank_screenshot() {
         .expect("run xvfb-run");
     let stdout = String::from_utf8_lossy(&output.stdout);
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "viewer failed: {}\n{stdout}\n{stderr}", output.status);
+    assert!(
+        output.status.success(),
+        "viewer failed: {}\n{stdout}\n{stderr}",
+        output.status
+    );
     assert!(stdout.contains("viewer stats:"), "no stats line: {stdout}");
     let image = image::open(&shot)
         .unwrap_or_else(|e| panic!("screenshot {}: {e}\n{stderr}", shot.display()))
         .to_rgba8();
-    assert!(image.width() >= 800 && image.height() >= 500, "{}x{}", image.width(), image.height());
+    assert!(
+        image.width() >= 800 && image.height() >= 500,
+        "{}x{}",
+        image.width(),
+        image.height()
+    );
     let drawn = viewer::io::non_background_fraction(&image);
-    assert!(drawn > 0.2, "screenshot looks blank: {drawn:.3} non-background");
+    assert!(
+        drawn > 0.2,
+        "screenshot looks blank: {drawn:.3} non-background"
+    );
     // Both meshes are lit: many distinct colours, not a flat fill.
     let distinct: std::collections::HashSet<[u8; 4]> = image.pixels().map(|p| p.0).collect();
-    assert!(distinct.len() > 500, "only {} distinct colours", distinct.len());
+    assert!(
+        distinct.len() > 500,
+        "only {} distinct colours",
+        distinct.len()
+    );
 }

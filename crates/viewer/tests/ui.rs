@@ -5,7 +5,7 @@ use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, wgpu::WgpuTestRenderer};
 use std::time::{Duration, Instant};
 use viewer::app::Side;
-use viewer::render::{CLEAR_COLOR, Shading};
+use viewer::render::Shading;
 use viewer::{ViewerApp, ViewerOptions};
 
 /// Window size of the harness, in points (pixels_per_point = 1).
@@ -30,7 +30,11 @@ fn harness(options: ViewerOptions) -> Option<Harness<'static, ViewerApp>> {
             return None;
         }
     };
-    let app = ViewerApp::new(&egui::Context::default(), Some(render_state.clone()), options);
+    let app = ViewerApp::new(
+        &egui::Context::default(),
+        Some(render_state.clone()),
+        options,
+    );
     Some(
         Harness::builder()
             .with_size(SIZE)
@@ -57,20 +61,18 @@ fn step_until(
     }
 }
 
-/// sRGB byte of a linear channel value.
-fn srgb_byte(linear: f64) -> u8 {
-    let s = if linear <= 0.003_130_8 {
-        linear * 12.92
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0).round() as u8
-}
-
-/// Pixels in `rect` (points = pixels here) below the label strip that differ from the clear
-/// colour by more than a few levels, and the clear colour's share of the strip-free area.
+/// Pixels in `rect` (points = pixels here) below the label strip that differ by more than a few
+/// levels from the background (read at the bottom-right corner, which the framed model never
+/// reaches), and the number of pixels examined.
 fn count_drawn(image: &image::RgbaImage, rect: egui::Rect) -> (usize, usize) {
-    let clear = CLEAR_COLOR.map(srgb_byte);
+    let clear = image
+        .get_pixel(rect.max.x as u32 - 3, rect.max.y as u32 - 3)
+        .0;
+    // The background is the renderer's clear colour (render::CLEAR_COLOR): dark, slightly blue.
+    assert!(
+        clear[2] >= clear[0] && clear[0] < 60,
+        "unexpected background {clear:?}"
+    );
     let (mut drawn, mut total) = (0, 0);
     let y0 = rect.min.y as u32 + 30; // skip the text label in the top-left corner
     for y in y0..(rect.max.y as u32).min(image.height()) {
@@ -85,6 +87,14 @@ fn count_drawn(image: &image::RgbaImage, rect: egui::Rect) -> (usize, usize) {
     (drawn, total)
 }
 
+/// Save the current frame under `$VIEWER_TEST_SNAPSHOTS` (for looking at it), if set.
+fn save_snapshot(h: &mut Harness<'static, ViewerApp>, name: &str) {
+    if let Some(dir) = std::env::var_os("VIEWER_TEST_SNAPSHOTS") {
+        let image = h.render().expect("render");
+        image.save(std::path::Path::new(&dir).join(name)).unwrap();
+    }
+}
+
 #[test]
 fn model_renders_in_both_viewports() {
     let Some(mut h) = harness(ViewerOptions {
@@ -93,10 +103,14 @@ fn model_renders_in_both_viewports() {
     }) else {
         return;
     };
-    step_until(&mut h, Duration::from_secs(60), "QEM result and a trained network", |a| {
-        a.has_qem_mesh() && a.live().snapshot.positions.len() >= 300
-    });
+    step_until(
+        &mut h,
+        Duration::from_secs(60),
+        "QEM result and a trained network",
+        |a| a.has_qem_mesh() && a.live().snapshot.positions.len() >= 300,
+    );
     h.step();
+    save_snapshot(&mut h, "model_renders_in_both_viewports.png");
     let image = h.render().expect("render");
     let app = h.state();
     let [Some(left), Some(right)] = app.viewport_rects else {
@@ -108,13 +122,23 @@ fn model_renders_in_both_viewports() {
         let share = drawn as f64 / total as f64;
         // The framed model covers a good part of the view but not all of it: both a model and
         // the clear colour must be visible.
-        assert!(share > 0.03, "{side} viewport nearly empty: {drawn}/{total} pixels drawn");
-        assert!(share < 0.9, "{side} viewport has no background: {drawn}/{total}");
+        assert!(
+            share > 0.03,
+            "{side} viewport nearly empty: {drawn}/{total} pixels drawn"
+        );
+        assert!(
+            share < 0.9,
+            "{side} viewport has no background: {drawn}/{total}"
+        );
     }
     assert!(app.viewport_texture(Side::Gng).is_some());
     // The QEM side is a real simplification at the requested vertex count.
     let qem = app.history.qem.as_ref().expect("QEM row");
-    assert!(qem.vertices <= 300 && qem.vertices > 200, "QEM vertices {}", qem.vertices);
+    assert!(
+        qem.vertices <= 300 && qem.vertices > 200,
+        "QEM vertices {}",
+        qem.vertices
+    );
     assert!(qem.faces > 0 && qem.faces < app.original().face_count());
 }
 
@@ -134,13 +158,19 @@ fn controls_change_state() {
     });
 
     h.get_by_label("Pause").click();
-    step_until(&mut h, Duration::from_secs(10), "pause", |a| !a.live().running);
+    step_until(&mut h, Duration::from_secs(10), "pause", |a| {
+        !a.live().running
+    });
     let paused_at = h.state().live().snapshot.signals;
     for _ in 0..5 {
         h.step();
         std::thread::sleep(Duration::from_millis(20));
     }
-    assert_eq!(h.state().live().snapshot.signals, paused_at, "training continued while paused");
+    assert_eq!(
+        h.state().live().snapshot.signals,
+        paused_at,
+        "training continued while paused"
+    );
 
     h.get_by_label("Step").click();
     step_until(&mut h, Duration::from_secs(10), "a step", |a| {
@@ -149,7 +179,9 @@ fn controls_change_state() {
     assert!(!h.state().live().running);
 
     h.get_by_label("Play").click();
-    step_until(&mut h, Duration::from_secs(10), "play", |a| a.live().running);
+    step_until(&mut h, Duration::from_secs(10), "play", |a| {
+        a.live().running
+    });
 
     assert_eq!(h.state().display.shading, Shading::Smooth);
     h.get_by_label("flat").click();
@@ -163,6 +195,7 @@ fn controls_change_state() {
     h.get_by_label("original overlay").click();
     h.step();
     assert!(h.state().display.show_original);
+    save_snapshot(&mut h, "flat_wireframe_overlay.png");
 
     let session = h.state().live().session;
     h.get_by_label("Reset").click();
@@ -172,9 +205,12 @@ fn controls_change_state() {
 
     // A new vertex target recomputes QEM at that size.
     h.state_mut().set_target(150);
-    step_until(&mut h, Duration::from_secs(60), "QEM at 150 vertices", |a| {
-        a.history.qem.as_ref().is_some_and(|q| q.vertices <= 150)
-    });
+    step_until(
+        &mut h,
+        Duration::from_secs(60),
+        "QEM at 150 vertices",
+        |a| a.history.qem.as_ref().is_some_and(|q| q.vertices <= 150),
+    );
     assert_eq!(h.state().params.target_vertices, 150);
 }
 
@@ -196,8 +232,14 @@ fn plot_gains_points_as_training_runs() {
         a.history.errors.len() >= first + 3
     });
     let errors = &h.state().history.errors;
-    assert!(errors.windows(2).all(|w| w[0][0] < w[1][0]), "iterations not increasing");
-    assert!(errors.iter().all(|e| e[1] > 0.0 && e[2] >= e[1]), "E_max < E_avg somewhere");
+    assert!(
+        errors.windows(2).all(|w| w[0][0] < w[1][0]),
+        "iterations not increasing"
+    );
+    assert!(
+        errors.iter().all(|e| e[1] > 0.0 && e[2] >= e[1]),
+        "E_max < E_avg somewhere"
+    );
     // The network approaches the surface: the last E_avg is below the first one.
     assert!(errors.last().unwrap()[1] < errors[0][1]);
 
@@ -211,4 +253,72 @@ fn plot_gains_points_as_training_runs() {
     assert!(row.e_sur >= 0.0 && row.e_avg > 0.0);
     let csv = h.state().history.csv_string().unwrap();
     assert!(csv.lines().count() >= 2, "{csv}");
+}
+
+#[test]
+fn bad_files_show_an_error_and_exports_round_trip() {
+    let Some(mut h) = harness(ViewerOptions {
+        target: Some(250),
+        ..Default::default()
+    }) else {
+        return;
+    };
+    step_until(
+        &mut h,
+        Duration::from_secs(60),
+        "QEM and a reconstruction",
+        |a| a.has_qem_mesh() && a.live().finished && !a.history.reconstructions.is_empty(),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let faces_before = h.state().original().face_count();
+
+    // A missing file and a garbage file: an error message, the model stays.
+    let garbage = dir.path().join("garbage.obj");
+    std::fs::write(&garbage, "v 1 2\nf 1 2 99\nthis is not obj\n").unwrap();
+    for path in [dir.path().join("missing.obj"), garbage.clone()] {
+        let errors = h.state().messages.iter().filter(|m| m.is_error).count();
+        h.state_mut().open_path(path.clone());
+        step_until(&mut h, Duration::from_secs(20), "the load to fail", |a| {
+            !a.is_loading()
+        });
+        let app = h.state();
+        assert_eq!(app.original().face_count(), faces_before);
+        let new_errors: Vec<_> = app.messages.iter().filter(|m| m.is_error).collect();
+        assert_eq!(new_errors.len(), errors + 1, "{:?}", app.messages);
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(
+            new_errors.last().unwrap().text.contains(&name),
+            "{:?}",
+            new_errors
+        );
+    }
+
+    // Exports write files that load back with the same counts.
+    for (side, file) in [(Side::Qem, "qem.ply"), (Side::Gng, "gng.obj")] {
+        let path = dir.path().join(file);
+        h.state_mut().export(side, &path).unwrap();
+        let back = mesh::io::load(&path).unwrap().mesh;
+        let expected = match side {
+            Side::Qem => h.state().history.qem.clone().unwrap(),
+            Side::Gng => h.state().history.reconstructions.last().cloned().unwrap(),
+        };
+        assert_eq!(back.face_count(), expected.faces, "{file}");
+    }
+    // Exporting into a missing directory is an error, not a panic.
+    assert!(
+        h.state_mut()
+            .export(Side::Qem, &dir.path().join("no/such/dir/x.obj"))
+            .is_err()
+    );
+
+    // A real file opens and replaces the model.
+    let good = dir.path().join("sphere.obj");
+    let sphere = mesh::procedural::icosphere(2);
+    mesh::io::save(&sphere, &good).unwrap();
+    h.state_mut().open_path(good);
+    step_until(&mut h, Duration::from_secs(20), "the sphere to load", |a| {
+        !a.is_loading()
+    });
+    assert_eq!(h.state().original().face_count(), sphere.face_count());
+    assert_eq!(h.state().model_name, "sphere.obj");
 }

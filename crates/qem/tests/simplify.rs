@@ -1,0 +1,405 @@
+//! Integration tests of `qem::simplify` on procedural and shared meshes (GNG3D_MESHES).
+
+use glam::{DVec3, Vec3};
+use mesh::TriMesh;
+use mesh::topology::analyze;
+use qem::{QemError, QemParams, Quadric, StopReason, Target};
+use std::path::PathBuf;
+
+/// Folder of the shared meshes; `None` (with a note) when unavailable outside CI.
+fn meshes_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("GNG3D_MESHES").map(PathBuf::from);
+    match dir {
+        Some(d) if d.is_dir() => Some(d),
+        _ if std::env::var_os("CI").is_some() => {
+            panic!("GNG3D_MESHES must point to the shared meshes folder in CI")
+        }
+        _ => {
+            eprintln!("skipping: GNG3D_MESHES is not set to a folder");
+            None
+        }
+    }
+}
+
+/// Load a shared mesh as stored (raw) and as prepared (welded, cleaned).
+fn load(name: &str) -> Option<(TriMesh, TriMesh)> {
+    let path = meshes_dir()?.join(name);
+    let raw = mesh::io::load(&path).unwrap_or_else(|e| panic!("{e}")).mesh;
+    let prepared = mesh::clean::prepare(&raw).0;
+    Some((raw, prepared))
+}
+
+fn params(target: Target) -> QemParams {
+    QemParams::with_target(target)
+}
+
+/// Output invariants: valid indices, no degenerate or duplicate faces, no unreferenced vertices,
+/// finite positions.
+fn assert_valid(m: &TriMesh) {
+    let n = m.positions.len();
+    let mut used = vec![false; n];
+    let mut keys = Vec::with_capacity(m.triangles.len());
+    for t in &m.triangles {
+        for &v in t {
+            assert!((v as usize) < n, "index {v} out of range {n}");
+            used[v as usize] = true;
+        }
+        assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2], "degenerate face {t:?}");
+        let mut k = *t;
+        k.sort_unstable();
+        keys.push(k);
+    }
+    keys.sort_unstable();
+    let before = keys.len();
+    keys.dedup();
+    assert_eq!(before, keys.len(), "duplicate faces");
+    assert!(used.iter().all(|&u| u), "unreferenced vertices in the output");
+    assert!(m.positions.iter().all(|p| p.is_finite()));
+}
+
+#[test]
+fn closed_manifolds_keep_closedness_manifoldness_and_genus() {
+    for name in ["spot.obj", "rocker-arm.obj", "fertility.obj", "casting.obj"] {
+        let Some((_, m)) = load(name) else { return };
+        let before = analyze(&m);
+        assert!(before.closed && before.manifold, "{name} should start closed and manifold");
+        for ratio in [0.1, 0.02] {
+            let (out, report) = qem::simplify(&m, &params(Target::Ratio(ratio))).unwrap();
+            assert_valid(&out);
+            let after = analyze(&out);
+            assert!(after.closed, "{name} @ {ratio}: not closed");
+            assert!(after.manifold, "{name} @ {ratio}: not manifold");
+            assert_eq!(after.genus, before.genus, "{name} @ {ratio}: genus changed");
+            assert_eq!(after.components, before.components, "{name} @ {ratio}");
+            assert!(out.face_count() < m.face_count() / 4, "{name} @ {ratio}: barely simplified");
+            assert_eq!(report.faces, out.face_count());
+            assert_eq!(report.vertices, out.vertex_count());
+        }
+    }
+}
+
+#[test]
+fn boundary_loops_are_preserved() {
+    for name in ["stanford-bunny.obj", "plane_holes.obj", "many_small_holes.ply"] {
+        let Some((_, m)) = load(name) else { return };
+        let before = analyze(&m);
+        assert!(before.boundary_loops > 0);
+        let (out, _) = qem::simplify(&m, &params(Target::Ratio(0.1))).unwrap();
+        assert_valid(&out);
+        let after = analyze(&out);
+        assert_eq!(after.boundary_loops, before.boundary_loops, "{name}");
+        assert_eq!(after.genus, before.genus, "{name}");
+        assert_eq!(after.non_manifold_edges, 0, "{name}");
+    }
+}
+
+#[test]
+fn boundary_constraint_keeps_the_open_border_in_place() {
+    // Boundary vertices of the output should stay close to the original border curve; compare with
+    // and without the constraint planes (an independent measure: distance to the original border
+    // edges).
+    let Some((_, m)) = load("stanford-bunny.obj") else { return };
+    let border = |mesh: &TriMesh| -> Vec<[Vec3; 2]> {
+        let mut count = std::collections::HashMap::new();
+        for t in &mesh.triangles {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        count
+            .into_iter()
+            .filter(|&(_, c)| c == 1)
+            .map(|((a, b), _)| [mesh.positions[a as usize], mesh.positions[b as usize]])
+            .collect()
+    };
+    let original_border = border(&m);
+    let deviation = |out: &TriMesh| -> f64 {
+        let mut worst = 0.0f64;
+        for [p, _] in border(out) {
+            let d = original_border
+                .iter()
+                .map(|&[a, b]| {
+                    let (a, b, p) = (a.as_dvec3(), b.as_dvec3(), p.as_dvec3());
+                    let ab = b - a;
+                    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+                    (a + ab * t).distance(p)
+                })
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+        worst
+    };
+    let (kept, _) = qem::simplify(&m, &params(Target::Ratio(0.05))).unwrap();
+    let free_params = QemParams { preserve_boundary: false, ..params(Target::Ratio(0.05)) };
+    let (free, _) = qem::simplify(&m, &free_params).unwrap();
+    let (dk, df) = (deviation(&kept), deviation(&free));
+    assert!(dk < 0.5 * df, "constrained border deviation {dk} vs free {df}");
+    assert!(dk < 0.004 * m.bbox_diagonal(), "border moved by {dk}");
+}
+
+#[test]
+fn exact_targets_are_hit_down_to_one_percent() {
+    let Some((_, m)) = load("rocker-arm.obj") else { return };
+    let (f, v) = (m.face_count(), m.vertex_count());
+    for ratio in [0.5, 0.1, 0.01] {
+        let faces = (f as f64 * ratio).round() as usize;
+        let (out, report) = qem::simplify(&m, &params(Target::Faces(faces))).unwrap();
+        assert!(report.target_reached);
+        assert!(out.face_count().abs_diff(faces) <= 2, "faces {} vs {faces}", out.face_count());
+        let (out, _) = qem::simplify(&m, &params(Target::Ratio(ratio))).unwrap();
+        assert!(out.face_count().abs_diff(faces) <= 2, "ratio: faces {} vs {faces}", out.face_count());
+        let verts = (v as f64 * ratio).round() as usize;
+        let (out, report) = qem::simplify(&m, &params(Target::Vertices(verts))).unwrap();
+        assert!(report.target_reached);
+        assert!(out.vertex_count().abs_diff(verts) <= 1, "verts {} vs {verts}", out.vertex_count());
+        assert_valid(&out);
+    }
+}
+
+/// `n × n` grid of squares split into triangles on the plane z = 0.5, side 2.
+fn grid(n: u32) -> TriMesh {
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            positions.push(Vec3::new(2.0 * i as f32 / n as f32 - 1.0, 2.0 * j as f32 / n as f32 - 1.0, 0.5));
+        }
+    }
+    let mut triangles = Vec::new();
+    let id = |i: u32, j: u32| j * (n + 1) + i;
+    for j in 0..n {
+        for i in 0..n {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    TriMesh::new(positions, triangles)
+}
+
+#[test]
+fn flat_plane_collapses_to_a_few_triangles_with_zero_error() {
+    let m = grid(40);
+    let (out, report) = qem::simplify(&m, &params(Target::Faces(2))).unwrap();
+    assert_valid(&out);
+    assert!(out.face_count() <= 8, "{} faces left ({:?})", out.face_count(), report.stop_reason);
+    assert!(report.max_error < 1e-12, "max error {}", report.max_error);
+    // Independent checks: still the same flat square, consistently oriented (+z normals).
+    assert!(out.positions.iter().all(|p| (p.z - 0.5).abs() < 1e-6));
+    assert!((out.area() - 4.0).abs() < 1e-4, "area {}", out.area());
+    let bb = out.bounding_box();
+    assert!((bb.min - Vec3::new(-1.0, -1.0, 0.5)).length() < 1e-6);
+    assert!((bb.max - Vec3::new(1.0, 1.0, 0.5)).length() < 1e-6);
+    assert!(out.face_normals().iter().all(|n| n.z > 0.99));
+}
+
+#[test]
+fn dirty_inputs_never_panic() {
+    let mut cases: Vec<(String, TriMesh)> = Vec::new();
+    for name in ["stanford-bunny.obj", "many_small_holes.ply", "cow.obj"] {
+        if let Some((raw, prepared)) = load(name) {
+            cases.push((format!("{name} raw"), raw));
+            cases.push((format!("{name} prepared"), prepared));
+        }
+    }
+    // Unwelded triangle soup: every face has its own three vertices.
+    let sphere = mesh::procedural::icosphere(3);
+    let soup_positions: Vec<Vec3> =
+        sphere.triangles.iter().flat_map(|t| t.map(|v| sphere.positions[v as usize])).collect();
+    let soup_triangles = (0..sphere.triangles.len() as u32).map(|f| [3 * f, 3 * f + 1, 3 * f + 2]).collect();
+    cases.push(("soup".into(), TriMesh::new(soup_positions, soup_triangles)));
+    // Repeated indices, duplicate faces, a zero-area face and an isolated triangle.
+    let mut messy = mesh::procedural::icosphere(2);
+    messy.triangles.push([0, 0, 1]);
+    let dup = messy.triangles[5];
+    messy.triangles.push(dup);
+    messy.triangles.push([dup[0], dup[2], dup[1]]);
+    let k = messy.positions.len() as u32;
+    messy.positions.extend([Vec3::new(5.0, 0.0, 0.0), Vec3::new(6.0, 0.0, 0.0), Vec3::new(7.0, 0.0, 0.0)]);
+    messy.triangles.push([k, k + 1, k + 2]);
+    cases.push(("messy".into(), messy));
+    for (name, m) in &cases {
+        for target in [Target::Ratio(0.1), Target::Ratio(0.01), Target::Vertices(3), Target::Faces(1)] {
+            for preserve_topology in [true, false] {
+                let p = QemParams { preserve_topology, ..params(target) };
+                let (out, report) = qem::simplify(m, &p).unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert_valid(&out);
+                assert_eq!(report.faces, out.face_count(), "{name}");
+                if !report.target_reached {
+                    assert_eq!(report.stop_reason, StopReason::NoValidPairs, "{name}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn quadric_matches_explicit_sum_of_squared_plane_distances() {
+    let m = mesh::procedural::torus(1.0, 0.35, 24, 12);
+    let mut x = 0x1234_5678_9abc_def0u64;
+    let mut rnd = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for v in [0u32, 17, 100, 250] {
+        let faces: Vec<[DVec3; 3]> = m
+            .triangles
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.contains(&v))
+            .map(|(f, _)| m.triangle_f64(f))
+            .collect();
+        let mut q = Quadric::default();
+        for [a, b, c] in &faces {
+            let cross = (*b - *a).cross(*c - *a);
+            let n = cross.normalize();
+            q += Quadric::from_plane(n, -n.dot(*a), 0.5 * cross.length());
+        }
+        for _ in 0..5 {
+            let p = DVec3::new(rnd(), rnd(), rnd()) * 3.0;
+            let explicit: f64 = faces
+                .iter()
+                .map(|[a, b, c]| {
+                    // Distance to the plane from the triple product, area from the cross product.
+                    let cross = (*b - *a).cross(*c - *a);
+                    let d = (p - *a).dot(cross) / cross.length();
+                    0.5 * cross.length() * d * d
+                })
+                .sum();
+            assert!((q.eval(p) - explicit).abs() <= 1e-9 * explicit.max(1e-12), "{} vs {explicit}", q.eval(p));
+        }
+    }
+}
+
+/// Axis-aligned cube [-1, 1]³ with every side split into an `n × n` grid (welded, outward).
+fn grid_cube(n: u32) -> TriMesh {
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    let coord = |i: u32| 2.0 * i as f32 / n as f32 - 1.0;
+    for axis in 0..3 {
+        for side in [-1.0f32, 1.0] {
+            let base = positions.len() as u32;
+            for j in 0..=n {
+                for i in 0..=n {
+                    let mut p = [0.0f32; 3];
+                    p[axis] = side;
+                    p[(axis + 1) % 3] = coord(i);
+                    p[(axis + 2) % 3] = coord(j);
+                    positions.push(Vec3::from_array(p));
+                }
+            }
+            let id = |i: u32, j: u32| base + j * (n + 1) + i;
+            for j in 0..n {
+                for i in 0..n {
+                    let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                    if side > 0.0 {
+                        triangles.extend([[a, b, c], [a, c, d]]);
+                    } else {
+                        triangles.extend([[a, c, b], [a, d, c]]);
+                    }
+                }
+            }
+        }
+    }
+    mesh::clean::weld_exact(&TriMesh::new(positions, triangles)).0
+}
+
+#[test]
+fn optimal_placement_keeps_sharp_corners_exactly() {
+    let cube = grid_cube(8);
+    assert!(analyze(&cube).closed);
+    assert!(cube.signed_volume() > 0.0);
+    let (out, report) = qem::simplify(&cube, &params(Target::Faces(12))).unwrap();
+    assert_valid(&out);
+    assert!(out.face_count() <= 16, "{} faces", out.face_count());
+    assert!(report.max_error < 1e-9, "max error {}", report.max_error);
+    // Every corner of the cube is still a vertex, and every vertex is on the cube's surface.
+    for corner in 0..8 {
+        let c = Vec3::new(
+            if corner & 1 == 0 { -1.0 } else { 1.0 },
+            if corner & 2 == 0 { -1.0 } else { 1.0 },
+            if corner & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        assert!(out.positions.iter().any(|p| p.distance(c) < 1e-5), "corner {c} lost");
+    }
+    assert!(out.positions.iter().all(|p| (p.abs().max_element() - 1.0).abs() < 1e-5));
+    assert!((out.signed_volume() - 8.0).abs() < 1e-4, "volume {}", out.signed_volume());
+}
+
+#[test]
+fn max_error_stops_early() {
+    let m = mesh::procedural::torus(1.0, 0.3, 48, 24);
+    let (_, unlimited) = qem::simplify(&m, &params(Target::Ratio(0.05))).unwrap();
+    let limit = unlimited.max_error / 100.0;
+    let p = QemParams { max_error: Some(limit), ..params(Target::Ratio(0.05)) };
+    let (out, report) = qem::simplify(&m, &p).unwrap();
+    assert_eq!(report.stop_reason, StopReason::MaxError);
+    assert!(!report.target_reached);
+    assert!(report.max_error <= limit);
+    assert!(out.face_count() > unlimited.faces);
+}
+
+#[test]
+fn pair_threshold_merges_nearby_parts() {
+    // Two icospheres 0.05 apart: non-edge pairs across the gap exist only with t > gap.
+    let a = mesh::procedural::icosphere(2);
+    let mut positions = a.positions.clone();
+    let k = positions.len() as u32;
+    positions.extend(a.positions.iter().map(|p| *p + Vec3::new(2.05, 0.0, 0.0)));
+    let mut triangles = a.triangles.clone();
+    triangles.extend(a.triangles.iter().map(|t| t.map(|v| v + k)));
+    let m = TriMesh::new(positions, triangles);
+    let (_, without) = qem::simplify(&m, &params(Target::Ratio(0.5))).unwrap();
+    assert_eq!(without.virtual_pairs, 0);
+    let p = QemParams { pair_threshold: 0.2, ..params(Target::Ratio(0.5)) };
+    let (out, report) = qem::simplify(&m, &p).unwrap();
+    assert!(report.virtual_pairs > 0);
+    assert_valid(&out);
+    // Brute-force count of close non-edge pairs bounds the reported number.
+    let brute = (0..m.positions.len())
+        .flat_map(|u| (u + 1..m.positions.len()).map(move |v| (u, v)))
+        .filter(|&(u, v)| m.positions[u].distance(m.positions[v]) < 0.2)
+        .count();
+    assert!(report.virtual_pairs <= brute);
+}
+
+#[test]
+fn invalid_inputs_are_typed_errors() {
+    let good = mesh::procedural::icosphere(1);
+    let mut bad_index = good.clone();
+    bad_index.triangles.push([0, 1, 999]);
+    assert!(matches!(
+        qem::simplify(&bad_index, &QemParams::default()),
+        Err(QemError::InvalidIndex { index: 999, .. })
+    ));
+    let empty = TriMesh::new(vec![Vec3::ZERO; 3], vec![[0, 0, 1]]);
+    assert_eq!(qem::simplify(&empty, &QemParams::default()).unwrap_err(), QemError::EmptyMesh);
+    let mut nan = good.clone();
+    nan.positions[3] = Vec3::NAN;
+    assert_eq!(qem::simplify(&nan, &QemParams::default()).unwrap_err(), QemError::NonFiniteVertex(3));
+    for target in [Target::Ratio(0.0), Target::Ratio(1.5), Target::Ratio(f64::NAN)] {
+        assert!(matches!(qem::simplify(&good, &params(target)), Err(QemError::InvalidParameter(_))));
+    }
+    let p = QemParams { pair_threshold: -1.0, ..QemParams::default() };
+    assert!(matches!(qem::simplify(&good, &p), Err(QemError::InvalidParameter(_))));
+}
+
+#[test]
+fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
+    let Some((_, m)) = load("armadillo.obj") else { return };
+    let Some(dir) = meshes_dir() else { return };
+    let reference_path = dir.join("../reference/armadillo-meshlab-8648.obj");
+    if !reference_path.exists() {
+        eprintln!("skipping: no MeshLab reference at {}", reference_path.display());
+        return;
+    }
+    let reference = mesh::io::load(&reference_path).unwrap().mesh;
+    let (out, _) = qem::simplify(&m, &params(Target::Faces(reference.face_count()))).unwrap();
+    assert!(out.face_count().abs_diff(reference.face_count()) <= 2);
+    let hp = metrics::HausdorffParams::with_samples(200_000);
+    let ours = metrics::hausdorff(&m, &out, &hp).unwrap();
+    let theirs = metrics::hausdorff(&m, &reference, &hp).unwrap();
+    assert!(ours.max <= theirs.max, "max {} vs MeshLab {}", ours.max, theirs.max);
+    assert!(ours.mean <= theirs.mean, "mean {} vs MeshLab {}", ours.mean, theirs.mean);
+}
