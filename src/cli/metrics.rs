@@ -70,8 +70,18 @@ fn one_sided_line(label: &str, d: &OneSided) -> String {
 fn print_text(args: &MetricsArgs, r: &MetricsReport) {
     let h = &r.hausdorff;
     let (o, s) = (&r.meshes.original, &r.meshes.simplified);
-    println!("original              {} ({} vertices, {} faces)", args.original.display(), o.referenced_vertices, o.faces);
-    println!("simplified            {} ({} vertices, {} faces)", args.simplified.display(), s.referenced_vertices, s.faces);
+    println!(
+        "original              {} ({} vertices, {} faces)",
+        args.original.display(),
+        o.referenced_vertices,
+        o.faces
+    );
+    println!(
+        "simplified            {} ({} vertices, {} faces)",
+        args.simplified.display(),
+        s.referenced_vertices,
+        s.faces
+    );
     println!("bbox diagonal         {:.6e}", r.bbox_diagonal);
     println!("E_avg (squared)       {:.6e}", r.e_avg);
     println!("E_max (squared)       {:.6e}", r.e_max);
@@ -94,9 +104,17 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) {
     let (nf, nb) = (&r.normal_deviation.forward, &r.normal_deviation.backward);
     println!(
         "normal deviation      forward mean {:.2}° p95 {:.0}° max {:.1}°; backward mean {:.2}° p95 {:.0}° max {:.1}°",
-        nf.mean_degrees, nf.p95_degrees, nf.max_degrees, nb.mean_degrees, nb.p95_degrees, nb.max_degrees
+        nf.mean_degrees,
+        nf.p95_degrees,
+        nf.max_degrees,
+        nb.mean_degrees,
+        nb.p95_degrees,
+        nb.max_degrees
     );
-    for (label, q) in [("original", &r.quality.original), ("simplified", &r.quality.simplified)] {
+    for (label, q) in [
+        ("original", &r.quality.original),
+        ("simplified", &r.quality.simplified),
+    ] {
         println!(
             "quality {label:<13} min angle {:.2}° (mean {:.1}°, {:.2}% < 10°), aspect mean {:.2} max {:.1}, {} degenerate",
             q.min_angle_degrees,
@@ -107,8 +125,13 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) {
             q.degenerate
         );
     }
-    for (label, t) in [("original", &r.topology.original), ("simplified", &r.topology.simplified)] {
-        let genus = t.genus.map_or_else(|| "undefined".to_string(), |g| g.to_string());
+    for (label, t) in [
+        ("original", &r.topology.original),
+        ("simplified", &r.topology.simplified),
+    ] {
+        let genus = t
+            .genus
+            .map_or_else(|| "undefined".to_string(), |g| g.to_string());
         println!(
             "topology {label:<12} genus {genus}, {} components, {} boundary loops, {} non-manifold edges, {} non-manifold vertices",
             t.components, t.boundary_loops, t.non_manifold_edges, t.non_manifold_vertices

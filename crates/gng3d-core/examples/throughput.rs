@@ -9,8 +9,18 @@ use std::time::Instant;
 /// User + system CPU seconds of this process (Linux), 0 elsewhere.
 fn cpu_seconds() -> f64 {
     let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
-    let ticks = |i: usize| fields.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    let fields: Vec<&str> = stat
+        .rsplit(')')
+        .next()
+        .unwrap_or("")
+        .split_whitespace()
+        .collect();
+    let ticks = |i: usize| {
+        fields
+            .get(i)
+            .and_then(|v| v.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
     (ticks(11) + ticks(12)) / 100.0
 }
 
@@ -30,13 +40,17 @@ fn main() {
     if args.get(3).map(String::as_str) == Some("linear") {
         t.set_search_strategy(SearchStrategy::LinearScan);
     }
+    let before = t.stats();
     let (w0, c0) = (Instant::now(), cpu_seconds());
     t.step(signals);
     let (w, c) = (w0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     println!(
-        "{nodes} nodes: {signals} signals, wall {w:.3} s ({:.2} M/s), cpu {c:.3} s ({:.2} M/s), edges {}",
+        "{nodes} nodes: {signals} signals, wall {w:.3} s ({:.2} M/s), cpu {c:.3} s ({:.2} M/s), edges {}, insertions {}, removed inactive {} isolated {}",
         signals as f64 / w / 1e6,
         signals as f64 / c.max(1e-9) / 1e6,
-        t.edge_count()
+        t.edge_count(),
+        t.stats().insertions - before.insertions,
+        t.stats().removed_inactive - before.removed_inactive,
+        t.stats().removed_isolated - before.removed_isolated,
     );
 }

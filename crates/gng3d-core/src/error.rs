@@ -11,7 +11,8 @@ pub enum GngError {
         /// Distinct referenced vertices found.
         vertices: usize,
     },
-    /// The target vertex count is below 3 or above the number of distinct input vertices.
+    /// The target vertex count is below 3, or above the number of distinct input vertices when
+    /// signals are drawn from the vertices.
     #[error(
         "target of {target} vertices is out of range: it must be between 3 and the {available} distinct input vertices"
     )]

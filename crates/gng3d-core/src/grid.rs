@@ -101,6 +101,23 @@ impl Grid {
         self.head.len()
     }
 
+    /// Cell of node `slot` (`NONE` when absent).
+    pub fn cell_of(&self, slot: u32) -> u32 {
+        self.cell_of.get(slot as usize).copied().unwrap_or(NONE)
+    }
+
+    /// Drop every node and size the per-slot arrays for `slots` slots.
+    pub fn clear(&mut self, slots: usize) {
+        self.head.iter_mut().for_each(|h| *h = NONE);
+        self.next.clear();
+        self.prev.clear();
+        self.cell_of.clear();
+        self.next.resize(slots, NONE);
+        self.prev.resize(slots, NONE);
+        self.cell_of.resize(slots, NONE);
+        self.len = 0;
+    }
+
     /// Number of nodes stored.
     pub fn len(&self) -> usize {
         self.len
@@ -254,7 +271,65 @@ impl Grid {
             if best.second_d2 <= border * border {
                 return best;
             }
+            if best.second_d2.is_finite() {
+                // Both candidates known: the true answers lie within their radius, so visit the
+                // remaining cells that the sphere touches, pruned by their distance to q.
+                self.scan_sphere_rest(b, k, q, positions, &mut best);
+                return best;
+            }
             k += 1;
+        }
+    }
+
+    /// Visit cells outside block `k` that intersect the sphere of radius sqrt(second_d2) about
+    /// `q`, skipping cells farther than the (shrinking) second-best distance.
+    #[inline(always)]
+    fn scan_sphere_rest(
+        &self,
+        b: [i32; 3],
+        k: i32,
+        q: Vec3,
+        positions: &[Vec3],
+        best: &mut Nearest2,
+    ) {
+        let r = best.second_d2.sqrt();
+        let u = (q - self.origin) * self.inv_cell;
+        let range = |a: usize| {
+            let lo = ((u[a] - r * self.inv_cell).floor() as i32).clamp(0, self.dims[a] - 1);
+            let hi = ((u[a] + r * self.inv_cell).floor() as i32).clamp(0, self.dims[a] - 1);
+            (lo, hi)
+        };
+        // Squared distance from q to the slab of cell index i along axis a.
+        let gap = |a: usize, i: i32| {
+            let lo = self.origin[a] + i as f32 * self.cell;
+            let d = (lo - q[a]).max(q[a] - (lo + self.cell)).max(0.0);
+            d * d
+        };
+        let inside = |a: usize, v: i32| v >= b[a] - (k - 1) && v <= b[a] + k;
+        let (x0, x1) = range(0);
+        let (y0, y1) = range(1);
+        let (z0, z1) = range(2);
+        for z in z0..=z1 {
+            let gz = gap(2, z);
+            if gz >= best.second_d2 {
+                continue;
+            }
+            for y in y0..=y1 {
+                let gy = gz + gap(1, y);
+                if gy >= best.second_d2 {
+                    continue;
+                }
+                let yz_inside = inside(2, z) && inside(1, y);
+                let row = ((z * self.dims[1] + y) * self.dims[0]) as usize;
+                for x in x0..=x1 {
+                    if yz_inside && inside(0, x) {
+                        continue;
+                    }
+                    if gy + gap(0, x) < best.second_d2 {
+                        self.scan_cell(row + x as usize, q, positions, best);
+                    }
+                }
+            }
         }
     }
 
@@ -270,7 +345,7 @@ impl Grid {
     ) {
         let lo = |a: usize| (b[a] - (k - 1)).max(0);
         let hi = |a: usize| (b[a] + k).min(self.dims[a] - 1);
-        let inner = |a: usize, v: i32| k > 1 && v >= b[a] - (k - 2) && v <= b[a] + k - 1;
+        let inner = |a: usize, v: i32| k > 1 && v >= b[a] - (k - 2) && v < b[a] + k;
         let (x0, x1) = (lo(0), hi(0));
         let (xa, xb) = (b[0] - (k - 1), b[0] + k);
         for z in lo(2)..=hi(2) {

@@ -313,6 +313,55 @@ impl Network {
         self.err.iter().position(|&e| e == m).map(|i| i as u32)
     }
 
+    /// Renumber live nodes in grid-cell order so nodes near each other in space are near each
+    /// other in memory (fewer cache misses in the search); frees all dead slots. No-op without
+    /// a grid.
+    pub fn renumber_by_cell(&mut self) {
+        let Some(grid) = &self.grid else {
+            return;
+        };
+        let mut order: Vec<(u32, u32)> = self.live_slots().map(|s| (grid.cell_of(s), s)).collect();
+        order.sort_unstable();
+        let mut new_of = vec![NONE; self.pos.len()];
+        for (i, &(_, s)) in order.iter().enumerate() {
+            new_of[s as usize] = i as u32;
+        }
+        let n = order.len();
+        let mut pos = Vec::with_capacity(self.pos.capacity());
+        let mut err = Vec::with_capacity(self.err.capacity());
+        let mut wins = Vec::with_capacity(self.wins.capacity());
+        let mut last_win = Vec::with_capacity(self.last_win.capacity());
+        let mut degree = Vec::with_capacity(self.degree.capacity());
+        let mut adj = Vec::with_capacity(self.adj.capacity());
+        for &(_, s) in &order {
+            let s = s as usize;
+            pos.push(self.pos[s]);
+            err.push(self.err[s]);
+            wins.push(self.wins[s]);
+            last_win.push(self.last_win[s]);
+            degree.push(self.degree[s]);
+            let mut a = self.adj[s];
+            for nb in &mut a.nb[..self.degree[s] as usize] {
+                *nb = new_of[*nb as usize];
+            }
+            adj.push(a);
+        }
+        self.pos = pos;
+        self.err = err;
+        self.wins = wins;
+        self.last_win = last_win;
+        self.degree = degree;
+        self.adj = adj;
+        self.alive = vec![true; n];
+        self.free.clear();
+        if let Some(g) = &mut self.grid {
+            g.clear(n);
+            for i in 0..n {
+                g.insert(i as u32, self.pos[i]);
+            }
+        }
+    }
+
     /// Live slots.
     pub fn live_slots(&self) -> impl Iterator<Item = u32> + '_ {
         self.alive

@@ -76,7 +76,7 @@ impl Default for ReconstructionParams {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GngParams {
     /// Target node (= output vertex) count N; insertion stops there and the count is held. At
-    /// least 3 and at most the number of distinct input vertices.
+    /// least 3; with [`SignalSource::Vertices`] at most the number of distinct input vertices.
     pub target_vertices: usize,
     /// λ: signals between insertions. `None` (default) picks
     /// `clamp(max_signals / (2 N), 1, 200)` so growth takes at most half of the signal budget.

@@ -140,7 +140,8 @@ pub fn make_cells_connected(original: &TriMesh, nodes: &[Vec3], labels: &mut [u3
     }
     let mut queue: std::collections::VecDeque<u32> = std::collections::VecDeque::new();
     for v in 0..n {
-        if !keep[v] && offset[v] != offset[v + 1] && neighbours(v).iter().any(|&w| keep[w as usize]) {
+        if !keep[v] && offset[v] != offset[v + 1] && neighbours(v).iter().any(|&w| keep[w as usize])
+        {
             queue.push_back(v as u32);
         }
     }
@@ -272,7 +273,10 @@ pub fn reconstruct(
         } else {
             [first[0], first[2], first[1]]
         };
-        faces.push(Candidate { tri, support: pos + neg });
+        faces.push(Candidate {
+            tri,
+            support: pos + neg,
+        });
     }
 
     if params.require_gng_edges {
@@ -280,7 +284,9 @@ pub fn reconstruct(
         let before = faces.len();
         faces.retain(|c| {
             let [a, b, d] = c.tri;
-            set.contains(&edge_key(a, b)) && set.contains(&edge_key(b, d)) && set.contains(&edge_key(d, a))
+            set.contains(&edge_key(a, b))
+                && set.contains(&edge_key(b, d))
+                && set.contains(&edge_key(d, a))
         });
         report.non_gng_faces = before - faces.len();
     }
@@ -576,7 +582,11 @@ fn project(
     node_of_vertex: &[u32],
     positions: &mut [Vec3],
 ) -> usize {
-    let node_count = node_of_vertex.iter().map(|&n| n as usize + 1).max().unwrap_or(0);
+    let node_count = node_of_vertex
+        .iter()
+        .map(|&n| n as usize + 1)
+        .max()
+        .unwrap_or(0);
     let mut out_of_node = vec![u32::MAX; node_count];
     for (o, &n) in node_of_vertex.iter().enumerate() {
         out_of_node[n as usize] = o as u32;
@@ -669,7 +679,12 @@ mod tests {
         let mut holed = m.clone();
         // Remove the faces around vertex 0: a hole bounded by its 1-ring (5 edges).
         holed.triangles.retain(|t| !t.contains(&0));
-        let r = reconstruct(&holed, &holed.positions, &[], &ReconstructionParams::default());
+        let r = reconstruct(
+            &holed,
+            &holed.positions,
+            &[],
+            &ReconstructionParams::default(),
+        );
         assert_eq!(r.report.holes_filled, 1);
         assert_eq!(r.report.fill_faces, 3);
         assert!(r.report.topology.closed && r.report.topology.manifold);

@@ -1,17 +1,17 @@
 //! Phase 1: the GNG3D training loop, step-wise ([`Trainer::step`]) or to completion with a
 //! progress observer ([`Trainer::train`]), plus snapshots and cancellation for viewers.
 
+use crate::ReconstructionParams;
 use crate::error::GngError;
 use crate::grid::{Grid, NONE, Nearest2};
 use crate::network::Network;
 use crate::params::{GngParams, SearchStrategy, SignalSource};
 use crate::reconstruct::{Reconstruction, reconstruct};
-use crate::ReconstructionParams;
 use glam::Vec3;
 use mesh::TriMesh;
 use rand::Rng;
-use rand_pcg::Pcg64Mcg;
 use rand::SeedableRng;
+use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
 use std::sync::Arc;
@@ -22,6 +22,8 @@ use std::time::{Duration, Instant};
 const GRID_MAX_NODES_PER_CELL: f64 = 0.5;
 /// Grid resolution: after a rebuild there are this many cells per node.
 const GRID_CELLS_PER_NODE: f64 = 4.0;
+/// Renumber nodes in grid order every this many times |A| signals.
+const RENUMBER_EVERY_EPOCHS: u64 = 16;
 /// Signals between checks of the clock and the cancellation flag.
 const CHECK_EVERY: u64 = 1024;
 /// Largest automatic λ.
@@ -158,6 +160,7 @@ pub struct Trainer {
     inv_decay: f64,
     signals: u64,
     next_insert: u64,
+    next_renumber: u64,
     window_start: u64,
     insertions: u64,
     removed_inactive: u64,
@@ -204,7 +207,8 @@ impl Trainer {
             });
         }
         let n = params.target_vertices;
-        if n < 3 || n > vertices.len() {
+        let vertex_bound = params.signal_source == SignalSource::Vertices;
+        if n < 3 || (vertex_bound && n > vertices.len()) {
             return Err(GngError::Target {
                 target: n,
                 available: vertices.len(),
@@ -283,6 +287,7 @@ impl Trainer {
             budget,
             signals: 0,
             next_insert: lambda,
+            next_renumber: 0,
             window_start: 0,
             insertions: 0,
             removed_inactive: 0,
@@ -356,8 +361,11 @@ impl Trainer {
                     let bbox = mesh::Aabb::from_points(&self.vertices);
                     let mut g = Grid::new(bbox.min, bbox.max, 1);
                     let cells = (self.net.live as f64 * GRID_CELLS_PER_NODE) as usize;
-                    let nodes: Vec<(u32, Vec3)> =
-                        self.net.live_slots().map(|s| (s, self.net.pos[s as usize])).collect();
+                    let nodes: Vec<(u32, Vec3)> = self
+                        .net
+                        .live_slots()
+                        .map(|s| (s, self.net.pos[s as usize]))
+                        .collect();
                     g.rebuild(cells, nodes.into_iter());
                     self.net.grid = Some(g);
                 }
@@ -441,7 +449,11 @@ impl Trainer {
     /// e_avg/e_max (squared model units) of the current nodes against the distinct original
     /// vertices.
     pub fn current_errors(&self) -> Option<metrics::VertexErrors> {
-        let nodes: Vec<Vec3> = self.net.live_slots().map(|s| self.net.pos[s as usize]).collect();
+        let nodes: Vec<Vec3> = self
+            .net
+            .live_slots()
+            .map(|s| self.net.pos[s as usize])
+            .collect();
         metrics::vertex_errors(&self.vertices, &nodes)
     }
 
@@ -508,6 +520,10 @@ impl Trainer {
                 net.decay(self.inv_decay);
             }
             self.signals += 1;
+            if GRID && self.signals >= self.next_renumber {
+                self.net.renumber_by_cell();
+                self.next_renumber = self.signals + RENUMBER_EVERY_EPOCHS * self.net.live as u64;
+            }
             if self.signals >= self.next_insert {
                 self.next_insert = self.signals + self.lambda;
                 if self.net.live < self.params.target_vertices {
@@ -562,10 +578,9 @@ impl Trainer {
         net.connect(r, f);
         self.insertions += 1;
         if let Some(g) = &mut net.grid
-            && net.live as f64 > std::env::var("GNG_NPC").ok().and_then(|v| v.parse().ok()).unwrap_or(GRID_MAX_NODES_PER_CELL) * g.cell_count() as f64
+            && net.live as f64 > GRID_MAX_NODES_PER_CELL * g.cell_count() as f64
         {
-            let cpn = std::env::var("GNG_CPN").ok().and_then(|v| v.parse().ok()).unwrap_or(GRID_CELLS_PER_NODE);
-            let cells = (net.live as f64 * cpn) as usize;
+            let cells = (net.live as f64 * GRID_CELLS_PER_NODE) as usize;
             let nodes: Vec<(u32, Vec3)> = net
                 .alive
                 .iter()
@@ -575,6 +590,7 @@ impl Trainer {
                 .collect();
             g.rebuild(cells, nodes.into_iter());
             debug_assert_eq!(g.len(), net.live);
+            net.renumber_by_cell();
         }
     }
 

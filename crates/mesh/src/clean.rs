@@ -107,39 +107,74 @@ pub fn remove_unreferenced(mesh: &TriMesh) -> TriMesh {
 
 /// Drop faces with a repeated vertex index and faces whose vertex set equals an earlier face's
 /// (in any rotation or orientation; the first one in file order is kept). Vertices are
-/// untouched. O(F log F).
+/// untouched. See [`drop_degenerate_and_duplicate_faces_in_place`] for the cost.
 pub fn drop_degenerate_and_duplicate_faces(mesh: &TriMesh) -> (TriMesh, DroppedFaces) {
+    let mut out = mesh.clone();
+    let dropped = drop_degenerate_and_duplicate_faces_in_place(&mut out);
+    (out, dropped)
+}
+
+/// [`drop_degenerate_and_duplicate_faces`] on `mesh` itself, without copying it. Faces are
+/// grouped by their smallest vertex with a counting sort and only those small groups are
+/// sorted, so this is O(F + V) apart from the per-group sorts.
+pub fn drop_degenerate_and_duplicate_faces_in_place(mesh: &mut TriMesh) -> DroppedFaces {
     let mut dropped = DroppedFaces::default();
-    let mut keep = vec![true; mesh.triangles.len()];
-    let mut keyed: Vec<([u32; 3], u32)> = Vec::with_capacity(mesh.triangles.len());
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-            keep[f] = false;
-            dropped.degenerate += 1;
-        } else {
-            let mut k = *t;
-            k.sort_unstable();
-            keyed.push((k, f as u32));
-        }
-    }
-    keyed.sort_unstable();
-    for w in keyed.windows(2) {
-        if w[0].0 == w[1].0 {
-            keep[w[1].1 as usize] = false;
-            dropped.duplicate += 1;
-        }
-    }
-    if dropped.degenerate + dropped.duplicate == 0 {
-        return (mesh.clone(), dropped);
-    }
-    let triangles = mesh
+    let n = mesh
         .triangles
         .iter()
-        .zip(&keep)
-        .filter(|(_, k)| **k)
-        .map(|(t, _)| *t)
-        .collect();
-    (TriMesh::new(mesh.positions.clone(), triangles), dropped)
+        .flatten()
+        .max()
+        .map_or(0, |&m| m as usize + 1);
+    let is_degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+    // group_start[v]..group_start[v + 1]: non-degenerate faces whose smallest vertex is v.
+    let mut group_start = vec![0u32; n + 1];
+    for t in &mesh.triangles {
+        if !is_degenerate(t) {
+            group_start[*t.iter().min().unwrap_or(&0) as usize + 1] += 1;
+        }
+    }
+    for v in 0..n {
+        group_start[v + 1] += group_start[v];
+    }
+    // Each face packed as (middle << 64) | (largest << 32) | face: sorting a group orders it
+    // by vertex set, and by file order within equal sets.
+    let mut packed = vec![0u128; group_start[n] as usize];
+    let mut fill: Vec<u32> = group_start[..n].to_vec();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        if is_degenerate(t) {
+            dropped.degenerate += 1;
+            continue;
+        }
+        let mut k = *t;
+        k.sort_unstable();
+        let slot = &mut fill[k[0] as usize];
+        packed[*slot as usize] = ((k[1] as u128) << 64) | ((k[2] as u128) << 32) | f as u128;
+        *slot += 1;
+    }
+    drop(fill);
+    if dropped.degenerate == 0 && packed.is_empty() {
+        return dropped;
+    }
+    let mut keep = vec![true; mesh.triangles.len()];
+    for v in 0..n {
+        let group = &mut packed[group_start[v] as usize..group_start[v + 1] as usize];
+        if group.len() < 2 {
+            continue;
+        }
+        group.sort_unstable();
+        for w in group.windows(2) {
+            if w[0] >> 32 == w[1] >> 32 {
+                keep[w[1] as u32 as usize] = false;
+                dropped.duplicate += 1;
+            }
+        }
+    }
+    if dropped.degenerate + dropped.duplicate > 0 {
+        let mut faces = keep.iter();
+        mesh.triangles
+            .retain(|t| *faces.next().unwrap_or(&false) && !is_degenerate(t));
+    }
+    dropped
 }
 
 /// Weld exact duplicates, drop degenerate and duplicate faces, remove unreferenced vertices.
@@ -163,6 +198,60 @@ pub fn prepare(mesh: &TriMesh) -> (TriMesh, CleanReport) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    /// The previous whole-list sort implementation, kept as an independent check.
+    /// Drop faces with a repeated vertex index and faces whose vertex set equals an earlier face's
+    /// (in any rotation or orientation; the first one in file order is kept). Vertices are
+    /// untouched. O(F log F).
+    fn reference_drop_faces(mesh: &TriMesh) -> (TriMesh, DroppedFaces) {
+        let mut dropped = DroppedFaces::default();
+        let mut keep = vec![true; mesh.triangles.len()];
+        let mut keyed: Vec<([u32; 3], u32)> = Vec::with_capacity(mesh.triangles.len());
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                keep[f] = false;
+                dropped.degenerate += 1;
+            } else {
+                let mut k = *t;
+                k.sort_unstable();
+                keyed.push((k, f as u32));
+            }
+        }
+        keyed.sort_unstable();
+        for w in keyed.windows(2) {
+            if w[0].0 == w[1].0 {
+                keep[w[1].1 as usize] = false;
+                dropped.duplicate += 1;
+            }
+        }
+        if dropped.degenerate + dropped.duplicate == 0 {
+            return (mesh.clone(), dropped);
+        }
+        let triangles = mesh
+            .triangles
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(t, _)| *t)
+            .collect();
+        (TriMesh::new(mesh.positions.clone(), triangles), dropped)
+    }
+
+    #[test]
+    fn face_dropping_matches_the_sort_based_reference() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+        for case in 0..300 {
+            let vertices = rng.random_range(3..30u32);
+            let faces = rng.random_range(0..120);
+            let triangles = (0..faces)
+                .map(|_| std::array::from_fn(|_| rng.random_range(0..vertices)))
+                .collect();
+            let m = TriMesh::new(vec![Vec3::ZERO; vertices as usize], triangles);
+            let (a, da) = drop_degenerate_and_duplicate_faces(&m);
+            let (b, db) = reference_drop_faces(&m);
+            assert_eq!((a.triangles, da), (b.triangles, db), "case {case}");
+        }
+    }
     use crate::procedural::icosphere;
 
     /// An icosphere whose faces are given their own copies of the corner positions.

@@ -392,8 +392,9 @@ pub fn sample_stratified(
     if params.edges != EdgeSampling::None {
         let edges = unique_edges(mesh);
         let length = |e: &Edge| {
-            (mesh.positions[e.v[1] as usize].as_dvec3() - mesh.positions[e.v[0] as usize].as_dvec3())
-                .length()
+            (mesh.positions[e.v[1] as usize].as_dvec3()
+                - mesh.positions[e.v[0] as usize].as_dvec3())
+            .length()
         };
         let total_length: f64 = edges.iter().map(length).sum();
         if total_length > 0.0 {
@@ -565,7 +566,10 @@ mod tests {
     #[test]
     fn degenerate_and_bad_meshes_give_errors_not_panics() {
         let flat = TriMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0], vec![[0, 1, 2]]);
-        assert_eq!(AreaSampler::new(&flat).unwrap_err(), SamplingError::ZeroArea);
+        assert_eq!(
+            AreaSampler::new(&flat).unwrap_err(),
+            SamplingError::ZeroArea
+        );
         assert!(sample_surface(&flat, 10, 1).is_empty());
         let bad = TriMesh::new(vec![Vec3::ZERO, Vec3::X], vec![[0, 1, 5]]);
         assert!(matches!(
@@ -615,7 +619,10 @@ mod tests {
         let density = s.face_count as f64 / mesh.area();
         for (f, &n) in per_face.iter().enumerate() {
             let expected = mesh.triangle_area(f) * density;
-            assert!((n as f64 - expected).abs() < 1.0 + 1e-9, "face {f}: {n} vs {expected}");
+            assert!(
+                (n as f64 - expected).abs() < 1.0 + 1e-9,
+                "face {f}: {n} vs {expected}"
+            );
         }
         let again = sample_stratified(&mesh, &params, 3).unwrap();
         assert_eq!(s, again);
@@ -645,7 +652,11 @@ mod tests {
         // One triangle, 16 samples: a 4x4 lattice whose centroid is the triangle's centroid and
         // whose points are all distinct and inside.
         let mesh = TriMesh::new(
-            vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 3.0, 0.0)],
+            vec![
+                Vec3::ZERO,
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(0.0, 3.0, 0.0),
+            ],
             vec![[0, 1, 2]],
         );
         let params = StratifiedParams {

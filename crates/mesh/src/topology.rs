@@ -7,7 +7,8 @@
 //! forming more than one edge-connected fan; χ = V_referenced − E + F; genus is
 //! `(2C − χ' − b) / 2` with χ' computed after splitting every vertex into its fans and C the
 //! number of components of that split surface (faces connected through shared edges).
-//! Everything is sort-based, O(F log F).
+//! Edges are grouped by a counting sort on their smaller endpoint, so the analysis is O(F + V)
+//! apart from sorting the half-edges around each vertex.
 
 use crate::TriMesh;
 use serde::{Deserialize, Serialize};
@@ -26,6 +27,14 @@ impl UnionFind {
             parent: (0..n as u32).collect(),
             size: vec![1; n],
         }
+    }
+
+    /// Make this `n` singleton sets again, reusing the storage.
+    pub fn reset(&mut self, n: usize) {
+        self.parent.clear();
+        self.parent.extend(0..n as u32);
+        self.size.clear();
+        self.size.resize(n, 1);
     }
 
     /// Representative of `x`'s set.
@@ -60,7 +69,7 @@ impl UnionFind {
 /// Edge `e` joins `edges[e] = [a, b]` with `a < b`; edges are sorted. The faces around edge `e`
 /// are `corners(e)` / 3, and `face_edges[f][i]` is the edge from corner `i` to corner `(i+1)%3`
 /// of face `f`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct EdgeTable {
     /// Endpoints of each unique edge, smaller index first, sorted.
     pub edges: Vec<[u32; 2]>,
@@ -73,32 +82,59 @@ pub struct EdgeTable {
 }
 
 impl EdgeTable {
-    /// Build the table by sorting the 3F half-edges. O(F log F).
+    /// Build the table from the 3F half-edges: a counting sort by the smaller endpoint, then a
+    /// sort of each (small) bucket by the larger endpoint. O(F + V) plus the bucket sorts;
+    /// no allocation per edge. Vertex indices beyond the largest used one cost nothing.
     pub fn new(mesh: &TriMesh) -> EdgeTable {
         let f = mesh.triangles.len();
-        let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * f);
+        let n = mesh
+            .triangles
+            .iter()
+            .flatten()
+            .max()
+            .map_or(0, |&m| m as usize + 1);
+        // bucket_start[v]..bucket_start[v + 1]: half-edges whose smaller endpoint is v.
+        let mut bucket_start = vec![0u32; n + 1];
+        for t in &mesh.triangles {
+            for i in 0..3 {
+                bucket_start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
+            }
+        }
+        for v in 0..n {
+            bucket_start[v + 1] += bucket_start[v];
+        }
+        // Each half-edge packed as (larger endpoint << 32) | half-edge id, so sorting a bucket
+        // orders it by edge, and by half-edge id within an edge.
+        let mut packed = vec![0u64; 3 * f];
+        let mut fill: Vec<u32> = bucket_start[..n].to_vec();
         for (fi, t) in mesh.triangles.iter().enumerate() {
             for i in 0..3 {
                 let (a, b) = (t[i], t[(i + 1) % 3]);
-                let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
-                half.push((key, (3 * fi + i) as u32));
+                let slot = &mut fill[a.min(b) as usize];
+                packed[*slot as usize] = ((a.max(b) as u64) << 32) | (3 * fi + i) as u64;
+                *slot += 1;
             }
         }
-        half.sort_unstable();
+        drop(fill);
         let mut edges = Vec::with_capacity(3 * f / 2 + 1);
         let mut offsets = Vec::with_capacity(3 * f / 2 + 2);
         let mut edge_corners = Vec::with_capacity(3 * f);
         let mut face_edges = vec![[0u32; 3]; f];
-        let mut last = u64::MAX;
-        for &(key, corner) in &half {
-            if key != last {
-                offsets.push(edge_corners.len() as u32);
-                edges.push([(key >> 32) as u32, key as u32]);
-                last = key;
+        for v in 0..n {
+            let bucket = &mut packed[bucket_start[v] as usize..bucket_start[v + 1] as usize];
+            bucket.sort_unstable();
+            let mut last = u32::MAX;
+            for &p in bucket.iter() {
+                let (other, corner) = ((p >> 32) as u32, p as u32);
+                if other != last {
+                    offsets.push(edge_corners.len() as u32);
+                    edges.push([v as u32, other]);
+                    last = other;
+                }
+                let e = (edges.len() - 1) as u32;
+                face_edges[corner as usize / 3][corner as usize % 3] = e;
+                edge_corners.push(corner);
             }
-            let e = (edges.len() - 1) as u32;
-            face_edges[corner as usize / 3][corner as usize % 3] = e;
-            edge_corners.push(corner);
         }
         offsets.push(edge_corners.len() as u32);
         EdgeTable {
@@ -176,6 +212,9 @@ pub struct TopologyReport {
     pub manifold: bool,
 }
 
+/// Marker for "no edge" in per-corner edge pairs.
+const NO_EDGE: u32 = u32::MAX;
+
 /// Compute the [`TopologyReport`] of `mesh`. Faces must index valid vertices.
 pub fn analyze(mesh: &TriMesh) -> TopologyReport {
     analyze_with(mesh, &EdgeTable::new(mesh))
@@ -185,26 +224,85 @@ pub fn analyze(mesh: &TriMesh) -> TopologyReport {
 pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
     let v = mesh.positions.len();
     let f = mesh.triangles.len();
-    let mut referenced = vec![false; v];
+    // For each vertex, the corners at it (counting sort, ascending corner id), each stored as
+    // the two edges meeting there: side `i` and side `i - 1` of its face. A corner repeating
+    // its face's vertex (degenerate face) gets no edges and so forms a fan of its own.
+    let mut corner_start = vec![0u32; v + 1];
     for t in &mesh.triangles {
         for &i in t {
-            referenced[i as usize] = true;
+            corner_start[i as usize + 1] += 1;
         }
     }
-    let referenced_vertices = referenced.iter().filter(|&&r| r).count();
+    let referenced_vertices = corner_start[1..].iter().filter(|&&n| n > 0).count();
+    for i in 0..v {
+        corner_start[i + 1] += corner_start[i];
+    }
+    let mut corner_edges = vec![[NO_EDGE; 2]; 3 * f];
+    let mut fill: Vec<u32> = corner_start[..v].to_vec();
+    for (t, sides) in mesh.triangles.iter().zip(&table.face_edges) {
+        for i in 0..3 {
+            let slot = &mut fill[t[i] as usize];
+            if !t[..i].contains(&t[i]) {
+                corner_edges[*slot as usize] = [sides[i], sides[(i + 2) % 3]];
+            }
+            *slot += 1;
+        }
+    }
+    drop(fill);
 
+    // Fans: around each vertex, its corners joined through the edges they share, found with a
+    // small union-find local to the vertex (pairwise scan; sorting for high valence).
+    let mut fans_total = 0i64;
+    let mut non_manifold_vertices = 0;
+    let mut local = UnionFind::new(0);
+    let mut edge_and_corner: Vec<u64> = Vec::new();
+    for vertex in 0..v {
+        let corners =
+            &corner_edges[corner_start[vertex] as usize..corner_start[vertex + 1] as usize];
+        let k = corners.len();
+        if k == 0 {
+            continue;
+        }
+        local.reset(k);
+        let mut fans = k;
+        if k <= 32 {
+            for (j, a) in corners.iter().enumerate() {
+                if a[0] == NO_EDGE {
+                    continue;
+                }
+                for (l, b) in corners.iter().enumerate().skip(j + 1) {
+                    let shared = a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
+                    if shared && b[0] != NO_EDGE && local.union(j as u32, l as u32) {
+                        fans -= 1;
+                    }
+                }
+            }
+        } else {
+            edge_and_corner.clear();
+            for (j, sides) in corners.iter().enumerate() {
+                if sides[0] != NO_EDGE {
+                    edge_and_corner.extend(sides.iter().map(|&e| ((e as u64) << 32) | j as u64));
+                }
+            }
+            edge_and_corner.sort_unstable();
+            for w in edge_and_corner.windows(2) {
+                if w[0] >> 32 == w[1] >> 32 && local.union(w[0] as u32, w[1] as u32) {
+                    fans -= 1;
+                }
+            }
+        }
+        fans_total += fans as i64;
+        non_manifold_vertices += usize::from(fans > 1);
+    }
     let mut boundary_edges = 0;
     let mut non_manifold_edges = 0;
     let mut boundary_graph = UnionFind::new(v);
     let mut on_boundary = vec![false; v];
-    let mut faces_uf = UnionFind::new(f);
-    // Corners 3*face+i; corners of the same vertex joined across shared edges form fans.
-    let mut fans_uf = UnionFind::new(3 * f);
-    let corner_of = |face: u32, vertex: u32| -> u32 {
-        let t = mesh.triangles[face as usize];
-        let i = t.iter().position(|&x| x == vertex).unwrap_or(0);
-        3 * face + i as u32
-    };
+    // Faces joined through edges. With one fan per vertex, all faces at a vertex are joined,
+    // so joining the two vertices of every edge (V elements rather than F) gives the same
+    // components; otherwise faces are joined directly.
+    let join_vertices = non_manifold_vertices == 0;
+    let mut joined = UnionFind::new(if join_vertices { v } else { f });
     for e in 0..table.len() {
         let corners = table.corners(e);
         match corners.len() {
@@ -218,28 +316,29 @@ pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
             2 => {}
             _ => non_manifold_edges += 1,
         }
-        let [a, b] = table.edges[e];
-        let first = corners[0] / 3;
-        for &c in &corners[1..] {
-            let face = c / 3;
-            faces_uf.union(first, face);
-            fans_uf.union(corner_of(first, a), corner_of(face, a));
-            fans_uf.union(corner_of(first, b), corner_of(face, b));
+        if join_vertices {
+            let [a, b] = table.edges[e];
+            joined.union(a, b);
+        } else {
+            let first = corners[0] / 3;
+            for &c in &corners[1..] {
+                joined.union(first, c / 3);
+            }
         }
     }
     let boundary_loops = (0..v as u32)
         .filter(|&i| on_boundary[i as usize] && boundary_graph.find(i) == i)
         .count();
-    let components = (0..f as u32).filter(|&i| faces_uf.find(i) == i).count();
-    let mut fans_at = vec![0u32; v];
-    let mut fans_total = 0i64;
-    for c in 0..3 * f as u32 {
-        if fans_uf.find(c) == c {
-            fans_total += 1;
-            fans_at[mesh.triangles[c as usize / 3][c as usize % 3] as usize] += 1;
-        }
-    }
-    let non_manifold_vertices = fans_at.iter().filter(|&&n| n > 1).count();
+    let components = if join_vertices {
+        (0..v as u32)
+            .filter(|&i| {
+                corner_start[i as usize + 1] > corner_start[i as usize] && joined.find(i) == i
+            })
+            .count()
+    } else {
+        (0..f as u32).filter(|&i| joined.find(i) == i).count()
+    };
+
     let edges = table.len() as i64;
     let euler = referenced_vertices as i64 - edges + f as i64;
     let euler_split = fans_total - edges + f as i64;
@@ -268,6 +367,125 @@ mod tests {
     use super::*;
     use crate::procedural::{icosphere, torus};
     use glam::Vec3;
+
+    /// Edge table by sorting all packed half-edge keys at once (the previous implementation).
+    fn reference_edge_table(mesh: &TriMesh) -> EdgeTable {
+        let f = mesh.triangles.len();
+        let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * f);
+        for (fi, t) in mesh.triangles.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
+                half.push((key, (3 * fi + i) as u32));
+            }
+        }
+        half.sort_unstable();
+        let mut edges = Vec::new();
+        let mut offsets = Vec::new();
+        let mut edge_corners = Vec::new();
+        let mut face_edges = vec![[0u32; 3]; f];
+        let mut last = u64::MAX;
+        for &(key, corner) in &half {
+            if key != last {
+                offsets.push(edge_corners.len() as u32);
+                edges.push([(key >> 32) as u32, key as u32]);
+                last = key;
+            }
+            let e = (edges.len() - 1) as u32;
+            face_edges[corner as usize / 3][corner as usize % 3] = e;
+            edge_corners.push(corner);
+        }
+        offsets.push(edge_corners.len() as u32);
+        EdgeTable {
+            edges,
+            offsets,
+            edge_corners,
+            face_edges,
+        }
+    }
+
+    /// The previous global corner union-find implementation, kept as an independent check.
+    fn reference_analyze(mesh: &TriMesh) -> TopologyReport {
+        let table = &reference_edge_table(mesh);
+        let v = mesh.positions.len();
+        let f = mesh.triangles.len();
+        let mut referenced = vec![false; v];
+        for t in &mesh.triangles {
+            for &i in t {
+                referenced[i as usize] = true;
+            }
+        }
+        let referenced_vertices = referenced.iter().filter(|&&r| r).count();
+
+        let mut boundary_edges = 0;
+        let mut non_manifold_edges = 0;
+        let mut boundary_graph = UnionFind::new(v);
+        let mut on_boundary = vec![false; v];
+        let mut faces_uf = UnionFind::new(f);
+        // Corners 3*face+i; corners of the same vertex joined across shared edges form fans.
+        let mut fans_uf = UnionFind::new(3 * f);
+        let corner_of = |face: u32, vertex: u32| -> u32 {
+            let t = mesh.triangles[face as usize];
+            let i = t.iter().position(|&x| x == vertex).unwrap_or(0);
+            3 * face + i as u32
+        };
+        for e in 0..table.len() {
+            let corners = table.corners(e);
+            match corners.len() {
+                1 => {
+                    boundary_edges += 1;
+                    let [a, b] = table.edges[e];
+                    boundary_graph.union(a, b);
+                    on_boundary[a as usize] = true;
+                    on_boundary[b as usize] = true;
+                }
+                2 => {}
+                _ => non_manifold_edges += 1,
+            }
+            let [a, b] = table.edges[e];
+            let first = corners[0] / 3;
+            for &c in &corners[1..] {
+                let face = c / 3;
+                faces_uf.union(first, face);
+                fans_uf.union(corner_of(first, a), corner_of(face, a));
+                fans_uf.union(corner_of(first, b), corner_of(face, b));
+            }
+        }
+        let boundary_loops = (0..v as u32)
+            .filter(|&i| on_boundary[i as usize] && boundary_graph.find(i) == i)
+            .count();
+        let components = (0..f as u32).filter(|&i| faces_uf.find(i) == i).count();
+        let mut fans_at = vec![0u32; v];
+        let mut fans_total = 0i64;
+        for c in 0..3 * f as u32 {
+            if fans_uf.find(c) == c {
+                fans_total += 1;
+                fans_at[mesh.triangles[c as usize / 3][c as usize % 3] as usize] += 1;
+            }
+        }
+        let non_manifold_vertices = fans_at.iter().filter(|&&n| n > 1).count();
+        let edges = table.len() as i64;
+        let euler = referenced_vertices as i64 - edges + f as i64;
+        let euler_split = fans_total - edges + f as i64;
+        let twice_genus = 2 * components as i64 - euler_split - boundary_loops as i64;
+        let genus = (non_manifold_edges == 0 && twice_genus % 2 == 0).then_some(twice_genus / 2);
+        TopologyReport {
+            vertices: v,
+            referenced_vertices,
+            faces: f,
+            edges: table.len(),
+            boundary_edges,
+            boundary_loops,
+            non_manifold_edges,
+            non_manifold_vertices,
+            components,
+            euler_characteristic: euler,
+            euler_characteristic_split: euler_split,
+            genus,
+            closed: boundary_edges == 0,
+            manifold: non_manifold_edges == 0 && non_manifold_vertices == 0,
+        }
+    }
 
     #[test]
     fn icosphere_is_closed_genus_zero() {
@@ -342,6 +560,43 @@ mod tests {
                 let (a, b) = (tri[i].min(tri[(i + 1) % 3]), tri[i].max(tri[(i + 1) % 3]));
                 assert_eq!(t.edges[fe[i] as usize], [a, b]);
             }
+        }
+    }
+
+    /// Random soups over few vertices: many shared, non-manifold and degenerate faces.
+    fn random_soup(seed: u64, vertices: u32, faces: usize) -> TriMesh {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        let positions = (0..vertices).map(|i| Vec3::splat(i as f32)).collect();
+        let triangles = (0..faces)
+            .map(|_| std::array::from_fn(|_| rng.random_range(0..vertices)))
+            .collect();
+        TriMesh::new(positions, triangles)
+    }
+
+    #[test]
+    fn matches_the_sort_based_reference() {
+        let mut meshes = vec![
+            TriMesh::default(),
+            icosphere(3),
+            torus(1.0, 0.3, 24, 12),
+            crate::procedural::blob(),
+        ];
+        // Two disjoint spheres, one of them with a face removed (manifold, two components).
+        let sphere = icosphere(2);
+        let n = sphere.positions.len() as u32;
+        let mut positions = sphere.positions.clone();
+        positions.extend(sphere.positions.iter().map(|p| *p + Vec3::X * 3.0));
+        let mut triangles = sphere.triangles.clone();
+        triangles.extend(sphere.triangles[1..].iter().map(|t| t.map(|i| i + n)));
+        meshes.push(TriMesh::new(positions, triangles));
+        for seed in 0..200 {
+            let vertices = 3 + (seed % 40) as u32;
+            meshes.push(random_soup(seed, vertices, 1 + (seed as usize * 7) % 90));
+        }
+        for (k, m) in meshes.iter().enumerate() {
+            assert_eq!(EdgeTable::new(m), reference_edge_table(m), "mesh {k}");
+            assert_eq!(analyze(m), reference_analyze(m), "mesh {k}");
         }
     }
 }

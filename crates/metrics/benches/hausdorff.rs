@@ -32,7 +32,9 @@ fn meshes_dir() -> Option<PathBuf> {
 
 /// igea and its QEM simplification (also written to a temporary OBJ for the MeshLab peer).
 fn inputs(dir: &Path) -> (TriMesh, TriMesh) {
-    let original = mesh::io::load(&dir.join("igea.ply")).expect("load igea.ply").mesh;
+    let original = mesh::io::load(&dir.join("igea.ply"))
+        .expect("load igea.ply")
+        .mesh;
     let params = qem::QemParams::with_target(qem::Target::Faces(TARGET_FACES));
     let (simplified, _) = qem::simplify(&original, &params).expect("qem simplify");
     (original, simplified)
@@ -40,7 +42,12 @@ fn inputs(dir: &Path) -> (TriMesh, TriMesh) {
 
 /// Times pymeshlab's symmetric Hausdorff distance (both one-sided calls) on the same meshes and
 /// sample counts; returns seconds per symmetric evaluation (best of `runs`).
-fn meshlab_seconds(python: &Path, original: &Path, simplified: &Path, per_kind: [usize; 2]) -> Option<f64> {
+fn meshlab_seconds(
+    python: &Path,
+    original: &Path,
+    simplified: &Path,
+    per_kind: [usize; 2],
+) -> Option<f64> {
     let script = format!(
         r#"
 import time, pymeshlab
@@ -61,13 +68,20 @@ print(best, f["n_samples"], b["n_samples"], f["max"], b["max"])
         n0 = per_kind[0],
         n1 = per_kind[1],
     );
-    let out = std::process::Command::new(python).arg("-c").arg(script).output().ok()?;
+    let out = std::process::Command::new(python)
+        .arg("-c")
+        .arg(script)
+        .output()
+        .ok()?;
     if !out.status.success() {
         eprintln!("pymeshlab failed: {}", String::from_utf8_lossy(&out.stderr));
         return None;
     }
     let text = String::from_utf8_lossy(&out.stdout);
-    eprintln!("pymeshlab (best of 3): seconds, n_fwd, n_bwd, max_fwd, max_bwd = {}", text.trim());
+    eprintln!(
+        "pymeshlab (best of 3): seconds, n_fwd, n_bwd, max_fwd, max_bwd = {}",
+        text.trim()
+    );
     text.split_whitespace().next()?.parse().ok()
 }
 
@@ -86,11 +100,18 @@ fn bench(c: &mut Criterion) {
     let h = hausdorff(&original, &simplified, &params).unwrap();
     eprintln!(
         "forward max {:.3e} mean {:.3e} ({} samples); backward max {:.3e} mean {:.3e} ({} samples)",
-        h.forward.max, h.forward.mean, h.forward.samples, h.backward.max, h.backward.mean, h.backward.samples
+        h.forward.max,
+        h.forward.mean,
+        h.forward.samples,
+        h.backward.max,
+        h.backward.mean,
+        h.backward.samples
     );
 
     let mut group = c.benchmark_group("hausdorff");
-    group.sample_size(10).measurement_time(Duration::from_secs(20));
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
     group.bench_function("igea_vs_27k_1M_samples_symmetric", |b| {
         b.iter(|| hausdorff(black_box(&original), black_box(&simplified), &params).unwrap())
     });
@@ -98,7 +119,10 @@ fn bench(c: &mut Criterion) {
         b.iter(|| SurfaceDistanceIndex::new(black_box(&original)).unwrap())
     });
     group.bench_function("sample_igea_1M", |b| {
-        let plan = StratifiedParams { total: SAMPLES, ..Default::default() };
+        let plan = StratifiedParams {
+            total: SAMPLES,
+            ..Default::default()
+        };
         b.iter(|| sample_stratified(black_box(&original), &plan, 1).unwrap())
     });
     group.finish();
@@ -113,7 +137,9 @@ fn bench(c: &mut Criterion) {
             (SAMPLES - h.forward.vertex_samples) / 2,
             (SAMPLES - h.backward.vertex_samples) / 2,
         ];
-        if let Some(peer) = meshlab_seconds(&python, &dir.join("igea.ply"), &simplified_path, per_kind) {
+        if let Some(peer) =
+            meshlab_seconds(&python, &dir.join("igea.ply"), &simplified_path, per_kind)
+        {
             let start = std::time::Instant::now();
             let runs = 5;
             for _ in 0..runs {

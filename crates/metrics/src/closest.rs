@@ -20,7 +20,9 @@ pub fn closest_point_segment(p: DVec3, a: DVec3, b: DVec3) -> DVec3 {
 pub fn is_degenerate(a: DVec3, b: DVec3, c: DVec3) -> bool {
     let (ab, ac) = (b - a, c - a);
     let cross = ab.cross(ac).length_squared();
-    !(cross > 1e-14 * ab.length_squared() * ac.length_squared())
+    // Written so that NaN inputs count as degenerate.
+    let threshold = 1e-14 * ab.length_squared() * ac.length_squared();
+    cross.partial_cmp(&threshold) != Some(std::cmp::Ordering::Greater)
 }
 
 /// Closest point to `p` on triangle `abc` (f64, exact up to rounding, any triangle shape).
@@ -33,7 +35,11 @@ pub fn closest_point_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
         ];
         return candidates
             .into_iter()
-            .min_by(|x, y| (p - *x).length_squared().total_cmp(&(p - *y).length_squared()))
+            .min_by(|x, y| {
+                (p - *x)
+                    .length_squared()
+                    .total_cmp(&(p - *y).length_squared())
+            })
             .unwrap_or(a);
     }
     let ab = b - a;
@@ -125,7 +131,7 @@ pub(crate) fn squared_distance_f32(p: Vec3A, t: &PackedTriangle) -> f32 {
         return (p - q).length_squared();
     }
     let denom = va + vb + vc;
-    if !(denom > 0.0) {
+    if denom.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         // Rounding made a thin sliver look flat: take the closest of the three edges.
         return squared_distance_segments_f32(p, t);
     }
@@ -321,7 +327,10 @@ mod tests {
                 ))
             .length();
             let fast = (squared_distance_f32(p.as_vec3a(), &t) as f64).sqrt();
-            assert!((fast - exact).abs() <= 2e-5 * (1.0 + exact), "{fast} vs {exact}");
+            assert!(
+                (fast - exact).abs() <= 2e-5 * (1.0 + exact),
+                "{fast} vs {exact}"
+            );
         }
     }
 }

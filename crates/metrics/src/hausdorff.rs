@@ -11,8 +11,8 @@
 //! Work is split into fixed-size chunks of samples, each chunk processed sequentially and the
 //! chunk results reduced in chunk order, so results are bit-identical for any thread count.
 
-use crate::{MetricsError, validate_mesh};
 use crate::index::{NO_SLOT, SurfaceDistanceIndex, bound_f32};
+use crate::{MetricsError, validate_mesh};
 use glam::{Vec3, Vec3A};
 use mesh::TriMesh;
 use mesh::sampling::{EdgeSampling, FaceSampling, StratifiedParams, sample_stratified};
@@ -248,10 +248,11 @@ pub(crate) fn draw(
         edges: params.edges,
         faces: params.faces,
     };
-    let samples = sample_stratified(source, &plan, seed).map_err(|source| MetricsError::Invalid {
-        mesh: "source",
-        source,
-    })?;
+    let samples =
+        sample_stratified(source, &plan, seed).map_err(|source| MetricsError::Invalid {
+            mesh: "source",
+            source,
+        })?;
     Ok(Drawn {
         samples,
         normals: source.face_normals(),
@@ -580,15 +581,7 @@ mod tests {
             SurfaceDistanceIndex::new(&b).unwrap(),
         );
         assert_eq!(one, hausdorff_indexed(&a, &ai, &b, &bi, &params).unwrap());
-        let other_seed = hausdorff(
-            &a,
-            &b,
-            &HausdorffParams {
-                seed: 2,
-                ..params
-            },
-        )
-        .unwrap();
+        let other_seed = hausdorff(&a, &b, &HausdorffParams { seed: 2, ..params }).unwrap();
         assert_ne!(one.forward.mean, other_seed.forward.mean);
     }
 

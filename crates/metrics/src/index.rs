@@ -67,10 +67,7 @@ impl SurfaceDistanceIndex {
         let boxes: Vec<BvhAabb> = (0..mesh.triangles.len())
             .map(|f| {
                 let [a, b, c] = mesh.triangle(f);
-                BvhAabb::new(
-                    Vec3A::from(a.min(b).min(c)),
-                    Vec3A::from(a.max(b).max(c)),
-                )
+                BvhAabb::new(Vec3A::from(a.min(b).min(c)), Vec3A::from(a.max(b).max(c)))
             })
             .collect();
         let indices: Vec<u32> = (0..boxes.len() as u32).collect();
@@ -287,7 +284,10 @@ mod tests {
             for (p, hit) in points.iter().zip(&many) {
                 let single = index.closest(*p);
                 let b = brute(&mesh, *p);
-                assert!((single.distance - b).abs() <= 1e-6 * (1.0 + b), "{single:?} vs {b}");
+                assert!(
+                    (single.distance - b).abs() <= 1e-6 * (1.0 + b),
+                    "{single:?} vs {b}"
+                );
                 assert!((hit.distance - b).abs() <= 1e-6 * (1.0 + b));
                 let [x, y, z] = mesh.triangle_f64(single.face as usize);
                 let on = closest_point_triangle(single.point, x, y, z);

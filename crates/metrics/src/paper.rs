@@ -1,8 +1,8 @@
 //! The GNG3D paper's error measures: vertex-to-nearest-vertex E_avg/E_max and area difference E_sur.
 
 use glam::Vec3;
-use mesh::TriMesh;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use mesh::TriMesh;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -163,8 +163,12 @@ mod tests {
             state ^= state << 17;
             (state >> 40) as f32 / (1u64 << 24) as f32
         };
-        let original: Vec<Vec3> = (0..3000).map(|_| Vec3::new(next(), next(), next())).collect();
-        let simplified: Vec<Vec3> = (0..200).map(|_| Vec3::new(next(), next(), next())).collect();
+        let original: Vec<Vec3> = (0..3000)
+            .map(|_| Vec3::new(next(), next(), next()))
+            .collect();
+        let simplified: Vec<Vec3> = (0..200)
+            .map(|_| Vec3::new(next(), next(), next()))
+            .collect();
         let fast = vertex_errors(&original, &simplified).unwrap();
         let slow = brute(&original, &simplified);
         assert!((fast.e_avg - slow.e_avg).abs() <= 1e-9 * slow.e_avg.max(1e-12));

@@ -129,11 +129,8 @@ pub fn evaluate(
     let (hausdorff, forward_normals, backward_normals) =
         hausdorff_pipelined(original, simplified, &params.hausdorff)?;
     // Both point sets are non-empty, so vertex_errors returns Some.
-    let vertex = vertex_errors(&original_points, &simplified_points).ok_or(
-        MetricsError::NoVertices {
-            mesh: "simplified",
-        },
-    )?;
+    let vertex = vertex_errors(&original_points, &simplified_points)
+        .ok_or(MetricsError::NoVertices { mesh: "simplified" })?;
     let area = surface_error(original, simplified);
     let ((quality_o, quality_s), (topology_o, topology_s)) = rayon::join(
         || (triangle_quality(original), triangle_quality(simplified)),
@@ -181,7 +178,12 @@ mod tests {
         };
         let r = evaluate(&fine, &coarse, &params).unwrap();
         // Coarse vertices are a subset of the fine ones (same subdivision scheme).
-        assert_eq!(r.e_avg, vertex_errors(&fine.positions, &coarse.positions).unwrap().e_avg);
+        assert_eq!(
+            r.e_avg,
+            vertex_errors(&fine.positions, &coarse.positions)
+                .unwrap()
+                .e_avg
+        );
         assert!(r.e_sur > 0.0, "the coarse inscribed sphere has less area");
         assert!((r.e_sur - (fine.area() - coarse.area())).abs() < 1e-12);
         assert!(r.hausdorff.max > 0.0 && r.hausdorff.max < 0.05);

@@ -39,15 +39,25 @@ fn load(path: &Path) -> mesh::TriMesh {
 }
 
 fn check(name: &str, ours: &OneSided, theirs: &serde_json::Value) {
-    let get = |k: &str| theirs[k].as_f64().unwrap_or_else(|| panic!("{name}: no {k}"));
+    let get = |k: &str| {
+        theirs[k]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{name}: no {k}"))
+    };
     for (label, ours, theirs) in [
         ("max", ours.max, get("max")),
         ("mean", ours.mean, get("mean")),
         ("RMS", ours.rms, get("RMS")),
     ] {
         let rel = (ours - theirs).abs() / theirs;
-        eprintln!("{name} {label}: ours {ours:.6e} meshlab {theirs:.6e} ({:+.2}%)", 100.0 * (ours - theirs) / theirs);
-        assert!(rel <= 0.02, "{name} {label}: ours {ours} vs MeshLab {theirs} ({rel:.4} relative)");
+        eprintln!(
+            "{name} {label}: ours {ours:.6e} meshlab {theirs:.6e} ({:+.2}%)",
+            100.0 * (ours - theirs) / theirs
+        );
+        assert!(
+            rel <= 0.02,
+            "{name} {label}: ours {ours} vs MeshLab {theirs} ({rel:.4} relative)"
+        );
     }
 }
 
@@ -78,19 +88,27 @@ fn agrees_with_meshlab_reference_pairs() {
         let simplified_index = SurfaceDistanceIndex::new(&simplified).unwrap();
         let diag = case["bbox_diagonal"].as_f64().unwrap();
         assert!((original.bbox_diagonal() - diag).abs() <= 1e-6 * diag);
-        let run = |source: &mesh::TriMesh, target: &SurfaceDistanceIndex, theirs: &serde_json::Value| {
-            let params = HausdorffParams {
-                edges: EdgeSampling::Share(0.5),
-                ..HausdorffParams::with_samples(theirs["n_samples"].as_u64().unwrap() as usize)
+        let run =
+            |source: &mesh::TriMesh, target: &SurfaceDistanceIndex, theirs: &serde_json::Value| {
+                let params = HausdorffParams {
+                    edges: EdgeSampling::Share(0.5),
+                    ..HausdorffParams::with_samples(theirs["n_samples"].as_u64().unwrap() as usize)
+                };
+                let ours = one_sided(source, target, &params, diag).unwrap();
+                assert_eq!(ours.excluded, 0);
+                assert!(
+                    ours.samples
+                        .abs_diff(theirs["n_samples"].as_u64().unwrap() as usize)
+                        <= 16
+                );
+                ours
             };
-            let ours = one_sided(source, target, &params, diag).unwrap();
-            assert_eq!(ours.excluded, 0);
-            assert!(ours.samples.abs_diff(theirs["n_samples"].as_u64().unwrap() as usize) <= 16);
-            ours
-        };
         let forward = run(&original, &simplified_index, fwd);
         let backward = run(&simplified, &original_index, bwd);
-        eprintln!("{original_name}: both directions in {:.2?}", start.elapsed());
+        eprintln!(
+            "{original_name}: both directions in {:.2?}",
+            start.elapsed()
+        );
         check(&format!("{original_name} forward"), &forward, fwd);
         check(&format!("{original_name} backward"), &backward, bwd);
     }

@@ -34,9 +34,18 @@ fn run_qem(m: &TriMesh, faces: usize) -> usize {
 }
 
 fn run_meshopt(m: &TriMesh, indices: &[u32], faces: usize) -> usize {
-    let adapter =
-        meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0).expect("adapter");
-    meshopt::simplify(indices, &adapter, faces * 3, f32::MAX, meshopt::SimplifyOptions::None, None).len() / 3
+    let adapter = meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0)
+        .expect("adapter");
+    meshopt::simplify(
+        indices,
+        &adapter,
+        faces * 3,
+        f32::MAX,
+        meshopt::SimplifyOptions::None,
+        None,
+    )
+    .len()
+        / 3
 }
 
 fn best_of(runs: usize, mut f: impl FnMut() -> usize) -> (Duration, usize) {
@@ -72,10 +81,15 @@ fn bench(c: &mut Criterion) {
         let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
         for pct in [10usize, 1] {
             let faces = m.face_count() * pct / 100;
-            let mut group = c.benchmark_group(format!("{}-{pct}pct", name.split('.').next().unwrap_or(name)));
+            let mut group = c.benchmark_group(format!(
+                "{}-{pct}pct",
+                name.split('.').next().unwrap_or(name)
+            ));
             group.sample_size(10);
             group.bench_function("qem", |b| b.iter(|| run_qem(black_box(m), faces)));
-            group.bench_function("meshopt", |b| b.iter(|| run_meshopt(black_box(m), &indices, faces)));
+            group.bench_function("meshopt", |b| {
+                b.iter(|| run_meshopt(black_box(m), &indices, faces))
+            });
             group.finish();
         }
     }

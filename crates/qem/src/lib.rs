@@ -7,8 +7,8 @@
 //! that break the link condition or flip a face are rejected. All arithmetic is in f64.
 
 mod pairs;
-mod radix;
 pub mod quadric;
+mod radix;
 mod simplifier;
 
 pub use quadric::Quadric;
@@ -69,7 +69,10 @@ impl Default for QemParams {
 impl QemParams {
     /// Default parameters with the given target.
     pub fn with_target(target: Target) -> Self {
-        QemParams { target, ..Default::default() }
+        QemParams {
+            target,
+            ..Default::default()
+        }
     }
 }
 

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 /// Pairs `(u, v)`, `u < v`, of used vertices with `|p_u − p_v| < t`, at most `max_per_vertex` (the
 /// closest) per vertex `u`; the caller filters out pairs that are already mesh edges.
 pub fn close_pairs(pos: &[DVec3], used: &[bool], t: f64, max_per_vertex: usize) -> Vec<[u32; 2]> {
-    if !(t > 0.0) || max_per_vertex == 0 {
+    if t.is_nan() || t <= 0.0 || max_per_vertex == 0 {
         return Vec::new();
     }
     let cell_of = |p: DVec3| -> [i64; 3] {
@@ -65,7 +65,13 @@ mod tests {
     #[test]
     fn finds_exactly_the_close_pairs() {
         let pos: Vec<DVec3> = (0..40)
-            .map(|i| DVec3::new((i % 7) as f64 * 0.3, (i / 7) as f64 * 0.45, (i % 3) as f64 * 0.2))
+            .map(|i| {
+                DVec3::new(
+                    (i % 7) as f64 * 0.3,
+                    (i / 7) as f64 * 0.45,
+                    (i % 3) as f64 * 0.2,
+                )
+            })
             .collect();
         let used = vec![true; pos.len()];
         let t = 0.5;

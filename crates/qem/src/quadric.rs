@@ -66,7 +66,7 @@ impl Quadric {
         let c02 = a01 * a12 - a02 * a11;
         let det = a00 * c00 + a01 * c01 + a02 * c02;
         let tr = self.trace();
-        if !(tr > 0.0) || det.abs() <= 1e-12 * tr * tr * tr {
+        if tr.is_nan() || tr <= 0.0 || det.abs() <= 1e-12 * tr * tr * tr {
             return None;
         }
         let c11 = a00 * a22 - a02 * a02;
@@ -77,8 +77,7 @@ impl Quadric {
         let x = -(c00 * b0 + c01 * b1 + c02 * b2) * inv;
         let y = -(c01 * b0 + c11 * b1 + c12 * b2) * inv;
         let z = -(c02 * b0 + c12 * b1 + c22 * b2) * inv;
-        let v = DVec3::new(x, y, z);
-        v.is_finite().then_some(v)
+        Some(DVec3::new(x, y, z))
     }
 }
 
@@ -122,7 +121,11 @@ mod tests {
     fn three_planes_minimise_at_their_intersection() {
         let p = DVec3::new(0.5, -0.25, 2.0);
         let mut q = Quadric::default();
-        for n in [DVec3::X, DVec3::new(1.0, 1.0, 0.0).normalize(), DVec3::new(0.0, 1.0, 1.0).normalize()] {
+        for n in [
+            DVec3::X,
+            DVec3::new(1.0, 1.0, 0.0).normalize(),
+            DVec3::new(0.0, 1.0, 1.0).normalize(),
+        ] {
             q += Quadric::from_plane(n, -n.dot(p), 1.0);
         }
         let m = q.minimizer().expect("non-singular");

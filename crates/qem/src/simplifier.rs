@@ -30,7 +30,11 @@ struct Cand {
 #[inline]
 fn cost_key(cost: f64) -> u32 {
     let c = cost as f32;
-    if c.is_nan() { f32::MAX.to_bits() } else { c.max(0.0).to_bits() }
+    if c.is_nan() {
+        f32::MAX.to_bits()
+    } else {
+        c.max(0.0).to_bits()
+    }
 }
 
 /// Linked lists of non-edge pairs per (representative) vertex, plus union-find to resolve merges.
@@ -167,38 +171,41 @@ impl Engine {
         self.tick
     }
 
-    /// Placement for the pair (optimal, else best on the segment, else best of ends/midpoint).
+    /// Placement and cost for the pair: the quadric minimiser (where `E = c + bᵀv`), else the best
+    /// point of the segment, else the best of the ends and the midpoint.
     #[inline]
-    fn place(q: &Quadric, pa: DVec3, pb: DVec3) -> DVec3 {
+    fn place(q: &Quadric, pa: DVec3, pb: DVec3) -> (f64, DVec3) {
         let d = pb - pa;
         let len2 = d.length_squared();
         let mid = 0.5 * (pa + pb);
         if let Some(x) = q.minimizer() {
             // Guard against nearly singular systems that throw the point far away.
             if (x - mid).length_squared() <= 9.0 * len2 {
-                return x;
+                return (q.c + q.b_vec().dot(x), x);
             }
         }
         let dad = d.dot(q.mul_a(d));
         if dad > 1e-12 * q.trace() * len2 {
             let t = (-d.dot(q.mul_a(pa) + q.b_vec()) / dad).clamp(0.0, 1.0);
-            return pa + d * t;
+            let x = pa + d * t;
+            return (q.eval(x), x);
         }
         let (ea, eb, em) = (q.eval(pa), q.eval(pb), q.eval(mid));
         if em <= ea && em <= eb {
-            mid
+            (em, mid)
         } else if ea <= eb {
-            pa
+            (ea, pa)
         } else {
-            pb
+            (eb, pb)
         }
     }
 
     #[inline]
     fn evaluate(&self, a: usize, b: usize) -> (f64, DVec3) {
-        let q = self.vd[a].q + self.vd[b].q;
-        let p = Self::place(&q, self.vd[a].p, self.vd[b].p);
-        (q.eval(p).max(0.0), p)
+        let (da, db) = (&self.vd[a], &self.vd[b]);
+        let q = da.q + db.q;
+        let (cost, p) = Self::place(&q, da.p, db.p);
+        (cost.max(0.0), p)
     }
 
     #[inline]
@@ -233,10 +240,9 @@ impl Engine {
                 }
             }
         }
-        if self.virt.is_some() {
-            let mut node = self.virt.as_ref().map_or(DEAD, |vp| vp.head[a]);
+        if let Some(mut vp) = self.virt.take() {
+            let mut node = vp.head[a];
             while node != DEAD {
-                let vp = self.virt.as_mut().expect("checked");
                 let o = vp.find(vp.other[node as usize]) as usize;
                 node = vp.next[node as usize];
                 if self.v[o].alive && self.v[o].mark != t {
@@ -246,6 +252,7 @@ impl Engine {
                     }
                 }
             }
+            self.virt = Some(vp);
         }
     }
 
@@ -442,14 +449,20 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     validate(params)?;
     let n = input.positions.len();
     if n >= u32::MAX as usize || input.triangles.len() >= u32::MAX as usize / 2 {
-        return Err(QemError::InvalidParameter("mesh too large for 32-bit indices".into()));
+        return Err(QemError::InvalidParameter(
+            "mesh too large for 32-bit indices".into(),
+        ));
     }
     // Validate and drop faces that repeat a vertex index.
     let mut faces: Vec<[u32; 3]> = Vec::with_capacity(input.triangles.len());
     for (fi, t) in input.triangles.iter().enumerate() {
         for &v in t {
             if v as usize >= n {
-                return Err(QemError::InvalidIndex { face: fi, index: v, vertices: n });
+                return Err(QemError::InvalidIndex {
+                    face: fi,
+                    index: v,
+                    vertices: n,
+                });
             }
         }
         if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
@@ -492,8 +505,10 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     for (k, &o) in order.iter().enumerate() {
         new_index[o as u32 as usize] = k as u32;
     }
-    let pos: Vec<DVec3> =
-        order.iter().map(|&o| (input.positions[o as u32 as usize].as_dvec3() - center) * scale).collect();
+    let pos: Vec<DVec3> = order
+        .iter()
+        .map(|&o| (input.positions[o as u32 as usize].as_dvec3() - center) * scale)
+        .collect();
     drop(order);
     let n = pos.len();
     let mut keyed: Vec<u64> = faces
@@ -506,8 +521,10 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         .collect();
     sort_by_u32_key(&mut keyed, &mut scratch64, |&k| (k >> 32) as u32);
     drop(scratch64);
-    let faces: Vec<[u32; 3]> =
-        keyed.iter().map(|&k| faces[k as u32 as usize].map(|v| new_index[v as usize])).collect();
+    let faces: Vec<[u32; 3]> = keyed
+        .iter()
+        .map(|&k| faces[k as u32 as usize].map(|v| new_index[v as usize]))
+        .collect();
     drop(keyed);
     drop(new_index);
     let mut face_len = vec![0u32; n];
@@ -552,7 +569,11 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let referenced_vertices = n;
     let input_faces = faces.len();
     let refs_limit = (refs.len() * 3).max(1024);
-    let vd: Vec<VertexData> = pos.iter().zip(&quadric).map(|(&p, &q)| VertexData { q, p }).collect();
+    let vd: Vec<VertexData> = pos
+        .iter()
+        .zip(&quadric)
+        .map(|(&p, &q)| VertexData { q, p })
+        .collect();
     drop(pos);
     drop(quadric);
     let v: Vec<VertexInfo> = (0..n)
@@ -579,16 +600,17 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         min_normal_cos: params.min_normal_cos,
     };
 
-    // Edges, boundary detection and boundary constraint planes.
-    let mut count = vec![0u32; n];
-    let mut last_face = vec![0u32; n];
+    // Edges, boundary detection and boundary constraint planes: for each vertex, its distinct
+    // neighbours with the number of faces on the edge and one of those faces.
+    let mut ring_slot = vec![0u32; n];
+    let mut ring: Vec<(u32, u32, u32)> = Vec::new();
     let mut edges: Vec<[u32; 2]> = Vec::with_capacity(input_faces * 3 / 2 + 16);
     for u in 0..n {
         if e.v[u].len == 0 {
             continue;
         }
-        let t1 = e.next_tick();
-        let t2 = e.next_tick();
+        let t = e.next_tick();
+        ring.clear();
         for i in e.list(u) {
             let f = e.refs[i];
             for v in e.faces[f as usize] {
@@ -596,62 +618,67 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                 if vi == u {
                     continue;
                 }
-                if e.v[vi].mark != t1 {
-                    e.v[vi].mark = t1;
-                    count[vi] = 0;
+                if e.v[vi].mark != t {
+                    e.v[vi].mark = t;
+                    ring_slot[vi] = ring.len() as u32;
+                    ring.push((v, 1, f));
+                } else {
+                    let r = &mut ring[ring_slot[vi] as usize];
+                    r.1 += 1;
+                    r.2 = f;
                 }
-                count[vi] += 1;
-                last_face[vi] = f;
             }
         }
-        for i in e.list(u) {
-            let f = e.refs[i];
-            for v in e.faces[f as usize] {
-                let vi = v as usize;
-                if vi == u || e.v[vi].mark != t1 {
-                    continue;
-                }
-                e.v[vi].mark = t2;
-                if count[vi] != 2 {
-                    e.v[u].boundary = true;
-                }
-                if vi > u {
-                    edges.push([u as u32, v]);
-                    if count[vi] == 1 && params.preserve_boundary {
-                        let [p0, p1, p2] = e.faces[last_face[vi] as usize].map(|w| e.vd[w as usize].p);
-                        let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                        let edge = e.vd[vi].p - e.vd[u].p;
-                        let m = edge.cross(face_normal).normalize_or_zero();
-                        if m != DVec3::ZERO {
-                            let w = params.boundary_weight * edge.length_squared();
-                            let q = Quadric::from_plane(m, -m.dot(e.vd[u].p), w);
-                            e.vd[u].q += q;
-                            e.vd[vi].q += q;
-                        }
+        for &(v, count, f) in &ring {
+            let vi = v as usize;
+            if count != 2 {
+                e.v[u].boundary = true;
+            }
+            if vi > u {
+                edges.push([u as u32, v]);
+                if count == 1 && params.preserve_boundary {
+                    let [p0, p1, p2] = e.faces[f as usize].map(|w| e.vd[w as usize].p);
+                    let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                    let edge = e.vd[vi].p - e.vd[u].p;
+                    let m = edge.cross(face_normal).normalize_or_zero();
+                    if m != DVec3::ZERO {
+                        let w = params.boundary_weight * edge.length_squared();
+                        let q = Quadric::from_plane(m, -m.dot(e.vd[u].p), w);
+                        e.vd[u].q += q;
+                        e.vd[vi].q += q;
                     }
                 }
             }
         }
     }
-    drop(count);
-    drop(last_face);
+    drop(ring_slot);
 
     // Non-edge pairs within the threshold.
     let mut virtual_pairs = 0;
     if params.pair_threshold > 0.0 {
         let used: Vec<bool> = e.v.iter().map(|v| v.len > 0).collect();
         let positions: Vec<DVec3> = e.vd.iter().map(|d| d.p).collect();
-        let close = pairs::close_pairs(&positions, &used, params.pair_threshold * scale, params.max_pairs_per_vertex);
+        let close = pairs::close_pairs(
+            &positions,
+            &used,
+            params.pair_threshold * scale,
+            params.max_pairs_per_vertex,
+        );
         let mut sorted_edges = edges.clone();
         sorted_edges.sort_unstable();
-        let non_edge: Vec<[u32; 2]> =
-            close.into_iter().filter(|p| sorted_edges.binary_search(p).is_err()).collect();
+        let non_edge: Vec<[u32; 2]> = close
+            .into_iter()
+            .filter(|p| sorted_edges.binary_search(p).is_err())
+            .collect();
         virtual_pairs = non_edge.len();
         edges.extend_from_slice(&non_edge);
         e.virt = Some(VirtualPairs::new(n, &non_edge));
     }
 
-    let mut list: Vec<Cand> = edges.iter().map(|&[u, v]| e.candidate(u as usize, v as usize)).collect();
+    let mut list: Vec<Cand> = edges
+        .iter()
+        .map(|&[u, v]| e.candidate(u as usize, v as usize))
+        .collect();
     drop(edges);
     let mut sort_tmp: Vec<Cand> = Vec::new();
     sort_by_u32_key(&mut list, &mut sort_tmp, |c| c.key);
@@ -802,7 +829,12 @@ impl Engine {
     /// original index order), positions mapped back to model units.
     fn output(&self, center: DVec3, diag: f64, scale: f64) -> TriMesh {
         let _ = diag;
-        let mut tris: Vec<[u32; 3]> = self.faces.iter().copied().filter(|t| t[0] != DEAD).collect();
+        let mut tris: Vec<[u32; 3]> = self
+            .faces
+            .iter()
+            .copied()
+            .filter(|t| t[0] != DEAD)
+            .collect();
         // Drop duplicate faces (same vertex set), keeping the first.
         let mut keys: Vec<([u32; 3], u32)> = tris
             .iter()
@@ -885,10 +917,16 @@ fn validate(p: &QemParams) -> Result<(), QemError> {
         return bad(format!("target ratio {r} is not in (0, 1]"));
     }
     if !(p.pair_threshold >= 0.0 && p.pair_threshold.is_finite()) {
-        return bad(format!("pair threshold {} must be finite and >= 0", p.pair_threshold));
+        return bad(format!(
+            "pair threshold {} must be finite and >= 0",
+            p.pair_threshold
+        ));
     }
     if !(p.boundary_weight >= 0.0 && p.boundary_weight.is_finite()) {
-        return bad(format!("boundary weight {} must be finite and >= 0", p.boundary_weight));
+        return bad(format!(
+            "boundary weight {} must be finite and >= 0",
+            p.boundary_weight
+        ));
     }
     if let Some(m) = p.max_error
         && m.is_nan()
@@ -896,7 +934,10 @@ fn validate(p: &QemParams) -> Result<(), QemError> {
         return bad("max error is NaN".into());
     }
     if !(-1.0..=1.0).contains(&p.min_normal_cos) {
-        return bad(format!("min_normal_cos {} is not in [-1, 1]", p.min_normal_cos));
+        return bad(format!(
+            "min_normal_cos {} is not in [-1, 1]",
+            p.min_normal_cos
+        ));
     }
     Ok(())
 }

@@ -44,7 +44,10 @@ fn assert_valid(m: &TriMesh) {
             assert!((v as usize) < n, "index {v} out of range {n}");
             used[v as usize] = true;
         }
-        assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2], "degenerate face {t:?}");
+        assert!(
+            t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
+            "degenerate face {t:?}"
+        );
         let mut k = *t;
         k.sort_unstable();
         keys.push(k);
@@ -53,7 +56,10 @@ fn assert_valid(m: &TriMesh) {
     let before = keys.len();
     keys.dedup();
     assert_eq!(before, keys.len(), "duplicate faces");
-    assert!(used.iter().all(|&u| u), "unreferenced vertices in the output");
+    assert!(
+        used.iter().all(|&u| u),
+        "unreferenced vertices in the output"
+    );
     assert!(m.positions.iter().all(|p| p.is_finite()));
 }
 
@@ -62,7 +68,10 @@ fn closed_manifolds_keep_closedness_manifoldness_and_genus() {
     for name in ["spot.obj", "rocker-arm.obj", "fertility.obj", "casting.obj"] {
         let Some((_, m)) = load(name) else { return };
         let before = analyze(&m);
-        assert!(before.closed && before.manifold, "{name} should start closed and manifold");
+        assert!(
+            before.closed && before.manifold,
+            "{name} should start closed and manifold"
+        );
         for ratio in [0.1, 0.02] {
             let (out, report) = qem::simplify(&m, &params(Target::Ratio(ratio))).unwrap();
             assert_valid(&out);
@@ -71,7 +80,10 @@ fn closed_manifolds_keep_closedness_manifoldness_and_genus() {
             assert!(after.manifold, "{name} @ {ratio}: not manifold");
             assert_eq!(after.genus, before.genus, "{name} @ {ratio}: genus changed");
             assert_eq!(after.components, before.components, "{name} @ {ratio}");
-            assert!(out.face_count() < m.face_count() / 4, "{name} @ {ratio}: barely simplified");
+            assert!(
+                out.face_count() < m.face_count() / 4,
+                "{name} @ {ratio}: barely simplified"
+            );
             assert_eq!(report.faces, out.face_count());
             assert_eq!(report.vertices, out.vertex_count());
         }
@@ -80,7 +92,11 @@ fn closed_manifolds_keep_closedness_manifoldness_and_genus() {
 
 #[test]
 fn boundary_loops_are_preserved() {
-    for name in ["stanford-bunny.obj", "plane_holes.obj", "many_small_holes.ply"] {
+    for name in [
+        "stanford-bunny.obj",
+        "plane_holes.obj",
+        "many_small_holes.ply",
+    ] {
         let Some((_, m)) = load(name) else { return };
         let before = analyze(&m);
         assert!(before.boundary_loops > 0);
@@ -98,7 +114,9 @@ fn boundary_constraint_keeps_the_open_border_in_place() {
     // Boundary vertices of the output should stay close to the original border curve; compare with
     // and without the constraint planes (an independent measure: distance to the original border
     // edges).
-    let Some((_, m)) = load("stanford-bunny.obj") else { return };
+    let Some((_, m)) = load("stanford-bunny.obj") else {
+        return;
+    };
     let border = |mesh: &TriMesh| -> Vec<[Vec3; 2]> {
         let mut count = std::collections::HashMap::new();
         for t in &mesh.triangles {
@@ -131,28 +149,48 @@ fn boundary_constraint_keeps_the_open_border_in_place() {
         worst
     };
     let (kept, _) = qem::simplify(&m, &params(Target::Ratio(0.05))).unwrap();
-    let free_params = QemParams { preserve_boundary: false, ..params(Target::Ratio(0.05)) };
+    let free_params = QemParams {
+        preserve_boundary: false,
+        ..params(Target::Ratio(0.05))
+    };
     let (free, _) = qem::simplify(&m, &free_params).unwrap();
     let (dk, df) = (deviation(&kept), deviation(&free));
-    assert!(dk < 0.5 * df, "constrained border deviation {dk} vs free {df}");
+    assert!(
+        dk < 0.5 * df,
+        "constrained border deviation {dk} vs free {df}"
+    );
     assert!(dk < 0.004 * m.bbox_diagonal(), "border moved by {dk}");
 }
 
 #[test]
 fn exact_targets_are_hit_down_to_one_percent() {
-    let Some((_, m)) = load("rocker-arm.obj") else { return };
+    let Some((_, m)) = load("rocker-arm.obj") else {
+        return;
+    };
     let (f, v) = (m.face_count(), m.vertex_count());
     for ratio in [0.5, 0.1, 0.01] {
         let faces = (f as f64 * ratio).round() as usize;
         let (out, report) = qem::simplify(&m, &params(Target::Faces(faces))).unwrap();
         assert!(report.target_reached);
-        assert!(out.face_count().abs_diff(faces) <= 2, "faces {} vs {faces}", out.face_count());
+        assert!(
+            out.face_count().abs_diff(faces) <= 2,
+            "faces {} vs {faces}",
+            out.face_count()
+        );
         let (out, _) = qem::simplify(&m, &params(Target::Ratio(ratio))).unwrap();
-        assert!(out.face_count().abs_diff(faces) <= 2, "ratio: faces {} vs {faces}", out.face_count());
+        assert!(
+            out.face_count().abs_diff(faces) <= 2,
+            "ratio: faces {} vs {faces}",
+            out.face_count()
+        );
         let verts = (v as f64 * ratio).round() as usize;
         let (out, report) = qem::simplify(&m, &params(Target::Vertices(verts))).unwrap();
         assert!(report.target_reached);
-        assert!(out.vertex_count().abs_diff(verts) <= 1, "verts {} vs {verts}", out.vertex_count());
+        assert!(
+            out.vertex_count().abs_diff(verts) <= 1,
+            "verts {} vs {verts}",
+            out.vertex_count()
+        );
         assert_valid(&out);
     }
 }
@@ -162,7 +200,11 @@ fn grid(n: u32) -> TriMesh {
     let mut positions = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
-            positions.push(Vec3::new(2.0 * i as f32 / n as f32 - 1.0, 2.0 * j as f32 / n as f32 - 1.0, 0.5));
+            positions.push(Vec3::new(
+                2.0 * i as f32 / n as f32 - 1.0,
+                2.0 * j as f32 / n as f32 - 1.0,
+                0.5,
+            ));
         }
     }
     let mut triangles = Vec::new();
@@ -181,7 +223,12 @@ fn flat_plane_collapses_to_a_few_triangles_with_zero_error() {
     let m = grid(40);
     let (out, report) = qem::simplify(&m, &params(Target::Faces(2))).unwrap();
     assert_valid(&out);
-    assert!(out.face_count() <= 8, "{} faces left ({:?})", out.face_count(), report.stop_reason);
+    assert!(
+        out.face_count() <= 8,
+        "{} faces left ({:?})",
+        out.face_count(),
+        report.stop_reason
+    );
     assert!(report.max_error < 1e-12, "max error {}", report.max_error);
     // Independent checks: still the same flat square, consistently oriented (+z normals).
     assert!(out.positions.iter().all(|p| (p.z - 0.5).abs() < 1e-6));
@@ -203,9 +250,14 @@ fn dirty_inputs_never_panic() {
     }
     // Unwelded triangle soup: every face has its own three vertices.
     let sphere = mesh::procedural::icosphere(3);
-    let soup_positions: Vec<Vec3> =
-        sphere.triangles.iter().flat_map(|t| t.map(|v| sphere.positions[v as usize])).collect();
-    let soup_triangles = (0..sphere.triangles.len() as u32).map(|f| [3 * f, 3 * f + 1, 3 * f + 2]).collect();
+    let soup_positions: Vec<Vec3> = sphere
+        .triangles
+        .iter()
+        .flat_map(|t| t.map(|v| sphere.positions[v as usize]))
+        .collect();
+    let soup_triangles = (0..sphere.triangles.len() as u32)
+        .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+        .collect();
     cases.push(("soup".into(), TriMesh::new(soup_positions, soup_triangles)));
     // Repeated indices, duplicate faces, a zero-area face and an isolated triangle.
     let mut messy = mesh::procedural::icosphere(2);
@@ -214,13 +266,25 @@ fn dirty_inputs_never_panic() {
     messy.triangles.push(dup);
     messy.triangles.push([dup[0], dup[2], dup[1]]);
     let k = messy.positions.len() as u32;
-    messy.positions.extend([Vec3::new(5.0, 0.0, 0.0), Vec3::new(6.0, 0.0, 0.0), Vec3::new(7.0, 0.0, 0.0)]);
+    messy.positions.extend([
+        Vec3::new(5.0, 0.0, 0.0),
+        Vec3::new(6.0, 0.0, 0.0),
+        Vec3::new(7.0, 0.0, 0.0),
+    ]);
     messy.triangles.push([k, k + 1, k + 2]);
     cases.push(("messy".into(), messy));
     for (name, m) in &cases {
-        for target in [Target::Ratio(0.1), Target::Ratio(0.01), Target::Vertices(3), Target::Faces(1)] {
+        for target in [
+            Target::Ratio(0.1),
+            Target::Ratio(0.01),
+            Target::Vertices(3),
+            Target::Faces(1),
+        ] {
             for preserve_topology in [true, false] {
-                let p = QemParams { preserve_topology, ..params(target) };
+                let p = QemParams {
+                    preserve_topology,
+                    ..params(target)
+                };
                 let (out, report) = qem::simplify(m, &p).unwrap_or_else(|e| panic!("{name}: {e}"));
                 assert_valid(&out);
                 assert_eq!(report.faces, out.face_count(), "{name}");
@@ -267,7 +331,11 @@ fn quadric_matches_explicit_sum_of_squared_plane_distances() {
                     0.5 * cross.length() * d * d
                 })
                 .sum();
-            assert!((q.eval(p) - explicit).abs() <= 1e-9 * explicit.max(1e-12), "{} vs {explicit}", q.eval(p));
+            assert!(
+                (q.eval(p) - explicit).abs() <= 1e-9 * explicit.max(1e-12),
+                "{} vs {explicit}",
+                q.eval(p)
+            );
         }
     }
 }
@@ -321,10 +389,21 @@ fn optimal_placement_keeps_sharp_corners_exactly() {
             if corner & 2 == 0 { -1.0 } else { 1.0 },
             if corner & 4 == 0 { -1.0 } else { 1.0 },
         );
-        assert!(out.positions.iter().any(|p| p.distance(c) < 1e-5), "corner {c} lost");
+        assert!(
+            out.positions.iter().any(|p| p.distance(c) < 1e-5),
+            "corner {c} lost"
+        );
     }
-    assert!(out.positions.iter().all(|p| (p.abs().max_element() - 1.0).abs() < 1e-5));
-    assert!((out.signed_volume() - 8.0).abs() < 1e-4, "volume {}", out.signed_volume());
+    assert!(
+        out.positions
+            .iter()
+            .all(|p| (p.abs().max_element() - 1.0).abs() < 1e-5)
+    );
+    assert!(
+        (out.signed_volume() - 8.0).abs() < 1e-4,
+        "volume {}",
+        out.signed_volume()
+    );
 }
 
 #[test]
@@ -332,7 +411,10 @@ fn max_error_stops_early() {
     let m = mesh::procedural::torus(1.0, 0.3, 48, 24);
     let (_, unlimited) = qem::simplify(&m, &params(Target::Ratio(0.05))).unwrap();
     let limit = unlimited.max_error / 100.0;
-    let p = QemParams { max_error: Some(limit), ..params(Target::Ratio(0.05)) };
+    let p = QemParams {
+        max_error: Some(limit),
+        ..params(Target::Ratio(0.05))
+    };
     let (out, report) = qem::simplify(&m, &p).unwrap();
     assert_eq!(report.stop_reason, StopReason::MaxError);
     assert!(!report.target_reached);
@@ -352,7 +434,10 @@ fn pair_threshold_merges_nearby_parts() {
     let m = TriMesh::new(positions, triangles);
     let (_, without) = qem::simplify(&m, &params(Target::Ratio(0.5))).unwrap();
     assert_eq!(without.virtual_pairs, 0);
-    let p = QemParams { pair_threshold: 0.2, ..params(Target::Ratio(0.5)) };
+    let p = QemParams {
+        pair_threshold: 0.2,
+        ..params(Target::Ratio(0.5))
+    };
     let (out, report) = qem::simplify(&m, &p).unwrap();
     assert!(report.virtual_pairs > 0);
     assert_valid(&out);
@@ -374,24 +459,48 @@ fn invalid_inputs_are_typed_errors() {
         Err(QemError::InvalidIndex { index: 999, .. })
     ));
     let empty = TriMesh::new(vec![Vec3::ZERO; 3], vec![[0, 0, 1]]);
-    assert_eq!(qem::simplify(&empty, &QemParams::default()).unwrap_err(), QemError::EmptyMesh);
+    assert_eq!(
+        qem::simplify(&empty, &QemParams::default()).unwrap_err(),
+        QemError::EmptyMesh
+    );
     let mut nan = good.clone();
     nan.positions[3] = Vec3::NAN;
-    assert_eq!(qem::simplify(&nan, &QemParams::default()).unwrap_err(), QemError::NonFiniteVertex(3));
-    for target in [Target::Ratio(0.0), Target::Ratio(1.5), Target::Ratio(f64::NAN)] {
-        assert!(matches!(qem::simplify(&good, &params(target)), Err(QemError::InvalidParameter(_))));
+    assert_eq!(
+        qem::simplify(&nan, &QemParams::default()).unwrap_err(),
+        QemError::NonFiniteVertex(3)
+    );
+    for target in [
+        Target::Ratio(0.0),
+        Target::Ratio(1.5),
+        Target::Ratio(f64::NAN),
+    ] {
+        assert!(matches!(
+            qem::simplify(&good, &params(target)),
+            Err(QemError::InvalidParameter(_))
+        ));
     }
-    let p = QemParams { pair_threshold: -1.0, ..QemParams::default() };
-    assert!(matches!(qem::simplify(&good, &p), Err(QemError::InvalidParameter(_))));
+    let p = QemParams {
+        pair_threshold: -1.0,
+        ..QemParams::default()
+    };
+    assert!(matches!(
+        qem::simplify(&good, &p),
+        Err(QemError::InvalidParameter(_))
+    ));
 }
 
 #[test]
 fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
-    let Some((_, m)) = load("armadillo.obj") else { return };
+    let Some((_, m)) = load("armadillo.obj") else {
+        return;
+    };
     let Some(dir) = meshes_dir() else { return };
     let reference_path = dir.join("../reference/armadillo-meshlab-8648.obj");
     if !reference_path.exists() {
-        eprintln!("skipping: no MeshLab reference at {}", reference_path.display());
+        eprintln!(
+            "skipping: no MeshLab reference at {}",
+            reference_path.display()
+        );
         return;
     }
     let reference = mesh::io::load(&reference_path).unwrap().mesh;
@@ -400,6 +509,16 @@ fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
     let hp = metrics::HausdorffParams::with_samples(200_000);
     let ours = metrics::hausdorff(&m, &out, &hp).unwrap();
     let theirs = metrics::hausdorff(&m, &reference, &hp).unwrap();
-    assert!(ours.max <= theirs.max, "max {} vs MeshLab {}", ours.max, theirs.max);
-    assert!(ours.mean <= theirs.mean, "mean {} vs MeshLab {}", ours.mean, theirs.mean);
+    assert!(
+        ours.max <= theirs.max,
+        "max {} vs MeshLab {}",
+        ours.max,
+        theirs.max
+    );
+    assert!(
+        ours.mean <= theirs.mean,
+        "mean {} vs MeshLab {}",
+        ours.mean,
+        theirs.mean
+    );
 }

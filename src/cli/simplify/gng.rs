@@ -34,8 +34,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     if args.faces.is_some() {
         bail!("--faces applies to QEM only; use --vertices or --ratio with --method gng");
     }
-    let loaded = mesh::io::load(&args.input)
-        .with_context(|| format!("loading {}", args.input.display()))?;
+    let loaded =
+        mesh::io::load(&args.input).with_context(|| format!("loading {}", args.input.display()))?;
     let input = if args.no_weld {
         loaded.mesh
     } else {

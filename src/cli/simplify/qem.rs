@@ -32,10 +32,13 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         (None, None, None) => bail!("give a target with --vertices N, --faces N or --ratio R"),
     };
     if !(args.threshold >= 0.0 && args.threshold.is_finite()) {
-        bail!("--threshold must be a finite distance >= 0, got {}", args.threshold);
+        bail!(
+            "--threshold must be a finite distance >= 0, got {}",
+            args.threshold
+        );
     }
-    let loaded = mesh::io::load(&args.input)
-        .with_context(|| format!("loading {}", args.input.display()))?;
+    let loaded =
+        mesh::io::load(&args.input).with_context(|| format!("loading {}", args.input.display()))?;
     let input = if args.no_weld {
         loaded.mesh
     } else {

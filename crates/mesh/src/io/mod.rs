@@ -12,7 +12,7 @@ mod ply;
 mod stl;
 
 use crate::TriMesh;
-use crate::clean::drop_degenerate_and_duplicate_faces;
+use crate::clean::drop_degenerate_and_duplicate_faces_in_place;
 use crate::error::{MeshError, MeshWarning};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -96,6 +96,19 @@ pub fn load(path: &Path) -> Result<LoadedMesh, MeshError> {
     load_bytes(&bytes, format, path)
 }
 
+/// Load an OBJ file with the tobj-based reader instead of the built-in one: an independent
+/// implementation that drops unreferenced vertices and renumbers the rest by first use (per
+/// object/group, all merged into one mesh); its errors carry no line number. Degenerate and
+/// duplicate faces are dropped with warnings as in [`load`]. Prefer [`load`] for counts as
+/// stored in the file.
+pub fn load_obj_with_tobj(path: &Path) -> Result<LoadedMesh, MeshError> {
+    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    validate(obj::parse_with_tobj(&bytes, path)?, path)
+}
+
 /// Parse `bytes` in `format`; `path` is used only in error messages.
 pub fn load_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<LoadedMesh, MeshError> {
     let raw = match format {
@@ -132,8 +145,8 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
         });
     }
     let vertex_count = raw.positions.len();
-    let mesh = TriMesh::new(raw.positions, raw.triangles);
-    let (mesh, dropped) = drop_degenerate_and_duplicate_faces(&mesh);
+    let mut mesh = TriMesh::new(raw.positions, raw.triangles);
+    let dropped = drop_degenerate_and_duplicate_faces_in_place(&mut mesh);
     if dropped.degenerate > 0 {
         warnings.push(MeshWarning::DegenerateFaces {
             count: dropped.degenerate,
@@ -207,5 +220,7 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.{unique}.tmp", std::process::id()))
 }
 
+#[cfg(test)]
+mod oracle_tests;
 #[cfg(test)]
 mod tests;

@@ -1,8 +1,10 @@
 //! Wavefront OBJ reader and writer: `v` and `f` records only (texture coordinates, normals,
 //! groups and materials are ignored); all vertex records are kept, in file order.
 //!
-//! A hand-written reader rather than tobj: tobj renumbers vertices by first use, which drops
-//! unreferenced vertex records and reorders the rest, and its errors carry no line number.
+//! [`parse`] is hand-written rather than built on tobj: tobj renumbers vertices by first use,
+//! which drops unreferenced vertex records and reorders the rest, and its errors carry no line
+//! number. [`parse_with_tobj`] is the tobj-based alternative (`io::load_obj_with_tobj`), also
+//! used as an independent oracle for [`parse`] in the tests.
 
 use super::RawMesh;
 use crate::TriMesh;
@@ -81,6 +83,43 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
                 face += 1;
             }
         }
+    }
+    Ok(raw)
+}
+
+/// Parse OBJ text with tobj (`triangulate`, points and lines ignored, materials not loaded).
+/// All objects and groups are merged; each keeps tobj's numbering, by first use within the
+/// group, so unreferenced `v` records are dropped and a vertex used by two groups appears twice.
+pub(crate) fn parse_with_tobj(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
+    let options = tobj::LoadOptions {
+        single_index: false,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let mut reader = bytes;
+    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| MeshError::parse(path, "tobj", e.to_string()))?;
+    let mut raw = RawMesh::default();
+    for model in &models {
+        let base = raw.positions.len() as u32;
+        raw.positions.extend(
+            model
+                .mesh
+                .positions
+                .chunks_exact(3)
+                .map(|p| Vec3::new(p[0], p[1], p[2])),
+        );
+        raw.triangles.extend(
+            model
+                .mesh
+                .indices
+                .chunks_exact(3)
+                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+        );
     }
     Ok(raw)
 }
