@@ -115,11 +115,37 @@ pub struct TrainingStats {
 enum Signals {
     /// Distinct referenced vertex positions.
     Points(Vec<Vec3>),
-    /// Triangles (corner positions) with cumulative areas, for area-weighted sampling.
+    /// Triangles (corner positions) with a Walker/Vose alias table over their areas, for O(1)
+    /// area-weighted sampling.
     Surface {
         corners: Vec<[Vec3; 3]>,
-        cumulative: Vec<f64>,
+        /// Probability of keeping slot i (else take `alias[i]`).
+        keep: Vec<f64>,
+        alias: Vec<u32>,
     },
+}
+
+/// Vose's alias table for sampling index i with probability `weights[i] / sum`.
+fn alias_table(weights: &[f64]) -> (Vec<f64>, Vec<u32>) {
+    let n = weights.len();
+    let total: f64 = weights.iter().sum();
+    let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
+    let mut alias: Vec<u32> = (0..n as u32).collect();
+    let (mut small, mut large): (Vec<u32>, Vec<u32>) =
+        (0..n as u32).partition(|&i| scaled[i as usize] < 1.0);
+    while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
+        alias[s as usize] = l;
+        scaled[l as usize] -= 1.0 - scaled[s as usize];
+        if scaled[l as usize] < 1.0 {
+            large.pop();
+            small.push(l);
+        }
+    }
+    // Leftovers are 1 up to rounding.
+    for i in small.into_iter().chain(large) {
+        scaled[i as usize] = 1.0;
+    }
+    (scaled, alias)
 }
 
 impl Signals {
@@ -129,13 +155,15 @@ impl Signals {
             Signals::Points(p) => p[rng.random_range(0..p.len())],
             Signals::Surface {
                 corners,
-                cumulative,
+                keep,
+                alias,
             } => {
-                let total = *cumulative.last().unwrap_or(&0.0);
-                let r = rng.random::<f64>() * total;
-                let f = cumulative
-                    .partition_point(|&c| c <= r)
-                    .min(corners.len() - 1);
+                let i = rng.random_range(0..corners.len());
+                let f = if rng.random::<f64>() < keep[i] {
+                    i
+                } else {
+                    alias[i] as usize
+                };
                 let [a, b, c] = corners[f];
                 let (u, v): (f32, f32) = (rng.random(), rng.random());
                 let su = u.sqrt();
@@ -234,22 +262,22 @@ impl Trainer {
             SignalSource::Vertices => Signals::Points(vertices.clone()),
             SignalSource::Surface => {
                 let mut corners = Vec::with_capacity(mesh.triangles.len());
-                let mut cumulative = Vec::with_capacity(mesh.triangles.len());
-                let mut acc = 0.0f64;
+                let mut areas = Vec::with_capacity(mesh.triangles.len());
                 for f in 0..mesh.triangles.len() {
                     let a = mesh.triangle_area(f);
-                    if a > 0.0 {
-                        acc += a;
+                    if a > 0.0 && a.is_finite() {
+                        areas.push(a);
                         corners.push(mesh.triangle(f));
-                        cumulative.push(acc);
                     }
                 }
                 if corners.is_empty() {
                     return Err(GngError::ZeroArea);
                 }
+                let (keep, alias) = alias_table(&areas);
                 Signals::Surface {
                     corners,
-                    cumulative,
+                    keep,
+                    alias,
                 }
             }
         };
@@ -615,5 +643,32 @@ fn check_param(name: &'static str, value: f64, lo: f64, hi: f64) -> Result<(), G
         Ok(())
     } else {
         Err(GngError::Parameter { name, value })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alias_table_reproduces_the_weights() {
+        let w = [1.0, 3.0, 0.5, 0.0, 5.5];
+        let (keep, alias) = alias_table(&w);
+        // Exact probability of each index: sum over slots of (keep or 1 - keep) / n.
+        let n = w.len() as f64;
+        let mut p = [0.0f64; 5];
+        for i in 0..w.len() {
+            p[i] += keep[i] / n;
+            p[alias[i] as usize] += (1.0 - keep[i]) / n;
+        }
+        let total: f64 = w.iter().sum();
+        for i in 0..w.len() {
+            assert!(
+                (p[i] - w[i] / total).abs() < 1e-12,
+                "{i}: {} vs {}",
+                p[i],
+                w[i] / total
+            );
+        }
     }
 }

@@ -283,3 +283,23 @@ fn dirty_real_meshes_give_results() {
         }
     }
 }
+
+#[test]
+fn surface_signals_train_a_closed_sphere_and_allow_more_nodes_than_vertices() {
+    let sphere = icosphere(2); // 162 vertices
+    let mut params = GngParams::for_target(300);
+    params.signal_source = gng3d_core::SignalSource::Surface;
+    params.max_signals = Some(60_000);
+    let r = simplify(&sphere, &params).unwrap();
+    assert_eq!(r.nodes.len(), 300);
+    // Surface points of the icosphere lie between its inradius and 1.
+    let mean_dev: f32 = r
+        .nodes
+        .iter()
+        .map(|p| (p.length() - 0.98).abs())
+        .sum::<f32>()
+        / r.nodes.len() as f32;
+    assert!(mean_dev < 0.03, "mean radius deviation {mean_dev}");
+    // At most one node per original vertex can be referenced by the relabelled faces.
+    assert!(r.mesh.vertex_count() <= sphere.vertex_count());
+}

@@ -38,7 +38,7 @@ impl UnionFind {
     }
 
     /// Representative of `x`'s set.
-    #[inline]
+    #[inline(always)]
     pub fn find(&mut self, mut x: u32) -> u32 {
         while self.parent[x as usize] != x {
             let grand = self.parent[self.parent[x as usize] as usize];
@@ -49,7 +49,7 @@ impl UnionFind {
     }
 
     /// Merge the sets of `a` and `b`; true when they were different.
-    #[inline]
+    #[inline(always)]
     pub fn union(&mut self, a: u32, b: u32) -> bool {
         let (mut ra, mut rb) = (self.find(a), self.find(b));
         if ra == rb {
@@ -251,7 +251,8 @@ pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
     drop(fill);
 
     // Fans: around each vertex, its corners joined through the edges they share, found with a
-    // small union-find local to the vertex (pairwise scan; sorting for high valence).
+    // pairwise scan with fan labels (up to 32 corners), or a sorted union-find local to the
+    // vertex beyond that.
     let mut fans_total = 0i64;
     let mut non_manifold_vertices = 0;
     let mut local = UnionFind::new(0);
@@ -263,21 +264,29 @@ pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
         if k == 0 {
             continue;
         }
-        local.reset(k);
         let mut fans = k;
         if k <= 32 {
+            // Fan labels: merging two fans relabels the second one (k is small).
+            let mut label: [u8; 32] = std::array::from_fn(|j| j as u8);
             for (j, a) in corners.iter().enumerate() {
                 if a[0] == NO_EDGE {
                     continue;
                 }
                 for (l, b) in corners.iter().enumerate().skip(j + 1) {
                     let shared = a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
-                    if shared && b[0] != NO_EDGE && local.union(j as u32, l as u32) {
+                    let (keep, merge) = (label[j], label[l]);
+                    if shared && b[0] != NO_EDGE && keep != merge {
                         fans -= 1;
+                        for x in &mut label[..k] {
+                            if *x == merge {
+                                *x = keep;
+                            }
+                        }
                     }
                 }
             }
         } else {
+            local.reset(k);
             edge_and_corner.clear();
             for (j, sides) in corners.iter().enumerate() {
                 if sides[0] != NO_EDGE {
@@ -380,9 +389,9 @@ mod tests {
             }
         }
         half.sort_unstable();
-        let mut edges = Vec::new();
-        let mut offsets = Vec::new();
-        let mut edge_corners = Vec::new();
+        let mut edges = Vec::with_capacity(3 * f / 2 + 1);
+        let mut offsets = Vec::with_capacity(3 * f / 2 + 2);
+        let mut edge_corners = Vec::with_capacity(3 * f);
         let mut face_edges = vec![[0u32; 3]; f];
         let mut last = u64::MAX;
         for &(key, corner) in &half {

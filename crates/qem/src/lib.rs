@@ -5,6 +5,11 @@
 //! merged vertex at the quadric minimiser (with segment / endpoint fallbacks). Boundary edges get
 //! weighted perpendicular constraint planes, and with [`QemParams::preserve_topology`] collapses
 //! that break the link condition or flip a face are rejected. All arithmetic is in f64.
+//!
+//! Contractions are scheduled in passes over a cost-sorted candidate list (see `simplifier`):
+//! within a pass pairs are taken in increasing cost while their endpoints are untouched, up to a
+//! cost cap, which keeps the order close to the greedy heap order of the paper at a fraction of
+//! the memory traffic.
 
 mod pairs;
 pub mod quadric;
@@ -36,7 +41,10 @@ pub struct QemParams {
     /// squared distance, the same units as [`QemReport::max_error`]).
     pub max_error: Option<f64>,
     /// Pair distance threshold `t` in model units: 0 contracts edges only, `t > 0` also contracts
-    /// non-edge vertex pairs closer than `t` (aggregation of nearby parts).
+    /// non-edge vertex pairs closer than `t` (aggregation of nearby parts, found with a uniform
+    /// grid of cell size `t`). With `preserve_topology` a non-edge pair is only merged when the two
+    /// vertices share no neighbour (so no non-manifold edge appears); the merge itself joins parts
+    /// at a vertex, i.e. it changes topology by design. Cost of the search grows quickly with `t`.
     pub pair_threshold: f64,
     /// At most this many non-edge pairs (the closest ones) per vertex when `pair_threshold > 0`.
     pub max_pairs_per_vertex: usize,

@@ -96,7 +96,6 @@ pub(crate) fn parse_with_tobj(bytes: &[u8], path: &Path) -> Result<RawMesh, Mesh
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let mut reader = bytes;
     let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
