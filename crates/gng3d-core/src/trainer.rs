@@ -429,7 +429,14 @@ impl Trainer {
                     break;
                 }
             }
-            let mut chunk = (n - done).min(CHECK_EVERY);
+            // The linear scan costs O(|A|) per signal: check the clock correspondingly more often.
+            let check_every = match self.params.search {
+                SearchStrategy::Grid => CHECK_EVERY,
+                SearchStrategy::LinearScan => {
+                    (CHECK_EVERY * 64 / self.net.live.max(1) as u64).max(1)
+                }
+            };
+            let mut chunk = (n - done).min(check_every);
             if self.signals < self.budget {
                 chunk = chunk.min(self.budget - self.signals);
             }

@@ -1,6 +1,7 @@
 //! `topology::analyze` against its previous implementation (one global sort of all half-edge
 //! keys, then a global union-find over the 3F corners), timed in the same run on the same mesh:
-//! igea.ply from `GNG3D_MESHES` (failing under `CI` without it), else a 327,680-face icosphere.
+//! igea.ply and igea-1m.ply from `GNG3D_MESHES` (failing under `CI` without them), else a
+//! 327,680-face icosphere.
 //!
 //! Run: `GNG3D_MESHES=/work/shared/meshes cargo bench -p mesh --bench topology`.
 
@@ -211,37 +212,41 @@ mod previous {
     }
 }
 
-/// The benchmark mesh and its name.
-fn input() -> (TriMesh, String) {
+/// The benchmark meshes and their names: igea and igea-1m from `GNG3D_MESHES`, else an icosphere.
+fn inputs() -> Vec<(TriMesh, String)> {
     match std::env::var_os("GNG3D_MESHES").map(PathBuf::from) {
-        Some(d) if d.join("igea.ply").is_file() => {
-            let mesh = mesh::io::load(&d.join("igea.ply"))
-                .expect("load igea.ply")
-                .mesh;
-            (mesh, "igea".to_string())
-        }
+        Some(d) if d.join("igea.ply").is_file() => ["igea", "igea-1m"]
+            .into_iter()
+            .filter(|name| d.join(format!("{name}.ply")).is_file())
+            .map(|name| {
+                let path = d.join(format!("{name}.ply"));
+                let mesh = mesh::io::load(&path).expect("load mesh").mesh;
+                (mesh, name.to_string())
+            })
+            .collect(),
         _ if std::env::var_os("CI").is_some() => panic!("GNG3D_MESHES with igea.ply is required"),
         _ => {
             eprintln!("GNG3D_MESHES not set: using icosphere(7)");
-            (mesh::procedural::icosphere(7), "icosphere7".to_string())
+            vec![(mesh::procedural::icosphere(7), "icosphere7".to_string())]
         }
     }
 }
 
 fn bench_topology(c: &mut Criterion) {
-    let (mesh, name) = input();
-    assert_eq!(mesh::topology::analyze(&mesh), previous::analyze(&mesh));
-    let mut group = c.benchmark_group(format!("topology/{name}"));
-    group
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(4));
-    group.bench_function("analyze", |b| {
-        b.iter(|| mesh::topology::analyze(black_box(&mesh)))
-    });
-    group.bench_function("previous", |b| {
-        b.iter(|| previous::analyze(black_box(&mesh)))
-    });
-    group.finish();
+    for (mesh, name) in inputs() {
+        assert_eq!(mesh::topology::analyze(&mesh), previous::analyze(&mesh));
+        let mut group = c.benchmark_group(format!("topology/{name}"));
+        group
+            .sample_size(10)
+            .measurement_time(Duration::from_secs(4));
+        group.bench_function("analyze", |b| {
+            b.iter(|| mesh::topology::analyze(black_box(&mesh)))
+        });
+        group.bench_function("previous", |b| {
+            b.iter(|| previous::analyze(black_box(&mesh)))
+        });
+        group.finish();
+    }
 }
 
 criterion_group!(benches, bench_topology);

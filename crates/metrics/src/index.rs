@@ -45,32 +45,6 @@ pub struct SurfaceDistanceIndex {
     slots: Vec<u32>,
     /// Unit face normals by original face index (zero for degenerate faces).
     normals: Vec<Vec3>,
-    /// Edge-adjacent packed slots of each packed slot ([`NO_SLOT`] where there is none); used to
-    /// tighten the starting bound when a query moves onto a neighbour of the hinted triangle.
-    neighbours: Vec<[u32; 3]>,
-}
-
-/// Edge neighbours of every triangle (by packed slot): half-edges sorted by their undirected
-/// key, consecutive equal keys paired (non-manifold fans are paired in sorted order).
-fn neighbours(mesh: &TriMesh, slots: &[u32]) -> Vec<[u32; 3]> {
-    let mut half: Vec<(u64, u32, u8)> = Vec::with_capacity(mesh.triangles.len() * 3);
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for k in 0..3u8 {
-            let (a, b) = (t[k as usize], t[(k as usize + 1) % 3]);
-            let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
-            half.push((key, f as u32, k));
-        }
-    }
-    half.sort_unstable();
-    let mut out = vec![[NO_SLOT; 3]; mesh.triangles.len()];
-    for pair in half.chunk_by(|x, y| x.0 == y.0) {
-        for w in pair.windows(2) {
-            let ((_, f, k), (_, g, l)) = (w[0], w[1]);
-            out[slots[f as usize] as usize][k as usize] = slots[g as usize];
-            out[slots[g as usize] as usize][l as usize] = slots[f as usize];
-        }
-    }
-    out
 }
 
 impl std::fmt::Debug for SurfaceDistanceIndex {
@@ -123,7 +97,6 @@ impl SurfaceDistanceIndex {
             slots[face as usize] = slot as u32;
         }
         Ok(SurfaceDistanceIndex {
-            neighbours: neighbours(mesh, &slots),
             faces: bvh.primitive_indices.clone(),
             bvh,
             triangles,
@@ -214,15 +187,6 @@ impl SurfaceDistanceIndex {
             if d2 < best_d2 {
                 best_d2 = d2;
                 best = hint;
-            }
-            for &n in &self.neighbours[hint as usize] {
-                if n != NO_SLOT {
-                    let d2 = self.triangle_d2(p, n as usize);
-                    if d2 < best_d2 {
-                        best_d2 = d2;
-                        best = n;
-                    }
-                }
             }
         }
         stack.clear();

@@ -102,9 +102,8 @@ impl VirtualPairs {
     }
 }
 
-/// Geometry of a vertex in the normalised frame, aligned so that it spans exactly two cache lines.
+/// Geometry of a vertex in the normalised frame.
 #[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(64))]
 struct VertexData {
     q: Quadric,
     p: DVec3,

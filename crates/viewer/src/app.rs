@@ -1079,12 +1079,14 @@ impl ViewerApp {
         }
         self.viewport_rects = [Some(rects[0]), Some(rects[1])];
         let ppp = ui.ctx().pixels_per_point();
-        self.render_viewports(rects.map(|r| {
+        if std::env::var_os("VIEWER_DEBUG_NO_3D").is_none() {
+            self.render_viewports(rects.map(|r| {
             [
                 (r.width() * ppp).round().max(1.0) as u32,
                 (r.height() * ppp).round().max(1.0) as u32,
             ]
         }));
+        }
         let painter = ui.painter();
         let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
         for (i, rect) in rects.iter().enumerate() {

@@ -566,7 +566,7 @@ impl SceneRenderer {
         let texture_id = render_state.renderer.write().register_native_texture(
             device,
             &color_view,
-            wgpu::FilterMode::Linear,
+            wgpu::FilterMode::Nearest,
         );
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewport uniforms"),
@@ -616,7 +616,7 @@ impl SceneRenderer {
             .update_egui_texture_from_wgpu_texture(
                 device,
                 &color_view,
-                wgpu::FilterMode::Linear,
+                wgpu::FilterMode::Nearest,
                 target.texture_id,
             );
         target.color = color;
