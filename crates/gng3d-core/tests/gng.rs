@@ -303,3 +303,20 @@ fn surface_signals_train_a_closed_sphere_and_allow_more_nodes_than_vertices() {
     // At most one node per original vertex can be referenced by the relabelled faces.
     assert!(r.mesh.vertex_count() <= sphere.vertex_count());
 }
+
+#[test]
+fn trainer_and_outputs_can_move_to_other_threads() {
+    fn assert_send<T: Send + 'static>() {}
+    assert_send::<Trainer>();
+    assert_send::<gng3d_core::Snapshot>();
+    assert_send::<gng3d_core::CancelToken>();
+    assert_send::<gng3d_core::GngResult>();
+    // And actually run one on a worker thread.
+    let sphere = icosphere(2);
+    let mut trainer = Trainer::new(&sphere, GngParams::for_target(50)).unwrap();
+    let handle = std::thread::spawn(move || {
+        trainer.step(u64::MAX);
+        trainer.node_count()
+    });
+    assert_eq!(handle.join().unwrap(), 50);
+}

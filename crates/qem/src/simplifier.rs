@@ -305,6 +305,7 @@ impl Engine {
     }
 
     /// Check the topology/normal conditions for contracting `b` into `a` at `p`.
+    #[inline(never)]
     fn allowed(&mut self, a: usize, b: usize, p: DVec3) -> bool {
         let (au, bu) = (a as u32, b as u32);
         let mut shared = 0usize;
@@ -394,6 +395,7 @@ impl Engine {
     }
 
     /// Contract `b` into `a`, moving `a` to `p`.
+    #[inline(never)]
     fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
         let (au, bu) = (a as u32, b as u32);
         self.vd[a].p = p;
