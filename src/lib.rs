@@ -11,5 +11,5 @@ pub use mesh;
 pub use metrics;
 pub use qem;
 
-pub mod report;
 pub mod experiment;
+pub mod report;

@@ -94,7 +94,10 @@ fn bad_input_fails_with_message_naming_the_file() {
         assert!(!o.status.success());
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.starts_with("error:"), "{err}");
-        assert!(err.contains("broken.obj") || err.contains("mesh.obj"), "{err}");
+        assert!(
+            err.contains("broken.obj") || err.contains("mesh.obj"),
+            "{err}"
+        );
         assert!(!err.contains("panicked"), "{err}");
     }
 }

@@ -88,8 +88,16 @@ fn compare_hits_target_and_reports_both_methods() {
     params.metrics.hausdorff = HausdorffParams::with_samples(30_000);
     let result = compare(&blob, &params).unwrap();
     let r = &result.report;
-    assert!(r.qem.vertices.abs_diff(n) <= 1, "QEM {} vs {n}", r.qem.vertices);
-    assert!(r.gng.vertices <= n && r.gng.vertices * 10 >= n * 9, "GNG {}", r.gng.vertices);
+    assert!(
+        r.qem.vertices.abs_diff(n) <= 1,
+        "QEM {} vs {n}",
+        r.qem.vertices
+    );
+    assert!(
+        r.gng.vertices <= n && r.gng.vertices * 10 >= n * 9,
+        "GNG {}",
+        r.gng.vertices
+    );
     assert_eq!(result.qem_mesh.vertex_count(), r.qem.vertices);
     assert_eq!(result.gng_mesh.face_count(), r.gng.faces);
     // Independent check of E_sur for both methods.

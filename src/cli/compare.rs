@@ -44,7 +44,10 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let json = dir.join("compare.json");
-        super::write_atomic(&json, serde_json::to_string_pretty(&result.report)?.as_bytes())?;
+        super::write_atomic(
+            &json,
+            serde_json::to_string_pretty(&result.report)?.as_bytes(),
+        )?;
         mesh::io::save(&result.qem_mesh, &dir.join("qem.obj"))?;
         mesh::io::save(&result.gng_mesh, &dir.join("gng.obj"))?;
     }

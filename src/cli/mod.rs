@@ -75,7 +75,9 @@ pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> anyhow::Resu
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(std::path::Path::new("."));
-    let name = path.file_name().map_or_else(Default::default, |n| n.to_os_string());
+    let name = path
+        .file_name()
+        .map_or_else(Default::default, |n| n.to_os_string());
     let mut tmp_name = std::ffi::OsString::from(".");
     tmp_name.push(&name);
     tmp_name.push(format!(".{}.tmp", std::process::id()));

@@ -166,6 +166,9 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
         return super::print_json(&rows);
     }
     print!("{}", table.to_text());
-    println!("wrote summary.csv, summary.md and summary.json to {}", out.display());
+    println!(
+        "wrote summary.csv, summary.md and summary.json to {}",
+        out.display()
+    );
     Ok(())
 }

@@ -160,10 +160,15 @@ pub fn comparison_table(report: &CompareReport) -> crate::report::table::Table {
         gm.normal_deviation.forward.mean_degrees,
         true,
     );
-    let mut int = |name: &str, a: String, b: String| t.push([name.to_string(), a, b, String::new()]);
+    let mut int =
+        |name: &str, a: String, b: String| t.push([name.to_string(), a, b, String::new()]);
     int("vertices", q.vertices.to_string(), g.vertices.to_string());
     int("faces", q.faces.to_string(), g.faces.to_string());
-    int("seconds", format!("{:.3}", q.seconds), format!("{:.3}", g.seconds));
+    int(
+        "seconds",
+        format!("{:.3}", q.seconds),
+        format!("{:.3}", g.seconds),
+    );
     let (qt, gt) = (&qm.topology.simplified, &gm.topology.simplified);
     int(
         "boundary edges",

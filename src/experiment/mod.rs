@@ -73,9 +73,9 @@ impl<'a> PaperEvaluator<'a> {
             .ok_or_else(|| ExperimentError::BadTarget("simplified mesh has no vertices".into()))?;
         let surface = metrics::surface_error(self.original, simplified);
         let h: Hausdorff = if simplified.face_count() == 0 {
-            return Err(ExperimentError::Metrics(metrics::MetricsError::NoTriangles {
-                mesh: "simplified",
-            }));
+            return Err(ExperimentError::Metrics(
+                metrics::MetricsError::NoTriangles { mesh: "simplified" },
+            ));
         } else {
             let simplified_index = SurfaceDistanceIndex::new(simplified)?;
             metrics::hausdorff_indexed(

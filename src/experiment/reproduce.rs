@@ -102,7 +102,9 @@ pub fn reproduce(
         )));
     }
     if params.epochs == 0 {
-        return Err(ExperimentError::BadTarget("epochs must be at least 1".into()));
+        return Err(ExperimentError::BadTarget(
+            "epochs must be at least 1".into(),
+        ));
     }
     let target = ((n as f64 * params.target_ratio).round() as usize).max(4);
     let per_epoch = n as u64;
@@ -141,7 +143,11 @@ pub fn reproduce(
                 &snap.edges,
                 &params.gng.reconstruction,
             );
-            Ok((snap.signals, snap.positions.len(), evaluator.evaluate(&rec.mesh)?))
+            Ok((
+                snap.signals,
+                snap.positions.len(),
+                evaluator.evaluate(&rec.mesh)?,
+            ))
         })
         .collect::<Result<_, ExperimentError>>()?;
     // Many checkpoints share a vertex count once the network holds its target: QEM runs once each.

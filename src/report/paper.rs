@@ -73,8 +73,14 @@ fn series(label: &str, report: &ReproduceReport, y: impl Fn(usize) -> f64) -> Se
 }
 
 fn reference(label: &str, report: &ReproduceReport, value: f64) -> Series {
-    let first = report.checkpoints.first().map_or(0.0, |c| c.iteration as f64);
-    let last = report.checkpoints.last().map_or(1.0, |c| c.iteration as f64);
+    let first = report
+        .checkpoints
+        .first()
+        .map_or(0.0, |c| c.iteration as f64);
+    let last = report
+        .checkpoints
+        .last()
+        .map_or(1.0, |c| c.iteration as f64);
     Series {
         label: label.into(),
         points: vec![(first, value), (last, value)],
@@ -108,23 +114,33 @@ pub fn charts(report: &ReproduceReport, mesh_name: &str) -> Vec<(&'static str, C
     vec![
         (
             "figure1_esur",
-            metric("E_sur (area difference)", "Figure 1: E_sur vs iteration", false, &|r| {
-                r.e_sur
-            }),
+            metric(
+                "E_sur (area difference)",
+                "Figure 1: E_sur vs iteration",
+                false,
+                &|r| r.e_sur,
+            ),
         ),
         (
             "e_avg",
-            metric("E_avg (squared units)", "E_avg vs iteration", true, &|r| r.e_avg),
+            metric("E_avg (squared units)", "E_avg vs iteration", true, &|r| {
+                r.e_avg
+            }),
         ),
         (
             "e_max",
-            metric("E_max (squared units)", "E_max vs iteration", true, &|r| r.e_max),
+            metric("E_max (squared units)", "E_max vs iteration", true, &|r| {
+                r.e_max
+            }),
         ),
         (
             "hausdorff",
-            metric("symmetric Hausdorff (model units)", "Hausdorff vs iteration", true, &|r| {
-                r.hausdorff_max
-            }),
+            metric(
+                "symmetric Hausdorff (model units)",
+                "Hausdorff vs iteration",
+                true,
+                &|r| r.hausdorff_max,
+            ),
         ),
     ]
 }

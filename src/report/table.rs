@@ -58,7 +58,12 @@ impl Table {
         let w = self.widths();
         let mut out = Table::line(&self.headers, &w, "  ");
         out.push('\n');
-        out.push_str(&w.iter().map(|&n| "-".repeat(n)).collect::<Vec<_>>().join("  "));
+        out.push_str(
+            &w.iter()
+                .map(|&n| "-".repeat(n))
+                .collect::<Vec<_>>()
+                .join("  "),
+        );
         out.push('\n');
         for row in &self.rows {
             out.push_str(&Table::line(row, &w, "  "));
@@ -91,8 +96,8 @@ impl Table {
 
     /// Write as CSV (RFC 4180 quoting) to `path`.
     pub fn write_csv(&self, path: &Path) -> anyhow::Result<()> {
-        let mut w = csv::Writer::from_path(path)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let mut w =
+            csv::Writer::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         w.write_record(&self.headers)?;
         for row in &self.rows {
             w.write_record(row)?;

@@ -29,6 +29,14 @@ struct Cand {
     stamp: u32,
 }
 
+/// The part of a cost key that orders candidates: the low 10 mantissa bits are dropped (costs
+/// within a relative 2⁻¹³ count as equal and keep their order), so the radix sort needs two
+/// 11-bit digits instead of three.
+#[inline]
+fn sort_key(key: u32) -> u32 {
+    key >> 10
+}
+
 #[inline]
 fn cost_key(cost: f64) -> u32 {
     let c = cost as f32;
@@ -281,19 +289,18 @@ impl Engine {
         }
     }
 
-    /// Whether moving vertex `u` of face `tri` to `p` turns the face normal too far.
+    /// Whether moving vertex `u` (now at `pu`) of face `tri` to `p` turns the face normal too far.
     #[inline]
-    fn flips(&self, tri: [u32; 3], u: u32, p: DVec3) -> bool {
-        let i = if tri[0] == u {
-            0
+    fn flips(&self, tri: [u32; 3], u: u32, pu: DVec3, p: DVec3) -> bool {
+        let (i1, i2) = if tri[0] == u {
+            (tri[1], tri[2])
         } else if tri[1] == u {
-            1
+            (tri[2], tri[0])
         } else {
-            2
+            (tri[0], tri[1])
         };
-        let p1 = self.vd[tri[(i + 1) % 3] as usize].p;
-        let p2 = self.vd[tri[(i + 2) % 3] as usize].p;
-        let pu = self.vd[u as usize].p;
+        let p1 = self.vd[i1 as usize].p;
+        let p2 = self.vd[i2 as usize].p;
         let old = (p1 - pu).cross(p2 - pu);
         let ol = old.length_squared();
         if ol == 0.0 {
@@ -304,46 +311,47 @@ impl Engine {
         old.dot(new) <= self.min_normal_cos * (ol * nl).sqrt()
     }
 
-    /// Check the topology/normal conditions for contracting `b` into `a` at `p`.
-    #[inline(never)]
+    /// Check the topology/normal conditions for contracting `b` into `a` at `p`: one walk over the
+    /// faces of `a` (shared faces, neighbour marks, normal flips of the faces that move) and one
+    /// over the faces of `b` (common neighbours, flips, tetrahedron test).
     fn allowed(&mut self, a: usize, b: usize, p: DVec3) -> bool {
+        if !self.preserve_topology {
+            return true;
+        }
         let (au, bu) = (a as u32, b as u32);
         let mut shared = 0usize;
         let mut opp = [DEAD; 2];
         let mut alive_a = 0usize;
+        let ta = self.next_tick();
+        let pa = self.vd[a].p;
         for i in self.list(a) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
                 continue;
             }
             alive_a += 1;
+            for v in t {
+                self.v[v as usize].mark = ta;
+            }
             if contains(&t, bu) {
                 if shared < 2 {
                     opp[shared] = t[0] ^ t[1] ^ t[2] ^ au ^ bu;
                 }
                 shared += 1;
+            } else if self.flips(t, au, pa, p) {
+                return false;
             }
-        }
-        if !self.preserve_topology {
-            return true;
         }
         if shared > 2 || (shared == 2 && self.v[a].boundary && self.v[b].boundary) {
             return false;
         }
         // Link condition: common neighbours must be exactly the opposite vertices.
-        let ta = self.next_tick();
         let tb = self.next_tick();
-        for i in self.list(a) {
-            let t = self.faces[self.refs[i] as usize];
-            if t[0] == DEAD {
-                continue;
-            }
-            for v in t {
-                self.v[v as usize].mark = ta;
-            }
-        }
         let mut common = 0usize;
         let mut alive_b = 0usize;
+        let (c, d) = (opp[0], opp[1]);
+        let mut b_has_cd = false;
+        let pb = self.vd[b].p;
         for i in self.list(b) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
@@ -356,46 +364,35 @@ impl Engine {
                     common += 1;
                 }
             }
+            if !contains(&t, au) {
+                if self.flips(t, bu, pb, p) {
+                    return false;
+                }
+                b_has_cd |= shared == 2 && contains(&t, c) && contains(&t, d);
+            }
         }
         if common != shared || alive_a + alive_b <= 2 * shared {
             return false;
         }
         // No opposite vertex may be left without faces.
-        for &c in &opp[..shared] {
-            if self.v[c as usize].valence < 2 {
+        for &o in &opp[..shared] {
+            if self.v[o as usize].valence < 2 {
                 return false;
             }
         }
         // Tetrahedron: faces (a, c, d) and (b, c, d) would become the same face.
-        if shared == 2 {
-            let (c, d) = (opp[0], opp[1]);
-            let has_cd = |e: &Self, v: usize| {
-                e.list(v).any(|i| {
-                    let t = e.faces[e.refs[i] as usize];
-                    t[0] != DEAD && contains(&t, c) && contains(&t, d)
-                })
-            };
-            if has_cd(self, a) && has_cd(self, b) {
-                return false;
-            }
-        }
-        // Normal flips.
-        for (v, other) in [(au, bu), (bu, au)] {
-            for i in self.list(v as usize) {
+        if b_has_cd
+            && self.list(a).any(|i| {
                 let t = self.faces[self.refs[i] as usize];
-                if t[0] == DEAD || contains(&t, other) {
-                    continue;
-                }
-                if self.flips(t, v, p) {
-                    return false;
-                }
-            }
+                t[0] != DEAD && contains(&t, c) && contains(&t, d)
+            })
+        {
+            return false;
         }
         true
     }
 
     /// Contract `b` into `a`, moving `a` to `p`.
-    #[inline(never)]
     fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
         let (au, bu) = (a as u32, b as u32);
         self.vd[a].p = p;
@@ -708,7 +705,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         .collect();
     drop(edges);
     let mut sort_tmp: Vec<Cand> = Vec::new();
-    sort_by_u32_key(&mut list, &mut sort_tmp, |c| c.key);
+    sort_by_u32_key(&mut list, &mut sort_tmp, |c| sort_key(c.key));
 
     let (target_faces, target_vertices) = match params.target {
         Target::Vertices(v) => (usize::MAX, v),
@@ -820,7 +817,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                     e.pairs_of(v, pass, &mut list);
                 }
             }
-            sort_by_u32_key(&mut list, &mut sort_tmp, |c| c.key);
+            sort_by_u32_key(&mut list, &mut sort_tmp, |c| sort_key(c.key));
             continue;
         }
         rebuilt_without_progress = false;
@@ -830,7 +827,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         for &a in &survivors {
             e.pairs_of(a as usize, pass, &mut fresh);
         }
-        sort_by_u32_key(&mut fresh, &mut sort_tmp, |c| c.key);
+        sort_by_u32_key(&mut fresh, &mut sort_tmp, |c| sort_key(c.key));
         next.clear();
         merge_sorted(&list[consumed..], &fresh, &mut next);
         std::mem::swap(&mut list, &mut next);
@@ -922,21 +919,29 @@ fn morton(p: DVec3) -> u64 {
     spread(p.x) | (spread(p.y) << 1) | (spread(p.z) << 2)
 }
 
-/// Merge two sorted slices into `out`.
+/// Merge two sorted slices into `out` (branch-free selection: the comparisons are unpredictable).
 fn merge_sorted(x: &[Cand], y: &[Cand], out: &mut Vec<Cand>) {
-    out.reserve(x.len() + y.len());
-    let (mut i, mut j) = (0, 0);
+    let start = out.len();
+    let zero = Cand {
+        key: 0,
+        a: 0,
+        b: 0,
+        stamp: 0,
+    };
+    out.resize(start + x.len() + y.len(), zero);
+    let dst = &mut out[start..];
+    let (mut i, mut j, mut k) = (0, 0, 0);
     while i < x.len() && j < y.len() {
-        if x[i].key <= y[j].key {
-            out.push(x[i]);
-            i += 1;
-        } else {
-            out.push(y[j]);
-            j += 1;
-        }
+        let (cx, cy) = (x[i], y[j]);
+        let take_x = sort_key(cx.key) <= sort_key(cy.key);
+        dst[k] = if take_x { cx } else { cy };
+        k += 1;
+        i += usize::from(take_x);
+        j += usize::from(!take_x);
     }
-    out.extend_from_slice(&x[i..]);
-    out.extend_from_slice(&y[j..]);
+    dst[k..k + x.len() - i].copy_from_slice(&x[i..]);
+    k += x.len() - i;
+    dst[k..].copy_from_slice(&y[j..]);
 }
 
 fn validate(p: &QemParams) -> Result<(), QemError> {

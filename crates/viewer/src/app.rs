@@ -19,6 +19,10 @@ use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
+/// Frame interval while training runs: at most 40 fps, so that on a CPU renderer the UI leaves
+/// cores to the training thread.
+pub const TRAINING_FRAME_INTERVAL: Duration = Duration::from_millis(25);
+
 /// Start-up options (from the command line).
 #[derive(Debug, Clone, Default)]
 pub struct ViewerOptions {
@@ -42,6 +46,8 @@ pub struct ViewerOptions {
     pub paused: bool,
     /// Print frame and training statistics to stdout when quitting.
     pub print_stats: bool,
+    /// Inner window size in points (default 1600×900).
+    pub window_size: Option<[f32; 2]>,
 }
 
 /// Which viewport.
@@ -715,7 +721,7 @@ impl ViewerApp {
             if !self.unlimited_speed {
                 self.trainer.grant_frame_budget(self.signals_per_frame);
             }
-            ctx.request_repaint_after(Duration::from_millis(15));
+            ctx.request_repaint_after(TRAINING_FRAME_INTERVAL);
         }
         if let Some(path) = ctx.input(|i| {
             i.raw
@@ -1079,14 +1085,12 @@ impl ViewerApp {
         }
         self.viewport_rects = [Some(rects[0]), Some(rects[1])];
         let ppp = ui.ctx().pixels_per_point();
-        if std::env::var_os("VIEWER_DEBUG_NO_3D").is_none() {
-            self.render_viewports(rects.map(|r| {
+        self.render_viewports(rects.map(|r| {
             [
                 (r.width() * ppp).round().max(1.0) as u32,
                 (r.height() * ppp).round().max(1.0) as u32,
             ]
         }));
-        }
         let painter = ui.painter();
         let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
         for (i, rect) in rects.iter().enumerate() {

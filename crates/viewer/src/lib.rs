@@ -69,9 +69,13 @@ pub fn run_headless(options: &ViewerOptions) -> Result<String, String> {
 pub fn run(options: ViewerOptions) -> Result<(), String> {
     let native = eframe::NativeOptions {
         renderer: eframe::Renderer::Wgpu,
+        // Frames are paced by the app (at most 40 fps while training); on a CPU rasterizer
+        // vsync waits and dithering only cost time.
+        vsync: false,
+        dithering: false,
         viewport: egui::ViewportBuilder::default()
             .with_title("gng3d viewer — GNG3D vs QEM")
-            .with_inner_size([1600.0, 900.0])
+            .with_inner_size(options.window_size.unwrap_or([1600.0, 900.0]))
             .with_drag_and_drop(true),
         ..Default::default()
     };

@@ -36,9 +36,27 @@ struct Args {
     /// Save a PNG screenshot of the window just before quitting (with --quit-after).
     #[arg(long, value_name = "PATH")]
     screenshot: Option<PathBuf>,
+    /// Window size in points, e.g. 1280x720 (default 1600x900).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    window: Option<[f32; 2]>,
     /// Print frame rate and training throughput when quitting.
     #[arg(long)]
     stats: bool,
+}
+
+/// Parse `WIDTHxHEIGHT` (points).
+fn parse_size(text: &str) -> Result<[f32; 2], String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got {text:?}"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|v| v.is_finite() && *v >= 100.0 && *v <= 16384.0)
+            .ok_or_else(|| format!("bad window size {text:?} (each side 100..16384)"))
+    };
+    Ok([parse(w)?, parse(h)?])
 }
 
 fn main() {
@@ -54,6 +72,7 @@ fn main() {
         lambda: args.lambda,
         paused: args.paused,
         print_stats: args.stats || args.quit_after.is_some(),
+        window_size: args.window,
     };
     if args.headless {
         match viewer::run_headless(&options) {

@@ -420,7 +420,7 @@ fn publish(t: &mut Training, shared: &Shared) {
         .unwrap_or_else(PoisonError::into_inner)
         .as_ref()
     {
-        ctx.request_repaint();
+        ctx.request_repaint_after(crate::app::TRAINING_FRAME_INTERVAL);
     }
 }
 
