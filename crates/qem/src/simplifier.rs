@@ -113,8 +113,12 @@ impl VirtualPairs {
 /// Geometry of a vertex in the normalised frame.
 #[derive(Debug, Clone, Copy, Default)]
 struct VertexData {
+    /// Accumulated quadric (f64: error accumulates here).
     q: Quadric,
-    p: DVec3,
+    /// Position (f32, like the output: every placement is computed afresh in f64 from the
+    /// quadrics, so nothing accumulates; 96 bytes in all, so a vertex always spans two cache
+    /// lines instead of two or three).
+    p: Vec3,
 }
 
 /// Per-vertex bookkeeping.
@@ -130,8 +134,6 @@ struct VertexInfo {
     touched: u32,
     /// Scratch mark (compared with `Engine::tick`).
     mark: u32,
-    /// Version, bumped by every contraction of the vertex.
-    stamp: u32,
     /// Not merged into another vertex.
     alive: bool,
     /// On a boundary edge (or a non-manifold edge).
@@ -144,6 +146,9 @@ struct Engine {
     vd: Vec<VertexData>,
     /// Topology bookkeeping per vertex, packed so one cache line serves a vertex.
     v: Vec<VertexInfo>,
+    /// Version per vertex, bumped by every contraction of the vertex (a separate compact array:
+    /// the candidate walks test it for every entry, in cost order, i.e. at random).
+    stamps: Vec<u32>,
     faces: Vec<[u32; 3]>,
     refs: Vec<u32>,
     refs_limit: usize,
@@ -184,6 +189,12 @@ impl Engine {
         }
         #[cfg(not(target_arch = "x86_64"))]
         let _ = (a, b);
+    }
+
+    /// Position of vertex `v` (normalised frame).
+    #[inline]
+    fn pos(&self, v: usize) -> DVec3 {
+        self.vd[v].p.as_dvec3()
     }
 
     #[inline]
@@ -237,7 +248,7 @@ impl Engine {
     fn evaluate(&self, a: usize, b: usize) -> (f64, DVec3) {
         let (da, db) = (&self.vd[a], &self.vd[b]);
         let q = da.q + db.q;
-        let (cost, p) = Self::place(&q, da.p, db.p);
+        let (cost, p) = Self::place(&q, da.p.as_dvec3(), db.p.as_dvec3());
         (cost.max(0.0), p)
     }
 
@@ -248,7 +259,7 @@ impl Engine {
             key: cost_key(cost),
             a: a as u32,
             b: b as u32,
-            stamp: self.v[a].stamp.wrapping_add(self.v[b].stamp),
+            stamp: self.stamps[a].wrapping_add(self.stamps[b]),
         }
     }
 
@@ -290,7 +301,7 @@ impl Engine {
     }
 
     /// Whether moving vertex `u` (now at `pu`) of face `tri` to `p` turns the face normal too far.
-    #[inline]
+    #[inline(always)]
     fn flips(&self, tri: [u32; 3], u: u32, pu: DVec3, p: DVec3) -> bool {
         let (i1, i2) = if tri[0] == u {
             (tri[1], tri[2])
@@ -299,8 +310,8 @@ impl Engine {
         } else {
             (tri[0], tri[1])
         };
-        let p1 = self.vd[i1 as usize].p;
-        let p2 = self.vd[i2 as usize].p;
+        let p1 = self.pos(i1 as usize);
+        let p2 = self.pos(i2 as usize);
         let old = (p1 - pu).cross(p2 - pu);
         let ol = old.length_squared();
         if ol == 0.0 {
@@ -308,7 +319,15 @@ impl Engine {
         }
         let new = (p1 - p).cross(p2 - p);
         let nl = new.length_squared();
-        old.dot(new) <= self.min_normal_cos * (ol * nl).sqrt()
+        // `old·new <= k·sqrt(ol·nl)` without the square root.
+        let dot = old.dot(new);
+        let k = self.min_normal_cos;
+        let rhs = k * k * ol * nl;
+        if k >= 0.0 {
+            dot <= 0.0 || dot * dot <= rhs
+        } else {
+            dot <= 0.0 && dot * dot >= rhs
+        }
     }
 
     /// Check the topology/normal conditions for contracting `b` into `a` at `p`: one walk over the
@@ -323,7 +342,7 @@ impl Engine {
         let mut opp = [DEAD; 2];
         let mut alive_a = 0usize;
         let ta = self.next_tick();
-        let pa = self.vd[a].p;
+        let pa = self.pos(a);
         for i in self.list(a) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
@@ -351,7 +370,7 @@ impl Engine {
         let mut alive_b = 0usize;
         let (c, d) = (opp[0], opp[1]);
         let mut b_has_cd = false;
-        let pb = self.vd[b].p;
+        let pb = self.pos(b);
         for i in self.list(b) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
@@ -395,13 +414,13 @@ impl Engine {
     /// Contract `b` into `a`, moving `a` to `p`.
     fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
         let (au, bu) = (a as u32, b as u32);
-        self.vd[a].p = p;
+        self.vd[a].p = p.as_vec3();
         let qb = self.vd[b].q;
         self.vd[a].q += qb;
         self.v[a].boundary |= self.v[b].boundary;
         self.v[b].alive = false;
-        self.v[a].stamp = self.v[a].stamp.wrapping_add(1);
-        self.v[b].stamp = self.v[b].stamp.wrapping_add(1);
+        self.stamps[a] = self.stamps[a].wrapping_add(1);
+        self.stamps[b] = self.stamps[b].wrapping_add(1);
         self.live_vertices -= 1;
         self.scratch.clear();
         for i in self.list(b) {
@@ -524,7 +543,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         .map(|i| (morton((input.positions[i].as_dvec3() - center) * scale) << 32) | i as u64)
         .collect();
     let mut scratch64: Vec<u64> = Vec::new();
-    sort_by_u32_key(&mut order, &mut scratch64, |&o| (o >> 32) as u32);
+    // The 22 high bits of the Morton code (7 per axis) are locality enough: two radix passes.
+    sort_by_u32_key(&mut order, &mut scratch64, |&o| (o >> 40) as u32);
     let mut new_index = vec![DEAD; n];
     for (k, &o) in order.iter().enumerate() {
         new_index[o as u32 as usize] = k as u32;
@@ -576,7 +596,13 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     drop(fill);
 
     // Area-weighted face quadrics.
-    let mut quadric = vec![Quadric::default(); n];
+    let mut vd: Vec<VertexData> = pos
+        .iter()
+        .map(|&p| VertexData {
+            q: Quadric::default(),
+            p: p.as_vec3(),
+        })
+        .collect();
     for t in &faces {
         let [p0, p1, p2] = t.map(|v| pos[v as usize]);
         let cross = (p1 - p0).cross(p2 - p0);
@@ -585,7 +611,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             let nrm = cross / len;
             let q = Quadric::from_plane(nrm, -nrm.dot(p0), 0.5 * len);
             for &v in t {
-                quadric[v as usize] += q;
+                vd[v as usize].q += q;
             }
         }
     }
@@ -593,13 +619,6 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let referenced_vertices = n;
     let input_faces = faces.len();
     let refs_limit = (refs.len() * 3).max(1024);
-    let vd: Vec<VertexData> = pos
-        .iter()
-        .zip(&quadric)
-        .map(|(&p, &q)| VertexData { q, p })
-        .collect();
-    drop(pos);
-    drop(quadric);
     let v: Vec<VertexInfo> = (0..n)
         .map(|i| VertexInfo {
             start: face_start[i],
@@ -612,6 +631,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let mut e = Engine {
         vd,
         v,
+        stamps: vec![0; n],
         faces,
         refs,
         refs_limit,
@@ -635,13 +655,20 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         }
         let t = e.next_tick();
         ring.clear();
+        let uu = u as u32;
         for i in e.list(u) {
             let f = e.refs[i];
-            for v in e.faces[f as usize] {
+            let tri = e.faces[f as usize];
+            // The two other corners (every face in the list has `u` exactly once).
+            let others = if tri[0] == uu {
+                [tri[1], tri[2]]
+            } else if tri[1] == uu {
+                [tri[2], tri[0]]
+            } else {
+                [tri[0], tri[1]]
+            };
+            for v in others {
                 let vi = v as usize;
-                if vi == u {
-                    continue;
-                }
                 if e.v[vi].mark != t {
                     e.v[vi].mark = t;
                     ring_slot[vi] = ring.len() as u32;
@@ -661,13 +688,13 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             if vi > u {
                 edges.push([u as u32, v]);
                 if count == 1 && params.preserve_boundary {
-                    let [p0, p1, p2] = e.faces[f as usize].map(|w| e.vd[w as usize].p);
+                    let [p0, p1, p2] = e.faces[f as usize].map(|w| pos[w as usize]);
                     let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                    let edge = e.vd[vi].p - e.vd[u].p;
+                    let edge = pos[vi] - pos[u];
                     let m = edge.cross(face_normal).normalize_or_zero();
                     if m != DVec3::ZERO {
                         let w = params.boundary_weight * edge.length_squared();
-                        let q = Quadric::from_plane(m, -m.dot(e.vd[u].p), w);
+                        let q = Quadric::from_plane(m, -m.dot(pos[u]), w);
                         e.vd[u].q += q;
                         e.vd[vi].q += q;
                     }
@@ -676,12 +703,13 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         }
     }
     drop(ring_slot);
+    drop(pos);
 
     // Non-edge pairs within the threshold.
     let mut virtual_pairs = 0;
     if params.pair_threshold > 0.0 {
         let used: Vec<bool> = e.v.iter().map(|v| v.len > 0).collect();
-        let positions: Vec<DVec3> = e.vd.iter().map(|d| d.p).collect();
+        let positions: Vec<DVec3> = e.vd.iter().map(|d| d.p.as_dvec3()).collect();
         let close = pairs::close_pairs(
             &positions,
             &used,
@@ -722,6 +750,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let mut next: Vec<Cand> = Vec::with_capacity(list.len());
     let mut fresh: Vec<Cand> = Vec::new();
     let mut survivors: Vec<u32> = Vec::new();
+    let mut survivors_tmp: Vec<u32> = Vec::new();
     let mut rebuilt_without_progress = false;
     let reached = |e: &Engine| e.live_faces <= target_faces && e.live_vertices <= target_vertices;
     let stop_reason = loop {
@@ -742,8 +771,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         let mut cap_key = list[list.len() - 1].key;
         let mut live = 0usize;
         for c in &list {
-            let (va, vb) = (&e.v[c.a as usize], &e.v[c.b as usize]);
-            if va.alive && vb.alive && va.stamp.wrapping_add(vb.stamp) == c.stamp {
+            if is_live(c, &e.stamps) {
                 live += 1;
                 if live > goal / 2 {
                     cap_key = c.key;
@@ -758,14 +786,15 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         // Every visited entry is consumed (contracted, rejected or stale); the rest is carried.
         let mut consumed = list.len();
         for (i, c) in list.iter().enumerate() {
-            if let Some(ahead) = list.get(i + PREFETCH_DISTANCE) {
+            if let Some(ahead) = list.get(i + PREFETCH_DISTANCE)
+                && is_live(ahead, &e.stamps)
+            {
                 e.prefetch(ahead.a as usize, ahead.b as usize);
             }
-            let (a, b) = (c.a as usize, c.b as usize);
-            let (va, vb) = (&e.v[a], &e.v[b]);
-            if !va.alive || !vb.alive || va.stamp.wrapping_add(vb.stamp) != c.stamp {
+            if !is_live(c, &e.stamps) {
                 continue;
             }
+            let (a, b) = (c.a as usize, c.b as usize);
             if done > 0 && f32::from_bits(c.key) > cap {
                 consumed = i;
                 break;
@@ -776,7 +805,11 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                 break;
             }
             // Keep the vertex with the longer face list (less relinking).
-            let (a, b) = if vb.len > va.len { (b, a) } else { (a, b) };
+            let (a, b) = if e.v[b].len > e.v[a].len {
+                (b, a)
+            } else {
+                (a, b)
+            };
             if !e.allowed(a, b, p) {
                 // Dropped; the pair comes back when a neighbouring contraction touches an
                 // endpoint, or in a full rebuild.
@@ -824,12 +857,14 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         // Next list: the unvisited rest (stale entries are skipped when visited), merged with the
         // fresh pairs of the merged vertices.
         fresh.clear();
+        // In index (Morton) order, so that neighbouring survivors share cached vertex data.
+        sort_by_u32_key(&mut survivors, &mut survivors_tmp, |&v| v);
         for &a in &survivors {
             e.pairs_of(a as usize, pass, &mut fresh);
         }
         sort_by_u32_key(&mut fresh, &mut sort_tmp, |c| sort_key(c.key));
         next.clear();
-        merge_sorted(&list[consumed..], &fresh, &mut next);
+        merge_live(&list[consumed..], &fresh, &e.stamps, &mut next);
         std::mem::swap(&mut list, &mut next);
     };
 
@@ -894,7 +929,7 @@ impl Engine {
         for (v, r) in remap.iter_mut().enumerate() {
             if *r == 0 {
                 *r = positions.len() as u32;
-                let p = self.vd[v].p / scale + center;
+                let p = self.vd[v].p.as_dvec3() / scale + center;
                 positions.push(Vec3::new(p.x as f32, p.y as f32, p.z as f32));
             }
         }
@@ -919,29 +954,31 @@ fn morton(p: DVec3) -> u64 {
     spread(p.x) | (spread(p.y) << 1) | (spread(p.z) << 2)
 }
 
-/// Merge two sorted slices into `out` (branch-free selection: the comparisons are unpredictable).
-fn merge_sorted(x: &[Cand], y: &[Cand], out: &mut Vec<Cand>) {
-    let start = out.len();
-    let zero = Cand {
-        key: 0,
-        a: 0,
-        b: 0,
-        stamp: 0,
-    };
-    out.resize(start + x.len() + y.len(), zero);
-    let dst = &mut out[start..];
-    let (mut i, mut j, mut k) = (0, 0, 0);
-    while i < x.len() && j < y.len() {
-        let (cx, cy) = (x[i], y[j]);
-        let take_x = sort_key(cx.key) <= sort_key(cy.key);
-        dst[k] = if take_x { cx } else { cy };
-        k += 1;
-        i += usize::from(take_x);
-        j += usize::from(!take_x);
+/// Whether the candidate still describes the current pair: neither end contracted (or merged
+/// away, which also bumps its stamp) since it was evaluated. Stamps only grow, so the sum cannot
+/// come back to an old value short of 2³² contractions.
+#[inline]
+fn is_live(c: &Cand, stamps: &[u32]) -> bool {
+    stamps[c.a as usize].wrapping_add(stamps[c.b as usize]) == c.stamp
+}
+
+/// Merge the sorted carried list `x` (dropping its stale entries, so that later passes neither
+/// copy nor walk them) with the sorted fresh list `y` (all live) into `out`.
+fn merge_live(x: &[Cand], y: &[Cand], stamps: &[u32], out: &mut Vec<Cand>) {
+    out.reserve(x.len() + y.len());
+    let mut j = 0;
+    for c in x {
+        if !is_live(c, stamps) {
+            continue;
+        }
+        let k = sort_key(c.key);
+        while j < y.len() && sort_key(y[j].key) < k {
+            out.push(y[j]);
+            j += 1;
+        }
+        out.push(*c);
     }
-    dst[k..k + x.len() - i].copy_from_slice(&x[i..]);
-    k += x.len() - i;
-    dst[k..].copy_from_slice(&y[j..]);
+    out.extend_from_slice(&y[j..]);
 }
 
 fn validate(p: &QemParams) -> Result<(), QemError> {

@@ -899,12 +899,14 @@ impl ViewerApp {
         ui.add_space(4.0);
         let mut target = self.params.target_vertices;
         egui::Grid::new("params").num_columns(2).show(ui, |ui| {
-            ui.label("target vertices");
-            let r = ui.add(
-                egui::DragValue::new(&mut target)
-                    .range(4..=1_000_000)
-                    .speed(10.0),
-            );
+            let label = ui.label("target vertices");
+            let r = ui
+                .add(
+                    egui::DragValue::new(&mut target)
+                        .range(4..=1_000_000)
+                        .speed(10.0),
+                )
+                .labelled_by(label.id);
             ui.end_row();
             if (r.changed() && !r.dragged()) || r.drag_stopped() || r.lost_focus() {
                 self.set_target(target);
@@ -912,85 +914,97 @@ impl ViewerApp {
                 self.params.target_vertices = target;
             }
 
-            ui.label("time limit (s)");
+            let label = ui.label("time limit (s)");
             ui.horizontal(|ui| {
                 let mut limited = self.params.time_limit.is_some();
-                ui.checkbox(&mut limited, "");
+                ui.checkbox(&mut limited, "limit");
                 let mut seconds = self.params.time_limit.map_or(30.0, |d| d.as_secs_f64());
                 ui.add_enabled(
                     limited,
                     egui::DragValue::new(&mut seconds).range(0.1..=3600.0),
-                );
+                )
+                .labelled_by(label.id);
                 self.params.time_limit = limited.then(|| Duration::from_secs_f64(seconds));
             });
             ui.end_row();
-            ui.label("λ (insert every)");
+            let label = ui.label("λ (insert every)");
             ui.horizontal(|ui| {
                 let mut auto = self.params.lambda.is_none();
                 ui.checkbox(&mut auto, "auto");
                 let mut lambda = self.params.lambda.unwrap_or(100);
-                ui.add_enabled(!auto, egui::DragValue::new(&mut lambda).range(1..=100_000));
+                ui.add_enabled(!auto, egui::DragValue::new(&mut lambda).range(1..=100_000))
+                    .labelled_by(label.id);
                 self.params.lambda = (!auto).then_some(lambda);
             });
             ui.end_row();
-            ui.label("ε_b (winner)");
+            let label = ui.label("ε_b (winner)");
             ui.add(
                 egui::DragValue::new(&mut self.params.eps_winner)
                     .range(0.0..=1.0)
                     .speed(0.001),
-            );
+            )
+            .labelled_by(label.id);
             ui.end_row();
-            ui.label("ε_n (neighbours)");
+            let label = ui.label("ε_n (neighbours)");
             ui.add(
                 egui::DragValue::new(&mut self.params.eps_neighbour)
                     .range(0.0..=1.0)
                     .speed(0.0001)
                     .max_decimals(5),
-            );
+            )
+            .labelled_by(label.id);
             ui.end_row();
-            ui.label("α (insertion)");
+            let label = ui.label("α (insertion)");
             ui.add(
                 egui::DragValue::new(&mut self.params.alpha)
                     .range(0.0..=1.0)
                     .speed(0.01),
-            );
+            )
+            .labelled_by(label.id);
             ui.end_row();
-            ui.label("d (error decay)");
+            let label = ui.label("d (error decay)");
             ui.add(
                 egui::DragValue::new(&mut self.params.error_decay)
                     .range(0.0..=1.0)
                     .speed(0.0001)
                     .max_decimals(5),
-            );
+            )
+            .labelled_by(label.id);
             ui.end_row();
-            ui.label("a_max (edge age)");
-            ui.add(egui::DragValue::new(&mut self.params.max_edge_age).range(1..=100_000));
+            let label = ui.label("a_max (edge age)");
+            ui.add(egui::DragValue::new(&mut self.params.max_edge_age).range(1..=100_000))
+                .labelled_by(label.id);
             ui.end_row();
-            ui.label("μ (removal window)");
+            let label = ui.label("μ (removal window)");
             ui.add(egui::DragValue::new(&mut self.params.removal_window).range(0.0..=1000.0))
+                .labelled_by(label.id)
                 .on_hover_text(
                     "nodes without a win in the last μ·|A| signals are removed (0: off)",
                 );
             ui.end_row();
-            ui.label("seed");
-            ui.add(egui::DragValue::new(&mut self.params.seed));
+            let label = ui.label("seed");
+            ui.add(egui::DragValue::new(&mut self.params.seed))
+                .labelled_by(label.id);
             ui.end_row();
-            ui.label("signal source");
+            let label = ui.label("signal source");
             egui::ComboBox::from_id_salt("signal_source")
                 .selected_text(engine::signal_source_label(self.params.signal_source))
                 .show_ui(ui, |ui| {
                     for (source, label) in engine::SIGNAL_SOURCES {
                         ui.selectable_value(&mut self.params.signal_source, source, label);
                     }
-                });
+                })
+                .response
+                .labelled_by(label.id);
             ui.end_row();
-            ui.label("checkpoint every");
+            let label = ui.label("checkpoint every");
             ui.add(
                 egui::DragValue::new(&mut self.checkpoint_every)
                     .range(0..=1_000_000_000)
                     .speed(1000.0)
                     .suffix(" signals"),
             )
+            .labelled_by(label.id)
             .on_hover_text("reconstruct periodically for the table (0: off)");
             ui.end_row();
         });
@@ -998,11 +1012,9 @@ impl ViewerApp {
             let before = self.speed();
             ui.checkbox(&mut self.unlimited_speed, "as fast as possible");
             if !self.unlimited_speed {
-                ui.add(
-                    egui::DragValue::new(&mut self.signals_per_frame)
-                        .range(1..=1_000_000)
-                        .suffix("/frame"),
-                );
+                let label = ui.label("signals/frame");
+                ui.add(egui::DragValue::new(&mut self.signals_per_frame).range(1..=1_000_000))
+                    .labelled_by(label.id);
             }
             if self.speed() != before {
                 self.trainer.send(Command::SetSpeed(self.speed()));

@@ -67,11 +67,13 @@ pub fn run_headless(options: &ViewerOptions) -> Result<String, String> {
 
 /// Open the viewer window and run until it is closed.
 pub fn run(options: ViewerOptions) -> Result<(), String> {
+    let mut wgpu_options = egui_wgpu::WgpuConfiguration::default();
+    wgpu_options.surface.present_mode = wgpu::PresentMode::AutoNoVsync;
     let native = eframe::NativeOptions {
+        wgpu_options,
         renderer: eframe::Renderer::Wgpu,
         // Frames are paced by the app (at most 40 fps while training); on a CPU rasterizer
         // vsync waits and dithering only cost time.
-        vsync: false,
         dithering: false,
         viewport: egui::ViewportBuilder::default()
             .with_title("gng3d viewer — GNG3D vs QEM")

@@ -202,10 +202,26 @@ fn log_plot(id: &str, height: f32) -> Plot<'static> {
 pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
     let avg: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[1])]).collect();
     let max: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[2])]).collect();
+    let few = history.errors.len() < 40;
+    let avg_marks: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[1])]).collect();
+    let max_marks: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[2])]).collect();
     let qem = history.qem.clone();
     log_plot("vertex_errors", height)
         .y_axis_label("squared error")
         .show(ui, move |plot| {
+            // Markers while the series is short (a single point draws no line).
+            if few {
+                plot.points(
+                    Points::new("GNG3D E_avg", avg_marks)
+                        .color(AVG_COLOR)
+                        .radius(2.5),
+                );
+                plot.points(
+                    Points::new("GNG3D E_max", max_marks)
+                        .color(MAX_COLOR)
+                        .radius(2.5),
+                );
+            }
             plot.line(Line::new("GNG3D E_avg", avg).color(AVG_COLOR).width(1.5));
             plot.line(Line::new("GNG3D E_max", max).color(MAX_COLOR).width(1.5));
             if let Some(q) = qem {
