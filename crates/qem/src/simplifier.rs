@@ -113,12 +113,8 @@ impl VirtualPairs {
 /// Geometry of a vertex in the normalised frame.
 #[derive(Debug, Clone, Copy, Default)]
 struct VertexData {
-    /// Accumulated quadric (f64: error accumulates here).
     q: Quadric,
-    /// Position (f32, like the output: every placement is computed afresh in f64 from the
-    /// quadrics, so nothing accumulates; 96 bytes in all, so a vertex always spans two cache
-    /// lines instead of two or three).
-    p: Vec3,
+    p: DVec3,
 }
 
 /// Per-vertex bookkeeping.
@@ -191,12 +187,6 @@ impl Engine {
         let _ = (a, b);
     }
 
-    /// Position of vertex `v` (normalised frame).
-    #[inline]
-    fn pos(&self, v: usize) -> DVec3 {
-        self.vd[v].p.as_dvec3()
-    }
-
     #[inline]
     fn list(&self, v: usize) -> std::ops::Range<usize> {
         let s = self.v[v].start as usize;
@@ -248,7 +238,7 @@ impl Engine {
     fn evaluate(&self, a: usize, b: usize) -> (f64, DVec3) {
         let (da, db) = (&self.vd[a], &self.vd[b]);
         let q = da.q + db.q;
-        let (cost, p) = Self::place(&q, da.p.as_dvec3(), db.p.as_dvec3());
+        let (cost, p) = Self::place(&q, da.p, db.p);
         (cost.max(0.0), p)
     }
 
@@ -310,8 +300,8 @@ impl Engine {
         } else {
             (tri[0], tri[1])
         };
-        let p1 = self.pos(i1 as usize);
-        let p2 = self.pos(i2 as usize);
+        let p1 = self.vd[i1 as usize].p;
+        let p2 = self.vd[i2 as usize].p;
         let old = (p1 - pu).cross(p2 - pu);
         let ol = old.length_squared();
         if ol == 0.0 {
@@ -319,15 +309,7 @@ impl Engine {
         }
         let new = (p1 - p).cross(p2 - p);
         let nl = new.length_squared();
-        // `old·new <= k·sqrt(ol·nl)` without the square root.
-        let dot = old.dot(new);
-        let k = self.min_normal_cos;
-        let rhs = k * k * ol * nl;
-        if k >= 0.0 {
-            dot <= 0.0 || dot * dot <= rhs
-        } else {
-            dot <= 0.0 && dot * dot >= rhs
-        }
+        old.dot(new) <= self.min_normal_cos * (ol * nl).sqrt()
     }
 
     /// Check the topology/normal conditions for contracting `b` into `a` at `p`: one walk over the
@@ -342,7 +324,7 @@ impl Engine {
         let mut opp = [DEAD; 2];
         let mut alive_a = 0usize;
         let ta = self.next_tick();
-        let pa = self.pos(a);
+        let pa = self.vd[a].p;
         for i in self.list(a) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
@@ -370,7 +352,7 @@ impl Engine {
         let mut alive_b = 0usize;
         let (c, d) = (opp[0], opp[1]);
         let mut b_has_cd = false;
-        let pb = self.pos(b);
+        let pb = self.vd[b].p;
         for i in self.list(b) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
@@ -414,7 +396,7 @@ impl Engine {
     /// Contract `b` into `a`, moving `a` to `p`.
     fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
         let (au, bu) = (a as u32, b as u32);
-        self.vd[a].p = p.as_vec3();
+        self.vd[a].p = p;
         let qb = self.vd[b].q;
         self.vd[a].q += qb;
         self.v[a].boundary |= self.v[b].boundary;
@@ -600,11 +582,12 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         .iter()
         .map(|&p| VertexData {
             q: Quadric::default(),
-            p: p.as_vec3(),
+            p,
         })
         .collect();
+    drop(pos);
     for t in &faces {
-        let [p0, p1, p2] = t.map(|v| pos[v as usize]);
+        let [p0, p1, p2] = t.map(|v| vd[v as usize].p);
         let cross = (p1 - p0).cross(p2 - p0);
         let len = cross.length();
         if len > 0.0 && len.is_finite() {
@@ -688,13 +671,13 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             if vi > u {
                 edges.push([u as u32, v]);
                 if count == 1 && params.preserve_boundary {
-                    let [p0, p1, p2] = e.faces[f as usize].map(|w| pos[w as usize]);
+                    let [p0, p1, p2] = e.faces[f as usize].map(|w| e.vd[w as usize].p);
                     let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                    let edge = pos[vi] - pos[u];
+                    let edge = e.vd[vi].p - e.vd[u].p;
                     let m = edge.cross(face_normal).normalize_or_zero();
                     if m != DVec3::ZERO {
                         let w = params.boundary_weight * edge.length_squared();
-                        let q = Quadric::from_plane(m, -m.dot(pos[u]), w);
+                        let q = Quadric::from_plane(m, -m.dot(e.vd[u].p), w);
                         e.vd[u].q += q;
                         e.vd[vi].q += q;
                     }
@@ -703,13 +686,12 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         }
     }
     drop(ring_slot);
-    drop(pos);
 
     // Non-edge pairs within the threshold.
     let mut virtual_pairs = 0;
     if params.pair_threshold > 0.0 {
         let used: Vec<bool> = e.v.iter().map(|v| v.len > 0).collect();
-        let positions: Vec<DVec3> = e.vd.iter().map(|d| d.p.as_dvec3()).collect();
+        let positions: Vec<DVec3> = e.vd.iter().map(|d| d.p).collect();
         let close = pairs::close_pairs(
             &positions,
             &used,
@@ -929,7 +911,7 @@ impl Engine {
         for (v, r) in remap.iter_mut().enumerate() {
             if *r == 0 {
                 *r = positions.len() as u32;
-                let p = self.vd[v].p.as_dvec3() / scale + center;
+                let p = self.vd[v].p / scale + center;
                 positions.push(Vec3::new(p.x as f32, p.y as f32, p.z as f32));
             }
         }
