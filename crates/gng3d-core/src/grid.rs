@@ -72,6 +72,15 @@ impl Nearest2 {
     }
 }
 
+/// `x.floor() as i32` without the `floorf` library call that baseline x86-64 (no SSE4.1
+/// `roundss`) emits for `f32::floor`: truncate, then step down for negative non-integers.
+/// Saturates like `as i32` for values outside the `i32` range.
+#[inline(always)]
+fn floor_i32(x: f32) -> i32 {
+    let t = x as i32;
+    t - i32::from((t as f32) > x)
+}
+
 impl Grid {
     /// A grid over the box `[min, max]` with about `cells` cells (at least one).
     pub fn new(min: Vec3, max: Vec3, cells: usize) -> Grid {
@@ -96,9 +105,9 @@ impl Grid {
         grid
     }
 
-    /// Number of cells.
-    pub fn cell_count(&self) -> usize {
-        self.head.len()
+    /// Volume of the gridded box, model units cubed.
+    pub fn volume(&self) -> f64 {
+        self.extent.x as f64 * self.extent.y as f64 * self.extent.z as f64
     }
 
     /// Cell of node `slot` (`NONE` when absent).
@@ -155,9 +164,9 @@ impl Grid {
         // Truncation equals floor for the non-negative values that matter; negatives clamp to 0.
         let c = (p - self.origin) * self.inv_cell;
         [
-            (c.x as i32).clamp(0, self.dims[0] - 1),
-            (c.y as i32).clamp(0, self.dims[1] - 1),
-            (c.z as i32).clamp(0, self.dims[2] - 1),
+            (c.x as i32).max(0).min(self.dims[0] - 1),
+            (c.y as i32).max(0).min(self.dims[1] - 1),
+            (c.z as i32).max(0).min(self.dims[2] - 1),
         ]
     }
 
@@ -243,9 +252,9 @@ impl Grid {
         let u = (q - self.origin) * self.inv_cell - Vec3::splat(0.5);
         // Lower cell of the central pair on each axis (may be -1 or dims-1 at the grid border).
         let b = [
-            (u.x.floor() as i32).clamp(-1, self.dims[0] - 1),
-            (u.y.floor() as i32).clamp(-1, self.dims[1] - 1),
-            (u.z.floor() as i32).clamp(-1, self.dims[2] - 1),
+            floor_i32(u.x).max(-1).min(self.dims[0] - 1),
+            floor_i32(u.y).max(-1).min(self.dims[1] - 1),
+            floor_i32(u.z).max(-1).min(self.dims[2] - 1),
         ];
         let mut k = 1i32;
         loop {
@@ -295,8 +304,12 @@ impl Grid {
         let r = best.second_d2.sqrt();
         let u = (q - self.origin) * self.inv_cell;
         let range = |a: usize| {
-            let lo = ((u[a] - r * self.inv_cell).floor() as i32).clamp(0, self.dims[a] - 1);
-            let hi = ((u[a] + r * self.inv_cell).floor() as i32).clamp(0, self.dims[a] - 1);
+            let lo = floor_i32(u[a] - r * self.inv_cell)
+                .max(0)
+                .min(self.dims[a] - 1);
+            let hi = floor_i32(u[a] + r * self.inv_cell)
+                .max(0)
+                .min(self.dims[a] - 1);
             (lo, hi)
         };
         // Squared distance from q to the slab of cell index i along axis a.
@@ -382,6 +395,30 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn floor_i32_matches_floor() {
+        for x in [
+            -2.5f32,
+            -2.0,
+            -1.0,
+            -0.75,
+            -0.0,
+            0.0,
+            0.25,
+            1.0,
+            1.5,
+            7.999,
+            1e6 + 0.5,
+        ] {
+            assert_eq!(floor_i32(x), x.floor() as i32, "{x}");
+        }
+        let mut s = 3u64;
+        for _ in 0..10_000 {
+            let x = (lcg(&mut s) - 0.5) * 200.0;
+            assert_eq!(floor_i32(x), x.floor() as i32, "{x}");
+        }
+    }
 
     fn lcg(state: &mut u64) -> f32 {
         *state = state

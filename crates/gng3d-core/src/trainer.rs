@@ -18,10 +18,16 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-/// Grid resolution: rebuild once there are more than this many nodes per cell on average.
-const GRID_MAX_NODES_PER_CELL: f64 = 0.5;
-/// Grid resolution: after a rebuild there are this many cells per node.
-const GRID_CELLS_PER_NODE: f64 = 4.0;
+/// Grid resolution: rebuild once the node count has grown by this factor since the last build.
+const GRID_REBUILD_GROWTH: usize = 2;
+/// Grid resolution: cell side as a multiple of the mean node spacing on the surface,
+/// sqrt(area / nodes). Nodes live on a 2-D surface, so the side must follow N^(-1/2) rather
+/// than the volume's N^(-1/3) (fewer nodes examined per query at every size).
+const GRID_CELL_SPACING: f64 = 1.3;
+/// Grid resolution: at least this many cells per node (flat or tiny boxes).
+const GRID_MIN_CELLS_PER_NODE: f64 = 1.0;
+/// Grid resolution: at most this many cells per node (bounds memory for thin, tall boxes).
+const GRID_MAX_CELLS_PER_NODE: f64 = 64.0;
 /// Renumber nodes in grid order every this many times |A| signals.
 const RENUMBER_EVERY_EPOCHS: u64 = 16;
 /// Signals between checks of the clock and the cancellation flag.
@@ -125,6 +131,20 @@ enum Signals {
     },
 }
 
+/// Cells for a grid of volume `volume` over `nodes` nodes spread on a surface of area `area`.
+fn grid_cells(area: f64, volume: f64, nodes: usize) -> usize {
+    let n = nodes.max(1) as f64;
+    let side = GRID_CELL_SPACING * (area / n).sqrt();
+    let cells = volume / (side * side * side);
+    let (lo, hi) = (n * GRID_MIN_CELLS_PER_NODE, n * GRID_MAX_CELLS_PER_NODE);
+    let cells = if cells.is_finite() {
+        cells.clamp(lo, hi)
+    } else {
+        hi
+    };
+    cells as usize
+}
+
 /// Vose's alias table for sampling index i with probability `weights[i] / sum`.
 fn alias_table(weights: &[f64]) -> (Vec<f64>, Vec<u32>) {
     let n = weights.len();
@@ -180,6 +200,10 @@ pub struct Trainer {
     /// Distinct referenced vertex positions (for errors and the target check).
     vertices: Vec<Vec3>,
     signals_src: Signals,
+    /// Surface area of the mesh (model units squared), for the grid resolution.
+    area: f64,
+    /// Node count at the last grid rebuild.
+    grid_built_for: usize,
     params: GngParams,
     net: Network,
     rng: Pcg64Mcg,
@@ -307,6 +331,8 @@ impl Trainer {
             original: mesh.clone(),
             vertices,
             signals_src,
+            area: mesh.area(),
+            grid_built_for: 2,
             inv_decay: 1.0 / params.error_decay,
             params,
             net,
@@ -388,7 +414,8 @@ impl Trainer {
                 if self.net.grid.is_none() {
                     let bbox = mesh::Aabb::from_points(&self.vertices);
                     let mut g = Grid::new(bbox.min, bbox.max, 1);
-                    let cells = (self.net.live as f64 * GRID_CELLS_PER_NODE) as usize;
+                    let cells = grid_cells(self.area, g.volume(), self.net.live);
+                    self.grid_built_for = self.net.live;
                     let nodes: Vec<(u32, Vec3)> = self
                         .net
                         .live_slots()
@@ -613,9 +640,10 @@ impl Trainer {
         net.connect(r, f);
         self.insertions += 1;
         if let Some(g) = &mut net.grid
-            && net.live as f64 > GRID_MAX_NODES_PER_CELL * g.cell_count() as f64
+            && net.live > GRID_REBUILD_GROWTH * self.grid_built_for
         {
-            let cells = (net.live as f64 * GRID_CELLS_PER_NODE) as usize;
+            let cells = grid_cells(self.area, g.volume(), net.live);
+            self.grid_built_for = net.live;
             let nodes: Vec<(u32, Vec3)> = net
                 .alive
                 .iter()
@@ -656,6 +684,23 @@ fn check_param(name: &'static str, value: f64, lo: f64, hi: f64) -> Result<(), G
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn grid_cells_follow_the_surface_spacing_and_clamp() {
+        // Surface of area 1 in a box of volume 0.1: side = spacing / sqrt(n).
+        let n = 10_000;
+        let side = GRID_CELL_SPACING / (n as f64).sqrt();
+        let want = 0.1 / (side * side * side);
+        let got = grid_cells(1.0, 0.1, n) as f64;
+        assert!((got - want).abs() <= 1.0, "{got} vs {want}");
+        // Four times the nodes: half the side, eight times the cells.
+        let ratio = grid_cells(1.0, 0.1, 4 * n) as f64 / got;
+        assert!((ratio - 8.0).abs() < 1e-3, "{ratio}");
+        // Degenerate inputs stay within [1, 64] cells per node.
+        assert_eq!(grid_cells(0.0, 1.0, 100), 6_400);
+        assert_eq!(grid_cells(1.0, 0.0, 100), 100);
+        assert_eq!(grid_cells(1e12, 1.0, 100), 100);
+    }
 
     #[test]
     fn alias_table_reproduces_the_weights() {
