@@ -4,7 +4,7 @@
 //! remove non-manifold fins, fill small holes and project vertices onto the original surface.
 
 use crate::params::{OppositeFaces, ReconstructionParams};
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
 use mesh::topology::TopologyReport;
@@ -536,44 +536,6 @@ fn clip_ears(
     Some(out)
 }
 
-/// Closest point to `p` on triangle `(a, b, c)` (Ericson, Real-Time Collision Detection 5.1.5).
-fn closest_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
-    let ab = b - a;
-    let ac = c - a;
-    let ap = p - a;
-    let d1 = ab.dot(ap);
-    let d2 = ac.dot(ap);
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
-    }
-    let bp = p - b;
-    let d3 = ab.dot(bp);
-    let d4 = ac.dot(bp);
-    if d3 >= 0.0 && d4 <= d3 {
-        return b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let d5 = ab.dot(cp);
-    let d6 = ac.dot(cp);
-    if d6 >= 0.0 && d5 <= d6 {
-        return c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
-    let denom = 1.0 / (va + vb + vc);
-    a + ab * (vb * denom) + ac * (vc * denom)
-}
-
 /// Move each output vertex to the closest point on the original faces that touch a vertex
 /// labelled with its node. Returns the number of vertices moved.
 fn project(
@@ -618,7 +580,7 @@ fn project(
         let mut best = (f64::INFINITY, p);
         while i < pairs.len() && pairs[i].0 == o {
             let [a, b, c] = original.triangle_f64(pairs[i].1 as usize);
-            let q = closest_on_triangle(p, a, b, c);
+            let q = metrics::closest_point_triangle(p, a, b, c);
             let d = (q - p).length_squared();
             if d < best.0 {
                 best = (d, q);
@@ -636,31 +598,6 @@ fn project(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn closest_point_matches_dense_sampling() {
-        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::new(0.2, 1.0, 0.3));
-        for p in [
-            DVec3::new(0.3, 0.3, 1.0),
-            DVec3::new(-1.0, -1.0, 0.0),
-            DVec3::new(2.0, 0.1, -0.5),
-            DVec3::new(0.5, 2.0, 0.0),
-            DVec3::new(0.7, 0.7, 0.2),
-        ] {
-            let q = closest_on_triangle(p, a, b, c);
-            let mut best = f64::INFINITY;
-            let n = 200;
-            for i in 0..=n {
-                for j in 0..=(n - i) {
-                    let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
-                    let s = a + (b - a) * u + (c - a) * v;
-                    best = best.min((s - p).length());
-                }
-            }
-            let d = (q - p).length();
-            assert!(d <= best + 1e-9 && d >= best - 0.01, "{d} vs {best}");
-        }
-    }
 
     #[test]
     fn identity_nodes_reproduce_the_mesh() {
