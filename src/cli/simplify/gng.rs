@@ -34,13 +34,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     if args.faces.is_some() {
         bail!("--faces applies to QEM only; use --vertices or --ratio with --method gng");
     }
-    let loaded =
-        mesh::io::load(&args.input).with_context(|| format!("loading {}", args.input.display()))?;
-    let input = if args.no_weld {
-        loaded.mesh
-    } else {
-        mesh::clean::prepare(&loaded.mesh).0
-    };
+    let input = crate::cli::load_prepared(&args.input, args.no_weld)?;
     let target = match (args.vertices, args.ratio) {
         (Some(n), _) => n,
         (None, Some(r)) => {

@@ -37,13 +37,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             args.threshold
         );
     }
-    let loaded =
-        mesh::io::load(&args.input).with_context(|| format!("loading {}", args.input.display()))?;
-    let input = if args.no_weld {
-        loaded.mesh
-    } else {
-        mesh::clean::prepare(&loaded.mesh).0
-    };
+    let input = crate::cli::load_prepared(&args.input, args.no_weld)?;
     let params = QemParams {
         target,
         pair_threshold: args.threshold,
