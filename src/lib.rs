@@ -5,6 +5,22 @@
 //! [`mesh`] (mesh type, I/O, topology, sampling), [`gng3d_core`] (GNG3D training and
 //! reconstruction), [`qem`] (quadric error metric simplification) and [`metrics`] (paper errors
 //! and Metro-style surface distance).
+//!
+//! ```
+//! use gng3d::{gng3d_core, mesh, metrics, qem};
+//! // A built-in model; `mesh::io::load(path)?.mesh` reads OBJ, PLY or STL instead.
+//! let original = mesh::clean::prepare(&mesh::procedural::icosphere(4)).0; // 2,562 vertices
+//! let gng = gng3d_core::simplify(&original, &gng3d_core::GngParams::for_target(600)).unwrap();
+//! let qem_params = qem::QemParams::with_target(qem::Target::Vertices(600));
+//! let (qem_mesh, _) = qem::simplify(&original, &qem_params).unwrap();
+//! let mut params = metrics::MetricsParams::default();
+//! params.hausdorff.samples = Some(20_000);
+//! let g = metrics::evaluate(&original, &gng.mesh, &params).unwrap();
+//! let q = metrics::evaluate(&original, &qem_mesh, &params).unwrap();
+//! assert_eq!(qem_mesh.vertex_count(), 600);
+//! println!("E_avg GNG3D {:.2e} vs QEM {:.2e}", g.e_avg, q.e_avg);
+//! println!("Hausdorff GNG3D {:.2e} vs QEM {:.2e}", g.hausdorff.max, q.hausdorff.max);
+//! ```
 
 pub use gng3d_core;
 pub use mesh;
