@@ -1,6 +1,7 @@
 //! Line charts (SVG and PNG) for the reproduction report, drawn with plotters.
 
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Once;
@@ -122,44 +123,41 @@ impl Chart {
             let mut chart = builder
                 .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
                 .map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc(&self.x_label)
-                .y_desc(&self.y_label)
-                .label_style((FONT, 15))
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| format!("{v:.1e}"))
-                .draw()
-                .map_err(err)?;
-            self.draw_series(&mut chart).map_err(err)?;
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 15))
-                .draw()
+            self.decorate(&mut chart, &|v| format!("{v:.1e}"))
                 .map_err(err)?;
         } else {
             let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc(&self.x_label)
-                .y_desc(&self.y_label)
-                .label_style((FONT, 15))
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| format!("{v:.3e}"))
-                .draw()
-                .map_err(err)?;
-            self.draw_series(&mut chart).map_err(err)?;
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 15))
-                .draw()
+            self.decorate(&mut chart, &|v| format!("{v:.3e}"))
                 .map_err(err)?;
         }
         Ok(())
+    }
+
+    /// Axes, grid, labels (y values formatted by `y_format`), the series and the legend.
+    fn decorate<'a, DB, Y>(
+        &self,
+        chart: &mut ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
+        y_format: &dyn Fn(&f64) -> String,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
+    where
+        DB: DrawingBackend + 'a,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .label_style((FONT, 15))
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(y_format)
+            .draw()?;
+        self.draw_series(chart)?;
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font((FONT, 15))
+            .draw()
     }
 
     fn draw_series<'a, DB, Y>(
