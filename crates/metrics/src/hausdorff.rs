@@ -415,6 +415,20 @@ fn combine(forward: OneSided, backward: OneSided, diagonal: f64) -> Hausdorff {
     }
 }
 
+/// Validates both meshes and returns the samples per direction and the original's diagonal.
+fn check_pair(
+    original: &TriMesh,
+    simplified: &TriMesh,
+    params: &HausdorffParams,
+) -> Result<(usize, f64), MetricsError> {
+    validate_mesh(original, "original")?;
+    validate_mesh(simplified, "simplified")?;
+    let samples = params
+        .samples
+        .unwrap_or_else(|| default_samples(original, simplified));
+    Ok((samples, original.bbox_diagonal()))
+}
+
 /// Both directions with prebuilt indices; returns the distances and the normal deviations
 /// (forward, backward).
 pub(crate) fn hausdorff_full(
@@ -424,12 +438,7 @@ pub(crate) fn hausdorff_full(
     simplified_index: &SurfaceDistanceIndex,
     params: &HausdorffParams,
 ) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
-    validate_mesh(original, "original")?;
-    validate_mesh(simplified, "simplified")?;
-    let samples = params
-        .samples
-        .unwrap_or_else(|| default_samples(original, simplified));
-    let diagonal = original.bbox_diagonal();
+    let (samples, diagonal) = check_pair(original, simplified, params)?;
     let (fwd, bwd) = rayon::join(
         || draw(original, params, samples, derive_seed(params.seed, 1)),
         || draw(simplified, params, samples, derive_seed(params.seed, 2)),
@@ -450,12 +459,7 @@ pub(crate) fn hausdorff_pipelined(
     simplified: &TriMesh,
     params: &HausdorffParams,
 ) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
-    validate_mesh(original, "original")?;
-    validate_mesh(simplified, "simplified")?;
-    let samples = params
-        .samples
-        .unwrap_or_else(|| default_samples(original, simplified));
-    let diagonal = original.bbox_diagonal();
+    let (samples, diagonal) = check_pair(original, simplified, params)?;
     let (original_index, rest) = rayon::join(
         || SurfaceDistanceIndex::new(original).map_err(|e| rename(e, "original")),
         || -> Result<_, MetricsError> {
