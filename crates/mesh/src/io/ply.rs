@@ -333,51 +333,44 @@ fn parse_ascii(
     Ok(())
 }
 
+/// Reads a `$t` of `$n` bytes at `$at` in the byte order `$be` (true: big endian) and casts
+/// it to `$out`; the caller checked bounds.
+macro_rules! read_as {
+    ($b:expr, $at:expr, $be:expr, $t:ty, $n:expr, $out:ty) => {{
+        let a: [u8; $n] = $b[$at..$at + $n].try_into().unwrap();
+        (if $be {
+            <$t>::from_be_bytes(a)
+        } else {
+            <$t>::from_le_bytes(a)
+        }) as $out
+    }};
+}
+
 /// Read scalar `ty` at `at` as f64 (caller checked bounds).
 #[inline(always)]
 fn read_scalar<const BE: bool>(b: &[u8], at: usize, ty: Scalar) -> f64 {
-    macro_rules! rd {
-        ($t:ty, $n:expr) => {{
-            let a: [u8; $n] = b[at..at + $n].try_into().unwrap();
-            (if BE {
-                <$t>::from_be_bytes(a)
-            } else {
-                <$t>::from_le_bytes(a)
-            }) as f64
-        }};
-    }
     match ty {
         Scalar::I8 => b[at] as i8 as f64,
         Scalar::U8 => b[at] as f64,
-        Scalar::I16 => rd!(i16, 2),
-        Scalar::U16 => rd!(u16, 2),
-        Scalar::I32 => rd!(i32, 4),
-        Scalar::U32 => rd!(u32, 4),
-        Scalar::F32 => rd!(f32, 4),
-        Scalar::F64 => rd!(f64, 8),
+        Scalar::I16 => read_as!(b, at, BE, i16, 2, f64),
+        Scalar::U16 => read_as!(b, at, BE, u16, 2, f64),
+        Scalar::I32 => read_as!(b, at, BE, i32, 4, f64),
+        Scalar::U32 => read_as!(b, at, BE, u32, 4, f64),
+        Scalar::F32 => read_as!(b, at, BE, f32, 4, f64),
+        Scalar::F64 => read_as!(b, at, BE, f64, 8, f64),
     }
 }
 
 /// Read integer `ty` at `at` as i64 (caller checked bounds).
 #[inline(always)]
 fn read_int<const BE: bool>(b: &[u8], at: usize, ty: Scalar) -> i64 {
-    macro_rules! rd {
-        ($t:ty, $n:expr) => {{
-            let a: [u8; $n] = b[at..at + $n].try_into().unwrap();
-            (if BE {
-                <$t>::from_be_bytes(a)
-            } else {
-                <$t>::from_le_bytes(a)
-            }) as i64
-        }};
-    }
     match ty {
         Scalar::I8 => b[at] as i8 as i64,
         Scalar::U8 => b[at] as i64,
-        Scalar::I16 => rd!(i16, 2),
-        Scalar::U16 => rd!(u16, 2),
-        Scalar::I32 => rd!(i32, 4),
-        Scalar::U32 => rd!(u32, 4),
+        Scalar::I16 => read_as!(b, at, BE, i16, 2, i64),
+        Scalar::U16 => read_as!(b, at, BE, u16, 2, i64),
+        Scalar::I32 => read_as!(b, at, BE, i32, 4, i64),
+        Scalar::U32 => read_as!(b, at, BE, u32, 4, i64),
         // Float list entries used as indices: truncated; a non-integral value is unusual
         // enough that we do not special-case it.
         Scalar::F32 | Scalar::F64 => read_scalar::<BE>(b, at, ty) as i64,
