@@ -1,5 +1,6 @@
 //! Time `qem::simplify` against `meshopt::simplify` on one mesh:
-//! `cargo run --release -p qem --example compare -- MESH RATIO [OUT.obj]`.
+//! `REPS=N cargo run --release -p qem --example compare -- MESH RATIO [OUT.obj]`; the two alternate
+//! call by call and best / median wall times, their ratios and per-thread on-CPU times are printed.
 
 use std::time::Instant;
 
@@ -27,33 +28,21 @@ fn main() {
     let (m, _) = mesh::clean::prepare(&loaded.mesh);
     let target = ((m.face_count() as f64) * ratio).round() as usize;
     let params = qem::QemParams::with_target(qem::Target::Faces(target));
-    let mut best = f64::INFINITY;
-    let mut best_cpu = f64::INFINITY;
-    let mut best_mo_cpu = f64::INFINITY;
+    let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
+    let adapter = meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0)
+        .expect("adapter");
+    // qem and meshopt alternate, so that both see the same machine load.
+    let (mut wall, mut wall_mo) = (Vec::new(), Vec::new());
+    let (mut best_cpu, mut best_mo_cpu) = (f64::INFINITY, f64::INFINITY);
     let mut result = None;
+    let mut mo_faces = 0;
     for _ in 0..reps {
         let t = Instant::now();
         let c = cpu_seconds();
         let r = qem::simplify(&m, &params).expect("qem");
-        best = best.min(t.elapsed().as_secs_f64());
+        wall.push(t.elapsed().as_secs_f64());
         best_cpu = best_cpu.min(cpu_seconds() - c);
         result = Some(r);
-    }
-    let (out, report) = result.expect("ran");
-    println!(
-        "qem: {} -> {} faces, {} verts, {:.4} s  {:?}",
-        m.face_count(),
-        out.face_count(),
-        out.vertex_count(),
-        best,
-        report
-    );
-    let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
-    let adapter = meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0)
-        .expect("adapter");
-    let mut best_mo = f64::INFINITY;
-    let mut mo_faces = 0;
-    for _ in 0..reps {
         let t = Instant::now();
         let c = cpu_seconds();
         let r = meshopt::simplify(
@@ -64,15 +53,36 @@ fn main() {
             meshopt::SimplifyOptions::None,
             None,
         );
-        best_mo = best_mo.min(t.elapsed().as_secs_f64());
+        wall_mo.push(t.elapsed().as_secs_f64());
         best_mo_cpu = best_mo_cpu.min(cpu_seconds() - c);
         mo_faces = r.len() / 3;
     }
+    let (out, report) = result.expect("ran");
+    let best = wall.iter().copied().fold(f64::INFINITY, f64::min);
+    let best_mo = wall_mo.iter().copied().fold(f64::INFINITY, f64::min);
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (med, med_mo) = (median(&mut wall), median(&mut wall_mo));
+    println!(
+        "qem: {} -> {} faces, {} verts, {:.4} s  {:?}",
+        m.face_count(),
+        out.face_count(),
+        out.vertex_count(),
+        best,
+        report
+    );
     println!(
         "meshopt: {} faces, {:.4} s; ratio qem/meshopt = {:.2}",
         mo_faces,
         best_mo,
         best / best_mo
+    );
+    println!(
+        "wall: best qem {best:.4} s, meshopt {best_mo:.4} s, ratio {:.3}; median qem {med:.4} s, meshopt {med_mo:.4} s, ratio {:.3}",
+        best / best_mo,
+        med / med_mo
     );
     println!(
         "cpu: qem {best_cpu:.4} s, meshopt {best_mo_cpu:.4} s, ratio {:.2}",

@@ -12,15 +12,50 @@ use crate::radix::sort_by_u32_key;
 use crate::{QemError, QemParams, QemReport, Quadric, StopReason, Target, pairs};
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Marks a dead face (in its first slot) and an empty linked list.
 const DEAD: u32 = u32::MAX;
-/// How many candidates ahead the pass loop prefetches vertex data.
-const PREFETCH_DISTANCE: usize = 8;
+/// How many candidates ahead the pass loop prefetches version stamps.
+const PREFETCH_STAMPS: usize = 32;
+/// How many candidates ahead the pass loop prefetches vertex records.
+const PREFETCH_DISTANCE: usize = 16;
+/// How many candidates ahead the pass loop prefetches face lists.
+const PREFETCH_LISTS: usize = 8;
+/// How many candidates ahead the pass loop prefetches faces.
+const PREFETCH_FACES: usize = 4;
+/// How many candidates ahead the pass loop prefetches the positions around the endpoints.
+const PREFETCH_RING: usize = 2;
+
+/// Work lists shorter than this are processed on the calling thread only.
+const PARALLEL_MIN: usize = 32_768;
+/// Whether `len` work items (at least `min`) are worth splitting over the rayon pool; with one
+/// thread (`RAYON_NUM_THREADS=1`) everything runs on the calling thread.
+fn parallel(len: usize, min: usize) -> bool {
+    len >= min && rayon::current_num_threads() > 1
+}
+
+/// Merged vertices per parallel task of the pair generation.
+const SURVIVOR_CHUNK: usize = 1_024;
+/// Items per parallel task.
+const PARALLEL_CHUNK: usize = 8_192;
+
+/// Hint the CPU to load the cache line at `p` (a hint only: any address is fine).
+#[inline(always)]
+fn prefetch_ptr<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: prefetching is only a hint; it never faults, whatever the address.
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>(p.cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
 
 /// A candidate pair with its cost (as `f32` bits, which order like the non-negative cost).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord)]
 struct Cand {
     key: u32,
     a: u32,
@@ -124,16 +159,21 @@ struct VertexInfo {
     start: u32,
     /// Length of the face list (may include dead faces).
     len: u32,
-    /// Live faces around the vertex.
-    valence: u32,
     /// Pass in which the vertex was last touched by a contraction.
     touched: u32,
-    /// Scratch mark (compared with `Engine::tick`).
-    mark: u32,
     /// Not merged into another vertex.
     alive: bool,
     /// On a boundary edge (or a non-manifold edge).
     boundary: bool,
+}
+
+/// Per-vertex fields read for the neighbours of a pair.
+#[derive(Debug, Clone, Copy, Default)]
+struct NeighbourInfo {
+    /// Scratch mark (compared with `Engine::tick`).
+    mark: u32,
+    /// Live faces around the vertex.
+    valence: u32,
 }
 
 /// Mutable simplification state.
@@ -146,8 +186,15 @@ struct Engine {
     /// the candidate walks test it for every entry, in cost order, i.e. at random).
     stamps: Vec<u32>,
     faces: Vec<[u32; 3]>,
+    /// Face lists, appended to on every collapse (capacity reserved up to `refs_limit`).
     refs: Vec<u32>,
+    /// Length of `refs` above which it is compacted.
     refs_limit: usize,
+    /// The other buffer of the compaction.
+    refs_spare: Vec<u32>,
+    /// Scratch mark and valence per vertex (compact: the checks read them for the neighbours of
+    /// the pair, at random).
+    nb: Vec<NeighbourInfo>,
     /// Current scratch-mark value.
     tick: u32,
     scratch: Vec<u32>,
@@ -168,23 +215,55 @@ impl Engine {
     /// vertices in cost order, i.e. at random).
     #[inline]
     fn prefetch(&self, a: usize, b: usize) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            for i in [a, b] {
-                if i < self.v.len() {
-                    // SAFETY: prefetching is only a hint and the pointers are in bounds.
-                    unsafe {
-                        _mm_prefetch::<_MM_HINT_T0>(self.v.as_ptr().add(i).cast());
-                        let d = self.vd.as_ptr().add(i).cast::<i8>();
-                        _mm_prefetch::<_MM_HINT_T0>(d);
-                        _mm_prefetch::<_MM_HINT_T0>(d.add(64));
+        for i in [a, b] {
+            if i < self.v.len() {
+                prefetch_ptr(self.v.as_ptr().wrapping_add(i));
+                let d = self.vd.as_ptr().wrapping_add(i).cast::<u8>();
+                prefetch_ptr(d);
+                prefetch_ptr(d.wrapping_add(64));
+            }
+        }
+    }
+
+    /// Second prefetch stage: the face lists of `a` and `b` (their records should be cached).
+    #[inline]
+    fn prefetch_lists(&self, a: usize, b: usize) {
+        for i in [a, b] {
+            if let Some(info) = self.v.get(i) {
+                let s = info.start as usize;
+                prefetch_ptr(self.refs.as_ptr().wrapping_add(s));
+                prefetch_ptr(self.refs.as_ptr().wrapping_add(s + info.len as usize));
+            }
+        }
+    }
+
+    /// Fourth prefetch stage: the positions of the vertices around `a` and `b` (their faces
+    /// should be cached).
+    #[inline]
+    fn prefetch_ring(&self, a: usize, b: usize) {
+        for i in [a, b] {
+            if i < self.v.len() {
+                for &f in &self.refs[self.list(i)] {
+                    for w in self.faces[f as usize] {
+                        let d = self.vd.as_ptr().wrapping_add(w as usize).cast::<u8>();
+                        prefetch_ptr(d.wrapping_add(std::mem::offset_of!(VertexData, p)));
+                        prefetch_ptr(self.nb.as_ptr().wrapping_add(w as usize));
                     }
                 }
             }
         }
-        #[cfg(not(target_arch = "x86_64"))]
-        let _ = (a, b);
+    }
+
+    /// Third prefetch stage: the faces of `a` and `b` (their lists should be cached).
+    #[inline]
+    fn prefetch_faces(&self, a: usize, b: usize) {
+        for i in [a, b] {
+            if i < self.v.len() {
+                for &f in &self.refs[self.list(i)] {
+                    prefetch_ptr(self.faces.as_ptr().wrapping_add(f as usize));
+                }
+            }
+        }
     }
 
     #[inline]
@@ -197,8 +276,8 @@ impl Engine {
     fn next_tick(&mut self) -> u32 {
         self.tick = self.tick.wrapping_add(1);
         if self.tick == 0 {
-            for v in &mut self.v {
-                v.mark = 0;
+            for x in &mut self.nb {
+                x.mark = 0;
             }
             self.tick = 1;
         }
@@ -253,11 +332,100 @@ impl Engine {
         }
     }
 
+    /// Evaluate every pair of `list` (the `a` and `b` fields are set), in parallel for large lists.
+    fn cost_all(&self, list: &mut [Cand]) {
+        let cost = |c: &mut Cand| *c = self.candidate(c.a as usize, c.b as usize);
+        if parallel(list.len(), PARALLEL_MIN) {
+            list.par_chunks_mut(PARALLEL_CHUNK)
+                .for_each(|chunk| chunk.iter_mut().for_each(cost));
+        } else {
+            list.iter_mut().for_each(cost);
+        }
+    }
+
+    /// Append the pairs of the merged vertices `survivors` (sorted) to `fresh`: in parallel
+    /// chunks when there are many and no non-edge pairs (same output as one sequential walk).
+    fn fresh_pairs(&mut self, survivors: &[u32], pass: u32, fresh: &mut Vec<Cand>) {
+        if self.virt.is_some() || !parallel(survivors.len(), PARALLEL_MIN / 8) {
+            for (i, &a) in survivors.iter().enumerate() {
+                self.prefetch_survivors(survivors, i);
+                self.pairs_of(a as usize, pass, fresh);
+            }
+            return;
+        }
+        let this = &*self;
+        let parts: Vec<Vec<Cand>> = survivors
+            .par_chunks(SURVIVOR_CHUNK)
+            .map(|chunk| {
+                let mut out = Vec::with_capacity(chunk.len() * 8);
+                let mut ring = Vec::with_capacity(64);
+                for (i, &a) in chunk.iter().enumerate() {
+                    this.prefetch_survivors(chunk, i);
+                    this.edge_pairs_of(a as usize, pass, &mut ring, &mut out);
+                }
+                out
+            })
+            .collect();
+        fresh.reserve(parts.iter().map(Vec::len).sum());
+        for p in &parts {
+            fresh.extend_from_slice(p);
+        }
+    }
+
+    /// Prefetch the face lists and faces for the pair generation of the survivors a few places
+    /// after `i`.
+    #[inline]
+    fn prefetch_survivors(&self, survivors: &[u32], i: usize) {
+        if let Some(&ahead) = survivors.get(i + PREFETCH_LISTS) {
+            self.prefetch_lists(ahead as usize, ahead as usize);
+        }
+        if let Some(&ahead) = survivors.get(i + PREFETCH_FACES) {
+            self.prefetch_faces(ahead as usize, ahead as usize);
+        }
+    }
+
+    /// [`Engine::pairs_of`] without non-edge pairs and without touching the marks (so that it
+    /// can run in parallel); `ring` is scratch. Same pairs, in the same order (except for
+    /// vertices with many faces, whose neighbours come sorted).
+    fn edge_pairs_of(&self, a: usize, pass: u32, ring: &mut Vec<u32>, out: &mut Vec<Cand>) {
+        let keep = |v: usize| self.v[v].touched != pass || a < v;
+        let big = self.v[a].len as usize > RING_SEARCH_MAX;
+        ring.clear();
+        for i in self.list(a) {
+            let tri = self.faces[self.refs[i] as usize];
+            if tri[0] == DEAD {
+                continue;
+            }
+            for v in tri {
+                if v as usize == a {
+                    continue;
+                }
+                if big {
+                    ring.push(v);
+                } else if !ring.contains(&v) {
+                    ring.push(v);
+                    if keep(v as usize) {
+                        out.push(self.candidate(a, v as usize));
+                    }
+                }
+            }
+        }
+        if big {
+            ring.sort_unstable();
+            ring.dedup();
+            for &v in ring.iter() {
+                if keep(v as usize) {
+                    out.push(self.candidate(a, v as usize));
+                }
+            }
+        }
+    }
+
     /// Append the pairs of the merged vertex `a` (mesh edges and non-edge pairs) to `out`; a pair
     /// with another vertex touched in pass `pass` is produced by the smaller index only.
     fn pairs_of(&mut self, a: usize, pass: u32, out: &mut Vec<Cand>) {
         let t = self.next_tick();
-        self.v[a].mark = t;
+        self.nb[a].mark = t;
         let keep = |e: &Self, v: usize| e.v[v].touched != pass || a < v;
         for i in self.list(a) {
             let tri = self.faces[self.refs[i] as usize];
@@ -266,8 +434,8 @@ impl Engine {
             }
             for v in tri {
                 let v = v as usize;
-                if self.v[v].mark != t {
-                    self.v[v].mark = t;
+                if self.nb[v].mark != t {
+                    self.nb[v].mark = t;
                     if keep(self, v) {
                         out.push(self.candidate(a, v));
                     }
@@ -279,8 +447,8 @@ impl Engine {
             while node != DEAD {
                 let o = vp.find(vp.other[node as usize]) as usize;
                 node = vp.next[node as usize];
-                if self.v[o].alive && self.v[o].mark != t {
-                    self.v[o].mark = t;
+                if self.v[o].alive && self.nb[o].mark != t {
+                    self.nb[o].mark = t;
                     if keep(self, o) {
                         out.push(self.candidate(a, o));
                     }
@@ -332,7 +500,7 @@ impl Engine {
             }
             alive_a += 1;
             for v in t {
-                self.v[v as usize].mark = ta;
+                self.nb[v as usize].mark = ta;
             }
             if contains(&t, bu) {
                 if shared < 2 {
@@ -360,8 +528,8 @@ impl Engine {
             }
             alive_b += 1;
             for v in t {
-                if v != au && v != bu && self.v[v as usize].mark == ta {
-                    self.v[v as usize].mark = tb;
+                if v != au && v != bu && self.nb[v as usize].mark == ta {
+                    self.nb[v as usize].mark = tb;
                     common += 1;
                 }
             }
@@ -377,7 +545,7 @@ impl Engine {
         }
         // No opposite vertex may be left without faces.
         for &o in &opp[..shared] {
-            if self.v[o as usize].valence < 2 {
+            if self.nb[o as usize].valence < 2 {
                 return false;
             }
         }
@@ -414,7 +582,7 @@ impl Engine {
             if contains(t, au) {
                 let third = t[0] ^ t[1] ^ t[2] ^ au ^ bu;
                 t[0] = DEAD;
-                self.v[third as usize].valence -= 1;
+                self.nb[third as usize].valence -= 1;
                 self.live_faces -= 1;
             } else {
                 for v in t.iter_mut() {
@@ -436,8 +604,8 @@ impl Engine {
         self.v[a].start = start as u32;
         self.v[a].len = (self.refs.len() - start) as u32;
         self.v[b].len = 0;
-        self.v[a].valence = self.v[a].len;
-        self.v[b].valence = 0;
+        self.nb[a].valence = self.v[a].len;
+        self.nb[b].valence = 0;
         if let Some(vp) = self.virt.as_mut() {
             vp.merge(a, b);
         }
@@ -448,7 +616,10 @@ impl Engine {
 
     /// Rewrite the face lists without dead faces and free space.
     fn compact_refs(&mut self) {
-        let mut fresh = Vec::with_capacity(self.refs_limit);
+        // Into the spare buffer (kept between compactions: no fresh pages to fault in).
+        let mut fresh = std::mem::take(&mut self.refs_spare);
+        fresh.clear();
+        fresh.reserve(self.refs_limit);
         for v in 0..self.v.len() {
             let range = self.list(v);
             let start = fresh.len();
@@ -463,7 +634,7 @@ impl Engine {
             self.v[v].start = start as u32;
             self.v[v].len = (fresh.len() - start) as u32;
         }
-        self.refs = fresh;
+        self.refs_spare = std::mem::replace(&mut self.refs, fresh);
         self.refs_limit = (self.refs.len() * 3).max(1024);
     }
 }
@@ -577,40 +748,30 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     }
     drop(fill);
 
-    // Area-weighted face quadrics.
-    let mut vd: Vec<VertexData> = pos
-        .iter()
-        .map(|&p| VertexData {
-            q: Quadric::default(),
-            p,
-        })
-        .collect();
-    drop(pos);
-    for t in &faces {
-        let [p0, p1, p2] = t.map(|v| vd[v as usize].p);
-        let cross = (p1 - p0).cross(p2 - p0);
-        let len = cross.length();
-        if len > 0.0 && len.is_finite() {
-            let nrm = cross / len;
-            let q = Quadric::from_plane(nrm, -nrm.dot(p0), 0.5 * len);
-            for &v in t {
-                vd[v as usize].q += q;
-            }
-        }
-    }
-
-    let referenced_vertices = n;
+    // Per vertex, in parallel: area-weighted face quadrics, boundary planes, boundary flag, and
+    // the edges to higher-numbered neighbours.
     let input_faces = faces.len();
     let refs_limit = (refs.len() * 3).max(1024);
+    let VertexSetup {
+        vd,
+        boundary,
+        mut list,
+    } = vertex_setup(&pos, &faces, &refs, &face_start, params);
+    drop(pos);
+
+    let referenced_vertices = n;
+    // Room for the appended lists up front: growing by doubling would copy and fault in pages.
+    refs.reserve(refs_limit + 64 - refs.len());
     let v: Vec<VertexInfo> = (0..n)
         .map(|i| VertexInfo {
             start: face_start[i],
             len: face_len[i],
-            valence: face_len[i],
             alive: true,
+            boundary: boundary[i],
             ..Default::default()
         })
         .collect();
+    drop(boundary);
     let mut e = Engine {
         vd,
         v,
@@ -618,6 +779,11 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         faces,
         refs,
         refs_limit,
+        refs_spare: Vec::new(),
+        nb: face_len
+            .iter()
+            .map(|&valence| NeighbourInfo { mark: 0, valence })
+            .collect(),
         tick: 0,
         scratch: Vec::new(),
         virt: None,
@@ -626,66 +792,6 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         preserve_topology: params.preserve_topology,
         min_normal_cos: params.min_normal_cos,
     };
-
-    // Edges, boundary detection and boundary constraint planes: for each vertex, its distinct
-    // neighbours with the number of faces on the edge and one of those faces.
-    let mut ring_slot = vec![0u32; n];
-    let mut ring: Vec<(u32, u32, u32)> = Vec::new();
-    let mut edges: Vec<[u32; 2]> = Vec::with_capacity(input_faces * 3 / 2 + 16);
-    for u in 0..n {
-        if e.v[u].len == 0 {
-            continue;
-        }
-        let t = e.next_tick();
-        ring.clear();
-        let uu = u as u32;
-        for i in e.list(u) {
-            let f = e.refs[i];
-            let tri = e.faces[f as usize];
-            // The two other corners (every face in the list has `u` exactly once).
-            let others = if tri[0] == uu {
-                [tri[1], tri[2]]
-            } else if tri[1] == uu {
-                [tri[2], tri[0]]
-            } else {
-                [tri[0], tri[1]]
-            };
-            for v in others {
-                let vi = v as usize;
-                if e.v[vi].mark != t {
-                    e.v[vi].mark = t;
-                    ring_slot[vi] = ring.len() as u32;
-                    ring.push((v, 1, f));
-                } else {
-                    let r = &mut ring[ring_slot[vi] as usize];
-                    r.1 += 1;
-                    r.2 = f;
-                }
-            }
-        }
-        for &(v, count, f) in &ring {
-            let vi = v as usize;
-            if count != 2 {
-                e.v[u].boundary = true;
-            }
-            if vi > u {
-                edges.push([u as u32, v]);
-                if count == 1 && params.preserve_boundary {
-                    let [p0, p1, p2] = e.faces[f as usize].map(|w| e.vd[w as usize].p);
-                    let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                    let edge = e.vd[vi].p - e.vd[u].p;
-                    let m = edge.cross(face_normal).normalize_or_zero();
-                    if m != DVec3::ZERO {
-                        let w = params.boundary_weight * edge.length_squared();
-                        let q = Quadric::from_plane(m, -m.dot(e.vd[u].p), w);
-                        e.vd[u].q += q;
-                        e.vd[vi].q += q;
-                    }
-                }
-            }
-        }
-    }
-    drop(ring_slot);
 
     // Non-edge pairs within the threshold.
     let mut virtual_pairs = 0;
@@ -698,22 +804,22 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             params.pair_threshold * scale,
             params.max_pairs_per_vertex,
         );
-        let mut sorted_edges = edges.clone();
+        let mut sorted_edges: Vec<[u32; 2]> = list.iter().map(|c| [c.a, c.b]).collect();
         sorted_edges.sort_unstable();
         let non_edge: Vec<[u32; 2]> = close
             .into_iter()
             .filter(|p| sorted_edges.binary_search(p).is_err())
             .collect();
         virtual_pairs = non_edge.len();
-        edges.extend_from_slice(&non_edge);
+        list.extend(non_edge.iter().map(|&[a, b]| Cand {
+            a,
+            b,
+            ..Cand::default()
+        }));
         e.virt = Some(VirtualPairs::new(n, &non_edge));
     }
 
-    let mut list: Vec<Cand> = edges
-        .iter()
-        .map(|&[u, v]| e.candidate(u as usize, v as usize))
-        .collect();
-    drop(edges);
+    e.cost_all(&mut list);
     let mut sort_tmp: Vec<Cand> = Vec::new();
     sort_by_u32_key(&mut list, &mut sort_tmp, |c| sort_key(c.key));
 
@@ -729,7 +835,6 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let mut rejected = 0usize;
     let mut worst = 0.0f64;
     let mut pass = 0u32;
-    let mut next: Vec<Cand> = Vec::with_capacity(list.len());
     let mut fresh: Vec<Cand> = Vec::new();
     let mut survivors: Vec<u32> = Vec::new();
     let mut survivors_tmp: Vec<u32> = Vec::new();
@@ -768,10 +873,29 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         // Every visited entry is consumed (contracted, rejected or stale); the rest is carried.
         let mut consumed = list.len();
         for (i, c) in list.iter().enumerate() {
+            if let Some(ahead) = list.get(i + PREFETCH_STAMPS) {
+                prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.a as usize));
+                prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.b as usize));
+            }
             if let Some(ahead) = list.get(i + PREFETCH_DISTANCE)
                 && is_live(ahead, &e.stamps)
             {
                 e.prefetch(ahead.a as usize, ahead.b as usize);
+            }
+            if let Some(ahead) = list.get(i + PREFETCH_LISTS)
+                && is_live(ahead, &e.stamps)
+            {
+                e.prefetch_lists(ahead.a as usize, ahead.b as usize);
+            }
+            if let Some(ahead) = list.get(i + PREFETCH_FACES)
+                && is_live(ahead, &e.stamps)
+            {
+                e.prefetch_faces(ahead.a as usize, ahead.b as usize);
+            }
+            if let Some(ahead) = list.get(i + PREFETCH_RING)
+                && is_live(ahead, &e.stamps)
+            {
+                e.prefetch_ring(ahead.a as usize, ahead.b as usize);
             }
             if !is_live(c, &e.stamps) {
                 continue;
@@ -841,13 +965,9 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         fresh.clear();
         // In index (Morton) order, so that neighbouring survivors share cached vertex data.
         sort_by_u32_key(&mut survivors, &mut survivors_tmp, |&v| v);
-        for &a in &survivors {
-            e.pairs_of(a as usize, pass, &mut fresh);
-        }
+        e.fresh_pairs(&survivors, pass, &mut fresh);
         sort_by_u32_key(&mut fresh, &mut sort_tmp, |c| sort_key(c.key));
-        next.clear();
-        merge_live(&list[consumed..], &fresh, &e.stamps, &mut next);
-        std::mem::swap(&mut list, &mut next);
+        merge_live(&mut list, consumed, &fresh, &e.stamps);
     };
 
     let out = e.output(center, diag, scale);
@@ -924,6 +1044,163 @@ impl Engine {
     }
 }
 
+/// What [`vertex_setup`] produces.
+struct VertexSetup {
+    /// Quadric (face planes plus boundary planes) and position per vertex.
+    vd: Vec<VertexData>,
+    /// Whether the vertex is on a boundary (or non-manifold) edge.
+    boundary: Vec<bool>,
+    /// The mesh edges `(u, v)`, `u < v`, in order of `u` (costs not yet evaluated).
+    list: Vec<Cand>,
+}
+
+/// Up to this many faces around a vertex, [`vertex_setup`] finds ring neighbours by linear search.
+const RING_SEARCH_MAX: usize = 32;
+/// Vertices per parallel task of [`vertex_setup`].
+const VERTEX_CHUNK: usize = 2_048;
+
+/// Per-vertex setup over the vertex → face lists `refs` (vertex `u`'s faces start at
+/// `face_start[u]`), one independent task per chunk of vertices: each vertex sums the area-weighted
+/// plane quadrics of its faces (every face's plane is computed by each of its corners, identically)
+/// and, from its ring of distinct neighbours with the number of faces on each edge, gets its
+/// boundary flag, the perpendicular boundary planes of its boundary edges (computed from the
+/// lower-numbered end, so both ends add the same plane) and its edges to higher-numbered vertices.
+fn vertex_setup(
+    pos: &[DVec3],
+    faces: &[[u32; 3]],
+    refs: &[u32],
+    face_start: &[u32],
+    params: &QemParams,
+) -> VertexSetup {
+    let n = pos.len();
+    // Face planes scaled so that the plane quadric is their outer product: `g = n·√(area)`,
+    // `gd = d·√(area)` (zero for degenerate faces).
+    let plane = |t: &[u32; 3]| -> [f64; 4] {
+        let [p0, p1, p2] = t.map(|w| pos[w as usize]);
+        let cross = (p1 - p0).cross(p2 - p0);
+        let len = cross.length();
+        if len > 0.0 && len.is_finite() {
+            let g = cross * (0.5 / len).sqrt();
+            [g.x, g.y, g.z, -g.dot(p0)]
+        } else {
+            [0.0; 4]
+        }
+    };
+    let planes: Vec<[f64; 4]> = if parallel(faces.len(), PARALLEL_MIN) {
+        faces
+            .par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(plane)
+            .collect()
+    } else {
+        faces.iter().map(plane).collect()
+    };
+    let mut vd: Vec<VertexData> = Vec::with_capacity(n);
+    let mut boundary = vec![false; n];
+    let chunk =
+        |first: usize, out: &mut [std::mem::MaybeUninit<VertexData>], flags: &mut [bool]| {
+            let mut edges = Vec::with_capacity(out.len() * 3 + 16);
+            // (neighbour, faces on the edge, last such face)
+            let mut ring: Vec<(u32, u32, u32)> = Vec::with_capacity(64);
+            for (k, (slot, flag)) in out.iter_mut().zip(flags.iter_mut()).enumerate() {
+                let u = first + k;
+                let uu = u as u32;
+                let end = face_start.get(u + 1).map_or(refs.len(), |&e| e as usize);
+                let list = &refs[face_start[u] as usize..end];
+                let mut q = Quadric::default();
+                ring.clear();
+                for &f in list {
+                    let tri = faces[f as usize];
+                    let [gx, gy, gz, gd] = planes[f as usize];
+                    q += Quadric::from_plane(DVec3::new(gx, gy, gz), gd, 1.0);
+                    // The two other corners (every face in the list has `u` exactly once).
+                    let others = if tri[0] == uu {
+                        [tri[1], tri[2]]
+                    } else if tri[1] == uu {
+                        [tri[2], tri[0]]
+                    } else {
+                        [tri[0], tri[1]]
+                    };
+                    if list.len() <= RING_SEARCH_MAX {
+                        for v in others {
+                            match ring.iter_mut().find(|r| r.0 == v) {
+                                Some(r) => {
+                                    r.1 += 1;
+                                    r.2 = f;
+                                }
+                                None => ring.push((v, 1, f)),
+                            }
+                        }
+                    } else {
+                        ring.extend(others.map(|v| (v, 1, f)));
+                    }
+                }
+                if list.len() > RING_SEARCH_MAX {
+                    // High valence: group by sorting instead of searching (stable: keeps the last face).
+                    ring.sort_by_key(|r| r.0);
+                    let mut w = 0;
+                    for r in 0..ring.len() {
+                        if w > 0 && ring[w - 1].0 == ring[r].0 {
+                            ring[w - 1].1 += 1;
+                            ring[w - 1].2 = ring[r].2;
+                        } else {
+                            ring[w] = ring[r];
+                            w += 1;
+                        }
+                    }
+                    ring.truncate(w);
+                }
+                let mut on_boundary = false;
+                for &(v, count, f) in &ring {
+                    on_boundary |= count != 2;
+                    if count == 1 && params.preserve_boundary {
+                        let (lo, hi) = (uu.min(v) as usize, uu.max(v) as usize);
+                        let [p0, p1, p2] = faces[f as usize].map(|w| pos[w as usize]);
+                        let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                        let edge = pos[hi] - pos[lo];
+                        let m = edge.cross(face_normal).normalize_or_zero();
+                        if m != DVec3::ZERO {
+                            let w = params.boundary_weight * edge.length_squared();
+                            q += Quadric::from_plane(m, -m.dot(pos[lo]), w);
+                        }
+                    }
+                    if v > uu {
+                        edges.push(Cand {
+                            a: uu,
+                            b: v,
+                            ..Cand::default()
+                        });
+                    }
+                }
+                *flag = on_boundary;
+                slot.write(VertexData { q, p: pos[u] });
+            }
+            edges
+        };
+    let out = &mut vd.spare_capacity_mut()[..n];
+    let lists: Vec<Vec<Cand>> = if parallel(n, PARALLEL_MIN / 4) {
+        out.par_chunks_mut(VERTEX_CHUNK)
+            .zip(boundary.par_chunks_mut(VERTEX_CHUNK))
+            .enumerate()
+            .map(|(c, (o, b))| chunk(c * VERTEX_CHUNK, o, b))
+            .collect()
+    } else {
+        vec![chunk(0, out, &mut boundary)]
+    };
+    // SAFETY: every chunk wrote each of its slots exactly once, and the chunks cover `0..n`.
+    unsafe { vd.set_len(n) };
+    let list = if lists.len() == 1 {
+        lists.into_iter().next().unwrap_or_default()
+    } else {
+        let mut list = Vec::with_capacity(lists.iter().map(Vec::len).sum());
+        for l in &lists {
+            list.extend_from_slice(l);
+        }
+        list
+    };
+    VertexSetup { vd, boundary, list }
+}
+
 /// 30-bit Morton code of a point of the normalised frame (coordinates within ±1).
 fn morton(p: DVec3) -> u64 {
     fn spread(x: f64) -> u64 {
@@ -944,23 +1221,36 @@ fn is_live(c: &Cand, stamps: &[u32]) -> bool {
     stamps[c.a as usize].wrapping_add(stamps[c.b as usize]) == c.stamp
 }
 
-/// Merge the sorted carried list `x` (dropping its stale entries, so that later passes neither
-/// copy nor walk them) with the sorted fresh list `y` (all live) into `out`.
-fn merge_live(x: &[Cand], y: &[Cand], stamps: &[u32], out: &mut Vec<Cand>) {
-    out.reserve(x.len() + y.len());
+/// Replace `list` by the merge of its sorted unvisited rest `list[consumed..]` (dropping stale
+/// entries, so that later passes neither copy nor walk them) with the sorted fresh list `fresh`
+/// (all live), in place: the rest is first moved to start at or after `fresh.len()`, so that the
+/// merged output, written from the front, never overtakes the entries still to be read.
+fn merge_live(list: &mut Vec<Cand>, consumed: usize, fresh: &[Cand], stamps: &[u32]) {
+    let rest = list.len() - consumed;
+    let from = consumed.max(fresh.len());
+    if from > consumed {
+        list.resize(from + rest, Cand::default());
+        list.copy_within(consumed..consumed + rest, from);
+    }
+    let mut w = 0;
     let mut j = 0;
-    for c in x {
-        if !is_live(c, stamps) {
+    for r in from..from + rest {
+        let c = list[r];
+        if !is_live(&c, stamps) {
             continue;
         }
         let k = sort_key(c.key);
-        while j < y.len() && sort_key(y[j].key) < k {
-            out.push(y[j]);
+        while j < fresh.len() && sort_key(fresh[j].key) < k {
+            // w < r here: w ≤ (r − from) + j and j < fresh.len() ≤ from.
+            list[w] = fresh[j];
+            w += 1;
             j += 1;
         }
-        out.push(*c);
+        list[w] = c;
+        w += 1;
     }
-    out.extend_from_slice(&y[j..]);
+    list.truncate(w);
+    list.extend_from_slice(&fresh[j..]);
 }
 
 fn validate(p: &QemParams) -> Result<(), QemError> {

@@ -522,3 +522,72 @@ fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
         theirs.mean
     );
 }
+
+/// Run `simplify` on a rayon pool of `threads` threads.
+fn simplify_on(threads: usize, m: &TriMesh, p: &QemParams) -> (TriMesh, qem::QemReport) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    let (out, mut report) = pool.install(|| qem::simplify(m, p)).unwrap();
+    report.seconds = 0.0;
+    (out, report)
+}
+
+#[test]
+fn result_does_not_depend_on_the_thread_count() {
+    // Large enough for every parallel setup and pair-generation path (thresholds: 8,192 vertices,
+    // 32,768 pairs, 4,096 merged vertices per pass); a sphere and an open grid (boundary planes).
+    for m in [mesh::procedural::icosphere(6), grid(160)] {
+        let p = params(Target::Ratio(0.05));
+        let (one, r1) = simplify_on(1, &m, &p);
+        let (two, r2) = simplify_on(2, &m, &p);
+        let (three, r3) = simplify_on(3, &m, &p);
+        assert!(r1.target_reached, "{r1:?}");
+        assert_eq!(r1, r2);
+        assert_eq!(r1, r3);
+        assert_eq!(one.triangles, two.triangles);
+        assert_eq!(one.positions, two.positions);
+        assert_eq!(one.triangles, three.triangles);
+        assert_eq!(one.positions, three.positions);
+    }
+}
+
+/// A closed double cone: two apexes of valence `n` joined to a rim of `n` vertices.
+fn bicone(n: u32) -> TriMesh {
+    let mut positions = vec![Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -1.0)];
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let a = std::f32::consts::TAU * i as f32 / n as f32;
+        positions.push(Vec3::new(a.cos(), a.sin(), 0.0));
+        let (r0, r1) = (2 + i, 2 + (i + 1) % n);
+        triangles.push([0, r0, r1]);
+        triangles.push([1, r1, r0]);
+    }
+    TriMesh::new(positions, triangles)
+}
+
+#[test]
+fn high_valence_vertices_keep_a_closed_manifold() {
+    // Apexes with 300 faces take the sorted (not the searched) neighbour-ring path of the setup.
+    let m = bicone(300);
+    let before = analyze(&m);
+    assert!(before.closed && before.manifold && before.genus == Some(0));
+    let (out, report) = qem::simplify(&m, &params(Target::Faces(60))).unwrap();
+    assert_valid(&out);
+    let after = analyze(&out);
+    assert!(after.closed && after.manifold, "{after:?}");
+    assert_eq!(after.genus, Some(0));
+    assert!(report.target_reached, "{report:?}");
+    assert!(
+        out.face_count() <= 60 && out.face_count() >= 59,
+        "{report:?}"
+    );
+    // The rim is a planar circle: the apexes stay on the axis, the rim in the plane z = 0.
+    for p in &out.positions {
+        assert!(
+            p.z.abs() < 1e-4 || (p.x.abs() < 1e-4 && p.y.abs() < 1e-4),
+            "{p}"
+        );
+    }
+}
