@@ -172,6 +172,11 @@ fn format_log_tick(mark: GridMark) -> String {
 fn log_plot(id: &str, height: f32) -> Plot<'static> {
     Plot::new(id)
         .height(height)
+        // The panel colour shows through: no second fill of the plot area.
+        .show_background(false)
+        // Grid lines at least 24 px apart (egui_plot's default, 8 px, draws ~3× as many faint
+        // lines, each of which a CPU rasterizer pays for).
+        .grid_spacing(egui::Rangef::new(24.0, 300.0))
         .legend(
             Legend::default()
                 .position(egui_plot::Corner::RightTop)
@@ -198,10 +203,42 @@ fn log_plot(id: &str, height: f32) -> Plot<'static> {
         })
 }
 
+/// At most two points (the lowest and the highest, in series order) per bucket of consecutive
+/// points, `buckets` buckets in all: the line keeps its envelope with a bounded number of segments.
+pub fn envelope(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
+    let buckets = buckets.max(1);
+    if points.len() <= 2 * buckets {
+        return points.to_vec();
+    }
+    let mut out = Vec::with_capacity(2 * buckets);
+    for b in 0..buckets {
+        let chunk = &points[b * points.len() / buckets..(b + 1) * points.len() / buckets];
+        let lowest = (0..chunk.len()).min_by(|&i, &j| chunk[i][1].total_cmp(&chunk[j][1]));
+        let highest = (0..chunk.len()).max_by(|&i, &j| chunk[i][1].total_cmp(&chunk[j][1]));
+        if let (Some(lo), Some(hi)) = (lowest, highest) {
+            out.push(chunk[lo.min(hi)]);
+            if lo != hi {
+                out.push(chunk[lo.max(hi)]);
+            }
+        }
+    }
+    out
+}
+
 /// E_avg and E_max of the live network against iterations (log y), QEM as horizontal lines.
 pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
-    let avg: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[1])]).collect();
-    let max: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[2])]).collect();
+    // One bucket per two pixels: a CPU rasterizer pays for every tiny line segment.
+    let buckets = (ui.available_width() * ui.ctx().pixels_per_point() / 2.0).max(16.0) as usize;
+    let series = |column: usize| -> Vec<[f64; 2]> {
+        let points: Vec<[f64; 2]> = history
+            .errors
+            .iter()
+            .map(|e| [e[0], log10(e[column])])
+            .collect();
+        envelope(&points, buckets)
+    };
+    let avg = PlotPoints::from(series(1));
+    let max = PlotPoints::from(series(2));
     let few = history.errors.len() < 40;
     let avg_marks: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[1])]).collect();
     let max_marks: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[2])]).collect();
@@ -288,6 +325,8 @@ pub fn surface_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
 
 /// The checkpoint table (paper's Table 1 columns plus Hausdorff and time).
 pub fn checkpoint_table(ui: &mut egui::Ui, history: &History) {
+    // Solid scroll bars take their own space: floating ones would hide the last row.
+    ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
     egui::ScrollArea::both()
         .id_salt("checkpoints")
         .auto_shrink([false, true])
@@ -403,5 +442,48 @@ mod tests {
             }),
             "1e-3"
         );
+    }
+
+    #[test]
+    fn envelope_keeps_each_bucket_extremes_in_order_and_bounds_the_count() {
+        // A noisy decaying series, like E_max while training.
+        let points: Vec<[f64; 2]> = (0..10_007)
+            .map(|i| {
+                let x = i as f64;
+                [x, (-x / 3000.0).exp() + 0.1 * ((x * 0.37).sin())]
+            })
+            .collect();
+        let buckets = 100;
+        let thinned = envelope(&points, buckets);
+        assert!(thinned.len() <= 2 * buckets);
+        assert!(
+            thinned.windows(2).all(|w| w[0][0] < w[1][0]),
+            "x must increase"
+        );
+        // Every kept point is an input point; the global extremes survive.
+        assert!(thinned.iter().all(|p| points.contains(p)));
+        let extreme = |pts: &[[f64; 2]], max: bool| {
+            pts.iter()
+                .map(|p| p[1])
+                .fold(if max { f64::MIN } else { f64::MAX }, |a, b| {
+                    if max { a.max(b) } else { a.min(b) }
+                })
+        };
+        assert_eq!(extreme(&thinned, true), extreme(&points, true));
+        assert_eq!(extreme(&thinned, false), extreme(&points, false));
+        // Each bucket's own minimum and maximum are kept (checked bucket by bucket).
+        for b in 0..buckets {
+            let chunk = &points[b * points.len() / buckets..(b + 1) * points.len() / buckets];
+            for want in [extreme(chunk, true), extreme(chunk, false)] {
+                assert!(
+                    thinned.iter().any(|p| p[1] == want
+                        && p[0] >= chunk[0][0]
+                        && p[0] <= chunk[chunk.len() - 1][0]),
+                    "bucket {b} lost {want}"
+                );
+            }
+        }
+        // Short series pass through unchanged.
+        assert_eq!(envelope(&points[..150], buckets), points[..150].to_vec());
     }
 }

@@ -1,18 +1,23 @@
 //! wgpu rendering of the 3D viewports: an orbit camera, GPU copies of meshes and of the live
 //! network, and pipelines that draw them with depth into an offscreen colour+depth target per
-//! viewport. Each target's colour texture is registered with egui and shown as an image.
+//! viewport. Each target is copied into egui's render pass by a paint callback
+//! ([`ViewportCallback`]): one texel load per pixel, which on a CPU rasterizer (lavapipe) costs a
+//! fraction of egui's own textured-quad shader.
 
 use bytemuck::{Pod, Zeroable};
-use egui_wgpu::RenderState;
 use glam::{Mat4, Vec3};
 use mesh::{Aabb, TriMesh};
+use std::hash::{Hash, Hasher};
+use std::sync::atomic::{AtomicU64, Ordering};
 use wgpu::util::DeviceExt;
 
-/// Colour format of the offscreen targets (egui samples it as linear and converts itself).
-pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Colour format of the offscreen targets: the bytes are shown on screen as they are.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The same bytes read as sRGB, for copying them unchanged into an sRGB render target.
+const COLOR_FORMAT_SRGB: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// Depth format of the offscreen targets.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Clear colour of the viewports (linear RGB).
+/// Clear colour of the viewports (RGB as shown on screen, 0–1).
 pub const CLEAR_COLOR: [f64; 3] = [0.010, 0.012, 0.018];
 /// Distance between per-draw uniform slots in bytes (wgpu's minimum dynamic offset alignment).
 const UNIFORM_STRIDE: u64 = 256;
@@ -176,6 +181,8 @@ struct SurfaceVertex {
 /// A triangle mesh uploaded to the GPU: vertices with smooth normals, triangle indices and the
 /// unique edges for wireframe.
 pub struct GpuMesh {
+    /// Unique per upload (part of a viewport's content fingerprint).
+    id: u64,
     vertices: wgpu::Buffer,
     triangles: wgpu::Buffer,
     triangle_index_count: u32,
@@ -211,6 +218,7 @@ impl GpuMesh {
         edges.dedup();
         let edge_indices: Vec<u32> = edges.into_iter().flatten().collect();
         GpuMesh {
+            id: NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed),
             vertices: buffer_init(
                 device,
                 "mesh vertices",
@@ -236,6 +244,9 @@ impl GpuMesh {
         }
     }
 }
+
+/// Source of [`GpuMesh`] and [`GpuNetwork`] content ids.
+static NEXT_UPLOAD_ID: AtomicU64 = AtomicU64::new(1);
 
 /// Create a buffer holding `data` (at least 16 bytes so empty data stays valid).
 fn buffer_init<T: Pod>(
@@ -268,6 +279,8 @@ pub struct GpuNetwork {
     edge_capacity: u64,
     node_count: u32,
     edge_index_count: u32,
+    /// Unique per update (part of a viewport's content fingerprint).
+    id: u64,
 }
 
 impl GpuNetwork {
@@ -280,6 +293,7 @@ impl GpuNetwork {
             edge_capacity: 4096,
             node_count: 0,
             edge_index_count: 0,
+            id: NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed),
         }
     }
 
@@ -320,6 +334,7 @@ impl GpuNetwork {
         self.node_count = positions.len() as u32;
         // Only edges whose endpoints exist are drawn; the worker guarantees that.
         self.edge_index_count = (edges.len() * 2) as u32;
+        self.id = NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed);
     }
 
     /// Number of nodes currently uploaded.
@@ -357,7 +372,7 @@ pub enum DrawItem<'a> {
     Surface {
         /// The mesh.
         mesh: &'a GpuMesh,
-        /// Linear RGB base colour.
+        /// RGB base colour (as shown on screen, 0–1).
         color: [f32; 3],
         /// Flat or smooth.
         shading: Shading,
@@ -366,23 +381,23 @@ pub enum DrawItem<'a> {
     Wireframe {
         /// The mesh.
         mesh: &'a GpuMesh,
-        /// Linear RGBA line colour.
+        /// RGBA line colour.
         color: [f32; 4],
     },
     /// A translucent lit surface drawn over everything else (the "original" overlay).
     Overlay {
         /// The mesh.
         mesh: &'a GpuMesh,
-        /// Linear RGB colour and opacity.
+        /// RGB colour and opacity.
         color: [f32; 4],
     },
     /// GNG nodes as round points and GNG edges as lines.
     Network {
         /// The network.
         network: &'a GpuNetwork,
-        /// Linear RGB node colour.
+        /// RGB node colour.
         node_color: [f32; 3],
-        /// Linear RGBA edge colour.
+        /// RGBA edge colour.
         edge_color: [f32; 4],
         /// Node diameter in pixels.
         point_px: f32,
@@ -396,8 +411,10 @@ pub struct ViewTarget {
     depth_view: wgpu::TextureView,
     uniforms: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
-    /// The texture's id for `egui::Image`.
-    pub texture_id: egui::TextureId,
+    /// Binds the colour texture to the copy pipeline.
+    blit_group: wgpu::BindGroup,
+    /// Fingerprint of what the colour texture shows (camera, size, items); `None`: nothing yet.
+    content: Option<u64>,
     /// Size in pixels.
     pub size: [u32; 2],
 }
@@ -412,6 +429,10 @@ impl ViewTarget {
 /// Pipelines shared by all viewports.
 pub struct SceneRenderer {
     layout: wgpu::BindGroupLayout,
+    blit_layout: wgpu::BindGroupLayout,
+    blit: wgpu::RenderPipeline,
+    /// Format in which the copy pipeline reads the colour textures (matches the output's encoding).
+    blit_view_format: wgpu::TextureFormat,
     surface: wgpu::RenderPipeline,
     overlay: wgpu::RenderPipeline,
     mesh_lines: wgpu::RenderPipeline,
@@ -420,8 +441,9 @@ pub struct SceneRenderer {
 }
 
 impl SceneRenderer {
-    /// Compile the shaders and build the pipelines.
-    pub fn new(device: &wgpu::Device) -> SceneRenderer {
+    /// Compile the shaders and build the pipelines; `output_format` is the format of egui's
+    /// render target (`RenderState::target_format`), into which the viewports are copied.
+    pub fn new(device: &wgpu::Device, output_format: wgpu::TextureFormat) -> SceneRenderer {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("viewer shader"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
@@ -509,7 +531,15 @@ impl SceneRenderer {
         };
         let tri = wgpu::PrimitiveTopology::TriangleList;
         let lines = wgpu::PrimitiveTopology::LineList;
+        let (blit_layout, blit) = blit_pipeline(device, output_format);
         SceneRenderer {
+            blit_layout,
+            blit,
+            blit_view_format: if output_format.is_srgb() {
+                COLOR_FORMAT_SRGB
+            } else {
+                COLOR_FORMAT
+            },
             surface: make(
                 "surface",
                 "vs_surface",
@@ -559,15 +589,11 @@ impl SceneRenderer {
         }
     }
 
-    /// A new viewport target of `size` pixels, registered with egui.
-    pub fn create_target(&self, render_state: &RenderState, size: [u32; 2]) -> ViewTarget {
-        let device = &render_state.device;
+    /// A new viewport target of `size` pixels.
+    pub fn create_target(&self, device: &wgpu::Device, size: [u32; 2]) -> ViewTarget {
+        let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
         let (color, color_view, depth_view) = make_textures(device, size);
-        let texture_id = render_state.renderer.write().register_native_texture(
-            device,
-            &color_view,
-            wgpu::FilterMode::Nearest,
-        );
+        let blit_group = self.blit_group(device, &color);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewport uniforms"),
             size: UNIFORM_STRIDE * MAX_DRAWS,
@@ -592,48 +618,70 @@ impl SceneRenderer {
             depth_view,
             uniforms,
             bind_group,
-            texture_id,
+            blit_group,
+            content: None,
             size,
         }
     }
 
-    /// Resize `target` to `size` pixels (no-op when unchanged); egui's texture follows.
-    pub fn resize_target(
-        &self,
-        render_state: &RenderState,
-        target: &mut ViewTarget,
-        size: [u32; 2],
-    ) {
+    /// Resize `target` to `size` pixels (no-op when unchanged).
+    pub fn resize_target(&self, device: &wgpu::Device, target: &mut ViewTarget, size: [u32; 2]) {
         let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
         if target.size == size {
             return;
         }
-        let device = &render_state.device;
         let (color, color_view, depth_view) = make_textures(device, size);
-        render_state
-            .renderer
-            .write()
-            .update_egui_texture_from_wgpu_texture(
-                device,
-                &color_view,
-                wgpu::FilterMode::Nearest,
-                target.texture_id,
-            );
+        target.blit_group = self.blit_group(device, &color);
         target.color = color;
         target.color_view = color_view;
         target.depth_view = depth_view;
+        target.content = None;
         target.size = size;
     }
 
-    /// Record the drawing of `items` into `target` seen through `camera`.
+    /// The bind group through which the copy pipeline reads `color`.
+    fn blit_group(&self, device: &wgpu::Device, color: &wgpu::Texture) -> wgpu::BindGroup {
+        let view = color.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(self.blit_view_format),
+            ..Default::default()
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("viewport copy bind group"),
+            layout: &self.blit_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&view),
+            }],
+        })
+    }
+
+    /// A paint callback that copies `target` into egui's render pass at `rect` (points).
+    pub fn paint_callback(&self, target: &ViewTarget, rect: egui::Rect) -> egui::PaintCallback {
+        egui_wgpu::Callback::new_paint_callback(
+            rect,
+            ViewportCallback {
+                pipeline: self.blit.clone(),
+                bind_group: target.blit_group.clone(),
+            },
+        )
+    }
+
+    /// Record the drawing of `items` into `target` seen through `camera`, unless the target
+    /// already shows exactly that (same camera, size and items): on a CPU rasterizer an unchanged
+    /// viewport costs only its copy into the window. Returns whether it drew.
     pub fn render(
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        target: &ViewTarget,
+        target: &mut ViewTarget,
         camera: &OrbitCamera,
         items: &[DrawItem<'_>],
-    ) {
+    ) -> bool {
+        let content = fingerprint(camera, target.size, items);
+        if target.content == Some(content) {
+            return false;
+        }
+        target.content = Some(content);
         let [w, h] = target.size;
         let view_proj = camera.view_proj(w as f32 / h as f32);
         let eye = camera.eye();
@@ -767,7 +815,7 @@ impl SceneRenderer {
                     let node_bytes = network.node_count as u64 * 12;
                     pass.set_pipeline(&self.points);
                     pass.set_vertex_buffer(0, network.positions.slice(..node_bytes));
-                    pass.draw(0..6, 0..network.node_count);
+                    pass.draw(0..3, 0..network.node_count);
                     if let (Some(slot), true) = (edge_slot, network.edge_index_count > 0) {
                         let edge_offset = (slot as u64 * UNIFORM_STRIDE) as u32;
                         pass.set_bind_group(0, &target.bind_group, &[edge_offset]);
@@ -782,7 +830,139 @@ impl SceneRenderer {
                 }
             }
         }
+        true
     }
+}
+
+/// A hash of everything that determines a viewport's image.
+fn fingerprint(camera: &OrbitCamera, size: [u32; 2], items: &[DrawItem<'_>]) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    let floats = |h: &mut std::collections::hash_map::DefaultHasher, values: &[f32]| {
+        for v in values {
+            v.to_bits().hash(h);
+        }
+    };
+    floats(
+        &mut h,
+        &[
+            camera.target.x,
+            camera.target.y,
+            camera.target.z,
+            camera.distance,
+            camera.yaw,
+            camera.pitch,
+            camera.fov_y,
+            camera.scene_radius,
+        ],
+    );
+    size.hash(&mut h);
+    for item in items {
+        match item {
+            DrawItem::Surface {
+                mesh,
+                color,
+                shading,
+            } => {
+                (0u8, mesh.id, *shading == Shading::Smooth).hash(&mut h);
+                floats(&mut h, color);
+            }
+            DrawItem::Wireframe { mesh, color } => {
+                (1u8, mesh.id).hash(&mut h);
+                floats(&mut h, color);
+            }
+            DrawItem::Overlay { mesh, color } => {
+                (2u8, mesh.id).hash(&mut h);
+                floats(&mut h, color);
+            }
+            DrawItem::Network {
+                network,
+                node_color,
+                edge_color,
+                point_px,
+            } => {
+                (3u8, network.id).hash(&mut h);
+                floats(&mut h, node_color);
+                floats(&mut h, edge_color);
+                floats(&mut h, &[*point_px]);
+            }
+        }
+    }
+    h.finish()
+}
+
+/// Copies one viewport's colour texture into egui's render pass (see [`SceneRenderer::paint_callback`]).
+pub struct ViewportCallback {
+    pipeline: wgpu::RenderPipeline,
+    bind_group: wgpu::BindGroup,
+}
+
+impl egui_wgpu::CallbackTrait for ViewportCallback {
+    fn paint(
+        &self,
+        _info: egui::PaintCallbackInfo,
+        render_pass: &mut wgpu::RenderPass<'static>,
+        _resources: &egui_wgpu::CallbackResources,
+    ) {
+        // egui has set the viewport to the callback's rectangle: one triangle covers it.
+        render_pass.set_pipeline(&self.pipeline);
+        render_pass.set_bind_group(0, &self.bind_group, &[]);
+        render_pass.draw(0..3, 0..1);
+    }
+}
+
+/// The pipeline that copies a viewport texture into a target of `output_format`, and its layout.
+fn blit_pipeline(
+    device: &wgpu::Device,
+    output_format: wgpu::TextureFormat,
+) -> (wgpu::BindGroupLayout, wgpu::RenderPipeline) {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("viewport copy shader"),
+        source: wgpu::ShaderSource::Wgsl(include_str!("blit.wgsl").into()),
+    });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("viewport copy layout"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("viewport copy pipeline layout"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("viewport copy"),
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_blit"),
+            buffers: &[],
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_blit"),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: output_format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    (layout, pipeline)
 }
 
 fn make_textures(
@@ -804,7 +984,7 @@ fn make_textures(
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
+        view_formats: &[COLOR_FORMAT_SRGB],
     });
     let depth = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("viewport depth"),

@@ -7,7 +7,7 @@ struct Draw {
     eye: vec4<f32>,
     // xyz: direction towards the key light
     light: vec4<f32>,
-    // linear RGB, alpha (premultiplied on output)
+    // RGB as shown on screen (the target stores bytes unconverted), alpha (premultiplied on output)
     color: vec4<f32>,
     // x: 0 flat / 1 smooth shading, y: depth pull towards the camera (NDC), z: point diameter (px)
     params: vec4<f32>,
@@ -73,11 +73,12 @@ struct PointOut {
 
 @vertex
 fn vs_point(@builtin(vertex_index) vi: u32, @location(0) pos: vec3<f32>) -> PointOut {
-    var corners = array<vec2<f32>, 6>(
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    // One equilateral triangle circumscribing the unit disc (the fragment shader cuts the disc
+    // out): a software rasterizer pays per primitive, so one triangle per node, not two.
+    var corners = array<vec2<f32>, 3>(
+        vec2<f32>(0.0, 2.0), vec2<f32>(-1.7320508, -1.0), vec2<f32>(1.7320508, -1.0),
     );
-    let c = corners[vi % 6u];
+    let c = corners[vi % 3u];
     var clip = u.view_proj * vec4<f32>(pos, 1.0);
     clip.x = clip.x + c.x * u.params.z / u.viewport.x * clip.w;
     clip.y = clip.y + c.y * u.params.z / u.viewport.y * clip.w;

@@ -201,6 +201,9 @@ struct Training {
     error_interval: Duration,
     rate_window: (Instant, u64),
     signals_per_second: f64,
+    /// The last published snapshot with its session and signal count: republished as the same
+    /// `Arc` while the network has not changed, so the UI does not redraw an unchanged view.
+    published: Option<(u64, u64, Arc<NetworkSnapshot>)>,
 }
 
 fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &Shared) {
@@ -216,6 +219,7 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
         next_checkpoint: u64::MAX,
         train_time: Duration::ZERO,
         last_publish: Instant::now(),
+        published: None,
         last_errors: Instant::now(),
         error_interval: Duration::from_millis(200),
         rate_window: (Instant::now(), 0),
@@ -397,11 +401,25 @@ fn reconstruct(t: &mut Training, events: &Sender<Event>) {
 }
 
 fn publish(t: &mut Training, shared: &Shared) {
-    let snapshot = t
-        .engine
-        .as_ref()
-        .map(|e| Arc::new(e.snapshot()))
-        .unwrap_or_default();
+    let signals = signals_of(t);
+    let snapshot = match (&t.published, t.engine.as_ref()) {
+        (Some((session, at, snapshot)), Some(engine))
+            if *session == t.session
+                && *at == signals
+                && snapshot.finished == engine.is_finished() =>
+        {
+            Arc::clone(snapshot)
+        }
+        (_, Some(engine)) => {
+            let snapshot = Arc::new(engine.snapshot());
+            t.published = Some((t.session, signals, Arc::clone(&snapshot)));
+            snapshot
+        }
+        (_, None) => {
+            t.published = None;
+            Arc::default()
+        }
+    };
     {
         let mut live = shared.live.lock().unwrap_or_else(PoisonError::into_inner);
         *live = Live {

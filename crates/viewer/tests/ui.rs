@@ -143,6 +143,79 @@ fn model_renders_in_both_viewports() {
 }
 
 #[test]
+fn unchanged_viewports_are_reused_and_a_camera_move_redraws_them() {
+    let Some(mut h) = harness(ViewerOptions {
+        target: Some(200),
+        ..Default::default()
+    }) else {
+        return;
+    };
+    step_until(
+        &mut h,
+        Duration::from_secs(60),
+        "QEM result and a trained network",
+        |a| a.has_qem_mesh() && a.live().snapshot.positions.len() >= 200,
+    );
+    h.state_mut().set_running(false);
+    // Let the last snapshot of the running trainer arrive and the panel layout settle: then a
+    // frame redraws neither viewport.
+    let mut settled = 0;
+    for _ in 0..200 {
+        let redraws = h.state().stats.viewport_redraws;
+        h.step();
+        settled = if h.state().stats.viewport_redraws == redraws {
+            settled + 1
+        } else {
+            0
+        };
+        if settled == 3 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(settled, 3, "the viewports never stopped redrawing");
+    let before = h.state().stats.viewport_redraws;
+    let image_before = h.render().expect("render");
+    for _ in 0..3 {
+        h.step();
+    }
+    assert_eq!(
+        h.state().stats.viewport_redraws,
+        before,
+        "an unchanged scene must not be redrawn (paused: {})",
+        h.state().live().running
+    );
+    let image_still = h.render().expect("render");
+    let right = h.state().viewport_rects[1].expect("QEM viewport");
+    let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        let mut n = 0;
+        for y in right.min.y as u32 + 30..right.max.y as u32 {
+            for x in right.min.x as u32..right.max.x as u32 {
+                let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
+                n += usize::from((0..3).any(|c| p[c].abs_diff(q[c]) > 6));
+            }
+        }
+        n
+    };
+    assert_eq!(
+        differing(&image_before, &image_still),
+        0,
+        "the reused viewport must show the same image"
+    );
+    // Orbit by a quarter turn: both viewports are redrawn once and the QEM view changes.
+    h.state_mut().camera.orbit(300.0, 0.0);
+    h.step();
+    let after = h.state().stats.viewport_redraws;
+    assert_eq!([after[0] - before[0], after[1] - before[1]], [1, 1]);
+    let image_after = h.render().expect("render");
+    let changed = differing(&image_before, &image_after);
+    assert!(
+        changed > 500,
+        "orbiting changed only {changed} pixels of the QEM view"
+    );
+}
+
+#[test]
 fn controls_change_state() {
     let Some(mut h) = harness(ViewerOptions {
         target: Some(200),
