@@ -17,15 +17,16 @@ use std::time::Instant;
 
 /// Marks a dead face (in its first slot) and an empty linked list.
 const DEAD: u32 = u32::MAX;
-/// How many candidates ahead the pass loop prefetches version stamps.
+/// How many list entries ahead the pass loop prefetches version stamps.
 const PREFETCH_STAMPS: usize = 32;
-/// How many candidates ahead the pass loop prefetches vertex records.
+/// How many live candidates (or survivors, in the pair generation) ahead the vertex records of
+/// the endpoints are prefetched.
 const PREFETCH_DISTANCE: usize = 16;
-/// How many candidates ahead the pass loop prefetches face lists.
+/// How many live candidates (survivors) ahead the face lists are prefetched.
 const PREFETCH_LISTS: usize = 8;
-/// How many candidates ahead the pass loop prefetches faces.
+/// How many live candidates (survivors) ahead the faces are prefetched.
 const PREFETCH_FACES: usize = 4;
-/// How many candidates ahead the pass loop prefetches the positions around the endpoints.
+/// How many live candidates (survivors) ahead the records around the endpoints are prefetched.
 const PREFETCH_RING: usize = 2;
 
 /// Work lists shorter than this are processed on the calling thread only.
@@ -36,8 +37,6 @@ fn parallel(len: usize, min: usize) -> bool {
     len >= min && rayon::current_num_threads() > 1
 }
 
-/// Merged vertices per parallel task of the pair generation.
-const SURVIVOR_CHUNK: usize = 1_024;
 /// Items per parallel task.
 const PARALLEL_CHUNK: usize = 8_192;
 
@@ -145,16 +144,20 @@ impl VirtualPairs {
     }
 }
 
-/// Geometry of a vertex in the normalised frame.
+/// Everything per vertex, in two cache lines: the first holds what the checks read for the
+/// neighbours of a pair (position, scratch mark, valence), the second the rest of the quadric and
+/// the face-list bookkeeping; a record never straddles more lines than it needs.
 #[derive(Debug, Clone, Copy, Default)]
-struct VertexData {
-    q: Quadric,
+#[repr(C, align(64))]
+struct Vertex {
+    /// Position in the normalised frame.
     p: DVec3,
-}
-
-/// Per-vertex bookkeeping.
-#[derive(Debug, Clone, Copy, Default)]
-struct VertexInfo {
+    /// Scratch mark (compared with `Engine::tick`).
+    mark: u32,
+    /// Live faces around the vertex.
+    valence: u32,
+    /// Quadric (face planes plus boundary planes) in the normalised frame.
+    q: Quadric,
     /// Start of the face list in `refs`.
     start: u32,
     /// Length of the face list (may include dead faces).
@@ -167,21 +170,13 @@ struct VertexInfo {
     boundary: bool,
 }
 
-/// Per-vertex fields read for the neighbours of a pair.
-#[derive(Debug, Clone, Copy, Default)]
-struct NeighbourInfo {
-    /// Scratch mark (compared with `Engine::tick`).
-    mark: u32,
-    /// Live faces around the vertex.
-    valence: u32,
-}
+// Two whole cache lines per vertex.
+const _: () = assert!(std::mem::size_of::<Vertex>() == 128);
 
 /// Mutable simplification state.
 struct Engine {
-    /// Quadric and position per vertex (read together by every evaluation).
-    vd: Vec<VertexData>,
-    /// Topology bookkeeping per vertex, packed so one cache line serves a vertex.
-    v: Vec<VertexInfo>,
+    /// Geometry and bookkeeping per vertex.
+    vx: Vec<Vertex>,
     /// Version per vertex, bumped by every contraction of the vertex (a separate compact array:
     /// the candidate walks test it for every entry, in cost order, i.e. at random).
     stamps: Vec<u32>,
@@ -192,9 +187,6 @@ struct Engine {
     refs_limit: usize,
     /// The other buffer of the compaction.
     refs_spare: Vec<u32>,
-    /// Scratch mark and valence per vertex (compact: the checks read them for the neighbours of
-    /// the pair, at random).
-    nb: Vec<NeighbourInfo>,
     /// Current scratch-mark value.
     tick: u32,
     scratch: Vec<u32>,
@@ -210,15 +202,27 @@ fn contains(t: &[u32; 3], v: u32) -> bool {
     t[0] == v || t[1] == v || t[2] == v
 }
 
+/// The corner that follows `u` in face `t` (around a closed fan of `u`, every neighbour once).
+#[inline]
+fn corner_after(t: &[u32; 3], u: u32) -> u32 {
+    if t[0] == u {
+        t[1]
+    } else if t[1] == u {
+        t[2]
+    } else {
+        t[0]
+    }
+}
+
 impl Engine {
     /// Hint the CPU to load the bookkeeping and geometry of `a` and `b` (candidate list walks visit
     /// vertices in cost order, i.e. at random).
     #[inline]
     fn prefetch(&self, a: usize, b: usize) {
         for i in [a, b] {
-            if i < self.v.len() {
-                prefetch_ptr(self.v.as_ptr().wrapping_add(i));
-                let d = self.vd.as_ptr().wrapping_add(i).cast::<u8>();
+            if i < self.vx.len() {
+                // Both lines of the (line-aligned) record.
+                let d = self.vx.as_ptr().wrapping_add(i).cast::<u8>();
                 prefetch_ptr(d);
                 prefetch_ptr(d.wrapping_add(64));
             }
@@ -229,7 +233,7 @@ impl Engine {
     #[inline]
     fn prefetch_lists(&self, a: usize, b: usize) {
         for i in [a, b] {
-            if let Some(info) = self.v.get(i) {
+            if let Some(info) = self.vx.get(i) {
                 let s = info.start as usize;
                 prefetch_ptr(self.refs.as_ptr().wrapping_add(s));
                 prefetch_ptr(self.refs.as_ptr().wrapping_add(s + info.len as usize));
@@ -242,13 +246,11 @@ impl Engine {
     #[inline]
     fn prefetch_ring(&self, a: usize, b: usize) {
         for i in [a, b] {
-            if i < self.v.len() {
+            if i < self.vx.len() {
                 for &f in &self.refs[self.list(i)] {
-                    for w in self.faces[f as usize] {
-                        let d = self.vd.as_ptr().wrapping_add(w as usize).cast::<u8>();
-                        prefetch_ptr(d.wrapping_add(std::mem::offset_of!(VertexData, p)));
-                        prefetch_ptr(self.nb.as_ptr().wrapping_add(w as usize));
-                    }
+                    let w = corner_after(&self.faces[f as usize], i as u32);
+                    // The first line: position, mark and valence.
+                    prefetch_ptr(self.vx.as_ptr().wrapping_add(w as usize));
                 }
             }
         }
@@ -258,7 +260,7 @@ impl Engine {
     #[inline]
     fn prefetch_faces(&self, a: usize, b: usize) {
         for i in [a, b] {
-            if i < self.v.len() {
+            if i < self.vx.len() {
                 for &f in &self.refs[self.list(i)] {
                     prefetch_ptr(self.faces.as_ptr().wrapping_add(f as usize));
                 }
@@ -268,15 +270,15 @@ impl Engine {
 
     #[inline]
     fn list(&self, v: usize) -> std::ops::Range<usize> {
-        let s = self.v[v].start as usize;
-        s..s + self.v[v].len as usize
+        let s = self.vx[v].start as usize;
+        s..s + self.vx[v].len as usize
     }
 
     #[inline]
     fn next_tick(&mut self) -> u32 {
         self.tick = self.tick.wrapping_add(1);
         if self.tick == 0 {
-            for x in &mut self.nb {
+            for x in &mut self.vx {
                 x.mark = 0;
             }
             self.tick = 1;
@@ -315,7 +317,7 @@ impl Engine {
 
     #[inline]
     fn evaluate(&self, a: usize, b: usize) -> (f64, DVec3) {
-        let (da, db) = (&self.vd[a], &self.vd[b]);
+        let (da, db) = (&self.vx[a], &self.vx[b]);
         let q = da.q + db.q;
         let (cost, p) = Self::place(&q, da.p, db.p);
         (cost.max(0.0), p)
@@ -332,92 +334,62 @@ impl Engine {
         }
     }
 
-    /// Evaluate every pair of `list` (the `a` and `b` fields are set), in parallel for large lists.
+    /// Evaluate every pair of `list` (the `a` and `b` fields are set; sorted by `a`, so only the
+    /// records of the `b` ends are prefetched), in parallel for large lists.
     fn cost_all(&self, list: &mut [Cand]) {
-        let cost = |c: &mut Cand| *c = self.candidate(c.a as usize, c.b as usize);
-        if parallel(list.len(), PARALLEL_MIN) {
-            list.par_chunks_mut(PARALLEL_CHUNK)
-                .for_each(|chunk| chunk.iter_mut().for_each(cost));
-        } else {
-            list.iter_mut().for_each(cost);
-        }
-    }
-
-    /// Append the pairs of the merged vertices `survivors` (sorted) to `fresh`: in parallel
-    /// chunks when there are many and no non-edge pairs (same output as one sequential walk).
-    fn fresh_pairs(&mut self, survivors: &[u32], pass: u32, fresh: &mut Vec<Cand>) {
-        if self.virt.is_some() || !parallel(survivors.len(), PARALLEL_MIN / 8) {
-            for (i, &a) in survivors.iter().enumerate() {
-                self.prefetch_survivors(survivors, i);
-                self.pairs_of(a as usize, pass, fresh);
-            }
-            return;
-        }
-        let this = &*self;
-        let parts: Vec<Vec<Cand>> = survivors
-            .par_chunks(SURVIVOR_CHUNK)
-            .map(|chunk| {
-                let mut out = Vec::with_capacity(chunk.len() * 8);
-                let mut ring = Vec::with_capacity(64);
-                for (i, &a) in chunk.iter().enumerate() {
-                    this.prefetch_survivors(chunk, i);
-                    this.edge_pairs_of(a as usize, pass, &mut ring, &mut out);
+        let cost = |chunk: &mut [Cand]| {
+            for i in 0..chunk.len() {
+                if let Some(ahead) = chunk.get(i + PREFETCH_DISTANCE) {
+                    let d = self.vx.as_ptr().wrapping_add(ahead.b as usize).cast::<u8>();
+                    prefetch_ptr(d);
+                    prefetch_ptr(d.wrapping_add(64));
                 }
-                out
-            })
-            .collect();
-        fresh.reserve(parts.iter().map(Vec::len).sum());
-        for p in &parts {
-            fresh.extend_from_slice(p);
+                let c = &mut chunk[i];
+                *c = self.candidate(c.a as usize, c.b as usize);
+            }
+        };
+        if parallel(list.len(), PARALLEL_MIN) {
+            list.par_chunks_mut(PARALLEL_CHUNK).for_each(cost);
+        } else {
+            cost(list);
         }
     }
 
-    /// Prefetch the face lists and faces for the pair generation of the survivors a few places
-    /// after `i`.
+    /// Append the pairs of the merged vertices `survivors` (sorted) to `fresh`, prefetching a few
+    /// survivors ahead (sequential: on two shared cores a parallel split measured no faster).
+    fn fresh_pairs(&mut self, survivors: &[u32], pass: u32, fresh: &mut Vec<Cand>) {
+        for (i, &a) in survivors.iter().enumerate() {
+            self.prefetch_survivors(survivors, i);
+            self.pairs_of(a as usize, pass, fresh);
+        }
+    }
+
+    /// Prefetch, in stages, the records, face lists, faces and neighbour records for the pair
+    /// generation of the survivors a few places after `i`.
     #[inline]
     fn prefetch_survivors(&self, survivors: &[u32], i: usize) {
+        if let Some(&ahead) = survivors.get(i + PREFETCH_DISTANCE) {
+            self.prefetch(ahead as usize, ahead as usize);
+        }
         if let Some(&ahead) = survivors.get(i + PREFETCH_LISTS) {
             self.prefetch_lists(ahead as usize, ahead as usize);
         }
         if let Some(&ahead) = survivors.get(i + PREFETCH_FACES) {
             self.prefetch_faces(ahead as usize, ahead as usize);
         }
+        if let Some(&ahead) = survivors.get(i + PREFETCH_RING) {
+            self.prefetch_ring_records(ahead as usize);
+        }
     }
 
-    /// [`Engine::pairs_of`] without non-edge pairs and without touching the marks (so that it
-    /// can run in parallel); `ring` is scratch. Same pairs, in the same order (except for
-    /// vertices with many faces, whose neighbours come sorted).
-    fn edge_pairs_of(&self, a: usize, pass: u32, ring: &mut Vec<u32>, out: &mut Vec<Cand>) {
-        let keep = |v: usize| self.v[v].touched != pass || a < v;
-        let big = self.v[a].len as usize > RING_SEARCH_MAX;
-        ring.clear();
-        for i in self.list(a) {
-            let tri = self.faces[self.refs[i] as usize];
-            if tri[0] == DEAD {
-                continue;
-            }
-            for v in tri {
-                if v as usize == a {
-                    continue;
-                }
-                if big {
-                    ring.push(v);
-                } else if !ring.contains(&v) {
-                    ring.push(v);
-                    if keep(v as usize) {
-                        out.push(self.candidate(a, v as usize));
-                    }
-                }
-            }
-        }
-        if big {
-            ring.sort_unstable();
-            ring.dedup();
-            for &v in ring.iter() {
-                if keep(v as usize) {
-                    out.push(self.candidate(a, v as usize));
-                }
-            }
+    /// Both lines of the records of the vertices around `a` (its faces should be cached).
+    #[inline]
+    fn prefetch_ring_records(&self, a: usize) {
+        for &f in &self.refs[self.list(a)] {
+            let w = corner_after(&self.faces[f as usize], a as u32);
+            let d = self.vx.as_ptr().wrapping_add(w as usize).cast::<u8>();
+            prefetch_ptr(d);
+            prefetch_ptr(d.wrapping_add(64));
         }
     }
 
@@ -425,8 +397,8 @@ impl Engine {
     /// with another vertex touched in pass `pass` is produced by the smaller index only.
     fn pairs_of(&mut self, a: usize, pass: u32, out: &mut Vec<Cand>) {
         let t = self.next_tick();
-        self.nb[a].mark = t;
-        let keep = |e: &Self, v: usize| e.v[v].touched != pass || a < v;
+        self.vx[a].mark = t;
+        let keep = |e: &Self, v: usize| e.vx[v].touched != pass || a < v;
         for i in self.list(a) {
             let tri = self.faces[self.refs[i] as usize];
             if tri[0] == DEAD {
@@ -434,8 +406,8 @@ impl Engine {
             }
             for v in tri {
                 let v = v as usize;
-                if self.nb[v].mark != t {
-                    self.nb[v].mark = t;
+                if self.vx[v].mark != t {
+                    self.vx[v].mark = t;
                     if keep(self, v) {
                         out.push(self.candidate(a, v));
                     }
@@ -447,8 +419,8 @@ impl Engine {
             while node != DEAD {
                 let o = vp.find(vp.other[node as usize]) as usize;
                 node = vp.next[node as usize];
-                if self.v[o].alive && self.nb[o].mark != t {
-                    self.nb[o].mark = t;
+                if self.vx[o].alive && self.vx[o].mark != t {
+                    self.vx[o].mark = t;
                     if keep(self, o) {
                         out.push(self.candidate(a, o));
                     }
@@ -468,8 +440,8 @@ impl Engine {
         } else {
             (tri[0], tri[1])
         };
-        let p1 = self.vd[i1 as usize].p;
-        let p2 = self.vd[i2 as usize].p;
+        let p1 = self.vx[i1 as usize].p;
+        let p2 = self.vx[i2 as usize].p;
         let old = (p1 - pu).cross(p2 - pu);
         let ol = old.length_squared();
         if ol == 0.0 {
@@ -492,7 +464,7 @@ impl Engine {
         let mut opp = [DEAD; 2];
         let mut alive_a = 0usize;
         let ta = self.next_tick();
-        let pa = self.vd[a].p;
+        let pa = self.vx[a].p;
         for i in self.list(a) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
@@ -500,7 +472,7 @@ impl Engine {
             }
             alive_a += 1;
             for v in t {
-                self.nb[v as usize].mark = ta;
+                self.vx[v as usize].mark = ta;
             }
             if contains(&t, bu) {
                 if shared < 2 {
@@ -511,7 +483,7 @@ impl Engine {
                 return false;
             }
         }
-        if shared > 2 || (shared == 2 && self.v[a].boundary && self.v[b].boundary) {
+        if shared > 2 || (shared == 2 && self.vx[a].boundary && self.vx[b].boundary) {
             return false;
         }
         // Link condition: common neighbours must be exactly the opposite vertices.
@@ -520,7 +492,7 @@ impl Engine {
         let mut alive_b = 0usize;
         let (c, d) = (opp[0], opp[1]);
         let mut b_has_cd = false;
-        let pb = self.vd[b].p;
+        let pb = self.vx[b].p;
         for i in self.list(b) {
             let t = self.faces[self.refs[i] as usize];
             if t[0] == DEAD {
@@ -528,8 +500,8 @@ impl Engine {
             }
             alive_b += 1;
             for v in t {
-                if v != au && v != bu && self.nb[v as usize].mark == ta {
-                    self.nb[v as usize].mark = tb;
+                if v != au && v != bu && self.vx[v as usize].mark == ta {
+                    self.vx[v as usize].mark = tb;
                     common += 1;
                 }
             }
@@ -545,7 +517,7 @@ impl Engine {
         }
         // No opposite vertex may be left without faces.
         for &o in &opp[..shared] {
-            if self.nb[o as usize].valence < 2 {
+            if self.vx[o as usize].valence < 2 {
                 return false;
             }
         }
@@ -564,11 +536,11 @@ impl Engine {
     /// Contract `b` into `a`, moving `a` to `p`.
     fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
         let (au, bu) = (a as u32, b as u32);
-        self.vd[a].p = p;
-        let qb = self.vd[b].q;
-        self.vd[a].q += qb;
-        self.v[a].boundary |= self.v[b].boundary;
-        self.v[b].alive = false;
+        self.vx[a].p = p;
+        let qb = self.vx[b].q;
+        self.vx[a].q += qb;
+        self.vx[a].boundary |= self.vx[b].boundary;
+        self.vx[b].alive = false;
         self.stamps[a] = self.stamps[a].wrapping_add(1);
         self.stamps[b] = self.stamps[b].wrapping_add(1);
         self.live_vertices -= 1;
@@ -582,7 +554,7 @@ impl Engine {
             if contains(t, au) {
                 let third = t[0] ^ t[1] ^ t[2] ^ au ^ bu;
                 t[0] = DEAD;
-                self.nb[third as usize].valence -= 1;
+                self.vx[third as usize].valence -= 1;
                 self.live_faces -= 1;
             } else {
                 for v in t.iter_mut() {
@@ -601,11 +573,11 @@ impl Engine {
             }
         }
         self.refs.extend_from_slice(&self.scratch);
-        self.v[a].start = start as u32;
-        self.v[a].len = (self.refs.len() - start) as u32;
-        self.v[b].len = 0;
-        self.nb[a].valence = self.v[a].len;
-        self.nb[b].valence = 0;
+        self.vx[a].start = start as u32;
+        self.vx[a].len = (self.refs.len() - start) as u32;
+        self.vx[b].len = 0;
+        self.vx[a].valence = self.vx[a].len;
+        self.vx[b].valence = 0;
         if let Some(vp) = self.virt.as_mut() {
             vp.merge(a, b);
         }
@@ -620,10 +592,10 @@ impl Engine {
         let mut fresh = std::mem::take(&mut self.refs_spare);
         fresh.clear();
         fresh.reserve(self.refs_limit);
-        for v in 0..self.v.len() {
+        for v in 0..self.vx.len() {
             let range = self.list(v);
             let start = fresh.len();
-            if self.v[v].alive {
+            if self.vx[v].alive {
                 for i in range {
                     let f = self.refs[i];
                     if self.faces[f as usize][0] != DEAD {
@@ -631,8 +603,8 @@ impl Engine {
                     }
                 }
             }
-            self.v[v].start = start as u32;
-            self.v[v].len = (fresh.len() - start) as u32;
+            self.vx[v].start = start as u32;
+            self.vx[v].len = (fresh.len() - start) as u32;
         }
         self.refs_spare = std::mem::replace(&mut self.refs, fresh);
         self.refs_limit = (self.refs.len() * 3).max(1024);
@@ -668,16 +640,16 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     if faces.is_empty() {
         return Err(QemError::EmptyMesh);
     }
-    let mut face_len = vec![0u32; n];
+    let mut old_face_len = vec![0u32; n];
     for t in &faces {
         for &v in t {
-            face_len[v as usize] += 1;
+            old_face_len[v as usize] += 1;
         }
     }
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for (i, p) in input.positions.iter().enumerate() {
-        if face_len[i] > 0 {
+        if old_face_len[i] > 0 {
             if !p.is_finite() {
                 return Err(QemError::NonFiniteVertex(i));
             }
@@ -692,7 +664,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     // Renumber the referenced vertices along a Morton curve and sort the faces by their smallest
     // new index: neighbouring elements then sit close in memory (inputs are often scan-ordered).
     let mut order: Vec<u64> = (0..n)
-        .filter(|&i| face_len[i] > 0)
+        .filter(|&i| old_face_len[i] > 0)
         .map(|i| (morton((input.positions[i].as_dvec3() - center) * scale) << 32) | i as u64)
         .collect();
     let mut scratch64: Vec<u64> = Vec::new();
@@ -706,30 +678,35 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         .iter()
         .map(|&o| (input.positions[o as u32 as usize].as_dvec3() - center) * scale)
         .collect();
+    // Faces per renumbered vertex (the same faces, so the old counts permuted).
+    let face_len: Vec<u32> = order
+        .iter()
+        .map(|&o| old_face_len[o as u32 as usize])
+        .collect();
     drop(order);
-    let n = pos.len();
-    let mut keyed: Vec<u64> = faces
-        .iter()
-        .enumerate()
-        .map(|(f, t)| {
-            let m = t.iter().map(|&v| new_index[v as usize]).min().unwrap_or(0);
-            (u64::from(m) << 32) | f as u64
-        })
-        .collect();
-    sort_by_u32_key(&mut keyed, &mut scratch64, |&k| (k >> 32) as u32);
     drop(scratch64);
-    let faces: Vec<[u32; 3]> = keyed
-        .iter()
-        .map(|&k| faces[k as u32 as usize].map(|v| new_index[v as usize]))
-        .collect();
-    drop(keyed);
-    drop(new_index);
-    let mut face_len = vec![0u32; n];
+    drop(old_face_len);
+    let n = pos.len();
+    // Faces, renumbered, in order of their smallest vertex (a stable counting sort).
+    let renumbered = |t: &[u32; 3]| t.map(|v| new_index[v as usize]);
+    let smallest = |t: &[u32; 3]| t[0].min(t[1]).min(t[2]) as usize;
+    let mut slot = vec![0u32; n + 1];
     for t in &faces {
-        for &v in t {
-            face_len[v as usize] += 1;
-        }
+        slot[smallest(&renumbered(t)) + 1] += 1;
     }
+    for v in 0..n {
+        slot[v + 1] += slot[v];
+    }
+    let mut sorted = vec![[0u32; 3]; faces.len()];
+    for t in &faces {
+        let r = renumbered(t);
+        let s = &mut slot[smallest(&r)];
+        sorted[*s as usize] = r;
+        *s += 1;
+    }
+    drop(slot);
+    drop(new_index);
+    let faces = sorted;
 
     // Vertex -> face lists (CSR).
     let mut face_start = vec![0u32; n];
@@ -752,38 +729,19 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     // the edges to higher-numbered neighbours.
     let input_faces = faces.len();
     let refs_limit = (refs.len() * 3).max(1024);
-    let VertexSetup {
-        vd,
-        boundary,
-        mut list,
-    } = vertex_setup(&pos, &faces, &refs, &face_start, params);
+    let VertexSetup { vx, mut list } = vertex_setup(&pos, &faces, &refs, &face_start, params);
     drop(pos);
 
     let referenced_vertices = n;
     // Room for the appended lists up front: growing by doubling would copy and fault in pages.
     refs.reserve(refs_limit + 64 - refs.len());
-    let v: Vec<VertexInfo> = (0..n)
-        .map(|i| VertexInfo {
-            start: face_start[i],
-            len: face_len[i],
-            alive: true,
-            boundary: boundary[i],
-            ..Default::default()
-        })
-        .collect();
-    drop(boundary);
     let mut e = Engine {
-        vd,
-        v,
+        vx,
         stamps: vec![0; n],
         faces,
         refs,
         refs_limit,
         refs_spare: Vec::new(),
-        nb: face_len
-            .iter()
-            .map(|&valence| NeighbourInfo { mark: 0, valence })
-            .collect(),
         tick: 0,
         scratch: Vec::new(),
         virt: None,
@@ -796,8 +754,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     // Non-edge pairs within the threshold.
     let mut virtual_pairs = 0;
     if params.pair_threshold > 0.0 {
-        let used: Vec<bool> = e.v.iter().map(|v| v.len > 0).collect();
-        let positions: Vec<DVec3> = e.vd.iter().map(|d| d.p).collect();
+        let used: Vec<bool> = e.vx.iter().map(|v| v.len > 0).collect();
+        let positions: Vec<DVec3> = e.vx.iter().map(|d| d.p).collect();
         let close = pairs::close_pairs(
             &positions,
             &used,
@@ -872,31 +830,45 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         survivors.clear();
         // Every visited entry is consumed (contracted, rejected or stale); the rest is carried.
         let mut consumed = list.len();
-        for (i, c) in list.iter().enumerate() {
-            if let Some(ahead) = list.get(i + PREFETCH_STAMPS) {
-                prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.a as usize));
-                prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.b as usize));
+        // The prefetch stages run over the upcoming *live* entries (most entries of a pass go
+        // stale before they are reached): `queue[qh..qt]` (modulo its length) holds the list
+        // indices of the next live entries found by the look-ahead `la`.
+        let mut queue = [0u32; PREFETCH_DISTANCE];
+        let (mut qh, mut qt, mut la) = (0usize, 0usize, 0usize);
+        loop {
+            while qt - qh < PREFETCH_DISTANCE && la < list.len() {
+                if let Some(ahead) = list.get(la + PREFETCH_STAMPS) {
+                    prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.a as usize));
+                    prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.b as usize));
+                }
+                let c = &list[la];
+                if is_live(c, &e.stamps) {
+                    e.prefetch(c.a as usize, c.b as usize);
+                    queue[qt % PREFETCH_DISTANCE] = la as u32;
+                    qt += 1;
+                }
+                la += 1;
             }
-            if let Some(ahead) = list.get(i + PREFETCH_DISTANCE)
-                && is_live(ahead, &e.stamps)
-            {
-                e.prefetch(ahead.a as usize, ahead.b as usize);
+            if qh == qt {
+                break;
             }
-            if let Some(ahead) = list.get(i + PREFETCH_LISTS)
-                && is_live(ahead, &e.stamps)
-            {
+            let i = queue[qh % PREFETCH_DISTANCE] as usize;
+            qh += 1;
+            let upcoming = |k: usize| {
+                (qh + k < qt)
+                    .then(|| &list[queue[(qh + k) % PREFETCH_DISTANCE] as usize])
+                    .filter(|c| is_live(c, &e.stamps))
+            };
+            if let Some(ahead) = upcoming(PREFETCH_LISTS - 1) {
                 e.prefetch_lists(ahead.a as usize, ahead.b as usize);
             }
-            if let Some(ahead) = list.get(i + PREFETCH_FACES)
-                && is_live(ahead, &e.stamps)
-            {
+            if let Some(ahead) = upcoming(PREFETCH_FACES - 1) {
                 e.prefetch_faces(ahead.a as usize, ahead.b as usize);
             }
-            if let Some(ahead) = list.get(i + PREFETCH_RING)
-                && is_live(ahead, &e.stamps)
-            {
+            if let Some(ahead) = upcoming(PREFETCH_RING - 1) {
                 e.prefetch_ring(ahead.a as usize, ahead.b as usize);
             }
+            let c = &list[i];
             if !is_live(c, &e.stamps) {
                 continue;
             }
@@ -911,7 +883,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                 break;
             }
             // Keep the vertex with the longer face list (less relinking).
-            let (a, b) = if e.v[b].len > e.v[a].len {
+            let (a, b) = if e.vx[b].len > e.vx[a].len {
                 (b, a)
             } else {
                 (a, b)
@@ -923,8 +895,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
                 continue;
             }
             e.collapse(a, b, p);
-            e.v[a].touched = pass;
-            e.v[b].touched = pass;
+            e.vx[a].touched = pass;
+            e.vx[b].touched = pass;
             survivors.push(a as u32);
             done += 1;
             worst = worst.max(cost);
@@ -948,11 +920,11 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
             rebuilt_without_progress = true;
             pass += 1;
             list.clear();
-            for v in 0..e.v.len() {
-                e.v[v].touched = pass; // so that each pair is produced once, by its smaller index
+            for v in 0..e.vx.len() {
+                e.vx[v].touched = pass; // so that each pair is produced once, by its smaller index
             }
-            for v in 0..e.v.len() {
-                if e.v[v].alive && e.v[v].len > 0 {
+            for v in 0..e.vx.len() {
+                if e.vx[v].alive && e.vx[v].len > 0 {
                     e.pairs_of(v, pass, &mut list);
                 }
             }
@@ -967,7 +939,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         sort_by_u32_key(&mut survivors, &mut survivors_tmp, |&v| v);
         e.fresh_pairs(&survivors, pass, &mut fresh);
         sort_by_u32_key(&mut fresh, &mut sort_tmp, |c| sort_key(c.key));
-        merge_live(&mut list, consumed, &fresh, &e.stamps);
+        merge_live(&list, consumed, &fresh, &e.stamps, &mut sort_tmp);
+        std::mem::swap(&mut list, &mut sort_tmp);
     };
 
     let out = e.output(center, diag, scale);
@@ -1021,7 +994,7 @@ impl Engine {
             i += 1;
             keep[i - 1]
         });
-        let mut remap = vec![DEAD; self.v.len()];
+        let mut remap = vec![DEAD; self.vx.len()];
         for t in &tris {
             for &v in t {
                 remap[v as usize] = 0;
@@ -1031,7 +1004,7 @@ impl Engine {
         for (v, r) in remap.iter_mut().enumerate() {
             if *r == 0 {
                 *r = positions.len() as u32;
-                let p = self.vd[v].p / scale + center;
+                let p = self.vx[v].p / scale + center;
                 positions.push(Vec3::new(p.x as f32, p.y as f32, p.z as f32));
             }
         }
@@ -1046,10 +1019,9 @@ impl Engine {
 
 /// What [`vertex_setup`] produces.
 struct VertexSetup {
-    /// Quadric (face planes plus boundary planes) and position per vertex.
-    vd: Vec<VertexData>,
-    /// Whether the vertex is on a boundary (or non-manifold) edge.
-    boundary: Vec<bool>,
+    /// Per vertex: position, quadric (face planes plus boundary planes), face list (`len` faces
+    /// from `face_start`), valence and boundary flag.
+    vx: Vec<Vertex>,
     /// The mesh edges `(u, v)`, `u < v`, in order of `u` (costs not yet evaluated).
     list: Vec<Cand>,
 }
@@ -1095,100 +1067,106 @@ fn vertex_setup(
     } else {
         faces.iter().map(plane).collect()
     };
-    let mut vd: Vec<VertexData> = Vec::with_capacity(n);
-    let mut boundary = vec![false; n];
-    let chunk =
-        |first: usize, out: &mut [std::mem::MaybeUninit<VertexData>], flags: &mut [bool]| {
-            let mut edges = Vec::with_capacity(out.len() * 3 + 16);
-            // (neighbour, faces on the edge, last such face)
-            let mut ring: Vec<(u32, u32, u32)> = Vec::with_capacity(64);
-            for (k, (slot, flag)) in out.iter_mut().zip(flags.iter_mut()).enumerate() {
-                let u = first + k;
-                let uu = u as u32;
-                let end = face_start.get(u + 1).map_or(refs.len(), |&e| e as usize);
-                let list = &refs[face_start[u] as usize..end];
-                let mut q = Quadric::default();
-                ring.clear();
-                for &f in list {
-                    let tri = faces[f as usize];
-                    let [gx, gy, gz, gd] = planes[f as usize];
-                    q += Quadric::from_plane(DVec3::new(gx, gy, gz), gd, 1.0);
-                    // The two other corners (every face in the list has `u` exactly once).
-                    let others = if tri[0] == uu {
-                        [tri[1], tri[2]]
-                    } else if tri[1] == uu {
-                        [tri[2], tri[0]]
-                    } else {
-                        [tri[0], tri[1]]
-                    };
-                    if list.len() <= RING_SEARCH_MAX {
-                        for v in others {
-                            match ring.iter_mut().find(|r| r.0 == v) {
-                                Some(r) => {
-                                    r.1 += 1;
-                                    r.2 = f;
-                                }
-                                None => ring.push((v, 1, f)),
+    let mut vx: Vec<Vertex> = Vec::with_capacity(n);
+    let chunk = |first: usize, out: &mut [std::mem::MaybeUninit<Vertex>]| {
+        let mut edges = Vec::with_capacity(out.len() * 3 + 16);
+        // (neighbour, faces on the edge, last such face)
+        let mut ring: Vec<(u32, u32, u32)> = Vec::with_capacity(64);
+        for (k, slot) in out.iter_mut().enumerate() {
+            let u = first + k;
+            let uu = u as u32;
+            let end = face_start.get(u + 1).map_or(refs.len(), |&e| e as usize);
+            let list = &refs[face_start[u] as usize..end];
+            let mut q = Quadric::default();
+            ring.clear();
+            for &f in list {
+                let tri = faces[f as usize];
+                let [gx, gy, gz, gd] = planes[f as usize];
+                q += Quadric::from_plane(DVec3::new(gx, gy, gz), gd, 1.0);
+                // The two other corners (every face in the list has `u` exactly once).
+                let others = if tri[0] == uu {
+                    [tri[1], tri[2]]
+                } else if tri[1] == uu {
+                    [tri[2], tri[0]]
+                } else {
+                    [tri[0], tri[1]]
+                };
+                if list.len() <= RING_SEARCH_MAX {
+                    for v in others {
+                        match ring.iter_mut().find(|r| r.0 == v) {
+                            Some(r) => {
+                                r.1 += 1;
+                                r.2 = f;
                             }
-                        }
-                    } else {
-                        ring.extend(others.map(|v| (v, 1, f)));
-                    }
-                }
-                if list.len() > RING_SEARCH_MAX {
-                    // High valence: group by sorting instead of searching (stable: keeps the last face).
-                    ring.sort_by_key(|r| r.0);
-                    let mut w = 0;
-                    for r in 0..ring.len() {
-                        if w > 0 && ring[w - 1].0 == ring[r].0 {
-                            ring[w - 1].1 += 1;
-                            ring[w - 1].2 = ring[r].2;
-                        } else {
-                            ring[w] = ring[r];
-                            w += 1;
+                            None => ring.push((v, 1, f)),
                         }
                     }
-                    ring.truncate(w);
+                } else {
+                    ring.extend(others.map(|v| (v, 1, f)));
                 }
-                let mut on_boundary = false;
-                for &(v, count, f) in &ring {
-                    on_boundary |= count != 2;
-                    if count == 1 && params.preserve_boundary {
-                        let (lo, hi) = (uu.min(v) as usize, uu.max(v) as usize);
-                        let [p0, p1, p2] = faces[f as usize].map(|w| pos[w as usize]);
-                        let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                        let edge = pos[hi] - pos[lo];
-                        let m = edge.cross(face_normal).normalize_or_zero();
-                        if m != DVec3::ZERO {
-                            let w = params.boundary_weight * edge.length_squared();
-                            q += Quadric::from_plane(m, -m.dot(pos[lo]), w);
-                        }
-                    }
-                    if v > uu {
-                        edges.push(Cand {
-                            a: uu,
-                            b: v,
-                            ..Cand::default()
-                        });
-                    }
-                }
-                *flag = on_boundary;
-                slot.write(VertexData { q, p: pos[u] });
             }
-            edges
-        };
-    let out = &mut vd.spare_capacity_mut()[..n];
+            if list.len() > RING_SEARCH_MAX {
+                // High valence: group by sorting instead of searching (stable: keeps the last face).
+                ring.sort_by_key(|r| r.0);
+                let mut w = 0;
+                for r in 0..ring.len() {
+                    if w > 0 && ring[w - 1].0 == ring[r].0 {
+                        ring[w - 1].1 += 1;
+                        ring[w - 1].2 = ring[r].2;
+                    } else {
+                        ring[w] = ring[r];
+                        w += 1;
+                    }
+                }
+                ring.truncate(w);
+            }
+            let mut on_boundary = false;
+            for &(v, count, f) in &ring {
+                on_boundary |= count != 2;
+                if count == 1 && params.preserve_boundary {
+                    let (lo, hi) = (uu.min(v) as usize, uu.max(v) as usize);
+                    let [p0, p1, p2] = faces[f as usize].map(|w| pos[w as usize]);
+                    let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                    let edge = pos[hi] - pos[lo];
+                    let m = edge.cross(face_normal).normalize_or_zero();
+                    if m != DVec3::ZERO {
+                        let w = params.boundary_weight * edge.length_squared();
+                        q += Quadric::from_plane(m, -m.dot(pos[lo]), w);
+                    }
+                }
+                if v > uu {
+                    edges.push(Cand {
+                        a: uu,
+                        b: v,
+                        ..Cand::default()
+                    });
+                }
+            }
+            slot.write(Vertex {
+                p: pos[u],
+                mark: 0,
+                valence: list.len() as u32,
+                q,
+                start: face_start[u],
+                len: list.len() as u32,
+                touched: 0,
+                alive: true,
+                boundary: on_boundary,
+            });
+        }
+        edges
+    };
+    let out = &mut vx.spare_capacity_mut()[..n];
     let lists: Vec<Vec<Cand>> = if parallel(n, PARALLEL_MIN / 4) {
         out.par_chunks_mut(VERTEX_CHUNK)
-            .zip(boundary.par_chunks_mut(VERTEX_CHUNK))
             .enumerate()
-            .map(|(c, (o, b))| chunk(c * VERTEX_CHUNK, o, b))
+            .map(|(c, o)| chunk(c * VERTEX_CHUNK, o))
             .collect()
     } else {
-        vec![chunk(0, out, &mut boundary)]
+        vec![chunk(0, out)]
     };
     // SAFETY: every chunk wrote each of its slots exactly once, and the chunks cover `0..n`.
-    unsafe { vd.set_len(n) };
+    unsafe { vx.set_len(n) };
     let list = if lists.len() == 1 {
         lists.into_iter().next().unwrap_or_default()
     } else {
@@ -1198,7 +1176,7 @@ fn vertex_setup(
         }
         list
     };
-    VertexSetup { vd, boundary, list }
+    VertexSetup { vx, list }
 }
 
 /// 30-bit Morton code of a point of the normalised frame (coordinates within ±1).
@@ -1221,36 +1199,26 @@ fn is_live(c: &Cand, stamps: &[u32]) -> bool {
     stamps[c.a as usize].wrapping_add(stamps[c.b as usize]) == c.stamp
 }
 
-/// Replace `list` by the merge of its sorted unvisited rest `list[consumed..]` (dropping stale
-/// entries, so that later passes neither copy nor walk them) with the sorted fresh list `fresh`
-/// (all live), in place: the rest is first moved to start at or after `fresh.len()`, so that the
-/// merged output, written from the front, never overtakes the entries still to be read.
-fn merge_live(list: &mut Vec<Cand>, consumed: usize, fresh: &[Cand], stamps: &[u32]) {
-    let rest = list.len() - consumed;
-    let from = consumed.max(fresh.len());
-    if from > consumed {
-        list.resize(from + rest, Cand::default());
-        list.copy_within(consumed..consumed + rest, from);
-    }
-    let mut w = 0;
+/// Write into `out` the merge of the sorted unvisited rest `list[consumed..]` of the candidate
+/// list (dropping stale entries, so that later passes neither copy nor walk them) with the sorted
+/// fresh list `fresh` (all live); on equal sort keys carried entries come first. One sequential
+/// read and write; the caller swaps `out` and `list` (both buffers are kept for the whole run).
+fn merge_live(list: &[Cand], consumed: usize, fresh: &[Cand], stamps: &[u32], out: &mut Vec<Cand>) {
+    out.clear();
+    out.reserve(list.len() - consumed + fresh.len());
     let mut j = 0;
-    for r in from..from + rest {
-        let c = list[r];
-        if !is_live(&c, stamps) {
+    for c in &list[consumed..] {
+        if !is_live(c, stamps) {
             continue;
         }
         let k = sort_key(c.key);
         while j < fresh.len() && sort_key(fresh[j].key) < k {
-            // w < r here: w ≤ (r − from) + j and j < fresh.len() ≤ from.
-            list[w] = fresh[j];
-            w += 1;
+            out.push(fresh[j]);
             j += 1;
         }
-        list[w] = c;
-        w += 1;
+        out.push(*c);
     }
-    list.truncate(w);
-    list.extend_from_slice(&fresh[j..]);
+    out.extend_from_slice(&fresh[j..]);
 }
 
 fn validate(p: &QemParams) -> Result<(), QemError> {
