@@ -59,7 +59,21 @@ fn parse_size(text: &str) -> Result<[f32; 2], String> {
     Ok([parse(w)?, parse(h)?])
 }
 
+/// Leave one core to the training thread when the renderer is Mesa's software rasterizer
+/// (llvmpipe/lavapipe), which otherwise starts one raster thread per core and competes with
+/// training for every core. A user's own `LP_NUM_THREADS` wins; GPU drivers ignore the variable.
+fn share_cores_with_software_rasterizer() {
+    if std::env::var_os("LP_NUM_THREADS").is_some() {
+        return;
+    }
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    // SAFETY: called first thing in `main`, before any other thread exists, so nothing can read
+    // the environment concurrently.
+    unsafe { std::env::set_var("LP_NUM_THREADS", cores.saturating_sub(1).max(1).to_string()) };
+}
+
 fn main() {
+    share_cores_with_software_rasterizer();
     let args = Args::parse();
     let options = viewer::ViewerOptions {
         path: args.mesh,
