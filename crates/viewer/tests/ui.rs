@@ -61,6 +61,22 @@ fn step_until(
     }
 }
 
+/// A harness whose QEM result exists and whose network has grown to `target` nodes (`None`: no
+/// wgpu adapter, see [`harness`]).
+fn trained_harness(target: usize) -> Option<Harness<'static, ViewerApp>> {
+    let mut h = harness(ViewerOptions {
+        target: Some(target),
+        ..Default::default()
+    })?;
+    step_until(
+        &mut h,
+        Duration::from_secs(60),
+        "QEM result and a trained network",
+        |a| a.has_qem_mesh() && a.live().snapshot.positions.len() >= target,
+    );
+    Some(h)
+}
+
 /// Pixels in `rect` (points = pixels here) below the label strip that differ by more than a few
 /// levels from the background (read at the bottom-right corner, which the framed model never
 /// reaches), and the number of pixels examined.
@@ -97,18 +113,9 @@ fn save_snapshot(h: &mut Harness<'static, ViewerApp>, name: &str) {
 
 #[test]
 fn model_renders_in_both_viewports() {
-    let Some(mut h) = harness(ViewerOptions {
-        target: Some(300),
-        ..Default::default()
-    }) else {
+    let Some(mut h) = trained_harness(300) else {
         return;
     };
-    step_until(
-        &mut h,
-        Duration::from_secs(60),
-        "QEM result and a trained network",
-        |a| a.has_qem_mesh() && a.live().snapshot.positions.len() >= 300,
-    );
     h.step();
     save_snapshot(&mut h, "model_renders_in_both_viewports.png");
     let image = h.render().expect("render");
@@ -144,18 +151,9 @@ fn model_renders_in_both_viewports() {
 
 #[test]
 fn unchanged_viewports_are_reused_and_a_camera_move_redraws_them() {
-    let Some(mut h) = harness(ViewerOptions {
-        target: Some(200),
-        ..Default::default()
-    }) else {
+    let Some(mut h) = trained_harness(200) else {
         return;
     };
-    step_until(
-        &mut h,
-        Duration::from_secs(60),
-        "QEM result and a trained network",
-        |a| a.has_qem_mesh() && a.live().snapshot.positions.len() >= 200,
-    );
     h.state_mut().set_running(false);
     // Let the last snapshot of the running trainer arrive and the panel layout settle: then a
     // frame redraws neither viewport.
