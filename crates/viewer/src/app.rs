@@ -179,6 +179,14 @@ impl FrameStats {
     }
 }
 
+/// One row of the parameter grid: a label, `widget` labelled by it, end of row.
+fn param_row(ui: &mut egui::Ui, label: &str, widget: impl egui::Widget) -> egui::Response {
+    let label = ui.label(label);
+    let response = ui.add(widget).labelled_by(label.id);
+    ui.end_row();
+    response
+}
+
 /// Names of the viewer's own worker threads: everything else in the process draws the UI (the
 /// main thread and the software rasterizer's threads).
 const WORKER_THREADS: [&str; 5] = [
@@ -870,9 +878,7 @@ impl ViewerApp {
                 ui.checkbox(&mut self.display.show_original, "Original overlay");
                 ui.checkbox(&mut self.show_plots, "Plots and table");
                 ui.checkbox(&mut self.display.smooth_ui, "Anti-aliased UI")
-                    .on_hover_text(
-                        "Off by default on a software renderer, where it costs frame time",
-                    );
+                    .on_hover_text("Off saves about 1 ms per frame on a software renderer");
                 if ui.button("Reset camera").clicked() {
                     self.camera = OrbitCamera::framing(&self.original.referenced_bounding_box());
                 }
@@ -978,15 +984,13 @@ impl ViewerApp {
         ui.add_space(4.0);
         let mut target = self.params.target_vertices;
         egui::Grid::new("params").num_columns(2).show(ui, |ui| {
-            let label = ui.label("target vertices");
-            let r = ui
-                .add(
-                    egui::DragValue::new(&mut target)
-                        .range(4..=1_000_000)
-                        .speed(10.0),
-                )
-                .labelled_by(label.id);
-            ui.end_row();
+            let r = param_row(
+                ui,
+                "target vertices",
+                egui::DragValue::new(&mut target)
+                    .range(4..=1_000_000)
+                    .speed(10.0),
+            );
             if (r.changed() && !r.dragged()) || r.drag_stopped() || r.lost_focus() {
                 self.set_target(target);
             } else if r.dragged() {
@@ -1016,55 +1020,48 @@ impl ViewerApp {
                 self.params.lambda = (!auto).then_some(lambda);
             });
             ui.end_row();
-            let label = ui.label("ε_b (winner)");
-            ui.add(
+            param_row(
+                ui,
+                "ε_b (winner)",
                 egui::DragValue::new(&mut self.params.eps_winner)
                     .range(0.0..=1.0)
                     .speed(0.001),
-            )
-            .labelled_by(label.id);
-            ui.end_row();
-            let label = ui.label("ε_n (neighbours)");
-            ui.add(
+            );
+            param_row(
+                ui,
+                "ε_n (neighbours)",
                 egui::DragValue::new(&mut self.params.eps_neighbour)
                     .range(0.0..=1.0)
                     .speed(0.0001)
                     .max_decimals(5),
-            )
-            .labelled_by(label.id);
-            ui.end_row();
-            let label = ui.label("α (insertion)");
-            ui.add(
+            );
+            param_row(
+                ui,
+                "α (insertion)",
                 egui::DragValue::new(&mut self.params.alpha)
                     .range(0.0..=1.0)
                     .speed(0.01),
-            )
-            .labelled_by(label.id);
-            ui.end_row();
-            let label = ui.label("d (error decay)");
-            ui.add(
+            );
+            param_row(
+                ui,
+                "d (error decay)",
                 egui::DragValue::new(&mut self.params.error_decay)
                     .range(0.0..=1.0)
                     .speed(0.0001)
                     .max_decimals(5),
+            );
+            param_row(
+                ui,
+                "a_max (edge age)",
+                egui::DragValue::new(&mut self.params.max_edge_age).range(1..=100_000),
+            );
+            param_row(
+                ui,
+                "μ (removal window)",
+                egui::DragValue::new(&mut self.params.removal_window).range(0.0..=1000.0),
             )
-            .labelled_by(label.id);
-            ui.end_row();
-            let label = ui.label("a_max (edge age)");
-            ui.add(egui::DragValue::new(&mut self.params.max_edge_age).range(1..=100_000))
-                .labelled_by(label.id);
-            ui.end_row();
-            let label = ui.label("μ (removal window)");
-            ui.add(egui::DragValue::new(&mut self.params.removal_window).range(0.0..=1000.0))
-                .labelled_by(label.id)
-                .on_hover_text(
-                    "nodes without a win in the last μ·|A| signals are removed (0: off)",
-                );
-            ui.end_row();
-            let label = ui.label("seed");
-            ui.add(egui::DragValue::new(&mut self.params.seed))
-                .labelled_by(label.id);
-            ui.end_row();
+            .on_hover_text("nodes without a win in the last μ·|A| signals are removed (0: off)");
+            param_row(ui, "seed", egui::DragValue::new(&mut self.params.seed));
             let label = ui.label("signal source");
             egui::ComboBox::from_id_salt("signal_source")
                 .selected_text(engine::signal_source_label(self.params.signal_source))
@@ -1076,16 +1073,15 @@ impl ViewerApp {
                 .response
                 .labelled_by(label.id);
             ui.end_row();
-            let label = ui.label("checkpoint every");
-            ui.add(
+            param_row(
+                ui,
+                "checkpoint every",
                 egui::DragValue::new(&mut self.checkpoint_every)
                     .range(0..=1_000_000_000)
                     .speed(1000.0)
                     .suffix(" signals"),
             )
-            .labelled_by(label.id)
             .on_hover_text("reconstruct periodically for the table (0: off)");
-            ui.end_row();
         });
         ui.horizontal(|ui| {
             let before = self.speed();

@@ -230,31 +230,29 @@ pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
     // One bucket per two pixels: a CPU rasterizer pays for every tiny line segment.
     let buckets = (ui.available_width() * ui.ctx().pixels_per_point() / 2.0).max(16.0) as usize;
     let series = |column: usize| -> Vec<[f64; 2]> {
-        let points: Vec<[f64; 2]> = history
+        history
             .errors
             .iter()
             .map(|e| [e[0], log10(e[column])])
-            .collect();
-        envelope(&points, buckets)
+            .collect()
     };
-    let avg = PlotPoints::from(series(1));
-    let max = PlotPoints::from(series(2));
-    let few = history.errors.len() < 40;
-    let avg_marks: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[1])]).collect();
-    let max_marks: PlotPoints<'_> = history.errors.iter().map(|e| [e[0], log10(e[2])]).collect();
+    let (avg_points, max_points) = (series(1), series(2));
+    let avg = PlotPoints::from(envelope(&avg_points, buckets));
+    let max = PlotPoints::from(envelope(&max_points, buckets));
+    // Markers while the series is short (a single point draws no line).
+    let marks = (history.errors.len() < 40).then_some((avg_points, max_points));
     let qem = history.qem.clone();
     log_plot("vertex_errors", height)
         .y_axis_label("squared error")
         .show(ui, move |plot| {
-            // Markers while the series is short (a single point draws no line).
-            if few {
+            if let Some((avg_marks, max_marks)) = marks {
                 plot.points(
-                    Points::new("GNG3D E_avg", avg_marks)
+                    Points::new("GNG3D E_avg", PlotPoints::from(avg_marks))
                         .color(AVG_COLOR)
                         .radius(2.5),
                 );
                 plot.points(
-                    Points::new("GNG3D E_max", max_marks)
+                    Points::new("GNG3D E_max", PlotPoints::from(max_marks))
                         .color(MAX_COLOR)
                         .radius(2.5),
                 );

@@ -591,7 +591,7 @@ impl SceneRenderer {
 
     /// A new viewport target of `size` pixels.
     pub fn create_target(&self, device: &wgpu::Device, size: [u32; 2]) -> ViewTarget {
-        let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
+        let size = clamp_target_size(size);
         let (color, color_view, depth_view) = make_textures(device, size);
         let blit_group = self.blit_group(device, &color);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
@@ -624,19 +624,11 @@ impl SceneRenderer {
         }
     }
 
-    /// Resize `target` to `size` pixels (no-op when unchanged).
+    /// Resize `target` to `size` pixels (no-op when unchanged): a new target replaces it.
     pub fn resize_target(&self, device: &wgpu::Device, target: &mut ViewTarget, size: [u32; 2]) {
-        let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
-        if target.size == size {
-            return;
+        if target.size != clamp_target_size(size) {
+            *target = self.create_target(device, size);
         }
-        let (color, color_view, depth_view) = make_textures(device, size);
-        target.blit_group = self.blit_group(device, &color);
-        target.color = color;
-        target.color_view = color_view;
-        target.depth_view = depth_view;
-        target.content = None;
-        target.size = size;
     }
 
     /// The bind group through which the copy pipeline reads `color`.
@@ -888,6 +880,11 @@ fn fingerprint(camera: &OrbitCamera, size: [u32; 2], items: &[DrawItem<'_>]) -> 
         }
     }
     h.finish()
+}
+
+/// A target size in pixels limited to 1..=8192 per side.
+fn clamp_target_size(size: [u32; 2]) -> [u32; 2] {
+    size.map(|s| s.clamp(1, 8192))
 }
 
 /// Copies one viewport's colour texture into egui's render pass (see [`SceneRenderer::paint_callback`]).
