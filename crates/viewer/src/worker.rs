@@ -201,9 +201,9 @@ struct Training {
     error_interval: Duration,
     rate_window: (Instant, u64),
     signals_per_second: f64,
-    /// The last published snapshot with its session and signal count: republished as the same
-    /// `Arc` while the network has not changed, so the UI does not redraw an unchanged view.
-    published: Option<(u64, u64, Arc<NetworkSnapshot>)>,
+    /// The last published snapshot and its session: republished as the same `Arc` while the
+    /// network has not changed, so the UI does not redraw an unchanged view.
+    published: Option<(u64, Arc<NetworkSnapshot>)>,
 }
 
 fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &Shared) {
@@ -401,18 +401,17 @@ fn reconstruct(t: &mut Training, events: &Sender<Event>) {
 }
 
 fn publish(t: &mut Training, shared: &Shared) {
-    let signals = signals_of(t);
     let snapshot = match (&t.published, t.engine.as_ref()) {
-        (Some((session, at, snapshot)), Some(engine))
+        (Some((session, snapshot)), Some(engine))
             if *session == t.session
-                && *at == signals
+                && snapshot.signals == engine.signals()
                 && snapshot.finished == engine.is_finished() =>
         {
             Arc::clone(snapshot)
         }
         (_, Some(engine)) => {
             let snapshot = Arc::new(engine.snapshot());
-            t.published = Some((t.session, signals, Arc::clone(&snapshot)));
+            t.published = Some((t.session, Arc::clone(&snapshot)));
             snapshot
         }
         (_, None) => {
