@@ -215,57 +215,80 @@ fn corner_after(t: &[u32; 3], u: u32) -> u32 {
 }
 
 impl Engine {
-    /// Hint the CPU to load the bookkeeping and geometry of `a` and `b` (candidate list walks visit
-    /// vertices in cost order, i.e. at random).
+    /// Hint the CPU to load both cache lines of vertex record `i` (a no-op out of range).
+    #[inline]
+    fn prefetch_record(&self, i: usize) {
+        if i < self.vx.len() {
+            let d = self.vx.as_ptr().wrapping_add(i).cast::<u8>();
+            prefetch_ptr(d);
+            prefetch_ptr(d.wrapping_add(64));
+        }
+    }
+
+    /// Hint the CPU to load the face list of `i` (its record should be cached).
+    #[inline]
+    fn prefetch_list(&self, i: usize) {
+        if let Some(info) = self.vx.get(i) {
+            let s = info.start as usize;
+            prefetch_ptr(self.refs.as_ptr().wrapping_add(s));
+            prefetch_ptr(self.refs.as_ptr().wrapping_add(s + info.len as usize));
+        }
+    }
+
+    /// Hint the CPU to load the faces of `i` (its list should be cached).
+    #[inline]
+    fn prefetch_faces_of(&self, i: usize) {
+        if i < self.vx.len() {
+            for &f in &self.refs[self.list(i)] {
+                prefetch_ptr(self.faces.as_ptr().wrapping_add(f as usize));
+            }
+        }
+    }
+
+    /// Hint the CPU to load the records of the vertices around `i` (its faces should be cached):
+    /// the first line only (position, mark and valence: what the topology and flip checks read),
+    /// or the whole record when `whole` (the pair generation also reads the quadric).
+    #[inline]
+    fn prefetch_ring_of(&self, i: usize, whole: bool) {
+        if i < self.vx.len() {
+            for &f in &self.refs[self.list(i)] {
+                let w = corner_after(&self.faces[f as usize], i as u32) as usize;
+                if whole {
+                    self.prefetch_record(w);
+                } else {
+                    prefetch_ptr(self.vx.as_ptr().wrapping_add(w));
+                }
+            }
+        }
+    }
+
+    /// First prefetch stage of a candidate walk (cost order, i.e. at random): the records of
+    /// `a` and `b`.
     #[inline]
     fn prefetch(&self, a: usize, b: usize) {
-        for i in [a, b] {
-            if i < self.vx.len() {
-                // Both lines of the (line-aligned) record.
-                let d = self.vx.as_ptr().wrapping_add(i).cast::<u8>();
-                prefetch_ptr(d);
-                prefetch_ptr(d.wrapping_add(64));
-            }
-        }
+        self.prefetch_record(a);
+        self.prefetch_record(b);
     }
 
-    /// Second prefetch stage: the face lists of `a` and `b` (their records should be cached).
+    /// Second prefetch stage: the face lists of `a` and `b`.
     #[inline]
     fn prefetch_lists(&self, a: usize, b: usize) {
-        for i in [a, b] {
-            if let Some(info) = self.vx.get(i) {
-                let s = info.start as usize;
-                prefetch_ptr(self.refs.as_ptr().wrapping_add(s));
-                prefetch_ptr(self.refs.as_ptr().wrapping_add(s + info.len as usize));
-            }
-        }
+        self.prefetch_list(a);
+        self.prefetch_list(b);
     }
 
-    /// Fourth prefetch stage: the positions of the vertices around `a` and `b` (their faces
-    /// should be cached).
-    #[inline]
-    fn prefetch_ring(&self, a: usize, b: usize) {
-        for i in [a, b] {
-            if i < self.vx.len() {
-                for &f in &self.refs[self.list(i)] {
-                    let w = corner_after(&self.faces[f as usize], i as u32);
-                    // The first line: position, mark and valence.
-                    prefetch_ptr(self.vx.as_ptr().wrapping_add(w as usize));
-                }
-            }
-        }
-    }
-
-    /// Third prefetch stage: the faces of `a` and `b` (their lists should be cached).
+    /// Third prefetch stage: the faces of `a` and `b`.
     #[inline]
     fn prefetch_faces(&self, a: usize, b: usize) {
-        for i in [a, b] {
-            if i < self.vx.len() {
-                for &f in &self.refs[self.list(i)] {
-                    prefetch_ptr(self.faces.as_ptr().wrapping_add(f as usize));
-                }
-            }
-        }
+        self.prefetch_faces_of(a);
+        self.prefetch_faces_of(b);
+    }
+
+    /// Fourth prefetch stage: the positions of the vertices around `a` and `b`.
+    #[inline]
+    fn prefetch_ring(&self, a: usize, b: usize) {
+        self.prefetch_ring_of(a, false);
+        self.prefetch_ring_of(b, false);
     }
 
     #[inline]
@@ -340,9 +363,7 @@ impl Engine {
         let cost = |chunk: &mut [Cand]| {
             for i in 0..chunk.len() {
                 if let Some(ahead) = chunk.get(i + PREFETCH_DISTANCE) {
-                    let d = self.vx.as_ptr().wrapping_add(ahead.b as usize).cast::<u8>();
-                    prefetch_ptr(d);
-                    prefetch_ptr(d.wrapping_add(64));
+                    self.prefetch_record(ahead.b as usize);
                 }
                 let c = &mut chunk[i];
                 *c = self.candidate(c.a as usize, c.b as usize);
@@ -369,27 +390,16 @@ impl Engine {
     #[inline]
     fn prefetch_survivors(&self, survivors: &[u32], i: usize) {
         if let Some(&ahead) = survivors.get(i + PREFETCH_DISTANCE) {
-            self.prefetch(ahead as usize, ahead as usize);
+            self.prefetch_record(ahead as usize);
         }
         if let Some(&ahead) = survivors.get(i + PREFETCH_LISTS) {
-            self.prefetch_lists(ahead as usize, ahead as usize);
+            self.prefetch_list(ahead as usize);
         }
         if let Some(&ahead) = survivors.get(i + PREFETCH_FACES) {
-            self.prefetch_faces(ahead as usize, ahead as usize);
+            self.prefetch_faces_of(ahead as usize);
         }
         if let Some(&ahead) = survivors.get(i + PREFETCH_RING) {
-            self.prefetch_ring_records(ahead as usize);
-        }
-    }
-
-    /// Both lines of the records of the vertices around `a` (its faces should be cached).
-    #[inline]
-    fn prefetch_ring_records(&self, a: usize) {
-        for &f in &self.refs[self.list(a)] {
-            let w = corner_after(&self.faces[f as usize], a as u32);
-            let d = self.vx.as_ptr().wrapping_add(w as usize).cast::<u8>();
-            prefetch_ptr(d);
-            prefetch_ptr(d.wrapping_add(64));
+            self.prefetch_ring_of(ahead as usize, true);
         }
     }
 
