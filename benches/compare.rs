@@ -4,18 +4,10 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use gng3d::experiment::compare::{CompareParams, compare};
 use gng3d::mesh::TriMesh;
-use std::path::PathBuf;
 use std::time::Duration;
 
 fn gargoyle() -> Option<TriMesh> {
-    let dir = match std::env::var_os("GNG3D_MESHES") {
-        Some(d) => PathBuf::from(d),
-        None if std::env::var_os("CI").is_some() => panic!("CI is set but GNG3D_MESHES is not"),
-        None => {
-            eprintln!("skipping: set GNG3D_MESHES to the shared meshes folder");
-            return None;
-        }
-    };
+    let dir = gng3d::mesh::fixtures::shared_meshes_dir("gargoyle-10k.obj")?;
     let loaded = gng3d::mesh::io::load(&dir.join("gargoyle-10k.obj")).expect("gargoyle-10k.obj");
     Some(gng3d::mesh::clean::prepare(&loaded.mesh).0)
 }

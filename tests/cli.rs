@@ -1,20 +1,6 @@
 //! End-to-end tests of the `gng3d` binary on real meshes (GNG3D_MESHES).
 
-use std::path::PathBuf;
 use std::process::Command;
-
-fn meshes() -> Option<PathBuf> {
-    match std::env::var_os("GNG3D_MESHES").map(PathBuf::from) {
-        Some(dir) if dir.is_dir() => Some(dir),
-        _ if std::env::var_os("CI").is_some() => {
-            panic!("CI is set but GNG3D_MESHES is missing or not a folder")
-        }
-        _ => {
-            eprintln!("skipping: set GNG3D_MESHES to the shared meshes folder");
-            None
-        }
-    }
-}
 
 fn gng3d(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_gng3d"))
@@ -25,7 +11,9 @@ fn gng3d(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn compare_writes_json_and_meshes() {
-    let Some(dir) = meshes() else { return };
+    let Some(dir) = gng3d::mesh::fixtures::shared_meshes_dir("README.md") else {
+        return;
+    };
     let input = dir.join("spot.obj");
     let out = tempfile::tempdir().unwrap();
     let o = gng3d(&[
@@ -61,7 +49,9 @@ fn compare_writes_json_and_meshes() {
 
 #[test]
 fn reproduce_small_run_writes_table() {
-    let Some(dir) = meshes() else { return };
+    let Some(dir) = gng3d::mesh::fixtures::shared_meshes_dir("README.md") else {
+        return;
+    };
     let input = dir.join("decimated-knight.obj");
     let out = tempfile::tempdir().unwrap();
     let o = gng3d(&[

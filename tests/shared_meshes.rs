@@ -3,7 +3,7 @@
 //! folder is missing; otherwise skips with a message.
 
 use gng3d::mesh;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// One row of the README table.
 #[derive(Debug)]
@@ -17,21 +17,6 @@ struct Expected {
     genus: i64,
     euler: i64,
     bbox_diagonal: f64,
-}
-
-fn meshes_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("GNG3D_MESHES").map(PathBuf::from);
-    match dir {
-        Some(d) if d.join("README.md").is_file() => Some(d),
-        _ => {
-            assert!(
-                std::env::var_os("CI").is_none(),
-                "CI is set but GNG3D_MESHES ({dir:?}) does not hold the shared meshes"
-            );
-            eprintln!("skipping: set GNG3D_MESHES to the shared meshes folder to run this test");
-            None
-        }
-    }
 }
 
 fn int(text: &str) -> i64 {
@@ -91,7 +76,9 @@ fn parse_table(readme: &str) -> Vec<Expected> {
 
 #[test]
 fn shared_meshes_match_the_readme_table() {
-    let Some(dir) = meshes_dir() else { return };
+    let Some(dir) = mesh::fixtures::shared_meshes_dir("README.md") else {
+        return;
+    };
     let readme = std::fs::read_to_string(dir.join("README.md")).unwrap();
     let table = parse_table(&readme);
     assert!(table.len() >= 14, "README table has {} rows", table.len());

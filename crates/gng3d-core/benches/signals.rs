@@ -10,21 +10,10 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use gng3d_core::{GngParams, SearchStrategy, SignalSource, Trainer, simplify};
 use mesh::TriMesh;
-use std::path::PathBuf;
 use std::time::Duration;
 
 fn load(name: &str) -> Option<TriMesh> {
-    let dir = match std::env::var_os("GNG3D_MESHES") {
-        Some(d) => PathBuf::from(d),
-        None => {
-            assert!(
-                std::env::var_os("CI").is_none(),
-                "CI is set but GNG3D_MESHES is not"
-            );
-            eprintln!("GNG3D_MESHES not set: skipping");
-            return None;
-        }
-    };
+    let dir = mesh::fixtures::shared_meshes_dir(name)?;
     let loaded = mesh::io::load(&dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
     Some(mesh::clean::prepare(&loaded.mesh).0)
 }

@@ -6,24 +6,12 @@ use mesh::TriMesh;
 use mesh::procedural::{icosphere, torus};
 use std::collections::HashMap;
 use std::ops::ControlFlow;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-/// Load a shared mesh through `GNG3D_MESHES`; `None` (skip) when unset, panic when `CI` is set.
+/// Load a shared mesh through `GNG3D_MESHES` (see `mesh::fixtures::shared_meshes_dir`).
 fn shared_mesh(name: &str) -> Option<TriMesh> {
-    let dir = std::env::var_os("GNG3D_MESHES").map(PathBuf::from);
-    let path = dir.as_ref().map(|d| d.join(name));
-    match path {
-        Some(p) if p.exists() => Some(mesh::io::load(&p).expect("load").mesh),
-        _ => {
-            assert!(
-                std::env::var_os("CI").is_none(),
-                "CI is set but {name} is not available through GNG3D_MESHES"
-            );
-            eprintln!("GNG3D_MESHES not set or {name} missing: skipping");
-            None
-        }
-    }
+    let dir = mesh::fixtures::shared_meshes_dir(name)?;
+    Some(mesh::io::load(&dir.join(name)).expect("load").mesh)
 }
 
 /// Independent closed-manifold check: every directed edge appears exactly once and its twin

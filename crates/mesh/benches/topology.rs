@@ -8,7 +8,6 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesh::TriMesh;
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::Duration;
 
 /// The implementation before the counting-sort rewrite, verbatim apart from visibility.
@@ -214,22 +213,18 @@ mod previous {
 
 /// The benchmark meshes and their names: igea and igea-1m from `GNG3D_MESHES`, else an icosphere.
 fn inputs() -> Vec<(TriMesh, String)> {
-    match std::env::var_os("GNG3D_MESHES").map(PathBuf::from) {
-        Some(d) if d.join("igea.ply").is_file() => ["igea", "igea-1m"]
-            .into_iter()
-            .filter(|name| d.join(format!("{name}.ply")).is_file())
-            .map(|name| {
-                let path = d.join(format!("{name}.ply"));
-                let mesh = mesh::io::load(&path).expect("load mesh").mesh;
-                (mesh, name.to_string())
-            })
-            .collect(),
-        _ if std::env::var_os("CI").is_some() => panic!("GNG3D_MESHES with igea.ply is required"),
-        _ => {
-            eprintln!("GNG3D_MESHES not set: using icosphere(7)");
-            vec![(mesh::procedural::icosphere(7), "icosphere7".to_string())]
-        }
-    }
+    let Some(d) = mesh::fixtures::shared_meshes_dir("igea.ply") else {
+        return vec![(mesh::procedural::icosphere(7), "icosphere7".to_string())];
+    };
+    ["igea", "igea-1m"]
+        .into_iter()
+        .filter(|name| d.join(format!("{name}.ply")).is_file())
+        .map(|name| {
+            let path = d.join(format!("{name}.ply"));
+            let mesh = mesh::io::load(&path).expect("load mesh").mesh;
+            (mesh, name.to_string())
+        })
+        .collect()
 }
 
 fn bench_topology(c: &mut Criterion) {

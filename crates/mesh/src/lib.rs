@@ -3,6 +3,7 @@
 
 pub mod clean;
 pub mod error;
+pub mod fixtures;
 pub mod io;
 pub mod procedural;
 pub mod sampling;

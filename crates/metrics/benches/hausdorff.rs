@@ -19,17 +19,6 @@ const SAMPLES: usize = 1_000_000;
 /// Face count of the simplified mesh (10 % of igea).
 const TARGET_FACES: usize = 26_869;
 
-fn meshes_dir() -> Option<PathBuf> {
-    match std::env::var_os("GNG3D_MESHES").map(PathBuf::from) {
-        Some(d) if d.join("igea.ply").is_file() => Some(d),
-        _ if std::env::var_os("CI").is_some() => panic!("GNG3D_MESHES with igea.ply is required"),
-        _ => {
-            eprintln!("skipping hausdorff bench: set GNG3D_MESHES");
-            None
-        }
-    }
-}
-
 /// igea and its QEM simplification (also written to a temporary OBJ for the MeshLab peer).
 fn inputs(dir: &Path) -> (TriMesh, TriMesh) {
     let original = mesh::io::load(&dir.join("igea.ply"))
@@ -86,7 +75,7 @@ print(best, f["n_samples"], b["n_samples"], f["max"], b["max"])
 }
 
 fn bench(c: &mut Criterion) {
-    let Some(dir) = meshes_dir() else {
+    let Some(dir) = mesh::fixtures::shared_meshes_dir("igea.ply") else {
         return;
     };
     let (original, simplified) = inputs(&dir);

@@ -6,18 +6,12 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesh::TriMesh;
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 /// (file, prepared mesh) for the bench inputs.
 fn inputs() -> Vec<(&'static str, TriMesh)> {
-    let dir = match std::env::var_os("GNG3D_MESHES") {
-        Some(d) => PathBuf::from(d),
-        None if std::env::var_os("CI").is_some() => panic!("GNG3D_MESHES must be set in CI"),
-        None => {
-            eprintln!("GNG3D_MESHES not set: qem bench skipped");
-            return Vec::new();
-        }
+    let Some(dir) = mesh::fixtures::shared_meshes_dir("igea.ply") else {
+        return Vec::new();
     };
     ["armadillo.obj", "igea.ply"]
         .into_iter()

@@ -4,26 +4,10 @@ use glam::{DVec3, Vec3};
 use mesh::TriMesh;
 use mesh::topology::analyze;
 use qem::{QemError, QemParams, Quadric, StopReason, Target};
-use std::path::PathBuf;
-
-/// Folder of the shared meshes; `None` (with a note) when unavailable outside CI.
-fn meshes_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("GNG3D_MESHES").map(PathBuf::from);
-    match dir {
-        Some(d) if d.is_dir() => Some(d),
-        _ if std::env::var_os("CI").is_some() => {
-            panic!("GNG3D_MESHES must point to the shared meshes folder in CI")
-        }
-        _ => {
-            eprintln!("skipping: GNG3D_MESHES is not set to a folder");
-            None
-        }
-    }
-}
 
 /// Load a shared mesh as stored (raw) and as prepared (welded, cleaned).
 fn load(name: &str) -> Option<(TriMesh, TriMesh)> {
-    let path = meshes_dir()?.join(name);
+    let path = mesh::fixtures::shared_meshes_dir("README.md")?.join(name);
     let raw = mesh::io::load(&path).unwrap_or_else(|e| panic!("{e}")).mesh;
     let prepared = mesh::clean::prepare(&raw).0;
     Some((raw, prepared))
@@ -494,7 +478,9 @@ fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
     let Some((_, m)) = load("armadillo.obj") else {
         return;
     };
-    let Some(dir) = meshes_dir() else { return };
+    let Some(dir) = mesh::fixtures::shared_meshes_dir("README.md") else {
+        return;
+    };
     let reference_path = dir.join("../reference/armadillo-meshlab-8648.obj");
     if !reference_path.exists() {
         eprintln!(

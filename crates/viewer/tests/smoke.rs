@@ -2,7 +2,6 @@
 //! save a screenshot and exit by itself. Fails under CI when xvfb-run or the meshes are missing,
 //! skips otherwise.
 
-use std::path::PathBuf;
 use std::process::Command;
 
 fn requirement_missing(what: &str) {
@@ -14,11 +13,10 @@ fn requirement_missing(what: &str) {
 
 #[test]
 fn binary_opens_mesh_trains_and_saves_non_blank_screenshot() {
-    let meshes = std::env::var_os("GNG3D_MESHES").map(PathBuf::from);
-    let Some(mesh) = meshes.map(|m| m.join("spot.obj")).filter(|p| p.is_file()) else {
-        requirement_missing("GNG3D_MESHES/spot.obj not found (set GNG3D_MESHES)");
+    let Some(meshes) = mesh::fixtures::shared_meshes_dir("spot.obj") else {
         return;
     };
+    let mesh = meshes.join("spot.obj");
     if Command::new("xvfb-run").arg("--help").output().is_err() {
         requirement_missing("xvfb-run not installed (apt-get install xvfb xauth)");
         return;

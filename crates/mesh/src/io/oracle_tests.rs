@@ -16,22 +16,6 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The shared meshes folder, or None (with a message) when it is not configured outside CI.
-fn meshes_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("GNG3D_MESHES").map(PathBuf::from);
-    match dir {
-        Some(d) if d.join("README.md").is_file() => Some(d),
-        _ => {
-            assert!(
-                std::env::var_os("CI").is_none(),
-                "CI is set but GNG3D_MESHES ({dir:?}) does not hold the shared meshes"
-            );
-            eprintln!("skipping: set GNG3D_MESHES to the shared meshes folder to run this test");
-            None
-        }
-    }
-}
-
 /// Shared mesh files with extension `ext`, sorted by name.
 fn shared_files(dir: &Path, ext: &str) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -80,7 +64,9 @@ fn check_obj_against_tobj(bytes: &[u8], path: &Path) -> (RawMesh, RawMesh) {
 
 #[test]
 fn obj_reader_matches_tobj_on_shared_meshes() {
-    let Some(dir) = meshes_dir() else { return };
+    let Some(dir) = crate::fixtures::shared_meshes_dir("README.md") else {
+        return;
+    };
     let files = shared_files(&dir, "obj");
     assert!(
         files.len() >= 10,
@@ -263,7 +249,9 @@ fn read_with_ply_rs(path: &Path) -> (Vec<Vec3>, Vec<[u32; 3]>) {
 
 #[test]
 fn ply_reader_matches_ply_rs_on_shared_meshes() {
-    let Some(dir) = meshes_dir() else { return };
+    let Some(dir) = crate::fixtures::shared_meshes_dir("README.md") else {
+        return;
+    };
     for name in [
         "many_small_holes.ply",
         "horse.ply",
