@@ -1,7 +1,7 @@
 //! QEM and GNG3D simplified to the same vertex count, with every metric for both.
 
 use super::ExperimentError;
-use gng3d_core::GngParams;
+use gng3d_core::{GngOptions, GngTarget};
 use mesh::TriMesh;
 use metrics::{MetricsParams, MetricsReport};
 use qem::{QemParams, Target};
@@ -13,8 +13,8 @@ use std::time::Instant;
 pub struct CompareParams {
     /// Vertex count both methods aim for.
     pub target_vertices: usize,
-    /// GNG3D parameters (`target_vertices` is overwritten).
-    pub gng: GngParams,
+    /// GNG3D options (the target is overwritten with `target_vertices`).
+    pub gng: GngOptions,
     /// QEM parameters (`target` is overwritten).
     pub qem: QemParams,
     /// Metric settings (surface sampling).
@@ -26,7 +26,7 @@ impl CompareParams {
     pub fn new(target_vertices: usize) -> CompareParams {
         CompareParams {
             target_vertices,
-            gng: GngParams::for_target(target_vertices),
+            gng: GngOptions::for_target(GngTarget::Vertices(target_vertices)),
             qem: QemParams::with_target(Target::Vertices(target_vertices)),
             metrics: MetricsParams::default(),
         }
@@ -84,17 +84,30 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
             original.vertex_count()
         )));
     }
+    // Every option is checked before either method runs.
+    let gp = GngOptions {
+        target: GngTarget::Vertices(n),
+        ..params.gng.clone()
+    }
+    .resolve(original)?;
+    params.metrics.hausdorff.validate()?;
     let mut qp = params.qem.clone();
     qp.target = Target::Vertices(n);
     let t = Instant::now();
     let (qem_mesh, _) = qem::simplify(original, &qp)?;
     let qem_seconds = t.elapsed().as_secs_f64();
 
-    let mut gp = params.gng.clone();
-    gp.target_vertices = n;
     let t = Instant::now();
     let gng = gng3d_core::simplify(original, &gp)?;
     let gng_seconds = t.elapsed().as_secs_f64();
+    for (method, mesh) in [("QEM", &qem_mesh), ("GNG3D", &gng.mesh)] {
+        if mesh.face_count() == 0 {
+            return Err(ExperimentError::EmptyOutput {
+                method,
+                vertices: mesh.vertex_count(),
+            });
+        }
+    }
 
     let (qem_metrics, gng_metrics) = rayon::join(
         || metrics::evaluate(original, &qem_mesh, &params.metrics),
@@ -118,74 +131,4 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
         qem_mesh,
         gng_mesh: gng.mesh,
     })
-}
-
-/// Which side a lower-is-better value favours: "QEM", "GNG3D" or "tie".
-pub fn winner(qem: f64, gng: f64) -> &'static str {
-    let scale = qem.abs().max(gng.abs());
-    if (qem - gng).abs() <= 1e-9 * scale {
-        "tie"
-    } else if qem < gng {
-        "QEM"
-    } else {
-        "GNG3D"
-    }
-}
-
-/// The comparison as a table of metric rows with QEM, GNG3D and the winner.
-pub fn comparison_table(report: &CompareReport) -> crate::report::table::Table {
-    use crate::report::paper::sci;
-    let mut t = crate::report::table::Table::new(["measure", "QEM", "GNG3D", "better"]);
-    let (q, g) = (&report.qem, &report.gng);
-    let (qm, gm) = (&q.metrics, &g.metrics);
-    let mut num = |name: &str, a: f64, b: f64, lower_better: bool| {
-        let w = if lower_better { winner(a, b) } else { "" };
-        t.push([name.to_string(), sci(a), sci(b), w.to_string()]);
-    };
-    num("E_avg (sq. units)", qm.e_avg, gm.e_avg, true);
-    num("E_max (sq. units)", qm.e_max, gm.e_max, true);
-    num("|E_sur| (sq. units)", qm.e_sur_abs, gm.e_sur_abs, true);
-    num("Hausdorff max", qm.hausdorff.max, gm.hausdorff.max, true);
-    num("Hausdorff mean", qm.hausdorff.mean, gm.hausdorff.mean, true);
-    num("Hausdorff RMS", qm.hausdorff.rms, gm.hausdorff.rms, true);
-    num(
-        "Hausdorff max / diagonal",
-        qm.hausdorff.relative.max,
-        gm.hausdorff.relative.max,
-        true,
-    );
-    num(
-        "normal deviation mean (deg)",
-        qm.normal_deviation.forward.mean_degrees,
-        gm.normal_deviation.forward.mean_degrees,
-        true,
-    );
-    let mut int =
-        |name: &str, a: String, b: String| t.push([name.to_string(), a, b, String::new()]);
-    int("vertices", q.vertices.to_string(), g.vertices.to_string());
-    int("faces", q.faces.to_string(), g.faces.to_string());
-    int(
-        "seconds",
-        format!("{:.3}", q.seconds),
-        format!("{:.3}", g.seconds),
-    );
-    let (qt, gt) = (&qm.topology.simplified, &gm.topology.simplified);
-    int(
-        "boundary edges",
-        qt.boundary_edges.to_string(),
-        gt.boundary_edges.to_string(),
-    );
-    int(
-        "non-manifold edges",
-        qt.non_manifold_edges.to_string(),
-        gt.non_manifold_edges.to_string(),
-    );
-    let genus = |g: Option<i64>| g.map_or("-".to_string(), |g| g.to_string());
-    int("genus", genus(qt.genus), genus(gt.genus));
-    int(
-        "min angle (deg)",
-        format!("{:.2}", qm.quality.simplified.min_angle_degrees),
-        format!("{:.2}", gm.quality.simplified.min_angle_degrees),
-    );
-    t
 }

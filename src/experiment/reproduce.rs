@@ -2,7 +2,7 @@
 //! checkpoint, and measure it against QEM at the same vertex count and at the final target.
 
 use super::{ExperimentError, PaperEvaluator, PaperRow};
-use gng3d_core::{GngParams, Trainer};
+use gng3d_core::{GngOptions, GngTarget, Trainer};
 use mesh::TriMesh;
 use metrics::HausdorffParams;
 use qem::{QemParams, Target};
@@ -18,8 +18,9 @@ pub struct ReproduceParams {
     pub epochs: u64,
     /// Target vertex count as a fraction of the original vertex count (the paper: 0.5).
     pub target_ratio: f64,
-    /// GNG3D parameters; `target_vertices` and `max_signals` are set from the fields above.
-    pub gng: GngParams,
+    /// GNG3D options; the target and the signal budget are set from the fields above and the
+    /// time limit is ignored (the protocol counts signals).
+    pub gng: GngOptions,
     /// QEM parameters; the target is set per checkpoint.
     pub qem: QemParams,
     /// Surface sampling of the Hausdorff distance at every checkpoint.
@@ -31,7 +32,7 @@ impl Default for ReproduceParams {
         ReproduceParams {
             epochs: 30,
             target_ratio: 0.5,
-            gng: GngParams::default(),
+            gng: GngOptions::default(),
             qem: QemParams::default(),
             hausdorff: HausdorffParams::with_samples(100_000),
         }
@@ -108,11 +109,14 @@ pub fn reproduce(
     }
     let target = ((n as f64 * params.target_ratio).round() as usize).max(4);
     let per_epoch = n as u64;
-    let mut gng = params.gng.clone();
-    gng.target_vertices = target;
-    gng.max_signals = Some(per_epoch * params.epochs);
-    gng.time_limit = None;
-    let mut trainer = Trainer::new(original, gng)?;
+    let options = GngOptions {
+        target: GngTarget::Vertices(target),
+        max_signals: Some(per_epoch * params.epochs),
+        epochs: None,
+        time_limit_seconds: None,
+        ..params.gng.clone()
+    };
+    let mut trainer = Trainer::new(original, options.resolve(original)?)?;
 
     // Phase 1 with snapshots; reconstruction and metrics run afterwards, in parallel.
     let mut snapshots = Vec::new();

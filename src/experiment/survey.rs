@@ -2,7 +2,7 @@
 //! winner per metric.
 
 use super::{ExperimentError, PaperEvaluator, PaperRow};
-use gng3d_core::GngParams;
+use gng3d_core::{GngOptions, GngTarget};
 use mesh::TriMesh;
 use metrics::HausdorffParams;
 use qem::{QemParams, Target};
@@ -16,8 +16,8 @@ pub struct SurveyParams {
     pub ratios: Vec<f64>,
     /// GNG3D training length in epochs of |V| signals.
     pub epochs: u64,
-    /// GNG3D parameters (target and signal budget are set per run).
-    pub gng: GngParams,
+    /// GNG3D options (target and signal budget are set per run).
+    pub gng: GngOptions,
     /// QEM parameters (target set per run).
     pub qem: QemParams,
     /// Surface sampling of the Hausdorff distance.
@@ -29,7 +29,7 @@ impl Default for SurveyParams {
         SurveyParams {
             ratios: vec![0.1, 0.25, 0.5],
             epochs: 30,
-            gng: GngParams::default(),
+            gng: GngOptions::default(),
             qem: QemParams::default(),
             hausdorff: HausdorffParams::with_samples(200_000),
         }
@@ -69,15 +69,26 @@ pub fn survey_mesh(
     original: &TriMesh,
     params: &SurveyParams,
 ) -> Result<Vec<SurveyRow>, ExperimentError> {
+    let n = original.vertex_count();
+    // Both methods need a tetrahedron's worth of vertices; smaller meshes are skipped (the
+    // caller warns and carries on with the other meshes).
+    if n < 4 {
+        return Err(ExperimentError::BadTarget(format!(
+            "the mesh has {n} vertices; the survey needs at least 4"
+        )));
+    }
     let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
     let topo = mesh::topology::analyze(original);
-    let n = original.vertex_count();
     let mut rows = Vec::new();
     for &ratio in &params.ratios {
         let target = ((n as f64 * ratio).round() as usize).clamp(4, n);
-        let mut gp = params.gng.clone();
-        gp.target_vertices = target;
-        gp.max_signals = Some(params.epochs.max(1) * n as u64);
+        let gp = GngOptions {
+            target: GngTarget::Vertices(target),
+            max_signals: Some(params.epochs.max(1) * n as u64),
+            epochs: None,
+            ..params.gng.clone()
+        }
+        .resolve(original)?;
         let t = Instant::now();
         let gng = gng3d_core::simplify(original, &gp)?;
         let gng_seconds = t.elapsed().as_secs_f64();

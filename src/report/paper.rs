@@ -42,17 +42,17 @@ pub fn checkpoint_table(report: &ReproduceReport) -> Table {
             g.faces.to_string(),
             sci(g.e_avg),
             sci(g.e_max),
-            sci(g.e_sur),
+            sci(g.e_sur_signed),
             sci(g.hausdorff_max),
             q.vertices.to_string(),
             q.faces.to_string(),
             sci(q.e_avg),
             sci(q.e_max),
-            sci(q.e_sur),
+            sci(q.e_sur_signed),
             sci(q.hausdorff_max),
             sci(f.e_avg),
             sci(f.e_max),
-            sci(f.e_sur),
+            sci(f.e_sur_signed),
             sci(f.hausdorff_max),
         ]);
     }
@@ -118,7 +118,7 @@ pub fn charts(report: &ReproduceReport, mesh_name: &str) -> Vec<(&'static str, C
                 "E_sur (area difference)",
                 "Figure 1: E_sur vs iteration",
                 false,
-                &|r| r.e_sur,
+                &|r| r.e_sur_signed,
             ),
         ),
         (
@@ -150,9 +150,11 @@ pub fn write_reproduction(
     report: &ReproduceReport,
     mesh_name: &str,
     dir: &Path,
-) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", dir.display()))?;
+) -> Result<Vec<PathBuf>, super::ReportError> {
+    std::fs::create_dir_all(dir).map_err(|source| super::ReportError::Folder {
+        path: dir.to_path_buf(),
+        source,
+    })?;
     let table = checkpoint_table(report);
     let mut written = Vec::new();
     let csv = dir.join("table.csv");
@@ -172,11 +174,10 @@ pub fn write_reproduction(
         report.bbox_diagonal,
         table.to_markdown()
     );
-    std::fs::write(&md, text).map_err(|e| anyhow::anyhow!("{}: {e}", md.display()))?;
+    mesh::io::write_atomic(&md, text.as_bytes())?;
     written.push(md);
     let json = dir.join("report.json");
-    std::fs::write(&json, serde_json::to_string_pretty(report)?)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", json.display()))?;
+    mesh::io::write_atomic(&json, serde_json::to_string_pretty(report)?.as_bytes())?;
     written.push(json);
     for (stem, chart) in charts(report, mesh_name) {
         written.extend(chart.write(&dir.join(stem))?);
@@ -186,7 +187,7 @@ pub fn write_reproduction(
 
 /// The survey as one table: per mesh and ratio, both methods' values and the winner per metric.
 pub fn summary_table(rows: &[crate::experiment::survey::SurveyRow]) -> Table {
-    use crate::experiment::compare::winner;
+    use super::compare::winner;
     let mut t = Table::new([
         "mesh",
         "ratio",
@@ -206,6 +207,12 @@ pub fn summary_table(rows: &[crate::experiment::survey::SurveyRow]) -> Table {
         "mean dist GNG3D",
         "mean dist QEM",
         "mean dist better",
+        "area-weighted mean dist GNG3D",
+        "area-weighted mean dist QEM",
+        "median min angle GNG3D",
+        "median min angle QEM",
+        "min angle < 20° GNG3D",
+        "min angle < 20° QEM",
         "GNG3D closed manifold",
         "genus orig/GNG3D/QEM",
     ]);
@@ -222,15 +229,21 @@ pub fn summary_table(rows: &[crate::experiment::survey::SurveyRow]) -> Table {
             sci(g.e_max),
             sci(q.e_max),
             winner(q.e_max, g.e_max).into(),
-            sci(g.e_sur.abs()),
-            sci(q.e_sur.abs()),
-            winner(q.e_sur.abs(), g.e_sur.abs()).into(),
+            sci(g.e_sur_signed.abs()),
+            sci(q.e_sur_signed.abs()),
+            winner(q.e_sur_signed.abs(), g.e_sur_signed.abs()).into(),
             sci(g.hausdorff_max),
             sci(q.hausdorff_max),
             winner(q.hausdorff_max, g.hausdorff_max).into(),
             sci(g.hausdorff_mean),
             sci(q.hausdorff_mean),
             winner(q.hausdorff_mean, g.hausdorff_mean).into(),
+            sci(g.hausdorff_area_mean),
+            sci(q.hausdorff_area_mean),
+            format!("{:.1}°", g.median_min_angle_degrees),
+            format!("{:.1}°", q.median_min_angle_degrees),
+            format!("{:.2}%", 100.0 * g.below_20_degrees),
+            format!("{:.2}%", 100.0 * q.below_20_degrees),
             if r.gng_closed_manifold { "yes" } else { "no" }.into(),
             format!(
                 "{}/{}/{}",
@@ -245,14 +258,20 @@ pub fn summary_table(rows: &[crate::experiment::survey::SurveyRow]) -> Table {
 
 /// Markdown summary of a survey: win counts per metric, then the full table.
 pub fn summary_markdown(rows: &[crate::experiment::survey::SurveyRow], epochs: u64) -> String {
-    use crate::experiment::compare::winner;
+    use super::compare::winner;
     type Get = fn(&crate::experiment::PaperRow) -> f64;
-    let metrics: [(&str, Get); 5] = [
+    let metrics: [(&str, Get); 8] = [
         ("E_avg", |r| r.e_avg),
         ("E_max", |r| r.e_max),
-        ("|E_sur|", |r| r.e_sur.abs()),
+        ("|E_sur|", |r| r.e_sur_signed.abs()),
         ("Hausdorff (max)", |r| r.hausdorff_max),
         ("mean surface distance", |r| r.hausdorff_mean),
+        ("area-weighted mean surface distance", |r| r.hausdorff_area_mean),
+        // Higher is better for the angle: rank its negation.
+        ("median min angle (higher is better)", |r| {
+            -r.median_min_angle_degrees
+        }),
+        ("share of triangles with min angle < 20°", |r| r.below_20_degrees),
     ];
     let mut wins = Table::new(["metric", "GNG3D wins", "QEM wins", "ties"]);
     for (name, get) in metrics {

@@ -6,6 +6,16 @@ use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
+use super::ReportError;
+
+/// A plotting error for the chart file `path`.
+fn plot_err(path: &Path, message: String) -> ReportError {
+    ReportError::Plot {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
 /// One named polyline of (x, y) points.
 #[derive(Debug, Clone)]
 pub struct Series {
@@ -55,23 +65,33 @@ fn register_font() {
 }
 
 impl Chart {
-    /// Write `<stem>.svg` and `<stem>.png` (1000×600) and return both paths.
-    pub fn write(&self, stem: &Path) -> anyhow::Result<[PathBuf; 2]> {
+    /// Write `<stem>.svg` and `<stem>.png` (1000×600) and return both paths. Both are drawn in
+    /// memory and written atomically (temporary file + rename).
+    pub fn write(&self, stem: &Path) -> Result<[PathBuf; 2], ReportError> {
+        const SIZE: (u32, u32) = (1000, 600);
         register_font();
         let svg = stem.with_extension("svg");
         let png = stem.with_extension("png");
+        let mut svg_text = String::new();
         {
-            let root = SVGBackend::new(&svg, (1000, 600)).into_drawing_area();
-            self.draw(&root)?;
-            root.present()
-                .map_err(|e| anyhow::anyhow!("{}: {e}", svg.display()))?;
+            let root = SVGBackend::with_string(&mut svg_text, SIZE).into_drawing_area();
+            self.draw(&root).map_err(|m| plot_err(&svg, m))?;
+            root.present().map_err(|e| plot_err(&svg, e.to_string()))?;
         }
+        mesh::io::write_atomic(&svg, svg_text.as_bytes())?;
+        let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
         {
-            let root = BitMapBackend::new(&png, (1000, 600)).into_drawing_area();
-            self.draw(&root)?;
-            root.present()
-                .map_err(|e| anyhow::anyhow!("{}: {e}", png.display()))?;
+            let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+            self.draw(&root).map_err(|m| plot_err(&png, m))?;
+            root.present().map_err(|e| plot_err(&png, e.to_string()))?;
         }
+        let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb)
+            .ok_or_else(|| plot_err(&png, "bitmap size mismatch".into()))?;
+        let mut encoded = std::io::Cursor::new(Vec::new());
+        image
+            .write_to(&mut encoded, image::ImageFormat::Png)
+            .map_err(|e| plot_err(&png, e.to_string()))?;
+        mesh::io::write_atomic(&png, encoded.get_ref())?;
         Ok([svg, png])
     }
 
@@ -106,11 +126,11 @@ impl Chart {
         (x, y)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> anyhow::Result<()>
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>
     where
         DB::ErrorType: 'static,
     {
-        let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("plotting: {e:?}");
+        let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
         root.fill(&WHITE).map_err(err)?;
         let ((x0, x1), (y0, y1)) = self.ranges();
         let mut builder = ChartBuilder::on(root);

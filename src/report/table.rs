@@ -94,15 +94,21 @@ impl Table {
         out
     }
 
-    /// Write as CSV (RFC 4180 quoting) to `path`.
-    pub fn write_csv(&self, path: &Path) -> anyhow::Result<()> {
-        let mut w =
-            csv::Writer::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        w.write_record(&self.headers)?;
+    /// CSV text (RFC 4180 quoting).
+    pub fn to_csv(&self) -> Result<Vec<u8>, super::ReportError> {
+        let csv_err = |e: csv::Error| super::ReportError::Csv(e.to_string());
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(&self.headers).map_err(csv_err)?;
         for row in &self.rows {
-            w.write_record(row)?;
+            w.write_record(row).map_err(csv_err)?;
         }
-        w.flush()?;
+        w.into_inner()
+            .map_err(|e| super::ReportError::Csv(e.to_string()))
+    }
+
+    /// Write as CSV (RFC 4180 quoting) to `path`, atomically (temporary file + rename).
+    pub fn write_csv(&self, path: &Path) -> Result<(), super::ReportError> {
+        mesh::io::write_atomic(path, &self.to_csv()?)?;
         Ok(())
     }
 }

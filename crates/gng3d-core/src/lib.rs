@@ -44,11 +44,13 @@
 mod error;
 mod grid;
 mod network;
+mod options;
 mod params;
 mod reconstruct;
 mod trainer;
 
 pub use error::GngError;
+pub use options::{GngOptions, GngTarget};
 pub use params::{GngParams, OppositeFaces, ReconstructionParams, SearchStrategy, SignalSource};
 pub use reconstruct::{Reconstruction, ReconstructionReport, label_vertices, reconstruct};
 pub use trainer::{CancelToken, Progress, Snapshot, StopReason, Trainer, TrainingStats};

@@ -5,6 +5,9 @@
 //!
 //! Run: `GNG3D_MESHES=/work/shared/meshes cargo bench -p mesh --bench topology`.
 
+// The crate's own `fixtures` module (behind the `fixtures` feature for other crates).
+#[path = "../src/fixtures.rs"]
+mod fixtures;
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesh::TriMesh;
 use std::hint::black_box;
@@ -213,7 +216,7 @@ mod previous {
 
 /// The benchmark meshes and their names: igea and igea-1m from `GNG3D_MESHES`, else an icosphere.
 fn inputs() -> Vec<(TriMesh, String)> {
-    let Some(d) = mesh::fixtures::shared_meshes_dir("igea.ply") else {
+    let Some(d) = fixtures::shared_meshes_dir("igea.ply") else {
         return vec![(mesh::procedural::icosphere(7), "icosphere7".to_string())];
     };
     ["igea", "igea-1m"]

@@ -51,6 +51,23 @@ pub enum MeshError {
         /// Number of vertices in the file.
         vertex_count: usize,
     },
+    /// An OBJ face refers to a vertex that does not exist (yet): `index` is the number as
+    /// written in the file (1-based, or negative counting back from the last vertex so far).
+    #[error(
+        "{}: line {line}: face refers to vertex {index}, but {vertex_count} vertices are defined \
+         before it (OBJ indices are 1-based; negative ones count back from the last vertex)",
+        path.display()
+    )]
+    ObjIndex {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// The index as written in the file.
+        index: i64,
+        /// Vertices defined before that line.
+        vertex_count: usize,
+    },
     /// The file has no vertices.
     #[error("{}: the mesh has no vertices", path.display())]
     Empty {
@@ -114,6 +131,14 @@ pub enum MeshWarning {
         /// How many were ignored.
         count: usize,
     },
+    /// A binary STL whose size is not `84 + 50 × header_triangles`: only the header's count of
+    /// triangles was read, the rest of the file was ignored.
+    StlSizeMismatch {
+        /// Triangle count stored in the header.
+        header_triangles: u64,
+        /// Size of the file in bytes.
+        file_bytes: u64,
+    },
 }
 
 impl fmt::Display for MeshWarning {
@@ -136,6 +161,19 @@ impl fmt::Display for MeshWarning {
             }
             MeshWarning::ShortFaces { count } => {
                 write!(f, "ignored {count} face(s) with fewer than 3 corners")
+            }
+            MeshWarning::StlSizeMismatch {
+                header_triangles,
+                file_bytes,
+            } => {
+                let records = file_bytes.saturating_sub(84) as f64 / 50.0;
+                write!(
+                    f,
+                    "binary STL header says {header_triangles} triangles ({} bytes), but the file \
+                     has {file_bytes} bytes ({records} records); read {header_triangles} and \
+                     ignored the rest",
+                    84 + 50 * header_triangles
+                )
             }
         }
     }

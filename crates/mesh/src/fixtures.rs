@@ -1,5 +1,9 @@
-//! Locating the shared real meshes (`GNG3D_MESHES`) for tests and benchmarks, with the project's
-//! rule: without them a test skips with a message, except under `CI`, where it fails.
+//! Test and benchmark helpers (cargo feature `fixtures`; never needed by a product build).
+//!
+//! - [`shared_meshes_dir`]: locating the shared real meshes (`GNG3D_MESHES`) with the project's
+//!   rule: without them a test skips with a message, except under `CI`, where it fails.
+//! - [`fuzz`]: the seed files and byte mutations shared by the loader fuzz tests (mesh) and the
+//!   CLI fuzz tests and driver (crates/cli).
 
 use std::path::PathBuf;
 
@@ -18,6 +22,133 @@ pub fn shared_meshes_dir(probe: &str) -> Option<PathBuf> {
     assert!(std::env::var_os("CI").is_none(), "CI is set but {problem}");
     eprintln!("{problem}: set {MESHES_ENV} to the shared meshes folder to use the real meshes");
     None
+}
+
+/// Seeds and mutations for fuzzing the loaders and everything behind them.
+pub mod fuzz {
+    use mesh::TriMesh;
+    use mesh::io::{Format, encode};
+    use mesh::procedural::icosphere;
+    use std::path::Path;
+
+    /// Bytes that [`Mutation::Insert`] draws from: digits, signs, separators and record letters,
+    /// which turn valid text into nearly-valid text.
+    pub const INSERTED: &[u8] = b"0123456789-. \nefv/";
+
+    /// One edit to a byte string (positions are taken modulo the length).
+    #[derive(Debug, Clone)]
+    pub enum Mutation {
+        /// Overwrite one byte.
+        Set(usize, u8),
+        /// Cut the file short.
+        Truncate(usize),
+        /// Insert one byte.
+        Insert(usize, u8),
+        /// Delete one byte.
+        Remove(usize),
+    }
+
+    /// Applies `m` to `bytes` (no-op on an empty string).
+    pub fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
+        if bytes.is_empty() {
+            return;
+        }
+        let n = bytes.len();
+        match *m {
+            Mutation::Set(i, b) => bytes[i % n] = b,
+            Mutation::Truncate(i) => bytes.truncate(i % n),
+            Mutation::Insert(i, b) => bytes.insert(i % (n + 1), b),
+            Mutation::Remove(i) => {
+                bytes.remove(i % n);
+            }
+        }
+    }
+
+    /// A random mutation from a 64-bit random value (for drivers without proptest).
+    pub fn random_mutation(r: u64) -> Mutation {
+        let pos = (r >> 8) as usize;
+        match r & 3 {
+            0 => Mutation::Set(pos, (r >> 56) as u8),
+            1 => Mutation::Truncate(pos),
+            2 => Mutation::Insert(pos, INSERTED[(r >> 58) as usize % INSERTED.len()]),
+            _ => Mutation::Remove(pos),
+        }
+    }
+
+    fn bytes(m: &TriMesh, format: Format) -> Vec<u8> {
+        encode(m, format, Path::new("seed")).expect("procedural meshes encode")
+    }
+
+    /// A binary big-endian PLY of `m` (the writer only writes little-endian).
+    pub fn big_endian_ply(m: &TriMesh) -> Vec<u8> {
+        let mut out = format!(
+            "ply\nformat binary_big_endian 1.0\nelement vertex {}\nproperty float x\n\
+             property float y\nproperty float z\nelement face {}\n\
+             property list uchar int vertex_indices\nend_header\n",
+            m.positions.len(),
+            m.triangles.len()
+        )
+        .into_bytes();
+        for p in &m.positions {
+            for c in p.to_array() {
+                out.extend_from_slice(&c.to_be_bytes());
+            }
+        }
+        for t in &m.triangles {
+            out.push(3);
+            for &i in t {
+                out.extend_from_slice(&(i as i32).to_be_bytes());
+            }
+        }
+        out
+    }
+
+    /// Valid files of every encoding the loaders read, small (< 600 bytes) and a few kB:
+    /// 0-2 OBJ / binary LE PLY / binary STL of a 12-vertex sphere; 3-5 the same at 162 / 162 /
+    /// 42 vertices (4-16 kB); 6-7 binary big-endian PLY (12, 162 vertices); 8 OBJ with a BOM,
+    /// a quad and negative indices; 9 ASCII PLY with an extra property and a quad; 10 ASCII STL;
+    /// 11 ASCII STL with a bare `solid` line; 12 an 80-facet ASCII STL.
+    pub fn seeds() -> Vec<(Format, Vec<u8>)> {
+        let small = icosphere(0);
+        let mut out = vec![
+            (Format::Obj, bytes(&small, Format::Obj)),
+            (Format::Ply, bytes(&small, Format::Ply)),
+            (Format::Stl, bytes(&small, Format::Stl)),
+            (Format::Obj, bytes(&icosphere(2), Format::Obj)),
+            (Format::Ply, bytes(&icosphere(2), Format::Ply)),
+            (Format::Stl, bytes(&icosphere(1), Format::Stl)),
+            (Format::Ply, big_endian_ply(&small)),
+            (Format::Ply, big_endian_ply(&icosphere(2))),
+        ];
+        let mut bom = b"\xEF\xBB\xBF# bom\n".to_vec();
+        bom.extend_from_slice(
+            b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 5\nf -1 -2 -3\n",
+        );
+        out.push((Format::Obj, bom));
+        let mut ascii_ply = String::from(
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+             property float z\nproperty uchar red\nelement face 2\n\
+             property list uchar int vertex_indices\nend_header\n",
+        );
+        ascii_ply.push_str("0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n3 0 1 2\n4 0 1 2 3\n");
+        out.push((Format::Ply, ascii_ply.into_bytes()));
+        let ascii_stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+                         vertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
+        out.push((Format::Stl, ascii_stl.as_bytes().to_vec()));
+        out.push((Format::Stl, ascii_stl.replacen("solid s", "solid", 1).into_bytes()));
+        let sphere = icosphere(1);
+        let mut text = String::from("solid sphere\n");
+        for f in 0..sphere.face_count() {
+            text.push_str("facet normal 0 0 0\nouter loop\n");
+            for p in sphere.triangle(f) {
+                text.push_str(&format!("vertex {} {} {}\n", p.x, p.y, p.z));
+            }
+            text.push_str("endloop\nendfacet\n");
+        }
+        text.push_str("endsolid sphere\n");
+        out.push((Format::Stl, text.into_bytes()));
+        out
+    }
 }
 
 #[cfg(test)]

@@ -1,8 +1,22 @@
 //! Fuzz-style property tests: random bytes and mutated valid files never make a loader panic;
-//! they either load or return a typed error.
+//! they either load or return a typed error, and whatever loads is a valid mesh.
+//!
+//! Seeds cover every encoding the loaders read: OBJ (also with a BOM and polygons), binary
+//! little- and big-endian PLY, ASCII PLY, binary STL and ASCII STL (also with a bare `solid`
+//! first line), small (< 600 bytes) and a few kB (an icosphere with 162 vertices). The
+//! simplifiers' side of the property (every mutant that loads gives a loadable non-empty mesh or
+//! a typed error from both QEM and GNG3D, through the CLI's code path) lives in
+//! `crates/cli/tests/fuzz.rs`, so that `mesh` does not depend on the algorithm crates.
+//! `long_mutation_run` (ignored) runs many more cases: `cargo test -p mesh --release --test fuzz
+//! -- --ignored`.
 
-use mesh::io::{Format, load_bytes, save};
-use mesh::procedural::icosphere;
+// The crate's own `fixtures` module (behind the `fixtures` feature for other crates).
+#[path = "../src/fixtures.rs"]
+#[allow(dead_code)]
+mod fixtures;
+
+use fixtures::fuzz::{Mutation, apply};
+use mesh::io::{Format, load_bytes};
 use proptest::prelude::*;
 use std::path::Path;
 
@@ -12,64 +26,54 @@ const FORMATS: [(Format, &str); 3] = [
     (Format::Stl, "stl"),
 ];
 
-/// Valid files of every kind we read: OBJ, binary PLY, ASCII PLY, binary STL, ASCII STL.
+/// Number of seeds (kept in sync with `seeds()`).
+const SEEDS: usize = 13;
+
+/// The shared seeds, built once.
 fn seeds() -> Vec<(Format, Vec<u8>)> {
-    let dir = tempfile::tempdir().unwrap();
-    let m = icosphere(0);
-    let mut out = Vec::new();
-    for (format, ext) in FORMATS {
-        let p = dir.path().join(format!("seed.{ext}"));
-        save(&m, &p).unwrap();
-        out.push((format, std::fs::read(&p).unwrap()));
+    static SEEDS_CACHE: std::sync::OnceLock<Vec<(Format, Vec<u8>)>> = std::sync::OnceLock::new();
+    SEEDS_CACHE.get_or_init(fixtures::fuzz::seeds).clone()
+}
+
+#[test]
+fn every_seed_loads() {
+    let seeds = seeds();
+    assert_eq!(seeds.len(), SEEDS);
+    for (i, (format, bytes)) in seeds.iter().enumerate() {
+        let l = load_bytes(bytes, *format, Path::new("seed"))
+            .unwrap_or_else(|e| panic!("seed {i} ({format:?}): {e}"));
+        assert!(!l.mesh.triangles.is_empty(), "seed {i}");
     }
-    let mut ascii_ply = String::from(
-        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
-         property float z\nproperty uchar red\nelement face 2\n\
-         property list uchar int vertex_indices\nend_header\n",
-    );
-    ascii_ply.push_str("0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n3 0 1 2\n4 0 1 2 3\n");
-    out.push((Format::Ply, ascii_ply.into_bytes()));
-    let ascii_stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
-                     vertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
-    out.push((Format::Stl, ascii_stl.as_bytes().to_vec()));
-    out
+    // The big-endian seed decodes to the same mesh as the little-endian one.
+    let le = load_bytes(&seeds[1].1, Format::Ply, Path::new("le.ply")).unwrap();
+    let be = load_bytes(&seeds[6].1, Format::Ply, Path::new("be.ply")).unwrap();
+    assert_eq!(le.mesh, be.mesh);
 }
 
-/// One edit to a byte string.
-#[derive(Debug, Clone)]
-enum Mutation {
-    Set(usize, u8),
-    Truncate(usize),
-    Insert(usize, u8),
-    Remove(usize),
+/// Checks the loader's contract on one mutant.
+fn check_mutant(format: Format, bytes: &[u8]) -> Result<(), TestCaseError> {
+    if let Ok(l) = load_bytes(bytes, format, Path::new("mutated")) {
+        // Whatever loads must be valid: indices in range, finite positions, faces present.
+        let n = l.mesh.positions.len() as u32;
+        prop_assert!(l.mesh.triangles.iter().flatten().all(|&i| i < n));
+        prop_assert!(l.mesh.positions.iter().all(|p| p.is_finite()));
+        prop_assert!(!l.mesh.triangles.is_empty());
+    }
+    Ok(())
 }
 
+/// A proptest strategy over the shared [`Mutation`]s.
 fn mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
         (any::<usize>(), any::<u8>()).prop_map(|(i, b)| Mutation::Set(i, b)),
         any::<usize>().prop_map(Mutation::Truncate),
         (
             any::<usize>(),
-            prop::sample::select(b"0123456789-. \nefv/".to_vec())
+            prop::sample::select(fixtures::fuzz::INSERTED.to_vec())
         )
             .prop_map(|(i, b)| Mutation::Insert(i, b)),
         any::<usize>().prop_map(Mutation::Remove),
     ]
-}
-
-fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
-    if bytes.is_empty() {
-        return;
-    }
-    let n = bytes.len();
-    match *m {
-        Mutation::Set(i, b) => bytes[i % n] = b,
-        Mutation::Truncate(i) => bytes.truncate(i % n),
-        Mutation::Insert(i, b) => bytes.insert(i % (n + 1), b),
-        Mutation::Remove(i) => {
-            bytes.remove(i % n);
-        }
-    }
 }
 
 proptest! {
@@ -88,17 +92,26 @@ proptest! {
     }
 
     #[test]
-    fn mutated_files_never_panic(which in 0usize..5, edits in prop::collection::vec(mutation(), 1..6)) {
+    fn mutated_files_never_panic(which in 0usize..SEEDS, edits in prop::collection::vec(mutation(), 1..6)) {
         let (format, mut bytes) = seeds().swap_remove(which);
         for e in &edits {
             apply(&mut bytes, e);
         }
-        if let Ok(l) = load_bytes(&bytes, format, Path::new("mutated")) {
-            // Whatever loads must be valid: indices in range, finite positions, faces present.
-            let n = l.mesh.positions.len() as u32;
-            prop_assert!(l.mesh.triangles.iter().flatten().all(|&i| i < n));
-            prop_assert!(l.mesh.positions.iter().all(|p| p.is_finite()));
-            prop_assert!(!l.mesh.triangles.is_empty());
+        check_mutant(format, &bytes)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200_000, ..ProptestConfig::default() })]
+
+    /// The long variant: `cargo test -p mesh --release --test fuzz -- --ignored`.
+    #[test]
+    #[ignore = "long: ~200k mutants"]
+    fn long_mutation_run(which in 0usize..SEEDS, edits in prop::collection::vec(mutation(), 1..12)) {
+        let (format, mut bytes) = seeds().swap_remove(which);
+        for e in &edits {
+            apply(&mut bytes, e);
         }
+        check_mutant(format, &bytes)?;
     }
 }

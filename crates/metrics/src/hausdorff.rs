@@ -25,12 +25,37 @@ const CHUNK: usize = 8192;
 /// Bins of the normal-deviation histogram (one per degree).
 const ANGLE_BINS: usize = 180;
 
+/// Most samples one direction may draw (each costs 16 bytes while it is measured, so two
+/// directions at this limit hold about 1.6 GB). Larger requests are refused with
+/// [`MetricsError::Parameter`] instead of aborting on allocation; Metro's default
+/// (10 × faces) is capped here.
+pub const MAX_SAMPLES_PER_DIRECTION: usize = 50_000_000;
+
+/// How `samples` is turned into vertex, edge and face samples per direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum SamplingPlan {
+    /// `samples` is the total per direction (vertices + edges + faces), split as `vertices`,
+    /// `edges` and `faces` say (Metro's plan; the default).
+    #[default]
+    Budget,
+    /// MeshLab's Hausdorff filter with vertex, edge and face sampling and `samplenum = samples`:
+    /// every referenced vertex of the source, plus `samples` edge samples, plus `samples` face
+    /// samples (e.g. 2,001,407 samples for `samples` = 1,000,000 on a 1,407-vertex mesh). The
+    /// `vertices` and `edges` fields are ignored. Exact while the source has at most
+    /// `2 × samples` referenced vertices (otherwise a random half of the budget is vertices).
+    MeshLab,
+}
+
 /// Parameters of the sampled surface distance.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct HausdorffParams {
-    /// Samples per direction (vertices + edges + faces); `None` uses Metro's default,
-    /// 10 × the larger face count.
+    /// Samples per direction (see `plan`); `None` uses Metro's default, 10 × the larger face
+    /// count (at most [`MAX_SAMPLES_PER_DIRECTION`]). At least 1, at most
+    /// [`MAX_SAMPLES_PER_DIRECTION`].
     pub samples: Option<usize>,
+    /// How `samples` is split into vertex, edge and face samples.
+    #[serde(default)]
+    pub plan: SamplingPlan,
     /// Seed of the sampler (the two directions use seeds derived from it).
     pub seed: u64,
     /// Sample the source's referenced vertices.
@@ -48,6 +73,7 @@ impl Default for HausdorffParams {
     fn default() -> Self {
         HausdorffParams {
             samples: None,
+            plan: SamplingPlan::Budget,
             seed: 1,
             vertices: true,
             edges: EdgeSampling::Metro,
@@ -65,6 +91,89 @@ impl HausdorffParams {
             ..Default::default()
         }
     }
+
+    /// MeshLab's plan ([`SamplingPlan::MeshLab`]) with `samplenum` = `samples`.
+    pub fn meshlab(samples: usize) -> HausdorffParams {
+        HausdorffParams {
+            samples: Some(samples),
+            plan: SamplingPlan::MeshLab,
+            ..Default::default()
+        }
+    }
+
+    /// Checks the parameters: `samples` in 1..=[`MAX_SAMPLES_PER_DIRECTION`], an edge share in
+    /// [0, 1], a `max_distance` that is a number ≥ 0.
+    pub fn validate(&self) -> Result<(), MetricsError> {
+        if let Some(n) = self.samples {
+            if n == 0 {
+                return Err(MetricsError::Parameter {
+                    name: "samples",
+                    message: "must be at least 1 (0 samples would measure nothing)".into(),
+                });
+            }
+            let factor = if self.plan == SamplingPlan::MeshLab { 2 } else { 1 };
+            if n.saturating_mul(factor) > MAX_SAMPLES_PER_DIRECTION {
+                return Err(MetricsError::Parameter {
+                    name: "samples",
+                    message: format!(
+                        "{n} is above the limit of {} samples per direction{}",
+                        MAX_SAMPLES_PER_DIRECTION / factor,
+                        if factor == 2 {
+                            " for the MeshLab plan (edge and face samples each)"
+                        } else {
+                            ""
+                        }
+                    ),
+                });
+            }
+        }
+        if let EdgeSampling::Share(x) = self.edges
+            && !(0.0..=1.0).contains(&x)
+        {
+            return Err(MetricsError::Parameter {
+                name: "edge share",
+                message: format!("{x} is outside [0, 1]"),
+            });
+        }
+        if let Some(d) = self.max_distance
+            && !(d >= 0.0)
+        {
+            return Err(MetricsError::Parameter {
+                name: "max_distance",
+                message: format!("{d} is not a distance >= 0"),
+            });
+        }
+        Ok(())
+    }
+
+    /// The sampling plan of one direction on `source` for `samples` requested samples.
+    fn plan_for(&self, source: &TriMesh, samples: usize) -> StratifiedParams {
+        match self.plan {
+            SamplingPlan::Budget => StratifiedParams {
+                total: samples,
+                vertices: self.vertices,
+                edges: self.edges,
+                faces: self.faces,
+            },
+            SamplingPlan::MeshLab => StratifiedParams {
+                total: referenced_count(source) + 2 * samples,
+                vertices: true,
+                edges: EdgeSampling::Share(0.5),
+                faces: self.faces,
+            },
+        }
+    }
+}
+
+/// Vertices referenced by at least one (valid) triangle.
+fn referenced_count(mesh: &TriMesh) -> usize {
+    let mut used = vec![false; mesh.positions.len()];
+    for &v in mesh.triangles.iter().flatten() {
+        if let Some(u) = used.get_mut(v as usize) {
+            *u = true;
+        }
+    }
+    used.iter().filter(|&&u| u).count()
 }
 
 /// Max, mean and RMS of a distance, in model units (or relative to a diagonal).
@@ -207,9 +316,9 @@ fn derive_seed(seed: u64, salt: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Metro's default sample count: 10 × the larger face count.
+/// Metro's default sample count: 10 × the larger face count, capped at the limit.
 fn default_samples(a: &TriMesh, b: &TriMesh) -> usize {
-    10 * a.face_count().max(b.face_count())
+    (10 * a.face_count().max(b.face_count())).clamp(1, MAX_SAMPLES_PER_DIRECTION / 2)
 }
 
 /// One-sided distance from `source` to the mesh behind `target`, with statistics made relative
@@ -221,8 +330,11 @@ pub fn one_sided(
     params: &HausdorffParams,
     diagonal: f64,
 ) -> Result<OneSided, MetricsError> {
+    params.validate()?;
     validate_mesh(source, "source")?;
-    let samples = params.samples.unwrap_or(10 * source.face_count());
+    let samples = params
+        .samples
+        .unwrap_or((10 * source.face_count()).clamp(1, MAX_SAMPLES_PER_DIRECTION / 2));
     one_sided_inner(source, target, params, samples, params.seed, diagonal).map(|(o, _)| o)
 }
 
@@ -242,16 +354,11 @@ pub(crate) fn draw(
     if source.triangles.is_empty() {
         return Err(MetricsError::NoTriangles { mesh: "source" });
     }
-    let plan = StratifiedParams {
-        total: samples,
-        vertices: params.vertices,
-        edges: params.edges,
-        faces: params.faces,
-    };
+    let plan = params.plan_for(source, samples);
     let samples =
-        sample_stratified(source, &plan, seed).map_err(|source| MetricsError::Invalid {
+        sample_stratified(source, &plan, seed).map_err(|problem| MetricsError::Invalid {
             mesh: "source",
-            source,
+            problem,
         })?;
     Ok(Drawn {
         samples,
@@ -269,7 +376,9 @@ pub(crate) fn one_sided_inner(
     diagonal: f64,
 ) -> Result<(OneSided, NormalDeviation), MetricsError> {
     let drawn = draw(source, params, samples, seed)?;
-    Ok(measure(&drawn, target, params, diagonal))
+    let (one, normals) = measure(&drawn, target, params, diagonal);
+    check_counted(&one, "source")?;
+    Ok((one, normals))
 }
 
 /// Measures drawn samples against `target`: fixed chunks, each sequential, reduced in order.
@@ -415,12 +524,26 @@ fn combine(forward: OneSided, backward: OneSided, diagonal: f64) -> Hausdorff {
     }
 }
 
+/// An error when every sample of a direction was excluded: a distance over no sample is no
+/// distance (it would read as 0).
+fn check_counted(one: &OneSided, direction: &'static str) -> Result<(), MetricsError> {
+    if one.samples == 0 {
+        Err(MetricsError::NoSamplesCounted {
+            direction,
+            excluded: one.excluded,
+        })
+    } else {
+        Ok(())
+    }
+}
+
 /// Validates both meshes and returns the samples per direction and the original's diagonal.
 fn check_pair(
     original: &TriMesh,
     simplified: &TriMesh,
     params: &HausdorffParams,
 ) -> Result<(usize, f64), MetricsError> {
+    params.validate()?;
     validate_mesh(original, "original")?;
     validate_mesh(simplified, "simplified")?;
     let samples = params
@@ -449,6 +572,8 @@ pub(crate) fn hausdorff_full(
         || measure(&fwd, simplified_index, params, diagonal),
         || measure(&bwd, original_index, params, diagonal),
     );
+    check_counted(&fwd, "forward (original to simplified)")?;
+    check_counted(&bwd, "backward (simplified to original)")?;
     Ok((combine(fwd, bwd, diagonal), nf, nb))
 }
 
@@ -476,6 +601,8 @@ pub(crate) fn hausdorff_pipelined(
     let original_index = original_index?;
     let ((fwd, nf), bwd_drawn) = rest?;
     let (bwd, nb) = measure(&bwd_drawn, &original_index, params, diagonal);
+    check_counted(&fwd, "forward (original to simplified)")?;
+    check_counted(&bwd, "backward (simplified to original)")?;
     Ok((combine(fwd, bwd, diagonal), nf, nb))
 }
 
@@ -484,10 +611,16 @@ fn rename(e: MetricsError, which: &'static str) -> MetricsError {
     match e {
         MetricsError::NoTriangles { .. } => MetricsError::NoTriangles { mesh: which },
         MetricsError::NoVertices { .. } => MetricsError::NoVertices { mesh: which },
-        MetricsError::Invalid { source, .. } => MetricsError::Invalid {
+        MetricsError::Invalid { problem, .. } => MetricsError::Invalid {
             mesh: which,
-            source,
+            problem,
         },
+        MetricsError::CoordinateRange { vertex, limit, .. } => MetricsError::CoordinateRange {
+            mesh: which,
+            vertex,
+            limit,
+        },
+        other => other,
     }
 }
 

@@ -6,7 +6,8 @@
 //! - [`surface_error`]: the paper's area difference E_sur.
 //! - [`hausdorff`]: Metro-style two-sided sampled surface distance (max / mean / RMS per
 //!   direction, symmetric Hausdorff), exact closest points through [`SurfaceDistanceIndex`].
-//! - [`evaluate`]: everything above in one serde-serializable [`MetricsReport`].
+//! - [`Evaluator`] / [`evaluate`]: everything above in one serde-serializable record,
+//!   [`MetricsReport`] (alias [`Evaluation`]), with the original indexed once.
 
 mod closest;
 mod hausdorff;
@@ -17,14 +18,17 @@ mod report;
 
 pub use closest::{closest_point_segment, closest_point_triangle};
 pub use hausdorff::{
-    DistanceStats, Hausdorff, HausdorffParams, NormalDeviation, OneSided, hausdorff,
-    hausdorff_indexed, one_sided,
+    DistanceStats, Hausdorff, HausdorffParams, MAX_SAMPLES_PER_DIRECTION, NormalDeviation,
+    OneSided, SamplingPlan, hausdorff, hausdorff_indexed, one_sided,
 };
 pub use index::{ClosestPoint, SurfaceDistanceIndex};
 pub use mesh::sampling::{EdgeSampling, FaceSampling};
 pub use paper::{NearestVertexIndex, SurfaceError, VertexErrors, surface_error, vertex_errors};
 pub use quality::{AspectBin, TriangleQuality, triangle_quality};
-pub use report::{MeshSummary, MetricsParams, MetricsReport, NormalDeviations, Pair, evaluate};
+pub use report::{
+    Evaluation, Evaluator, MeshSummary, MetricsParams, MetricsReport, NormalDeviations, Pair,
+    evaluate,
+};
 
 use mesh::TriMesh;
 use mesh::sampling::SamplingError;
@@ -44,21 +48,67 @@ pub enum MetricsError {
         /// Which mesh.
         mesh: &'static str,
     },
+    /// A referenced vertex lies so far out that squared distances would overflow the f32
+    /// closest-point search (|coordinate| above `limit`).
+    #[error(
+        "the {mesh} mesh has vertex {vertex} with a coordinate beyond ±{limit:e}; distances that \
+         large cannot be measured (rescale the model)"
+    )]
+    CoordinateRange {
+        /// Which mesh.
+        mesh: &'static str,
+        /// The offending vertex.
+        vertex: usize,
+        /// Largest accepted |coordinate|, model units.
+        limit: f64,
+    },
+    /// A parameter is out of range.
+    #[error("{name}: {message}")]
+    Parameter {
+        /// The parameter.
+        name: &'static str,
+        /// What is wrong, with the accepted range.
+        message: String,
+    },
+    /// Every sample of one direction was excluded (no target point within `max_distance`).
+    #[error("the {direction} distance has no sample within max_distance ({excluded} excluded)")]
+    NoSamplesCounted {
+        /// Which direction.
+        direction: &'static str,
+        /// Samples excluded.
+        excluded: usize,
+    },
     /// The mesh is malformed (bad index, non-finite coordinate) or has no area to sample.
-    #[error("the {mesh} mesh cannot be sampled: {source}")]
+    #[error("the {mesh} mesh cannot be sampled: {problem}")]
     Invalid {
         /// Which mesh.
         mesh: &'static str,
-        /// The underlying problem.
-        #[source]
-        source: SamplingError,
+        /// The underlying problem (in the message, not repeated as an error source).
+        problem: SamplingError,
     },
 }
 
+/// Largest |coordinate| the distance computations accept, model units: the closest-point
+/// search compares squared distances in f32 (max ≈ 3.4e38), so two points may be at most about
+/// 1.8e19 apart; 1e18 leaves room for three axes and rounding.
+pub const MAX_COORDINATE: f64 = 1e18;
+
 /// Checks indices and coordinates of `mesh`, naming it `which` in the error.
 pub(crate) fn validate_mesh(mesh: &TriMesh, which: &'static str) -> Result<(), MetricsError> {
-    mesh::sampling::validate(mesh).map_err(|source| MetricsError::Invalid {
+    mesh::sampling::validate(mesh).map_err(|problem| MetricsError::Invalid {
         mesh: which,
-        source,
-    })
+        problem,
+    })?;
+    let limit = MAX_COORDINATE as f32;
+    for &v in mesh.triangles.iter().flatten() {
+        let p = mesh.positions[v as usize];
+        if p.abs().max_element() > limit {
+            return Err(MetricsError::CoordinateRange {
+                mesh: which,
+                vertex: v as usize,
+                limit: MAX_COORDINATE,
+            });
+        }
+    }
+    Ok(())
 }

@@ -74,12 +74,13 @@ pub fn vertex_errors(original: &[Vec3], simplified: &[Vec3]) -> Option<VertexErr
     })
 }
 
-/// The paper's area error: `e_sur = S_K − S_A` (original minus simplified surface area).
+/// The paper's area error: `E_sur = S_K − S_A` (original minus simplified surface area), kept
+/// signed in `e_sur_signed` and absolute in `e_sur_abs` so the two are never confused.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SurfaceError {
     /// Signed area difference `S_K − S_A`, squared model units (positive: the simplified mesh
     /// lost area).
-    pub e_sur: f64,
+    pub e_sur_signed: f64,
     /// `|S_K − S_A|`, squared model units.
     pub e_sur_abs: f64,
     /// `|S_K − S_A| / S_K` (0 when the original has no area).
@@ -110,7 +111,7 @@ pub fn surface_error(original: &TriMesh, simplified: &TriMesh) -> SurfaceError {
     let s_a = checked_area(simplified);
     let e_sur = s_k - s_a;
     SurfaceError {
-        e_sur,
+        e_sur_signed: e_sur,
         e_sur_abs: e_sur.abs(),
         e_sur_relative: if s_k > 0.0 { e_sur.abs() / s_k } else { 0.0 },
         original_area: s_k,
@@ -131,11 +132,11 @@ mod tests {
         );
         let e = surface_error(&m, &scaled);
         // Scaling by 1/2 quarters the area.
-        assert!((e.e_sur - 0.75 * m.area()).abs() < 1e-9 * m.area());
+        assert!((e.e_sur_signed - 0.75 * m.area()).abs() < 1e-9 * m.area());
         assert!((e.e_sur_relative - 0.75).abs() < 1e-9);
         let back = surface_error(&scaled, &m);
-        assert!((back.e_sur + 3.0 * scaled.area()).abs() < 1e-9 * m.area());
-        assert_eq!(back.e_sur_abs, -back.e_sur);
+        assert!((back.e_sur_signed + 3.0 * scaled.area()).abs() < 1e-9 * m.area());
+        assert_eq!(back.e_sur_abs, -back.e_sur_signed);
     }
 
     fn brute(original: &[Vec3], simplified: &[Vec3]) -> VertexErrors {

@@ -31,8 +31,14 @@ pub struct TriangleQuality {
     pub min_angle_degrees: f64,
     /// Mean of the per-triangle minimum angle, degrees (60 for all-equilateral).
     pub mean_min_angle_degrees: f64,
+    /// Median of the per-triangle minimum angle over non-degenerate triangles, degrees (the
+    /// lower middle value for an even count; 0 when there is none).
+    pub median_min_angle_degrees: f64,
     /// Share of non-degenerate triangles with a minimum angle below 10°.
     pub below_10_degrees: f64,
+    /// Share of non-degenerate triangles with a minimum angle below 20° (a common "bad
+    /// triangle" threshold in meshing).
+    pub below_20_degrees: f64,
     /// Share of non-degenerate triangles with a minimum angle below 30°.
     pub below_30_degrees: f64,
     /// Mean aspect ratio `R/(2r)` over non-degenerate triangles.
@@ -70,6 +76,8 @@ pub fn triangle_quality(mesh: &TriMesh) -> TriangleQuality {
     let mut min_angle = f64::INFINITY;
     let mut sum_angle = 0.0;
     let mut below10 = 0usize;
+    let mut below20 = 0usize;
+    let mut angles: Vec<f64> = Vec::with_capacity(mesh.triangles.len());
     let mut below30 = 0usize;
     let mut sum_aspect = 0.0;
     let mut max_aspect = 0.0f64;
@@ -90,6 +98,8 @@ pub fn triangle_quality(mesh: &TriMesh) -> TriangleQuality {
                 min_angle = min_angle.min(angle);
                 sum_angle += angle;
                 below10 += usize::from(angle < 10.0);
+                below20 += usize::from(angle < 20.0);
+                angles.push(angle);
                 below30 += usize::from(angle < 30.0);
                 sum_aspect += aspect;
                 max_aspect = max_aspect.max(aspect);
@@ -111,12 +121,20 @@ pub fn triangle_quality(mesh: &TriMesh) -> TriangleQuality {
             count,
         })
         .collect();
+    let median = if angles.is_empty() {
+        0.0
+    } else {
+        let mid = (angles.len() - 1) / 2;
+        *angles.select_nth_unstable_by(mid, f64::total_cmp).1
+    };
     TriangleQuality {
         faces: mesh.triangles.len(),
         degenerate,
         min_angle_degrees: if n > 0 { min_angle } else { 0.0 },
         mean_min_angle_degrees: if n > 0 { sum_angle / n as f64 } else { 0.0 },
+        median_min_angle_degrees: median,
         below_10_degrees: share(below10),
+        below_20_degrees: share(below20),
         below_30_degrees: share(below30),
         mean_aspect_ratio: if n > 0 { sum_aspect / n as f64 } else { 0.0 },
         max_aspect_ratio: max_aspect,
@@ -165,5 +183,31 @@ mod tests {
         assert_eq!(q.aspect_histogram.last().unwrap().count, 1);
         assert_eq!(q.aspect_histogram.last().unwrap().to, None);
         assert_eq!(q.below_10_degrees, 0.0);
+        // Two non-degenerate triangles (60°, 45°): the lower middle value is 45°.
+        assert!((q.median_min_angle_degrees - 45.0).abs() < 1e-4);
+        assert_eq!(q.below_20_degrees, 0.0);
+    }
+
+    #[test]
+    fn median_and_share_below_20_degrees_match_a_direct_count() {
+        // A fan of slivers and fat triangles with known minimum angles.
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        let mut expected = Vec::new();
+        for (k, &deg) in [5.0f64, 15.0, 25.0, 35.0, 45.0].iter().enumerate() {
+            // Isosceles with apex angle `deg` (< 60°, so it is the minimum angle).
+            let half = (deg / 2.0).to_radians();
+            let z = k as f32 * 3.0;
+            let base = positions.len() as u32;
+            positions.push(glam::Vec3::new(0.0, 0.0, z));
+            positions.push(glam::Vec3::new(half.cos() as f32, half.sin() as f32, z));
+            positions.push(glam::Vec3::new(half.cos() as f32, -half.sin() as f32, z));
+            triangles.push([base, base + 1, base + 2]);
+            expected.push(deg);
+        }
+        let q = triangle_quality(&TriMesh::new(positions, triangles));
+        assert!((q.median_min_angle_degrees - 25.0).abs() < 1e-3, "{q:?}");
+        assert!((q.below_20_degrees - 2.0 / 5.0).abs() < 1e-12);
+        assert!((q.below_10_degrees - 1.0 / 5.0).abs() < 1e-12);
     }
 }

@@ -1,6 +1,16 @@
-//! [`evaluate`]: every metric of a simplification in one serde-serializable [`MetricsReport`].
+//! The one evaluation record of the workspace: [`MetricsReport`] (alias [`Evaluation`]), made
+//! by an [`Evaluator`] that indexes the original once and measures any number of simplified
+//! meshes against it, or by [`evaluate`] for a single pair. The CLI (`metrics`, `compare`,
+//! `reproduce`), the experiment tables and the viewer all read their E_avg / E_max / E_sur,
+//! surface distances, normal deviation and triangle quality from here, with the one sampling
+//! rule of [`crate::HausdorffParams`] (`samples: None` = 10 × the larger face count, capped at
+//! [`crate::MAX_SAMPLES_PER_DIRECTION`] / 2), so the same pair and parameters give the same
+//! numbers in every front end.
 
-use crate::hausdorff::{Hausdorff, HausdorffParams, NormalDeviation, hausdorff_pipelined};
+use crate::SurfaceDistanceIndex;
+use crate::hausdorff::{
+    Hausdorff, HausdorffParams, NormalDeviation, hausdorff_full, hausdorff_pipelined,
+};
 use crate::paper::{surface_error, vertex_errors};
 use crate::quality::{TriangleQuality, triangle_quality};
 use crate::{MetricsError, validate_mesh};
@@ -58,12 +68,17 @@ pub struct MetricsReport {
     pub e_avg: f64,
     /// Paper E_max: the largest of those squared distances, squared model units.
     pub e_max: f64,
-    /// Paper E_sur = S_K − S_A, squared model units (signed).
-    pub e_sur: f64,
-    /// |E_sur|, squared model units.
+    /// Paper E_sur = S_K − S_A (original minus simplified area), squared model units,
+    /// **signed**: positive when the simplified mesh lost area.
+    pub e_sur_signed: f64,
+    /// |E_sur| = |S_K − S_A|, squared model units (what tables rank by).
     pub e_sur_abs: f64,
     /// |E_sur| / S_K.
     pub e_sur_relative: f64,
+    /// S_K, the original's surface area, squared model units.
+    pub original_area: f64,
+    /// S_A, the simplified mesh's surface area, squared model units.
+    pub simplified_area: f64,
     /// Metro-style two-sided surface distance (model units, and relative to `bbox_diagonal`).
     pub hausdorff: Hausdorff,
     /// Bounding-box diagonal of the original's referenced vertices, model units.
@@ -79,6 +94,9 @@ pub struct MetricsReport {
     /// Wall-clock time of the evaluation, seconds.
     pub seconds: f64,
 }
+
+/// The evaluation record (same type as [`MetricsReport`]).
+pub type Evaluation = MetricsReport;
 
 /// Positions of the vertices referenced by at least one triangle, in index order.
 fn referenced_positions(mesh: &TriMesh) -> Vec<Vec3> {
@@ -107,7 +125,142 @@ fn summary(mesh: &TriMesh, referenced: usize) -> MeshSummary {
     }
 }
 
-/// Computes every metric of `simplified` against `original`.
+/// Measures simplified meshes against one original: validates and indexes the original once
+/// (BVH for surface distances, referenced vertices, quality, topology, area), then
+/// [`Evaluator::evaluate`] costs only the simplified side. `Send + Sync`, so a viewer can keep
+/// one per loaded model on a worker thread.
+///
+/// ```
+/// use metrics::{Evaluator, HausdorffParams, MetricsParams};
+/// let original = mesh::procedural::icosphere(3);
+/// let simplified = mesh::procedural::icosphere(1);
+/// let params = MetricsParams { hausdorff: HausdorffParams::with_samples(20_000) };
+/// let evaluator = Evaluator::new(&original, &params).unwrap();
+/// let e = evaluator.evaluate(&simplified).unwrap();
+/// assert!(e.e_sur_signed > 0.0); // the coarse sphere lost area
+/// assert_eq!(e.e_sur_abs, e.e_sur_signed.abs());
+/// assert!(e.hausdorff.max >= e.hausdorff.forward.max.max(e.hausdorff.backward.max));
+/// assert!(e.quality.simplified.median_min_angle_degrees > 20.0);
+/// ```
+pub struct Evaluator {
+    original: std::sync::Arc<TriMesh>,
+    index: SurfaceDistanceIndex,
+    points: Vec<Vec3>,
+    quality: TriangleQuality,
+    topology: TopologyReport,
+    summary: MeshSummary,
+    params: MetricsParams,
+}
+
+impl Evaluator {
+    /// Validates `params` and `original` (a copy is kept) and indexes it.
+    pub fn new(original: &TriMesh, params: &MetricsParams) -> Result<Evaluator, MetricsError> {
+        Evaluator::from_arc(std::sync::Arc::new(original.clone()), params)
+    }
+
+    /// As [`Evaluator::new`], sharing an original the caller already holds in an `Arc`.
+    pub fn from_arc(
+        original: std::sync::Arc<TriMesh>,
+        params: &MetricsParams,
+    ) -> Result<Evaluator, MetricsError> {
+        params.hausdorff.validate()?;
+        validate_mesh(&original, "original")?;
+        let points = referenced_positions(&original);
+        if points.is_empty() {
+            return Err(MetricsError::NoTriangles { mesh: "original" });
+        }
+        let (index, (quality, topology)) = rayon::join(
+            || SurfaceDistanceIndex::new(&original),
+            || (triangle_quality(&original), analyze(&original)),
+        );
+        let index = index.map_err(|e| match e {
+            MetricsError::NoTriangles { .. } => MetricsError::NoTriangles { mesh: "original" },
+            other => other,
+        })?;
+        let summary = summary(&original, points.len());
+        Ok(Evaluator {
+            original,
+            index,
+            points,
+            quality,
+            topology,
+            summary,
+            params: *params,
+        })
+    }
+
+    /// The original mesh.
+    pub fn original(&self) -> &TriMesh {
+        &self.original
+    }
+
+    /// The parameters every evaluation uses.
+    pub fn params(&self) -> &MetricsParams {
+        &self.params
+    }
+
+    /// Every metric of `simplified` against the original. `simplified` needs at least one
+    /// triangle, valid indices and coordinates within ±[`crate::MAX_COORDINATE`].
+    pub fn evaluate(&self, simplified: &TriMesh) -> Result<Evaluation, MetricsError> {
+        let start = Instant::now();
+        validate_mesh(simplified, "simplified")?;
+        let simplified_points = referenced_positions(simplified);
+        if simplified_points.is_empty() {
+            return Err(MetricsError::NoTriangles { mesh: "simplified" });
+        }
+        let simplified_index = SurfaceDistanceIndex::new(simplified).map_err(|e| match e {
+            MetricsError::NoTriangles { .. } => MetricsError::NoTriangles { mesh: "simplified" },
+            other => other,
+        })?;
+        let (distances, (quality_s, topology_s)) = rayon::join(
+            || {
+                hausdorff_full(
+                    &self.original,
+                    &self.index,
+                    simplified,
+                    &simplified_index,
+                    &self.params.hausdorff,
+                )
+            },
+            || (triangle_quality(simplified), analyze(simplified)),
+        );
+        let (hausdorff, forward_normals, backward_normals) = distances?;
+        // Both point sets are non-empty, so vertex_errors returns Some.
+        let vertex = vertex_errors(&self.points, &simplified_points)
+            .ok_or(MetricsError::NoVertices { mesh: "simplified" })?;
+        let area = surface_error(&self.original, simplified);
+        Ok(MetricsReport {
+            e_avg: vertex.e_avg,
+            e_max: vertex.e_max,
+            e_sur_signed: area.e_sur_signed,
+            e_sur_abs: area.e_sur_abs,
+            e_sur_relative: area.e_sur_relative,
+            original_area: area.original_area,
+            simplified_area: area.simplified_area,
+            bbox_diagonal: hausdorff.bbox_diagonal,
+            hausdorff,
+            normal_deviation: NormalDeviations {
+                forward: forward_normals,
+                backward: backward_normals,
+            },
+            quality: Pair {
+                original: self.quality.clone(),
+                simplified: quality_s,
+            },
+            topology: Pair {
+                original: self.topology.clone(),
+                simplified: topology_s,
+            },
+            meshes: Pair {
+                original: self.summary,
+                simplified: summary(simplified, simplified_points.len()),
+            },
+            seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+/// Computes every metric of `simplified` against `original` (one-off [`Evaluator`]).
 ///
 /// Both meshes need at least one triangle, valid indices and finite coordinates.
 pub fn evaluate(
@@ -116,6 +269,7 @@ pub fn evaluate(
     params: &MetricsParams,
 ) -> Result<MetricsReport, MetricsError> {
     let start = Instant::now();
+    params.hausdorff.validate()?;
     validate_mesh(original, "original")?;
     validate_mesh(simplified, "simplified")?;
     let original_points = referenced_positions(original);
@@ -126,9 +280,10 @@ pub fn evaluate(
     if simplified_points.is_empty() {
         return Err(MetricsError::NoTriangles { mesh: "simplified" });
     }
+    // The pipelined path overlaps the original's index build with sampling; it gives the same
+    // numbers as `Evaluator::evaluate` (same samples, same seeds; tested).
     let (hausdorff, forward_normals, backward_normals) =
         hausdorff_pipelined(original, simplified, &params.hausdorff)?;
-    // Both point sets are non-empty, so vertex_errors returns Some.
     let vertex = vertex_errors(&original_points, &simplified_points)
         .ok_or(MetricsError::NoVertices { mesh: "simplified" })?;
     let area = surface_error(original, simplified);
@@ -139,9 +294,11 @@ pub fn evaluate(
     Ok(MetricsReport {
         e_avg: vertex.e_avg,
         e_max: vertex.e_max,
-        e_sur: area.e_sur,
+        e_sur_signed: area.e_sur_signed,
         e_sur_abs: area.e_sur_abs,
         e_sur_relative: area.e_sur_relative,
+        original_area: area.original_area,
+        simplified_area: area.simplified_area,
         bbox_diagonal: hausdorff.bbox_diagonal,
         hausdorff,
         normal_deviation: NormalDeviations {
@@ -184,8 +341,10 @@ mod tests {
                 .unwrap()
                 .e_avg
         );
-        assert!(r.e_sur > 0.0, "the coarse inscribed sphere has less area");
-        assert!((r.e_sur - (fine.area() - coarse.area())).abs() < 1e-12);
+        assert!(r.e_sur_signed > 0.0, "the coarse inscribed sphere has less area");
+        assert!((r.e_sur_signed - (fine.area() - coarse.area())).abs() < 1e-12);
+        assert_eq!(r.e_sur_abs, r.e_sur_signed.abs());
+        assert!((r.original_area - r.simplified_area - r.e_sur_signed).abs() < 1e-12);
         assert!(r.hausdorff.max > 0.0 && r.hausdorff.max < 0.05);
         // Smooth sphere: normals deviate by at most about one coarse facet angle (~16°).
         assert!(r.normal_deviation.forward.max_degrees < 20.0);
@@ -194,7 +353,7 @@ mod tests {
         assert!(r.topology.simplified.closed);
         assert_eq!(r.meshes.simplified.faces, 320);
         let json = serde_json::to_value(&r).unwrap();
-        for key in ["e_avg", "e_max", "e_sur", "bbox_diagonal"] {
+        for key in ["e_avg", "e_max", "e_sur_signed", "e_sur_abs", "bbox_diagonal"] {
             assert!(json[key].is_number(), "{key}");
         }
         for dir in ["forward", "backward"] {
@@ -218,5 +377,77 @@ mod tests {
         assert!(r.hausdorff.max < 1e-5);
         assert!(r.normal_deviation.forward.mean_degrees > 179.0);
         assert_eq!(r.topology.original.genus, Some(1));
+    }
+}
+
+#[cfg(test)]
+mod evaluator_tests {
+    use super::*;
+    use mesh::procedural::{icosphere, torus};
+
+    #[test]
+    fn evaluator_gives_the_same_numbers_as_evaluate() {
+        let original = torus(1.0, 0.3, 48, 24);
+        let params = MetricsParams {
+            hausdorff: HausdorffParams::with_samples(30_000),
+        };
+        let evaluator = Evaluator::new(&original, &params).unwrap();
+        for simplified in [torus(1.0, 0.3, 24, 12), torus(1.0, 0.28, 16, 8)] {
+            let a = evaluator.evaluate(&simplified).unwrap();
+            let b = evaluate(&original, &simplified, &params).unwrap();
+            let strip = |mut r: MetricsReport| {
+                r.seconds = 0.0;
+                r
+            };
+            assert_eq!(strip(a), strip(b));
+        }
+    }
+
+    #[test]
+    fn bad_sample_counts_are_errors_not_zeros_or_aborts() {
+        let m = icosphere(2);
+        for samples in [0usize, 10_000_000_000] {
+            let params = MetricsParams {
+                hausdorff: HausdorffParams::with_samples(samples),
+            };
+            let e = evaluate(&m, &m, &params).unwrap_err();
+            assert!(matches!(e, MetricsError::Parameter { name: "samples", .. }), "{e}");
+            assert!(Evaluator::new(&m, &params).is_err());
+            if samples > 0 {
+                assert!(e.to_string().contains("50000000"), "{e}");
+            }
+        }
+        let e = evaluate(&m, &m, &MetricsParams { hausdorff: HausdorffParams::meshlab(30_000_000) })
+            .unwrap_err();
+        assert!(e.to_string().contains("25000000"), "{e}");
+    }
+
+    #[test]
+    fn huge_coordinates_are_refused_with_the_limit() {
+        let mut far = icosphere(1);
+        for p in &mut far.positions {
+            *p *= 3e38;
+        }
+        let e = evaluate(&icosphere(1), &far, &MetricsParams::default()).unwrap_err();
+        assert!(matches!(e, MetricsError::CoordinateRange { mesh: "simplified", .. }), "{e}");
+        assert!(e.to_string().contains("1e18"), "{e}");
+    }
+
+    #[test]
+    fn meshlab_plan_draws_all_vertices_plus_n_edges_plus_n_faces() {
+        let original = icosphere(3); // 642 vertices
+        let simplified = icosphere(2); // 162 vertices
+        let params = MetricsParams {
+            hausdorff: HausdorffParams::meshlab(5_000),
+        };
+        let r = evaluate(&original, &simplified, &params).unwrap();
+        let (f, b) = (&r.hausdorff.forward, &r.hausdorff.backward);
+        assert_eq!(f.vertex_samples, 642);
+        assert_eq!(b.vertex_samples, 162);
+        assert_eq!(f.face_samples, 5_000);
+        assert_eq!(b.face_samples, 5_000);
+        assert!(f.edge_samples.abs_diff(5_000) <= 16, "{}", f.edge_samples);
+        assert!(b.edge_samples.abs_diff(5_000) <= 16, "{}", b.edge_samples);
+        assert_eq!(f.samples, f.vertex_samples + f.edge_samples + f.face_samples);
     }
 }

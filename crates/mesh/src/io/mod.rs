@@ -5,7 +5,7 @@
 //! repeated vertex index or a vertex set equal to an earlier face are dropped (reported as
 //! [`MeshWarning`]s). Malformed input gives a [`MeshError`] naming the file and the line or
 //! element. [`save`] writes to a temporary file in the target directory and renames it, so a
-//! failed write never leaves a partial output.
+//! failed write never leaves a partial output; [`write_atomic`] does the same for any bytes.
 
 mod obj;
 mod ply;
@@ -66,6 +66,8 @@ pub(crate) struct RawMesh {
     pub polygons: usize,
     /// Number of face records with fewer than three corners that were ignored.
     pub short_faces: usize,
+    /// Format-specific warnings found while parsing.
+    pub warnings: Vec<MeshWarning>,
 }
 
 impl RawMesh {
@@ -133,7 +135,7 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
             vertex,
         });
     }
-    let mut warnings = Vec::new();
+    let mut warnings = raw.warnings;
     if raw.polygons > 0 {
         warnings.push(MeshWarning::PolygonsTriangulated {
             count: raw.polygons,
@@ -170,16 +172,9 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
     })
 }
 
-/// Write `mesh` to `path` (OBJ, binary little-endian PLY or binary STL, by extension).
-/// The data goes to a temporary file in the same directory that is then renamed over `path`.
-pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
-    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
-        path: path.to_path_buf(),
-    })?;
-    let write_err = |message: String| MeshError::Write {
-        path: path.to_path_buf(),
-        message,
-    };
+/// The bytes [`save`] would write for `mesh` in `format`; `path` only names the file in errors.
+/// Fails on out-of-range indices.
+pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, MeshError> {
     let vertex_count = mesh.positions.len();
     for (face, t) in mesh.triangles.iter().enumerate() {
         if let Some(&index) = t.iter().find(|&&i| i as usize >= vertex_count) {
@@ -191,13 +186,36 @@ pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
             });
         }
     }
-    let bytes = match format {
+    Ok(match format {
         Format::Obj => obj::write(mesh),
         Format::Ply => ply::write(mesh),
-        Format::Stl => stl::write(mesh).map_err(|e| write_err(e.to_string()))?,
+        Format::Stl => stl::write(mesh).map_err(|e| MeshError::Write {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?,
+    })
+}
+
+/// Write `mesh` to `path` (OBJ, binary little-endian PLY or binary STL, by extension).
+/// The data goes to a temporary file in the same directory that is then renamed over `path`.
+pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
+    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
+    write_atomic(path, &encode(mesh, format, path)?)
+}
+
+/// Write `bytes` to `path` atomically: into a hidden temporary sibling (same folder, so the
+/// rename cannot cross file systems), then renamed over `path`. A failure leaves `path` as it
+/// was (absent or the previous content) and removes the temporary file. Every file the project
+/// writes (meshes, tables, reports, plots) goes through here.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MeshError> {
+    let write_err = |message: String| MeshError::Write {
+        path: path.to_path_buf(),
+        message,
     };
     let temp = temp_path(path);
-    if let Err(e) = std::fs::write(&temp, &bytes) {
+    if let Err(e) = std::fs::write(&temp, bytes) {
         let _ = std::fs::remove_file(&temp);
         return Err(write_err(e.to_string()));
     }

@@ -13,76 +13,67 @@ use glam::Vec3;
 use std::fmt::Write as _;
 use std::path::Path;
 
+/// The UTF-8 byte order mark some Windows tools put at the start of text files.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
 /// Parse OBJ text.
+///
+/// Only `v` and `f` lines are decoded, so comments, names and other records may hold any bytes
+/// (non-UTF-8 text in a comment is common in files from older tools); a leading UTF-8 byte
+/// order mark is skipped. Face indices in errors are reported as written, with the line.
 pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count()
-            + 1;
-        MeshError::parse(path, format!("line {line}"), "not valid UTF-8 text")
-    })?;
+    let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
     let mut raw = RawMesh::default();
     let mut poly: Vec<u32> = Vec::with_capacity(8);
-    let mut face = 0usize;
-    for (line_no, line) in text.lines().enumerate() {
-        let line = line.trim_start();
-        let Some(rest) = line
-            .strip_prefix("v ")
-            .or_else(|| line.strip_prefix("v\t"))
-            .map(|r| (b'v', r))
-            .or_else(|| {
-                line.strip_prefix("f ")
-                    .or_else(|| line.strip_prefix("f\t"))
-                    .map(|r| (b'f', r))
-            })
-        else {
-            continue;
+    for (line_no, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let line = line.trim_ascii_start();
+        let kind = match line {
+            [b'v', b' ' | b'\t', ..] => b'v',
+            [b'f', b' ' | b'\t', ..] => b'f',
+            _ => continue,
         };
         let location = || format!("line {}", line_no + 1);
-        match rest {
-            (b'v', coords) => {
-                let mut it = coords.split_ascii_whitespace();
-                let mut p = [0f32; 3];
-                for c in &mut p {
-                    let token = it.next().ok_or_else(|| {
-                        MeshError::parse(path, location(), "vertex needs 3 coordinates")
-                    })?;
-                    *c = token.parse().map_err(|_| {
-                        MeshError::parse(path, location(), format!("bad coordinate {token:?}"))
-                    })?;
-                }
-                raw.positions.push(Vec3::from_array(p));
+        let rest = std::str::from_utf8(&line[2..]).map_err(|_| {
+            MeshError::parse(path, location(), "vertex or face record is not valid UTF-8 text")
+        })?;
+        if kind == b'v' {
+            let mut it = rest.split_ascii_whitespace();
+            let mut p = [0f32; 3];
+            for c in &mut p {
+                let token = it.next().ok_or_else(|| {
+                    MeshError::parse(path, location(), "vertex needs 3 coordinates")
+                })?;
+                *c = token.parse().map_err(|_| {
+                    MeshError::parse(path, location(), format!("bad coordinate {token:?}"))
+                })?;
             }
-            (_, corners) => {
-                poly.clear();
-                let n = raw.positions.len();
-                for corner in corners.split_ascii_whitespace() {
-                    let token = corner.split('/').next().unwrap_or("");
-                    let index: i64 = token.parse().map_err(|_| {
-                        MeshError::parse(path, location(), format!("bad vertex index {corner:?}"))
-                    })?;
-                    // OBJ indices are 1-based; negative ones count back from the last vertex.
-                    let zero_based = if index < 0 {
-                        n as i64 + index
-                    } else {
-                        index - 1
-                    };
-                    if index == 0 || zero_based < 0 || zero_based >= n as i64 {
-                        return Err(MeshError::IndexOutOfRange {
-                            path: path.to_path_buf(),
-                            face,
-                            index: zero_based,
-                            vertex_count: n,
-                        });
-                    }
-                    poly.push(zero_based as u32);
-                }
-                raw.push_polygon(&poly);
-                face += 1;
-            }
+            raw.positions.push(Vec3::from_array(p));
+            continue;
         }
+        poly.clear();
+        let n = raw.positions.len();
+        for corner in rest.split_ascii_whitespace() {
+            let token = corner.split('/').next().unwrap_or("");
+            let index: i64 = token.parse().map_err(|_| {
+                MeshError::parse(path, location(), format!("bad vertex index {corner:?}"))
+            })?;
+            // OBJ indices are 1-based; negative ones count back from the last vertex so far.
+            let zero_based = if index < 0 {
+                n as i64 + index
+            } else {
+                index - 1
+            };
+            if index == 0 || zero_based < 0 || zero_based >= n as i64 {
+                return Err(MeshError::ObjIndex {
+                    path: path.to_path_buf(),
+                    line: line_no + 1,
+                    index,
+                    vertex_count: n,
+                });
+            }
+            poly.push(zero_based as u32);
+        }
+        raw.push_polygon(&poly);
     }
     Ok(raw)
 }
@@ -97,7 +88,7 @@ pub(crate) fn parse_with_tobj(bytes: &[u8], path: &Path) -> Result<RawMesh, Mesh
         ignore_points: true,
         ignore_lines: true,
     };
-    let mut reader = bytes;
+    let mut reader = bytes.strip_prefix(BOM).unwrap_or(bytes);
     let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })

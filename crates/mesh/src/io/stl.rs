@@ -1,25 +1,121 @@
 //! STL reader (ASCII or binary, via stl_io) and binary writer. STL stores unindexed triangles;
 //! stl_io merges bit-identical corner positions into shared vertices.
+//!
+//! Which of the two encodings a file uses is decided here, not by stl_io's probe (which wants
+//! `"solid "` with a space and reads a bare `solid` first line as binary): a file is binary when
+//! its size is exactly `84 + 50 × count` for the count in its header, ASCII when it starts with
+//! `solid` and says `facet` or `endsolid` somewhere, and binary otherwise. Binary files whose
+//! size does not match their count get an error (too short) or a warning (extra records).
 
 use super::RawMesh;
 use crate::TriMesh;
-use crate::error::MeshError;
+use crate::error::{MeshError, MeshWarning};
 use glam::Vec3;
 use std::path::Path;
 
+/// Bytes of the binary header: 80 free bytes and a little-endian u32 triangle count.
+const HEADER: usize = 84;
+/// Bytes of one binary triangle record: normal, three corners (12 f32) and a u16 attribute.
+const RECORD: usize = 50;
+
+/// True when `bytes` is an ASCII STL: starts with `solid`, mentions a facet or `endsolid`, and
+/// is not at the same time a size-consistent binary file (binary headers may start with
+/// "solid" too).
+fn is_ascii(bytes: &[u8]) -> bool {
+    let start = bytes
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(bytes.len());
+    if !bytes[start..].starts_with(b"solid") {
+        return false;
+    }
+    if bytes.len() >= HEADER {
+        let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+        if count.checked_mul(RECORD).and_then(|n| n.checked_add(HEADER)) == Some(bytes.len()) {
+            return false;
+        }
+    }
+    let has = |needle: &[u8]| bytes.windows(needle.len()).any(|w| w == needle);
+    has(b"facet") || has(b"endsolid")
+}
+
+/// The ASCII text with its first line made acceptable to stl_io (`solid <name>`).
+fn normalised_ascii(bytes: &[u8]) -> Vec<u8> {
+    let start = bytes
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(bytes.len());
+    let rest = &bytes[start..];
+    let line_end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+    let first = &rest[..line_end];
+    let name = first[5..].trim_ascii();
+    let mut out = Vec::with_capacity(bytes.len() + 8);
+    out.extend_from_slice(b"solid ");
+    out.extend_from_slice(if name.is_empty() { b"unnamed" } else { name });
+    out.extend_from_slice(&rest[line_end..]);
+    out
+}
+
+/// Checks the binary layout: enough bytes for the header count; warns about extra bytes.
+fn check_binary(bytes: &[u8], path: &Path, raw: &mut RawMesh) -> Result<(), MeshError> {
+    if bytes.is_empty() {
+        return Err(MeshError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    if bytes.len() < HEADER {
+        return Err(MeshError::parse(
+            path,
+            "header",
+            format!(
+                "not an ASCII STL (no `solid ... facet`) and too short for a binary STL: {} bytes, \
+                 but a binary STL has an 84-byte header (80 bytes + triangle count)",
+                bytes.len()
+            ),
+        ));
+    }
+    let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
+    let records = ((bytes.len() - HEADER) / RECORD) as u64;
+    let expected = HEADER as u64 + RECORD as u64 * count;
+    if count > records {
+        return Err(MeshError::parse(
+            path,
+            "header",
+            format!(
+                "binary STL header says {count} triangles ({expected} bytes), but the file has {} \
+                 bytes ({records} complete 50-byte records)",
+                bytes.len()
+            ),
+        ));
+    }
+    if expected != bytes.len() as u64 {
+        raw.warnings.push(MeshWarning::StlSizeMismatch {
+            header_triangles: count,
+            file_bytes: bytes.len() as u64,
+        });
+    }
+    Ok(())
+}
+
 /// Parse an STL file.
 pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
-    let mut cursor = std::io::Cursor::new(bytes);
-    let indexed = stl_io::read_stl(&mut cursor)
-        .map_err(|e| MeshError::parse(path, "stl data", e.to_string()))?;
-    let mut raw = RawMesh {
-        positions: indexed
-            .vertices
-            .iter()
-            .map(|v| Vec3::from_array(v.0))
-            .collect(),
-        ..RawMesh::default()
+    let mut raw = RawMesh::default();
+    let indexed = if is_ascii(bytes) {
+        let text = normalised_ascii(bytes);
+        stl_io::read_stl(&mut std::io::Cursor::new(text))
+            .map_err(|e| MeshError::parse(path, "ascii stl data", e.to_string()))?
+    } else {
+        check_binary(bytes, path, &mut raw)?;
+        // stl_io reads exactly the header's count of records.
+        let mut cursor = std::io::Cursor::new(bytes);
+        stl_io::read_stl(&mut cursor)
+            .map_err(|e| MeshError::parse(path, "binary stl data", e.to_string()))?
     };
+    raw.positions = indexed
+        .vertices
+        .iter()
+        .map(|v| Vec3::from_array(v.0))
+        .collect();
     raw.triangles = indexed
         .faces
         .iter()

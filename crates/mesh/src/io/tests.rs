@@ -260,9 +260,9 @@ fn out_of_range_indices() {
     assert!(
         matches!(
             e,
-            MeshError::IndexOutOfRange {
-                face: 1,
-                index: 3,
+            MeshError::ObjIndex {
+                line: 5,
+                index: 4,
                 vertex_count: 3,
                 ..
             }
@@ -271,7 +271,7 @@ fn out_of_range_indices() {
     );
     let e = expect_err("r.obj", b"v 0 0 0\nf 0 1 1\n");
     assert!(
-        matches!(e, MeshError::IndexOutOfRange { face: 0, .. }),
+        matches!(e, MeshError::ObjIndex { line: 2, index: 0, .. }),
         "{e}"
     );
     let props = "property float x\nproperty float y\nproperty float z\n";
@@ -339,4 +339,109 @@ fn degenerate_and_duplicate_faces_are_warnings() {
             .contains(&MeshWarning::DuplicateFaces { count: 2 })
     );
     assert!(l.warnings.iter().all(|w| !w.to_string().is_empty()));
+}
+
+/// Issue 12: indices as written in the file (1-based), with the line number.
+#[test]
+fn obj_index_errors_name_the_index_as_written_and_the_line() {
+    let four = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    for (face, line, index) in [("f 1 2 5", 5, 5), ("f 0", 5, 0), ("f -5 1 2", 5, -5)] {
+        let text = format!("{four}{face}\n");
+        let e = expect_err("i.obj", text.as_bytes());
+        assert!(
+            matches!(e, MeshError::ObjIndex { line: l, index: i, vertex_count: 4, .. } if l == line && i == index),
+            "{face}: {e}"
+        );
+        let msg = e.to_string();
+        assert!(msg.contains(&format!("line {line}")), "{msg}");
+        assert!(msg.contains(&format!("vertex {index},")), "{msg}");
+        assert!(msg.contains("i.obj"), "{msg}");
+    }
+}
+
+/// Issue 12: a UTF-8 byte order mark does not eat the first `v` line.
+#[test]
+fn obj_with_bom_keeps_the_first_vertex() {
+    let dir = tmp();
+    let mut bytes = b"\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n".to_vec();
+    let l = load(&write(dir.path(), "bom.obj", &bytes)).unwrap();
+    assert_eq!(l.mesh.positions.len(), 4);
+    assert_eq!(l.mesh.positions[0], Vec3::ZERO);
+    assert_eq!(l.mesh.triangles, vec![[0, 1, 2], [0, 1, 3]]);
+    let t = load_obj_with_tobj(&write(dir.path(), "bom2.obj", &bytes)).unwrap();
+    assert_eq!(t.mesh.triangles.len(), 2);
+    // Without the BOM the same mesh comes back.
+    bytes.drain(..3);
+    assert_eq!(load(&write(dir.path(), "nobom.obj", &bytes)).unwrap().mesh, l.mesh);
+}
+
+/// Issue 12: comments and other records are not decoded, so non-UTF-8 bytes there are fine;
+/// a non-UTF-8 byte inside a `v` record is an error with its line.
+#[test]
+fn obj_non_utf8_comment_is_ignored() {
+    let dir = tmp();
+    let bytes = b"# caf\xE9 \xFF\nv 0 0 0\nv 1 0 0\no \xFEname\nv 0 1 0\nf 1 2 3\n";
+    let l = load(&write(dir.path(), "latin1.obj", bytes)).unwrap();
+    assert_eq!(l.mesh.positions.len(), 3);
+    assert_eq!(l.mesh.triangles, vec![[0, 1, 2]]);
+    let e = expect_err("bad.obj", b"v 0 0 0\nv 1 \xFF 0\n");
+    assert!(e.to_string().contains("line 2"), "{e}");
+}
+
+fn ascii_stl(first_line: &str) -> String {
+    format!(
+        "{first_line}\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
+         endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\n\
+         vertex 0 1 0\nendloop\nendfacet\nendsolid\n"
+    )
+}
+
+/// Issue 12: an ASCII STL whose first line is just `solid` is read as ASCII.
+#[test]
+fn ascii_stl_with_bare_solid_line() {
+    let dir = tmp();
+    for first in ["solid", "solid\r", "  solid  ", "solid name"] {
+        let l = load(&write(dir.path(), "a.stl", ascii_stl(first).as_bytes())).unwrap();
+        assert_eq!(l.mesh.triangles.len(), 2, "{first:?}");
+        assert_eq!(l.mesh.positions.len(), 4, "{first:?}");
+        assert!(l.warnings.is_empty());
+    }
+}
+
+/// Issue 12: binary STL sizes are checked against the header count.
+#[test]
+fn binary_stl_count_mismatch() {
+    let dir = tmp();
+    let m = icosphere(0); // 20 faces
+    let p = dir.path().join("m.stl");
+    save(&m, &p).unwrap();
+    let good = fs::read(&p).unwrap();
+    assert_eq!(good.len(), 84 + 50 * 20);
+    // Header says 2, file holds 20 records: 2 faces and a warning.
+    let mut fewer = good.clone();
+    fewer[80..84].copy_from_slice(&2u32.to_le_bytes());
+    let l = load(&write(dir.path(), "fewer.stl", &fewer)).unwrap();
+    assert_eq!(l.mesh.triangles.len(), 2);
+    assert!(
+        l.warnings.contains(&MeshWarning::StlSizeMismatch {
+            header_triangles: 2,
+            file_bytes: good.len() as u64
+        }),
+        "{:?}",
+        l.warnings
+    );
+    assert!(l.warnings.iter().any(|w| w.to_string().contains("says 2 triangles")));
+    // Header says 30: the error says what was expected.
+    let mut more = good.clone();
+    more[80..84].copy_from_slice(&30u32.to_le_bytes());
+    let e = expect_err("more.stl", &more);
+    let msg = e.to_string();
+    assert!(msg.contains("30 triangles (1584 bytes)") && msg.contains("1084 bytes"), "{msg}");
+    // Too short for a header.
+    let e = expect_err("short.stl", &good[..40]);
+    assert!(e.to_string().contains("84-byte header"), "{e}");
+    // A binary file whose 80-byte header starts with "solid" is still binary.
+    let mut solid_header = good.clone();
+    solid_header[..11].copy_from_slice(b"solid facet");
+    assert_eq!(load(&write(dir.path(), "sh.stl", &solid_header)).unwrap().mesh.triangles.len(), 20);
 }

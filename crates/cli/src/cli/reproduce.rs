@@ -68,7 +68,22 @@ pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
     }
 }
 
+/// Checks what can be checked before loading anything.
+fn check_args(args: &ReproduceArgs) -> anyhow::Result<()> {
+    HausdorffParams::with_samples(args.samples)
+        .validate()
+        .context("--samples")?;
+    if args.epochs == 0 {
+        anyhow::bail!("--epochs must be at least 1");
+    }
+    if !(args.target_ratio > 0.0 && args.target_ratio <= 1.0) {
+        anyhow::bail!("--target-ratio must be in (0, 1], got {}", args.target_ratio);
+    }
+    Ok(())
+}
+
 fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
+    check_args(args)?;
     let original = load_prepared(input, false)?;
     let mut params = ReproduceParams {
         epochs: args.epochs,
@@ -107,6 +122,7 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
 }
 
 fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
+    check_args(args)?;
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("reading folder {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -123,6 +139,9 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     };
     params.gng.seed = args.seed;
     params.hausdorff.seed = args.seed;
+    // The output folder exists before the (long) survey starts.
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("survey"));
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let progress = bar(files.len() as u64, "meshes");
     let results: Vec<(String, anyhow::Result<Vec<SurveyRow>>)> = files
         .par_iter()
@@ -150,8 +169,9 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
             Err(e) => eprintln!("warning: {name}: {e:#}"),
         }
     }
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("survey"));
-    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    if rows.is_empty() {
+        eprintln!("warning: no mesh in {} could be surveyed", dir.display());
+    }
     let table = summary_table(&rows);
     table.write_csv(&out.join("summary.csv"))?;
     super::write_atomic(

@@ -20,6 +20,9 @@ struct Summary {
 
 /// Simplify with QEM.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
+    if args.time_limit.is_some() || args.epochs.is_some() {
+        bail!("--time-limit and --epochs apply to --method gng only");
+    }
     let target = match (args.vertices, args.faces, args.ratio) {
         (Some(n), _, _) => Target::Vertices(n),
         (None, Some(n), _) => Target::Faces(n),
@@ -45,8 +48,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     };
     let (simplified, report) = qem::simplify(&input, &params)
         .with_context(|| format!("simplifying {}", args.input.display()))?;
-    mesh::io::save(&simplified, &args.output)
-        .with_context(|| format!("writing {}", args.output.display()))?;
+    crate::cli::save_checked(&simplified, &args.output, "QEM")
+        .with_context(|| format!("QEM on {}", args.input.display()))?;
     if args.json {
         crate::cli::print_json(&Summary {
             method: "qem",

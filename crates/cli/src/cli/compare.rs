@@ -3,7 +3,9 @@
 use super::load_prepared;
 use anyhow::Context;
 use clap::Args;
-use gng3d::experiment::compare::{CompareParams, compare, comparison_table};
+use gng3d::experiment::compare::{CompareParams, compare};
+use gng3d::report::compare::comparison_table;
+use gng3d_core::{GngOptions, GngTarget};
 use std::path::PathBuf;
 
 /// Arguments of `gng3d compare`.
@@ -33,23 +35,33 @@ pub struct CompareArgs {
 
 /// Run `gng3d compare`.
 pub fn run(args: CompareArgs) -> anyhow::Result<()> {
-    let original = load_prepared(&args.input, false)?;
+    // Options and the output folder are checked before loading or simplifying anything; the
+    // GNG3D options go through the same `GngOptions` as `simplify`, with the same messages.
     let mut params = CompareParams::new(args.vertices);
-    params.gng.seed = args.seed;
-    params.gng.time_limit = args.time_limit.map(std::time::Duration::from_secs_f64);
+    params.gng = GngOptions {
+        target: GngTarget::Vertices(args.vertices),
+        time_limit_seconds: args.time_limit,
+        seed: args.seed,
+        ..GngOptions::default()
+    };
+    params.gng.validate().context("GNG3D options")?;
     params.metrics.hausdorff.seed = args.seed;
     params.metrics.hausdorff.samples = args.samples;
+    params.metrics.hausdorff.validate()?;
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let original = load_prepared(&args.input, false)?;
     let result = compare(&original, &params)
         .with_context(|| format!("comparing on {}", args.input.display()))?;
     if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        super::save_checked(&result.qem_mesh, &dir.join("qem.obj"), "QEM")?;
+        super::save_checked(&result.gng_mesh, &dir.join("gng.obj"), "GNG3D")?;
         let json = dir.join("compare.json");
         super::write_atomic(
             &json,
             serde_json::to_string_pretty(&result.report)?.as_bytes(),
         )?;
-        mesh::io::save(&result.qem_mesh, &dir.join("qem.obj"))?;
-        mesh::io::save(&result.gng_mesh, &dir.join("gng.obj"))?;
     }
     if args.json {
         super::print_json(&result.report)

@@ -67,24 +67,68 @@ pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result
     Ok(prepared)
 }
 
-/// Write `bytes` to `path` through a temporary file in the same folder and a rename, so a
-/// failure never leaves a partial file.
-pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> {
-    use anyhow::Context;
+/// Checks an output mesh path before any work: a known extension (.obj, .ply, .stl) and an
+/// existing folder, so a long run never fails at the very end on a typo.
+pub(crate) fn check_output_mesh_path(path: &std::path::Path) -> anyhow::Result<mesh::io::Format> {
+    let format = mesh::io::Format::from_path(path).ok_or_else(|| {
+        anyhow::anyhow!(
+            "{}: unknown output format (expected .obj, .ply or .stl)",
+            path.display()
+        )
+    })?;
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(std::path::Path::new("."));
-    let name = path
-        .file_name()
-        .map_or_else(Default::default, |n| n.to_os_string());
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(&name);
-    tmp_name.push(format!(".{}.tmp", std::process::id()));
-    let tmp = dir.join(tmp_name);
-    std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        anyhow::anyhow!("renaming {} to {}: {e}", tmp.display(), path.display())
-    })
+    if !dir.is_dir() {
+        anyhow::bail!(
+            "{}: the output folder {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    if path.is_dir() {
+        anyhow::bail!("{}: is a folder, not a mesh file", path.display());
+    }
+    Ok(format)
+}
+
+/// Writes a simplified mesh, after making sure it is one: at least one triangle, and bytes that
+/// the project's own loader reads back (so a zero-vertex, non-finite or otherwise unloadable
+/// result is an error, never an exit-0 output). Atomic (temporary file + rename).
+pub(crate) fn save_checked(
+    mesh: &mesh::TriMesh,
+    path: &std::path::Path,
+    method: &str,
+) -> anyhow::Result<()> {
+    use anyhow::Context;
+    let format = check_output_mesh_path(path)?;
+    if mesh.face_count() == 0 {
+        anyhow::bail!(
+            "{method} produced an empty mesh ({} vertices, no triangles); nothing written to {}",
+            mesh.vertex_count(),
+            path.display()
+        );
+    }
+    let bytes = mesh::io::encode(mesh, format, path)?;
+    let reread = mesh::io::load_bytes(&bytes, format, path).with_context(|| {
+        format!(
+            "{method} produced a mesh the loader refuses; nothing written to {}",
+            path.display()
+        )
+    })?;
+    if reread.mesh.face_count() == 0 {
+        anyhow::bail!(
+            "{method} produced a mesh without usable triangles; nothing written to {}",
+            path.display()
+        );
+    }
+    mesh::io::write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+/// Writes `bytes` to `path` atomically (`mesh::io::write_atomic`).
+pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> {
+    mesh::io::write_atomic(path, bytes)?;
+    Ok(())
 }

@@ -43,6 +43,9 @@ pub struct SimplifyArgs {
     /// GNG3D random seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30).
+    #[arg(long)]
+    pub epochs: Option<f64>,
     /// Keep exact duplicate positions unwelded (welding is on by default).
     #[arg(long)]
     pub no_weld: bool,
@@ -53,6 +56,8 @@ pub struct SimplifyArgs {
 
 /// Run `gng3d simplify`.
 pub fn run(args: SimplifyArgs) -> anyhow::Result<()> {
+    // The output path is checked before loading or training, so a typo costs nothing.
+    crate::cli::check_output_mesh_path(&args.output)?;
     match args.method {
         Method::Qem => qem::run(&args),
         Method::Gng => gng::run(&args),

@@ -1,7 +1,5 @@
 //! The `gng3d` command-line tool: inspect, simplify, measure and compare meshes.
 
-mod cli;
-
 use clap::Parser;
 use std::process::ExitCode;
 
@@ -12,8 +10,8 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let args = cli::Cli::parse();
-    match cli::run(args) {
+    let args = gng3d_cli::Cli::parse();
+    match gng3d_cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err:#}");

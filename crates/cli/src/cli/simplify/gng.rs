@@ -3,11 +3,11 @@
 
 use super::SimplifyArgs;
 use anyhow::{Context, bail};
-use gng3d_core::{GngParams, Trainer};
+use gng3d_core::{GngOptions, GngTarget, Trainer};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::ops::ControlFlow;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// The `--json` summary.
 #[derive(Debug, Serialize)]
@@ -29,30 +29,36 @@ struct Summary {
     non_manifold_edges: usize,
 }
 
+/// The user's GNG3D options from the command line (the mapping to `GngParams` is
+/// `GngOptions::resolve`, shared with `compare`, `reproduce` and the viewer).
+fn options(args: &SimplifyArgs) -> anyhow::Result<GngOptions> {
+    let target = match (args.vertices, args.ratio) {
+        (Some(n), _) => GngTarget::Vertices(n),
+        (None, Some(r)) => GngTarget::Ratio(r),
+        (None, None) => bail!("give a target with --vertices N or --ratio R"),
+    };
+    Ok(GngOptions {
+        target,
+        time_limit_seconds: args.time_limit,
+        seed: args.seed,
+        epochs: args.epochs,
+        ..GngOptions::default()
+    })
+}
+
 /// Simplify with GNG3D.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     if args.faces.is_some() {
         bail!("--faces applies to QEM only; use --vertices or --ratio with --method gng");
     }
+    let options = options(args)?;
+    // Everything that does not need the mesh is checked before loading it.
+    options.validate().context("GNG3D options")?;
     let input = crate::cli::load_prepared(&args.input, args.no_weld)?;
-    let target = match (args.vertices, args.ratio) {
-        (Some(n), _) => n,
-        (None, Some(r)) => {
-            if !(r > 0.0 && r <= 1.0) {
-                bail!("--ratio must be in (0, 1], got {r}");
-            }
-            ((input.vertex_count() as f64) * r).round() as usize
-        }
-        (None, None) => bail!("give a target with --vertices N or --ratio R"),
-    };
-    let mut params = GngParams::for_target(target);
-    params.seed = args.seed;
-    if let Some(secs) = args.time_limit {
-        if !(secs > 0.0 && secs.is_finite()) {
-            bail!("--time-limit must be a positive number of seconds, got {secs}");
-        }
-        params.time_limit = Some(Duration::from_secs_f64(secs));
-    }
+    let params = options
+        .resolve(&input)
+        .with_context(|| format!("GNG3D on {}", args.input.display()))?;
+    let target = params.target_vertices;
     let start = Instant::now();
     let mut trainer = Trainer::new(&input, params.clone())
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
@@ -73,8 +79,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let rec = trainer.reconstruct(&params.reconstruction);
     let seconds = start.elapsed().as_secs_f64();
     let stats = trainer.stats();
-    mesh::io::save(&rec.mesh, &args.output)
-        .with_context(|| format!("saving {}", args.output.display()))?;
+    crate::cli::save_checked(&rec.mesh, &args.output, "GNG3D")
+        .with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let t = &rec.report.topology;
     let summary = Summary {
         method: "gng",

@@ -2,7 +2,7 @@
 
 use anyhow::Context;
 use clap::Args;
-use metrics::{HausdorffParams, MetricsParams, MetricsReport, OneSided, evaluate};
+use metrics::{HausdorffParams, MetricsParams, MetricsReport, OneSided, SamplingPlan, evaluate};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `gng3d metrics`.
@@ -13,9 +13,13 @@ pub struct MetricsArgs {
     /// The simplified mesh.
     pub simplified: PathBuf,
     /// Surface samples per direction for the Hausdorff distance (vertices + edges + faces;
-    /// default: 10 × the larger face count, as Metro).
+    /// default: 10 × the larger face count, as Metro); 1 to 50,000,000.
     #[arg(long)]
     pub samples: Option<usize>,
+    /// MeshLab's sampling plan: every vertex, plus --samples edge samples, plus --samples face
+    /// samples per direction (MeshLab's `samplenum`), instead of --samples in total.
+    #[arg(long)]
+    pub meshlab: bool,
     /// Seed of the surface sampler.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -35,15 +39,22 @@ fn load(path: &Path) -> anyhow::Result<mesh::TriMesh> {
 
 /// Run `gng3d metrics`.
 pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
-    let (original, simplified) = rayon::join(|| load(&args.original), || load(&args.simplified));
-    let (original, simplified) = (original?, simplified?);
     let params = MetricsParams {
         hausdorff: HausdorffParams {
             samples: args.samples,
             seed: args.seed,
+            plan: if args.meshlab {
+                SamplingPlan::MeshLab
+            } else {
+                SamplingPlan::Budget
+            },
             ..Default::default()
         },
     };
+    // Checked before loading: --samples 0 or a count beyond the memory limit is an error.
+    params.hausdorff.validate().context("--samples")?;
+    let (original, simplified) = rayon::join(|| load(&args.original), || load(&args.simplified));
+    let (original, simplified) = (original?, simplified?);
     let report = evaluate(&original, &simplified, &params).with_context(|| {
         format!(
             "measuring {} against {}",
@@ -86,8 +97,8 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) {
     println!("E_avg (squared)       {:.6e}", r.e_avg);
     println!("E_max (squared)       {:.6e}", r.e_max);
     println!(
-        "E_sur                 {:.6e}  (|E_sur| {:.6e}, {:.3}% of the original area)",
-        r.e_sur,
+        "E_sur (signed)        {:.6e}  (|E_sur| {:.6e}, {:.3}% of the original area)",
+        r.e_sur_signed,
         r.e_sur_abs,
         100.0 * r.e_sur_relative
     );
@@ -96,6 +107,10 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) {
     println!(
         "hausdorff             max {:.6e}  mean {:.6e}  rms {:.6e}",
         h.max, h.mean, h.rms
+    );
+    println!(
+        "area-weighted mean    forward {:.6e}  backward {:.6e}  (headline mean: (1/A)∫d dA)",
+        h.forward.area_mean, h.backward.area_mean
     );
     println!(
         "  / bbox diagonal     max {:.6e}  mean {:.6e}  rms {:.6e}",
@@ -116,9 +131,11 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) {
         ("simplified", &r.quality.simplified),
     ] {
         println!(
-            "quality {label:<13} min angle {:.2}° (mean {:.1}°, {:.2}% < 10°), aspect mean {:.2} max {:.1}, {} degenerate",
+            "quality {label:<13} min angle {:.2}° (median {:.1}°, mean {:.1}°, {:.2}% < 20°, {:.2}% < 10°), aspect mean {:.2} max {:.1}, {} degenerate",
             q.min_angle_degrees,
+            q.median_min_angle_degrees,
             q.mean_min_angle_degrees,
+            100.0 * q.below_20_degrees,
             100.0 * q.below_10_degrees,
             q.mean_aspect_ratio,
             q.max_aspect_ratio,

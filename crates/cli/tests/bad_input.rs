@@ -1,0 +1,317 @@
+//! Issue 12, "bad input and bad flags": every row of the issue's table as a test of the `gng3d`
+//! binary (exit code, `error:` line, what is written). Inputs are small generated meshes, so
+//! these run in seconds and need no shared data.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn gng3d(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gng3d"))
+        .args(args)
+        .output()
+        .expect("run gng3d")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A failed run: exit code 1 (not a signal), one `error:` line, no panic.
+fn assert_clean_failure(o: &Output, needles: &[&str]) -> String {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("error:"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!err.contains("memory allocation"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "missing {n:?} in {err}");
+    }
+    err
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+struct Fixture {
+    dir: tempfile::TempDir,
+}
+
+impl Fixture {
+    fn new() -> Fixture {
+        Fixture {
+            dir: tempfile::tempdir().unwrap(),
+        }
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir.path().join(name)
+    }
+    fn mesh(&self, name: &str, m: &mesh::TriMesh) -> PathBuf {
+        let p = self.path(name);
+        mesh::io::save(m, &p).unwrap();
+        p
+    }
+    fn bytes(&self, name: &str, bytes: &[u8]) -> PathBuf {
+        let p = self.path(name);
+        std::fs::write(&p, bytes).unwrap();
+        p
+    }
+    fn sphere(&self) -> PathBuf {
+        self.mesh("sphere.obj", &mesh::procedural::icosphere(2))
+    }
+    fn coarse(&self) -> PathBuf {
+        self.mesh("coarse.obj", &mesh::procedural::icosphere(1))
+    }
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", stderr(o));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+#[test]
+fn samples_zero_is_an_error_in_metrics_compare_and_reproduce() {
+    let f = Fixture::new();
+    let (a, b) = (f.sphere(), f.coarse());
+    let o = gng3d(&["metrics", s(&a), s(&b), "--samples", "0"]);
+    assert_clean_failure(&o, &["samples", "at least 1"]);
+    let o = gng3d(&["compare", s(&a), "--vertices", "40", "--samples", "0"]);
+    assert_clean_failure(&o, &["samples", "at least 1"]);
+    let o = gng3d(&["reproduce", s(&a), "--samples", "0"]);
+    assert_clean_failure(&o, &["samples", "at least 1"]);
+}
+
+#[test]
+fn huge_sample_count_is_an_error_with_the_limit_not_an_abort() {
+    let f = Fixture::new();
+    let (a, b) = (f.sphere(), f.coarse());
+    let o = gng3d(&["metrics", s(&a), s(&b), "--samples", "10000000000"]);
+    assert_clean_failure(&o, &["50000000"]);
+    let o = gng3d(&["metrics", s(&a), s(&b), "--samples", "30000000", "--meshlab"]);
+    assert_clean_failure(&o, &["25000000", "MeshLab"]);
+}
+
+#[test]
+fn survey_skips_a_mesh_with_under_four_vertices_and_writes_the_summary() {
+    let f = Fixture::new();
+    let dir = f.path("meshes");
+    std::fs::create_dir(&dir).unwrap();
+    std::fs::write(dir.join("a-triangle.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(1), &dir.join("b-sphere.obj")).unwrap();
+    let out = f.path("survey");
+    let o = gng3d(&[
+        "reproduce", "--all", s(&dir), "--epochs", "2", "--samples", "2000", "--out", s(&out),
+    ]);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("warning: a-triangle.obj") && err.contains("at least 4"), "{err}");
+    let rows: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 3, "three ratios of the sphere");
+    assert!(rows.iter().all(|r| r["mesh"] == "b-sphere.obj"));
+    for r in rows {
+        for method in ["gng", "qem"] {
+            let m = &r[method];
+            assert!(m["median_min_angle_degrees"].as_f64().unwrap() > 0.0);
+            assert!(m["below_20_degrees"].as_f64().is_some());
+        }
+    }
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert!(csv.contains("median min angle GNG3D"), "{csv}");
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("median min angle (higher is better)"), "{md}");
+    // Atomic writes leave no temporary files behind.
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+    // Only the bad mesh: still a summary (empty), still exit 0, with a warning.
+    std::fs::remove_file(dir.join("b-sphere.obj")).unwrap();
+    let out2 = f.path("survey2");
+    let o = gng3d(&["reproduce", "--all", s(&dir), "--out", s(&out2)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out2.join("summary.md").is_file() && out2.join("summary.csv").is_file());
+}
+
+#[test]
+fn compare_time_limit_is_validated_like_simplify() {
+    let f = Fixture::new();
+    let a = f.sphere();
+    let out = f.path("out.obj");
+    for bad in ["-1", "nan", "0", "inf"] {
+        let t = format!("--time-limit={bad}");
+        let c = gng3d(&["compare", s(&a), "--vertices", "40", &t]);
+        let ce = assert_clean_failure(&c, &["time limit"]);
+        let g = gng3d(&["simplify", s(&a), s(&out), "--method", "gng", "--vertices", "40", &t]);
+        let ge = assert_clean_failure(&g, &["time limit"]);
+        // The same message from both subcommands, said once.
+        let line = |e: &str| e.lines().find(|l| l.starts_with("error:")).unwrap().to_string();
+        assert_eq!(line(&ce), line(&ge), "{bad}");
+        let l = line(&ce);
+        assert_eq!(l.matches("time limit").count(), 1, "{l}");
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn obj_with_bom_and_non_utf8_comment_load_in_the_cli() {
+    let f = Fixture::new();
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n";
+    let mut bom = b"\xEF\xBB\xBF".to_vec();
+    bom.extend_from_slice(text.as_bytes());
+    let p = f.bytes("bom.obj", &bom);
+    let v = json(&gng3d(&["info", s(&p), "--json"]));
+    assert_eq!(v["vertices"], 4);
+    assert_eq!(v["faces"], 4);
+    assert_eq!(v["closed"], true);
+    let mut latin1 = b"# r\xE9sum\xE9 \xFF\n".to_vec();
+    latin1.extend_from_slice(text.as_bytes());
+    let p = f.bytes("latin1.obj", &latin1);
+    let v = json(&gng3d(&["info", s(&p), "--json"]));
+    assert_eq!(v["faces"], 4);
+}
+
+#[test]
+fn obj_index_errors_say_the_index_as_written_and_the_line() {
+    let f = Fixture::new();
+    let four = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    for (face, needle) in [("f 1 2 5", "vertex 5,"), ("f 0", "vertex 0,"), ("f -5 1 2", "vertex -5,")] {
+        let p = f.bytes("i.obj", format!("{four}{face}\n").as_bytes());
+        let o = gng3d(&["info", s(&p)]);
+        assert_clean_failure(&o, &["i.obj", "line 5", needle, "4 vertices"]);
+    }
+}
+
+fn ascii_stl(first: &str) -> String {
+    format!(
+        "{first}\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
+         endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\n\
+         vertex 0 1 0\nendloop\nendfacet\nendsolid\n"
+    )
+}
+
+#[test]
+fn stl_bare_solid_is_ascii_and_binary_sizes_are_checked() {
+    let f = Fixture::new();
+    let p = f.bytes("a.stl", ascii_stl("solid").as_bytes());
+    let v = json(&gng3d(&["info", s(&p), "--json"]));
+    assert_eq!(v["faces"], 2);
+    // Binary: header says 2, file holds 4 records.
+    let quad = mesh::TriMesh::new(
+        vec![
+            glam::Vec3::ZERO,
+            glam::Vec3::X,
+            glam::Vec3::Y,
+            glam::Vec3::Z,
+            glam::Vec3::ONE,
+        ],
+        vec![[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 4]],
+    );
+    let p = f.mesh("four.stl", &quad);
+    let mut bytes = std::fs::read(&p).unwrap();
+    bytes[80..84].copy_from_slice(&2u32.to_le_bytes());
+    let p = f.bytes("two.stl", &bytes);
+    let o = gng3d(&["info", s(&p), "--json"]);
+    let v = json(&o);
+    assert_eq!(v["faces"], 2);
+    let warnings = v["warnings"].to_string();
+    assert!(warnings.contains("says 2 triangles"), "{warnings}");
+    // Truncated binary: says what was expected.
+    let o = gng3d(&["info", s(&f.bytes("cut.stl", &bytes[..120]))]);
+    let mut long = bytes.clone();
+    long[80..84].copy_from_slice(&9u32.to_le_bytes());
+    let o2 = gng3d(&["info", s(&f.bytes("long.stl", &long))]);
+    assert_clean_failure(&o, &["cut.stl"]);
+    assert_clean_failure(&o2, &["9 triangles (534 bytes)", "284 bytes"]);
+}
+
+#[test]
+fn coordinates_near_f32_max_give_a_diagonal_and_no_silent_zero_distance() {
+    let f = Fixture::new();
+    let mut m = mesh::procedural::icosphere(1);
+    for p in &mut m.positions {
+        *p *= 3e38;
+    }
+    let far = f.mesh("far.ply", &m);
+    let v = json(&gng3d(&["info", s(&far), "--json"]));
+    let diag = v["bbox_diagonal"].as_f64().expect("a number, not null");
+    assert!((diag - 2.0 * 3e38 * 3f64.sqrt()).abs() < 0.05 * diag, "{diag}");
+    let o = gng3d(&["metrics", s(&far), s(&far), "--samples", "40"]);
+    assert_clean_failure(&o, &["far.ply", "1e18"]);
+}
+
+#[test]
+fn unknown_output_extension_fails_before_any_work() {
+    let f = Fixture::new();
+    let a = f.sphere();
+    for method in ["gng", "qem"] {
+        // A missing input would be the first error if the input were read first.
+        let o = gng3d(&[
+            "simplify", "/nonexistent/in.obj", s(&f.path("out.gltf")), "--method", method,
+            "--vertices", "40",
+        ]);
+        assert_clean_failure(&o, &["out.gltf", "unknown output format"]);
+        let o = gng3d(&["simplify", s(&a), s(&f.path("no/such/dir/out.obj")), "--method", method, "--vertices", "40"]);
+        assert_clean_failure(&o, &["does not exist"]);
+    }
+}
+
+/// The GNG empty-output cases: exit != 0 with a message, or a real mesh that `info` loads.
+#[test]
+fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
+    let f = Fixture::new();
+    let sphere = mesh::procedural::icosphere(3);
+    let mut outlier = sphere.clone();
+    outlier.positions.push(glam::Vec3::splat(1e8));
+    let n = outlier.positions.len() as u32;
+    outlier.triangles.push([0, 1, n - 1]);
+    let mut disjoint = mesh::TriMesh::default();
+    for k in 0..10u32 {
+        let o = glam::Vec3::new(k as f32 * 3.0, 0.0, 0.0);
+        disjoint.positions.extend([o, o + glam::Vec3::X, o + glam::Vec3::Y]);
+        disjoint.triangles.push([3 * k, 3 * k + 1, 3 * k + 2]);
+    }
+    let mut few = mesh::TriMesh::default();
+    for k in 0..2u32 {
+        let o = glam::Vec3::new(k as f32 * 5.0, 0.0, 0.0);
+        few.positions.extend([o, o + glam::Vec3::X, o + glam::Vec3::Y]);
+        few.triangles.push([3 * k, 3 * k + 1, 3 * k + 2]);
+    }
+    let mut huge = sphere.clone();
+    for p in &mut huge.positions {
+        *p *= 1e30;
+    }
+    let cases: Vec<(PathBuf, Vec<&str>)> = vec![
+        (f.mesh("outlier.obj", &outlier), vec!["--ratio", "0.3"]),
+        (f.mesh("disjoint.obj", &disjoint), vec!["--vertices", "12"]),
+        (f.mesh("few.obj", &few), vec!["--vertices", "4"]),
+        (f.mesh("huge.obj", &huge), vec!["--ratio", "0.3"]),
+        (f.mesh("tiny-limit.obj", &sphere), vec!["--ratio", "0.3", "--time-limit", "1e-9"]),
+    ];
+    for (input, extra) in cases {
+        for method in ["gng", "qem"] {
+            let out = f.path(&format!("out-{method}.ply"));
+            let _ = std::fs::remove_file(&out);
+            let mut args = vec!["simplify", s(&input), s(&out), "--method", method];
+            if method == "qem" {
+                args.extend(extra.iter().filter(|a| !a.starts_with("--time") && !a.starts_with("1e-9")));
+            } else {
+                args.extend(extra.iter());
+            }
+            let o = gng3d(&args);
+            let err = stderr(&o);
+            assert!(!err.contains("panicked"), "{input:?} {method}: {err}");
+            if o.status.success() {
+                let info = json(&gng3d(&["info", s(&out), "--json"]));
+                assert!(info["faces"].as_u64().unwrap() > 0, "{input:?} {method}");
+                assert!(info["vertices"].as_u64().unwrap() >= 3, "{input:?} {method}");
+            } else {
+                assert_eq!(o.status.code(), Some(1), "{err}");
+                assert!(err.contains("error:"), "{err}");
+                assert!(!out.exists(), "{input:?} {method}: failed run left {out:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,331 @@
+//! User-facing GNG3D options and the one place that turns them into [`GngParams`].
+//!
+//! Front ends (the `gng3d` CLI's `simplify`, `compare` and `reproduce`, the viewer, headless
+//! runs) collect what the user typed into a [`GngOptions`] and call [`GngOptions::resolve`]
+//! against the input mesh. `resolve` validates every knob up front — NaN, negative or zero time
+//! limits, ratios outside (0, 1], zero λ, zero budgets, out-of-range targets — and returns one
+//! [`GngError`] naming the offending option, before any training starts. Fields not exposed to
+//! users keep the [`GngParams`] defaults.
+//!
+//! ```
+//! use gng3d_core::{GngOptions, GngTarget};
+//! let sphere = mesh::procedural::icosphere(3); // 642 vertices
+//! let options = GngOptions {
+//!     target: GngTarget::Ratio(0.25),
+//!     time_limit_seconds: Some(2.0),
+//!     ..GngOptions::default()
+//! };
+//! let params = options.resolve(&sphere).unwrap();
+//! assert_eq!(params.target_vertices, 161);
+//! let bad = GngOptions { time_limit_seconds: Some(-1.0), ..GngOptions::default() };
+//! assert!(bad.resolve(&sphere).unwrap_err().to_string().contains("time limit"));
+//! ```
+
+use crate::{GngError, GngParams, ReconstructionParams, SignalSource};
+use mesh::TriMesh;
+use serde::{Deserialize, Serialize};
+use std::time::Duration;
+
+/// How the user states the output size.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum GngTarget {
+    /// Exactly this many output vertices (GNG nodes).
+    Vertices(usize),
+    /// This fraction of the input's referenced vertices, in (0, 1], rounded to the nearest count.
+    Ratio(f64),
+}
+
+impl Default for GngTarget {
+    fn default() -> Self {
+        GngTarget::Vertices(GngParams::default().target_vertices)
+    }
+}
+
+/// Every GNG3D knob a front end exposes, in user units (seconds as `f64`, targets as counts or
+/// ratios). `Default` gives the library defaults; set the public fields, then [`Self::resolve`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GngOptions {
+    /// Output size.
+    pub target: GngTarget,
+    /// Maximum training time in seconds (finite, > 0); `None`: no limit.
+    pub time_limit_seconds: Option<f64>,
+    /// Seed of the random generator (equal seeds give identical results).
+    pub seed: u64,
+    /// Signal budget in signals; `None`: the library default. Exclusive with `epochs`.
+    pub max_signals: Option<u64>,
+    /// Signal budget in epochs of |V| signals (the paper's protocol uses 30); > 0. Exclusive with
+    /// `max_signals`.
+    pub epochs: Option<f64>,
+    /// λ, signals between node insertions (≥ 1); `None`: chosen from the budget.
+    pub lambda: Option<u32>,
+    /// ε_b, winner step in [0, 1]; `None`: the library default (0.05).
+    pub eps_winner: Option<f32>,
+    /// ε_n, neighbour step in [0, 1]; `None`: the library default (0.0006).
+    pub eps_neighbour: Option<f32>,
+    /// Where training signals come from.
+    pub signal_source: SignalSource,
+    /// Phase-2 (reconstruction) options.
+    pub reconstruction: ReconstructionParams,
+}
+
+impl Default for GngOptions {
+    fn default() -> Self {
+        let p = GngParams::default();
+        GngOptions {
+            target: GngTarget::default(),
+            time_limit_seconds: None,
+            seed: p.seed,
+            max_signals: None,
+            epochs: None,
+            lambda: None,
+            eps_winner: None,
+            eps_neighbour: None,
+            signal_source: p.signal_source,
+            reconstruction: p.reconstruction,
+        }
+    }
+}
+
+/// An out-of-range option, named for the user.
+fn bad(name: &'static str, value: f64) -> GngError {
+    GngError::Parameter { name, value }
+}
+
+/// Number of vertices referenced by at least one triangle.
+fn referenced_vertices(mesh: &TriMesh) -> usize {
+    let mut used = vec![false; mesh.positions.len()];
+    for &v in mesh.triangles.iter().flatten() {
+        if let Some(u) = used.get_mut(v as usize) {
+            *u = true;
+        }
+    }
+    used.iter().filter(|&&u| u).count()
+}
+
+impl GngOptions {
+    /// Options with the given target and defaults elsewhere.
+    pub fn for_target(target: GngTarget) -> GngOptions {
+        GngOptions {
+            target,
+            ..GngOptions::default()
+        }
+    }
+
+    /// Checks every option without a mesh (what can be checked before loading the input).
+    pub fn validate(&self) -> Result<(), GngError> {
+        if let GngTarget::Ratio(r) = self.target
+            && !(r > 0.0 && r <= 1.0)
+        {
+            return Err(bad("target ratio (must be in (0, 1])", r));
+        }
+        if let Some(s) = self.time_limit_seconds
+            && (!(s > 0.0 && s.is_finite()) || Duration::try_from_secs_f64(s).is_err())
+        {
+            return Err(bad(
+                "time limit (must be a finite number of seconds > 0)",
+                s,
+            ));
+        }
+        if self.max_signals == Some(0) {
+            return Err(bad("signal budget (must be at least 1 signal)", 0.0));
+        }
+        if let Some(e) = self.epochs
+            && !(e > 0.0 && e.is_finite())
+        {
+            return Err(bad("epochs (must be a finite number > 0)", e));
+        }
+        if self.epochs.is_some() && self.max_signals.is_some() {
+            return Err(bad(
+                "signal budget (give epochs or max_signals, not both)",
+                self.max_signals.unwrap_or(0) as f64,
+            ));
+        }
+        if self.lambda == Some(0) {
+            return Err(bad("lambda (signals between insertions, must be >= 1)", 0.0));
+        }
+        for (name, eps) in [
+            ("eps_winner (must be in [0, 1])", self.eps_winner),
+            ("eps_neighbour (must be in [0, 1])", self.eps_neighbour),
+        ] {
+            if let Some(e) = eps
+                && !((0.0..=1.0).contains(&e))
+            {
+                return Err(bad(name, e as f64));
+            }
+        }
+        Ok(())
+    }
+
+    /// The output vertex count these options ask for on `input`.
+    pub fn target_vertices(&self, input: &TriMesh) -> Result<usize, GngError> {
+        self.validate()?;
+        let available = referenced_vertices(input);
+        let n = match self.target {
+            GngTarget::Vertices(n) => n,
+            GngTarget::Ratio(r) => ((available as f64) * r).round() as usize,
+        };
+        let vertex_bound = self.signal_source == SignalSource::Vertices;
+        if n < 3 || (vertex_bound && n > available) {
+            return Err(GngError::Target {
+                target: n,
+                available,
+            });
+        }
+        Ok(n)
+    }
+
+    /// Validates every option against `input` and returns the algorithm parameters.
+    ///
+    /// Errors name the option (`GngError::Parameter`) or the target (`GngError::Target`); the
+    /// trainer's own checks (mesh validity, distinct vertices) still run in `Trainer::new`.
+    pub fn resolve(&self, input: &TriMesh) -> Result<GngParams, GngError> {
+        let target_vertices = self.target_vertices(input)?;
+        let defaults = GngParams::default();
+        let max_signals = match (self.max_signals, self.epochs) {
+            (Some(s), _) => Some(s),
+            (None, Some(e)) => {
+                let v = referenced_vertices(input) as f64;
+                Some(((e * v).round() as u64).max(1))
+            }
+            (None, None) => defaults.max_signals,
+        };
+        Ok(GngParams {
+            target_vertices,
+            lambda: self.lambda,
+            eps_winner: self.eps_winner.unwrap_or(defaults.eps_winner),
+            eps_neighbour: self.eps_neighbour.unwrap_or(defaults.eps_neighbour),
+            max_signals,
+            time_limit: self.time_limit_seconds.map(Duration::from_secs_f64),
+            seed: self.seed,
+            signal_source: self.signal_source,
+            reconstruction: self.reconstruction.clone(),
+            ..defaults
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sphere() -> TriMesh {
+        mesh::procedural::icosphere(2) // 162 vertices
+    }
+
+    #[test]
+    fn defaults_resolve_to_library_defaults() {
+        let opts = GngOptions::for_target(GngTarget::Vertices(50));
+        let p = opts.resolve(&sphere()).unwrap();
+        assert_eq!(p, GngParams::for_target(50));
+    }
+
+    #[test]
+    fn ratio_and_epochs_follow_the_input() {
+        let opts = GngOptions {
+            target: GngTarget::Ratio(0.5),
+            epochs: Some(30.0),
+            seed: 9,
+            lambda: Some(7),
+            time_limit_seconds: Some(0.25),
+            ..GngOptions::default()
+        };
+        let p = opts.resolve(&sphere()).unwrap();
+        assert_eq!(p.target_vertices, 81);
+        assert_eq!(p.max_signals, Some(30 * 162));
+        assert_eq!(p.seed, 9);
+        assert_eq!(p.lambda, Some(7));
+        assert_eq!(p.time_limit, Some(Duration::from_millis(250)));
+    }
+
+    #[test]
+    fn bad_options_are_rejected_with_one_message_naming_them() {
+        let m = sphere();
+        let cases: Vec<(GngOptions, &str)> = vec![
+            (
+                GngOptions {
+                    time_limit_seconds: Some(-1.0),
+                    ..Default::default()
+                },
+                "time limit",
+            ),
+            (
+                GngOptions {
+                    time_limit_seconds: Some(f64::NAN),
+                    ..Default::default()
+                },
+                "time limit",
+            ),
+            (
+                GngOptions {
+                    time_limit_seconds: Some(0.0),
+                    ..Default::default()
+                },
+                "time limit",
+            ),
+            (
+                GngOptions {
+                    time_limit_seconds: Some(1e300),
+                    ..Default::default()
+                },
+                "time limit",
+            ),
+            (
+                GngOptions::for_target(GngTarget::Ratio(0.0)),
+                "target ratio",
+            ),
+            (
+                GngOptions::for_target(GngTarget::Ratio(f64::NAN)),
+                "target ratio",
+            ),
+            (
+                GngOptions::for_target(GngTarget::Ratio(1.5)),
+                "target ratio",
+            ),
+            (
+                GngOptions {
+                    lambda: Some(0),
+                    ..Default::default()
+                },
+                "lambda",
+            ),
+            (
+                GngOptions {
+                    max_signals: Some(0),
+                    ..Default::default()
+                },
+                "signal budget",
+            ),
+            (
+                GngOptions {
+                    epochs: Some(-3.0),
+                    ..Default::default()
+                },
+                "epochs",
+            ),
+            (
+                GngOptions {
+                    eps_winner: Some(2.0),
+                    ..Default::default()
+                },
+                "eps_winner",
+            ),
+            (GngOptions::for_target(GngTarget::Vertices(2)), "target"),
+            (GngOptions::for_target(GngTarget::Vertices(163)), "162"),
+        ];
+        for (opts, needle) in cases {
+            let msg = opts.resolve(&m).unwrap_err().to_string();
+            assert!(msg.contains(needle), "{opts:?}: {msg}");
+            // One statement, not the same text twice.
+            let half = &msg[..msg.len() / 2];
+            assert!(!msg[msg.len() / 2..].contains(half), "doubled: {msg}");
+        }
+    }
+
+    #[test]
+    fn resolved_params_train() {
+        let opts = GngOptions::for_target(GngTarget::Ratio(0.5));
+        let m = sphere();
+        let r = crate::simplify(&m, &opts.resolve(&m).unwrap()).unwrap();
+        assert!(r.mesh.face_count() > 0);
+    }
+}

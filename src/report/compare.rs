@@ -1,0 +1,138 @@
+//! `gng3d compare`'s table: QEM and GNG3D side by side with the better one per measure.
+
+use super::paper::sci;
+use super::table::Table;
+use crate::experiment::compare::CompareReport;
+
+/// Which side a lower-is-better value favours: "QEM", "GNG3D" or "tie" (equal within 1e-9
+/// relative).
+pub fn winner(qem: f64, gng: f64) -> &'static str {
+    let scale = qem.abs().max(gng.abs());
+    if (qem - gng).abs() <= 1e-9 * scale {
+        "tie"
+    } else if qem < gng {
+        "QEM"
+    } else {
+        "GNG3D"
+    }
+}
+
+/// The comparison as a table of metric rows with QEM, GNG3D and the winner. The surface
+/// distance means are given both ways: "mean" is MeshLab's mean over all samples (vertices,
+/// edges and faces), "area-weighted mean" the headline `(1/A)∫d dA` over face samples.
+pub fn comparison_table(report: &CompareReport) -> Table {
+    let mut t = Table::new(["measure", "QEM", "GNG3D", "better"]);
+    let (q, g) = (&report.qem, &report.gng);
+    let (qm, gm) = (&q.metrics, &g.metrics);
+    let mut num = |name: &str, a: f64, b: f64, lower_better: Option<bool>| {
+        let w = match lower_better {
+            Some(true) => winner(a, b),
+            Some(false) => winner(-a, -b),
+            None => "",
+        };
+        t.push([name.to_string(), sci(a), sci(b), w.to_string()]);
+    };
+    let lower = Some(true);
+    num("E_avg (sq. units)", qm.e_avg, gm.e_avg, lower);
+    num("E_max (sq. units)", qm.e_max, gm.e_max, lower);
+    num("|E_sur| (sq. units)", qm.e_sur_abs, gm.e_sur_abs, lower);
+    num("E_sur signed (sq. units)", qm.e_sur_signed, gm.e_sur_signed, None);
+    num("Hausdorff max", qm.hausdorff.max, gm.hausdorff.max, lower);
+    let area_mean = |h: &metrics::Hausdorff| 0.5 * (h.forward.area_mean + h.backward.area_mean);
+    num(
+        "area-weighted mean distance",
+        area_mean(&qm.hausdorff),
+        area_mean(&gm.hausdorff),
+        lower,
+    );
+    num(
+        "mean distance (all samples)",
+        qm.hausdorff.mean,
+        gm.hausdorff.mean,
+        lower,
+    );
+    num("RMS distance", qm.hausdorff.rms, gm.hausdorff.rms, lower);
+    num(
+        "Hausdorff max / diagonal",
+        qm.hausdorff.relative.max,
+        gm.hausdorff.relative.max,
+        lower,
+    );
+    num(
+        "normal deviation mean (deg)",
+        qm.normal_deviation.forward.mean_degrees,
+        gm.normal_deviation.forward.mean_degrees,
+        lower,
+    );
+    let (qq, gq) = (&qm.quality.simplified, &gm.quality.simplified);
+    let mut fixed = |name: &str, a: f64, b: f64, lower_better: bool, unit: &str, scale: f64| {
+        let w = if lower_better {
+            winner(a, b)
+        } else {
+            winner(-a, -b)
+        };
+        t.push([
+            name.to_string(),
+            format!("{:.2}{unit}", a * scale),
+            format!("{:.2}{unit}", b * scale),
+            w.to_string(),
+        ]);
+    };
+    fixed(
+        "median min angle",
+        qq.median_min_angle_degrees,
+        gq.median_min_angle_degrees,
+        false,
+        "°",
+        1.0,
+    );
+    fixed(
+        "triangles with min angle < 20°",
+        qq.below_20_degrees,
+        gq.below_20_degrees,
+        true,
+        "%",
+        100.0,
+    );
+    let mut int =
+        |name: &str, a: String, b: String| t.push([name.to_string(), a, b, String::new()]);
+    int("vertices", q.vertices.to_string(), g.vertices.to_string());
+    int("faces", q.faces.to_string(), g.faces.to_string());
+    int(
+        "seconds",
+        format!("{:.3}", q.seconds),
+        format!("{:.3}", g.seconds),
+    );
+    let (qt, gt) = (&qm.topology.simplified, &gm.topology.simplified);
+    int(
+        "boundary edges",
+        qt.boundary_edges.to_string(),
+        gt.boundary_edges.to_string(),
+    );
+    int(
+        "non-manifold edges",
+        qt.non_manifold_edges.to_string(),
+        gt.non_manifold_edges.to_string(),
+    );
+    let genus = |g: Option<i64>| g.map_or("-".to_string(), |g| g.to_string());
+    int("genus", genus(qt.genus), genus(gt.genus));
+    int(
+        "min angle (deg)",
+        format!("{:.2}", qq.min_angle_degrees),
+        format!("{:.2}", gq.min_angle_degrees),
+    );
+    t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::winner;
+
+    #[test]
+    fn winner_is_the_lower_value_with_a_relative_tie() {
+        assert_eq!(winner(1.0, 2.0), "QEM");
+        assert_eq!(winner(2.0, 1.0), "GNG3D");
+        assert_eq!(winner(1.0, 1.0 + 1e-12), "tie");
+        assert_eq!(winner(0.0, 0.0), "tie");
+    }
+}
