@@ -1,6 +1,7 @@
 //! Cross-crate tests of the paper's experiment: `compare`, `reproduce` and their reports.
 
-use gng3d::experiment::compare::{CompareParams, compare, comparison_table};
+use gng3d::experiment::compare::{CompareParams, compare};
+use gng3d::report::compare::comparison_table;
 use gng3d::experiment::reproduce::{ReproduceParams, ReproduceReport, reproduce};
 use gng3d::mesh::procedural;
 use gng3d::metrics::HausdorffParams;
@@ -42,7 +43,7 @@ fn reproduce_table_has_paper_columns_and_falling_error() {
         assert!(c.gng.vertices <= c.nodes);
     }
     // E_sur is the plain area difference: check it independently for QEM at the target.
-    assert!(report.qem_fixed.e_sur.abs() < 0.05 * report.original_area);
+    assert!(report.qem_fixed.e_sur_signed.abs() < 0.05 * report.original_area);
 
     let table = checkpoint_table(&report);
     assert_eq!(
@@ -102,13 +103,44 @@ fn compare_hits_target_and_reports_both_methods() {
     assert_eq!(result.gng_mesh.face_count(), r.gng.faces);
     // Independent check of E_sur for both methods.
     let area = blob.area();
-    assert!((r.qem.metrics.e_sur - (area - result.qem_mesh.area())).abs() < 1e-9 * area);
-    assert!((r.gng.metrics.e_sur - (area - result.gng_mesh.area())).abs() < 1e-9 * area);
+    assert!((r.qem.metrics.e_sur_signed - (area - result.qem_mesh.area())).abs() < 1e-9 * area);
+    assert!((r.gng.metrics.e_sur_signed - (area - result.gng_mesh.area())).abs() < 1e-9 * area);
     let json = serde_json::to_string(r).unwrap();
     let back: gng3d::experiment::compare::CompareReport = serde_json::from_str(&json).unwrap();
     assert_eq!(&back, r);
     let text = comparison_table(r).to_text();
     assert!(text.contains("E_avg") && text.contains("Hausdorff max"));
+    // Issue 11 item 6: triangle quality next to the distances, checked against metrics.
+    assert!(text.contains("median min angle") && text.contains("min angle < 20°"), "{text}");
+    let q = gng3d::metrics::triangle_quality(&result.gng_mesh);
+    assert_eq!(
+        r.gng.metrics.quality.simplified.median_min_angle_degrees,
+        q.median_min_angle_degrees
+    );
+    assert!(text.contains(&format!("{:.2}°", q.median_min_angle_degrees)), "{text}");
+}
+
+#[test]
+fn compare_errors_are_said_once() {
+    // An option error from the shared GngOptions, not a panic and not a doubled message.
+    let sphere = procedural::icosphere(2);
+    let mut params = CompareParams::new(40);
+    params.gng.time_limit_seconds = Some(0.0);
+    let e = compare(&sphere, &params).unwrap_err();
+    let chain = format!("{}", anyhow_like(&e));
+    assert_eq!(chain.matches("time limit").count(), 1, "{chain}");
+}
+
+/// The error and its sources joined by ": " (what `{:#}` of anyhow prints).
+fn anyhow_like(e: &dyn std::error::Error) -> String {
+    let mut out = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        out.push_str(": ");
+        out.push_str(&s.to_string());
+        source = s.source();
+    }
+    out
 }
 
 #[test]

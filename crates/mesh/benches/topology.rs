@@ -7,6 +7,7 @@
 
 // The crate's own `fixtures` module (behind the `fixtures` feature for other crates).
 #[path = "../src/fixtures.rs"]
+#[allow(dead_code, unused_imports)]
 mod fixtures;
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesh::TriMesh;

@@ -1,7 +1,6 @@
 //! `gng3d info`: counts, topology, area and size of one mesh, as stored in the file (no
 //! welding; degenerate and duplicate faces are dropped with a warning by the loader).
 
-use anyhow::Context;
 use clap::Args;
 use mesh::topology::{TopologyReport, analyze};
 use serde::Serialize;
@@ -45,8 +44,8 @@ struct Info {
 /// Run `gng3d info`.
 pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let start = std::time::Instant::now();
-    let loaded =
-        mesh::io::load(&args.mesh).with_context(|| format!("loading {}", args.mesh.display()))?;
+    // MeshError names the file already; no extra context, so the path is said once.
+    let loaded = mesh::io::load(&args.mesh)?;
     let load_seconds = start.elapsed().as_secs_f64();
     let m = &loaded.mesh;
     let t: TopologyReport = analyze(m);

@@ -30,7 +30,8 @@ pub struct MetricsArgs {
 
 /// Loads a mesh, naming the file in errors and printing loader warnings to stderr.
 fn load(path: &Path) -> anyhow::Result<mesh::TriMesh> {
-    let loaded = mesh::io::load(path).with_context(|| format!("loading {}", path.display()))?;
+    // MeshError names the file already; no extra context, so the path is said once.
+    let loaded = mesh::io::load(path)?;
     for warning in &loaded.warnings {
         eprintln!("warning: {}: {warning}", path.display());
     }

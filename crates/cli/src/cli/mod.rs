@@ -55,8 +55,8 @@ pub(crate) fn print_json<T: serde::Serialize>(value: &T) -> anyhow::Result<()> {
 /// Load a mesh for the algorithms: welded, without degenerate/duplicate faces or unreferenced
 /// vertices unless `raw`; loader warnings and what cleaning removed go to stderr.
 pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result<mesh::TriMesh> {
-    use anyhow::Context;
-    let loaded = mesh::io::load(path).with_context(|| format!("loading {}", path.display()))?;
+    // MeshError names the file already; no extra context, so the path is said once.
+    let loaded = mesh::io::load(path)?;
     for w in &loaded.warnings {
         eprintln!("warning: {}: {w}", path.display());
     }
