@@ -48,7 +48,11 @@ impl Aabb {
 
     /// Length of the diagonal in model units (0 for an empty box), computed in f64.
     pub fn diagonal(&self) -> f64 {
-        self.extent().as_dvec3().length()
+        if self.is_empty() {
+            return 0.0;
+        }
+        // Subtract in f64: near ±f32::MAX the f32 extent overflows to infinity.
+        (self.max.as_dvec3() - self.min.as_dvec3()).length()
     }
 
     /// Centre point.
