@@ -1,10 +1,10 @@
 //! Cross-crate tests of the paper's experiment: `compare`, `reproduce` and their reports.
 
 use gng3d::experiment::compare::{CompareParams, compare};
-use gng3d::report::compare::comparison_table;
 use gng3d::experiment::reproduce::{ReproduceParams, ReproduceReport, reproduce};
 use gng3d::mesh::procedural;
 use gng3d::metrics::HausdorffParams;
+use gng3d::report::compare::comparison_table;
 use gng3d::report::paper::{checkpoint_table, write_reproduction};
 
 fn small_params(epochs: u64) -> ReproduceParams {
@@ -111,13 +111,19 @@ fn compare_hits_target_and_reports_both_methods() {
     let text = comparison_table(r).to_text();
     assert!(text.contains("E_avg") && text.contains("Hausdorff max"));
     // Issue 11 item 6: triangle quality next to the distances, checked against metrics.
-    assert!(text.contains("median min angle") && text.contains("min angle < 20°"), "{text}");
+    assert!(
+        text.contains("median min angle") && text.contains("min angle < 20°"),
+        "{text}"
+    );
     let q = gng3d::metrics::triangle_quality(&result.gng_mesh);
     assert_eq!(
         r.gng.metrics.quality.simplified.median_min_angle_degrees,
         q.median_min_angle_degrees
     );
-    assert!(text.contains(&format!("{:.2}°", q.median_min_angle_degrees)), "{text}");
+    assert!(
+        text.contains(&format!("{:.2}°", q.median_min_angle_degrees)),
+        "{text}"
+    );
 }
 
 #[test]
@@ -127,7 +133,7 @@ fn compare_errors_are_said_once() {
     let mut params = CompareParams::new(40);
     params.gng.time_limit_seconds = Some(0.0);
     let e = compare(&sphere, &params).unwrap_err();
-    let chain = format!("{}", anyhow_like(&e));
+    let chain = anyhow_like(&e);
     assert_eq!(chain.matches("time limit").count(), 1, "{chain}");
 }
 

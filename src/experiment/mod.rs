@@ -105,6 +105,8 @@ impl PaperEvaluator {
 
     /// Paper errors, symmetric surface distance and triangle quality of `simplified`.
     pub fn evaluate(&self, simplified: &TriMesh) -> Result<PaperRow, ExperimentError> {
-        Ok(PaperRow::from_evaluation(&self.evaluator.evaluate(simplified)?))
+        Ok(PaperRow::from_evaluation(
+            &self.evaluator.evaluate(simplified)?,
+        ))
     }
 }

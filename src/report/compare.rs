@@ -36,7 +36,12 @@ pub fn comparison_table(report: &CompareReport) -> Table {
     num("E_avg (sq. units)", qm.e_avg, gm.e_avg, lower);
     num("E_max (sq. units)", qm.e_max, gm.e_max, lower);
     num("|E_sur| (sq. units)", qm.e_sur_abs, gm.e_sur_abs, lower);
-    num("E_sur signed (sq. units)", qm.e_sur_signed, gm.e_sur_signed, None);
+    num(
+        "E_sur signed (sq. units)",
+        qm.e_sur_signed,
+        gm.e_sur_signed,
+        None,
+    );
     num("Hausdorff max", qm.hausdorff.max, gm.hausdorff.max, lower);
     let area_mean = |h: &metrics::Hausdorff| 0.5 * (h.forward.area_mean + h.backward.area_mean);
     num(

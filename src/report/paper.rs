@@ -266,12 +266,16 @@ pub fn summary_markdown(rows: &[crate::experiment::survey::SurveyRow], epochs: u
         ("|E_sur|", |r| r.e_sur_signed.abs()),
         ("Hausdorff (max)", |r| r.hausdorff_max),
         ("mean surface distance", |r| r.hausdorff_mean),
-        ("area-weighted mean surface distance", |r| r.hausdorff_area_mean),
+        ("area-weighted mean surface distance", |r| {
+            r.hausdorff_area_mean
+        }),
         // Higher is better for the angle: rank its negation.
         ("median min angle (higher is better)", |r| {
             -r.median_min_angle_degrees
         }),
-        ("share of triangles with min angle < 20°", |r| r.below_20_degrees),
+        ("share of triangles with min angle < 20°", |r| {
+            r.below_20_degrees
+        }),
     ];
     let mut wins = Table::new(["metric", "GNG3D wins", "QEM wins", "ties"]);
     for (name, get) in metrics {

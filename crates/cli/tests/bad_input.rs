@@ -87,7 +87,14 @@ fn huge_sample_count_is_an_error_with_the_limit_not_an_abort() {
     let (a, b) = (f.sphere(), f.coarse());
     let o = gng3d(&["metrics", s(&a), s(&b), "--samples", "10000000000"]);
     assert_clean_failure(&o, &["50000000"]);
-    let o = gng3d(&["metrics", s(&a), s(&b), "--samples", "30000000", "--meshlab"]);
+    let o = gng3d(&[
+        "metrics",
+        s(&a),
+        s(&b),
+        "--samples",
+        "30000000",
+        "--meshlab",
+    ]);
     assert_clean_failure(&o, &["25000000", "MeshLab"]);
 }
 
@@ -96,15 +103,30 @@ fn survey_skips_a_mesh_with_under_four_vertices_and_writes_the_summary() {
     let f = Fixture::new();
     let dir = f.path("meshes");
     std::fs::create_dir(&dir).unwrap();
-    std::fs::write(dir.join("a-triangle.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        dir.join("a-triangle.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
     mesh::io::save(&mesh::procedural::icosphere(1), &dir.join("b-sphere.obj")).unwrap();
     let out = f.path("survey");
     let o = gng3d(&[
-        "reproduce", "--all", s(&dir), "--epochs", "2", "--samples", "2000", "--out", s(&out),
+        "reproduce",
+        "--all",
+        s(&dir),
+        "--epochs",
+        "2",
+        "--samples",
+        "2000",
+        "--out",
+        s(&out),
     ]);
     let err = stderr(&o);
     assert!(o.status.success(), "{err}");
-    assert!(err.contains("warning: a-triangle.obj") && err.contains("at least 4"), "{err}");
+    assert!(
+        err.contains("warning: a-triangle.obj") && err.contains("at least 4"),
+        "{err}"
+    );
     let rows: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let rows = rows.as_array().unwrap();
@@ -144,10 +166,24 @@ fn compare_time_limit_is_validated_like_simplify() {
         let t = format!("--time-limit={bad}");
         let c = gng3d(&["compare", s(&a), "--vertices", "40", &t]);
         let ce = assert_clean_failure(&c, &["time limit"]);
-        let g = gng3d(&["simplify", s(&a), s(&out), "--method", "gng", "--vertices", "40", &t]);
+        let g = gng3d(&[
+            "simplify",
+            s(&a),
+            s(&out),
+            "--method",
+            "gng",
+            "--vertices",
+            "40",
+            &t,
+        ]);
         let ge = assert_clean_failure(&g, &["time limit"]);
         // The same message from both subcommands, said once.
-        let line = |e: &str| e.lines().find(|l| l.starts_with("error:")).unwrap().to_string();
+        let line = |e: &str| {
+            e.lines()
+                .find(|l| l.starts_with("error:"))
+                .unwrap()
+                .to_string()
+        };
         assert_eq!(line(&ce), line(&ge), "{bad}");
         let l = line(&ce);
         assert_eq!(l.matches("time limit").count(), 1, "{l}");
@@ -177,7 +213,11 @@ fn obj_with_bom_and_non_utf8_comment_load_in_the_cli() {
 fn obj_index_errors_say_the_index_as_written_and_the_line() {
     let f = Fixture::new();
     let four = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
-    for (face, needle) in [("f 1 2 5", "vertex 5,"), ("f 0", "vertex 0,"), ("f -5 1 2", "vertex -5,")] {
+    for (face, needle) in [
+        ("f 1 2 5", "vertex 5,"),
+        ("f 0", "vertex 0,"),
+        ("f -5 1 2", "vertex -5,"),
+    ] {
         let p = f.bytes("i.obj", format!("{four}{face}\n").as_bytes());
         let o = gng3d(&["info", s(&p)]);
         assert_clean_failure(&o, &["i.obj", "line 5", needle, "4 vertices"]);
@@ -237,7 +277,10 @@ fn coordinates_near_f32_max_give_a_diagonal_and_no_silent_zero_distance() {
     let far = f.mesh("far.ply", &m);
     let v = json(&gng3d(&["info", s(&far), "--json"]));
     let diag = v["bbox_diagonal"].as_f64().expect("a number, not null");
-    assert!((diag - 2.0 * 3e38 * 3f64.sqrt()).abs() < 0.05 * diag, "{diag}");
+    assert!(
+        (diag - 2.0 * 3e38 * 3f64.sqrt()).abs() < 0.05 * diag,
+        "{diag}"
+    );
     let o = gng3d(&["metrics", s(&far), s(&far), "--samples", "40"]);
     assert_clean_failure(&o, &["far.ply", "1e18"]);
 }
@@ -249,11 +292,24 @@ fn unknown_output_extension_fails_before_any_work() {
     for method in ["gng", "qem"] {
         // A missing input would be the first error if the input were read first.
         let o = gng3d(&[
-            "simplify", "/nonexistent/in.obj", s(&f.path("out.gltf")), "--method", method,
-            "--vertices", "40",
+            "simplify",
+            "/nonexistent/in.obj",
+            s(&f.path("out.gltf")),
+            "--method",
+            method,
+            "--vertices",
+            "40",
         ]);
         assert_clean_failure(&o, &["out.gltf", "unknown output format"]);
-        let o = gng3d(&["simplify", s(&a), s(&f.path("no/such/dir/out.obj")), "--method", method, "--vertices", "40"]);
+        let o = gng3d(&[
+            "simplify",
+            s(&a),
+            s(&f.path("no/such/dir/out.obj")),
+            "--method",
+            method,
+            "--vertices",
+            "40",
+        ]);
         assert_clean_failure(&o, &["does not exist"]);
     }
 }
@@ -270,13 +326,16 @@ fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
     let mut disjoint = mesh::TriMesh::default();
     for k in 0..10u32 {
         let o = glam::Vec3::new(k as f32 * 3.0, 0.0, 0.0);
-        disjoint.positions.extend([o, o + glam::Vec3::X, o + glam::Vec3::Y]);
+        disjoint
+            .positions
+            .extend([o, o + glam::Vec3::X, o + glam::Vec3::Y]);
         disjoint.triangles.push([3 * k, 3 * k + 1, 3 * k + 2]);
     }
     let mut few = mesh::TriMesh::default();
     for k in 0..2u32 {
         let o = glam::Vec3::new(k as f32 * 5.0, 0.0, 0.0);
-        few.positions.extend([o, o + glam::Vec3::X, o + glam::Vec3::Y]);
+        few.positions
+            .extend([o, o + glam::Vec3::X, o + glam::Vec3::Y]);
         few.triangles.push([3 * k, 3 * k + 1, 3 * k + 2]);
     }
     let mut huge = sphere.clone();
@@ -288,7 +347,10 @@ fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
         (f.mesh("disjoint.obj", &disjoint), vec!["--vertices", "12"]),
         (f.mesh("few.obj", &few), vec!["--vertices", "4"]),
         (f.mesh("huge.obj", &huge), vec!["--ratio", "0.3"]),
-        (f.mesh("tiny-limit.obj", &sphere), vec!["--ratio", "0.3", "--time-limit", "1e-9"]),
+        (
+            f.mesh("tiny-limit.obj", &sphere),
+            vec!["--ratio", "0.3", "--time-limit", "1e-9"],
+        ),
     ];
     for (input, extra) in cases {
         for method in ["gng", "qem"] {
@@ -296,7 +358,11 @@ fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
             let _ = std::fs::remove_file(&out);
             let mut args = vec!["simplify", s(&input), s(&out), "--method", method];
             if method == "qem" {
-                args.extend(extra.iter().filter(|a| !a.starts_with("--time") && !a.starts_with("1e-9")));
+                args.extend(
+                    extra
+                        .iter()
+                        .filter(|a| !a.starts_with("--time") && !a.starts_with("1e-9")),
+                );
             } else {
                 args.extend(extra.iter());
             }
@@ -306,7 +372,10 @@ fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
             if o.status.success() {
                 let info = json(&gng3d(&["info", s(&out), "--json"]));
                 assert!(info["faces"].as_u64().unwrap() > 0, "{input:?} {method}");
-                assert!(info["vertices"].as_u64().unwrap() >= 3, "{input:?} {method}");
+                assert!(
+                    info["vertices"].as_u64().unwrap() >= 3,
+                    "{input:?} {method}"
+                );
             } else {
                 assert_eq!(o.status.code(), Some(1), "{err}");
                 assert!(err.contains("error:"), "{err}");

@@ -101,7 +101,11 @@ fn fuzz(mutants: u64, seed: u64, report_every: u64) -> Counts {
         counts.runs += 1;
         let info = cli(&["info", input_s, "--json"], start, &bytes);
         let loads = mesh::io::load(&input).is_ok();
-        assert_eq!(info.is_ok(), loads, "info and the loader disagree on {input:?}");
+        assert_eq!(
+            info.is_ok(),
+            loads,
+            "info and the loader disagree on {input:?}"
+        );
         counts.loaded += u64::from(loads);
         if let Err(e) = &info {
             counts.errors += 1;
@@ -113,9 +117,20 @@ fn fuzz(mutants: u64, seed: u64, report_every: u64) -> Counts {
             let out = dir.path().join(format!("out-{method}.{out_ext}"));
             let _ = std::fs::remove_file(&out);
             counts.runs += 1;
-            let target = if next(&mut state) % 2 == 0 { "--ratio=0.5" } else { "--vertices=6" };
+            let target = if next(&mut state) % 2 == 0 {
+                "--ratio=0.5"
+            } else {
+                "--vertices=6"
+            };
             let result = cli(
-                &["simplify", input_s, out.to_str().unwrap(), "--method", method, target],
+                &[
+                    "simplify",
+                    input_s,
+                    out.to_str().unwrap(),
+                    "--method",
+                    method,
+                    target,
+                ],
                 start,
                 &bytes,
             );

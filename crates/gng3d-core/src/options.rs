@@ -141,7 +141,10 @@ impl GngOptions {
             ));
         }
         if self.lambda == Some(0) {
-            return Err(bad("lambda (signals between insertions, must be >= 1)", 0.0));
+            return Err(bad(
+                "lambda (signals between insertions, must be >= 1)",
+                0.0,
+            ));
         }
         for (name, eps) in [
             ("eps_winner (must be in [0, 1])", self.eps_winner),

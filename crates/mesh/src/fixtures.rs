@@ -137,7 +137,10 @@ pub mod fuzz {
         let ascii_stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
                          vertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
         out.push((Format::Stl, ascii_stl.as_bytes().to_vec()));
-        out.push((Format::Stl, ascii_stl.replacen("solid s", "solid", 1).into_bytes()));
+        out.push((
+            Format::Stl,
+            ascii_stl.replacen("solid s", "solid", 1).into_bytes(),
+        ));
         let sphere = icosphere(1);
         let mut text = String::from("solid sphere\n");
         for f in 0..sphere.face_count() {

@@ -111,7 +111,11 @@ impl HausdorffParams {
                     message: "must be at least 1 (0 samples would measure nothing)".into(),
                 });
             }
-            let factor = if self.plan == SamplingPlan::MeshLab { 2 } else { 1 };
+            let factor = if self.plan == SamplingPlan::MeshLab {
+                2
+            } else {
+                1
+            };
             if n.saturating_mul(factor) > MAX_SAMPLES_PER_DIRECTION {
                 return Err(MetricsError::Parameter {
                     name: "samples",
@@ -136,7 +140,7 @@ impl HausdorffParams {
             });
         }
         if let Some(d) = self.max_distance
-            && !(d >= 0.0)
+            && (d.is_nan() || d < 0.0)
         {
             return Err(MetricsError::Parameter {
                 name: "max_distance",

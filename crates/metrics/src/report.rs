@@ -248,7 +248,7 @@ impl Evaluator {
                 simplified: quality_s,
             },
             topology: Pair {
-                original: self.topology.clone(),
+                original: self.topology,
                 simplified: topology_s,
             },
             meshes: Pair {
@@ -341,7 +341,10 @@ mod tests {
                 .unwrap()
                 .e_avg
         );
-        assert!(r.e_sur_signed > 0.0, "the coarse inscribed sphere has less area");
+        assert!(
+            r.e_sur_signed > 0.0,
+            "the coarse inscribed sphere has less area"
+        );
         assert!((r.e_sur_signed - (fine.area() - coarse.area())).abs() < 1e-12);
         assert_eq!(r.e_sur_abs, r.e_sur_signed.abs());
         assert!((r.original_area - r.simplified_area - r.e_sur_signed).abs() < 1e-12);
@@ -353,7 +356,13 @@ mod tests {
         assert!(r.topology.simplified.closed);
         assert_eq!(r.meshes.simplified.faces, 320);
         let json = serde_json::to_value(&r).unwrap();
-        for key in ["e_avg", "e_max", "e_sur_signed", "e_sur_abs", "bbox_diagonal"] {
+        for key in [
+            "e_avg",
+            "e_max",
+            "e_sur_signed",
+            "e_sur_abs",
+            "bbox_diagonal",
+        ] {
             assert!(json[key].is_number(), "{key}");
         }
         for dir in ["forward", "backward"] {
@@ -411,14 +420,29 @@ mod evaluator_tests {
                 hausdorff: HausdorffParams::with_samples(samples),
             };
             let e = evaluate(&m, &m, &params).unwrap_err();
-            assert!(matches!(e, MetricsError::Parameter { name: "samples", .. }), "{e}");
+            assert!(
+                matches!(
+                    e,
+                    MetricsError::Parameter {
+                        name: "samples",
+                        ..
+                    }
+                ),
+                "{e}"
+            );
             assert!(Evaluator::new(&m, &params).is_err());
             if samples > 0 {
                 assert!(e.to_string().contains("50000000"), "{e}");
             }
         }
-        let e = evaluate(&m, &m, &MetricsParams { hausdorff: HausdorffParams::meshlab(30_000_000) })
-            .unwrap_err();
+        let e = evaluate(
+            &m,
+            &m,
+            &MetricsParams {
+                hausdorff: HausdorffParams::meshlab(30_000_000),
+            },
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("25000000"), "{e}");
     }
 
@@ -429,7 +453,16 @@ mod evaluator_tests {
             *p *= 3e38;
         }
         let e = evaluate(&icosphere(1), &far, &MetricsParams::default()).unwrap_err();
-        assert!(matches!(e, MetricsError::CoordinateRange { mesh: "simplified", .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                MetricsError::CoordinateRange {
+                    mesh: "simplified",
+                    ..
+                }
+            ),
+            "{e}"
+        );
         assert!(e.to_string().contains("1e18"), "{e}");
     }
 
@@ -448,6 +481,9 @@ mod evaluator_tests {
         assert_eq!(b.face_samples, 5_000);
         assert!(f.edge_samples.abs_diff(5_000) <= 16, "{}", f.edge_samples);
         assert!(b.edge_samples.abs_diff(5_000) <= 16, "{}", b.edge_samples);
-        assert_eq!(f.samples, f.vertex_samples + f.edge_samples + f.face_samples);
+        assert_eq!(
+            f.samples,
+            f.vertex_samples + f.edge_samples + f.face_samples
+        );
     }
 }

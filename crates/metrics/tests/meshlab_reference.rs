@@ -154,13 +154,27 @@ fn agrees_with_meshlab_on_pairs_made_from_other_shared_meshes() {
         let params = HausdorffParams::meshlab(n);
         let name = case["simplified"].as_str().unwrap();
         for (label, source, target, theirs) in [
-            ("forward", &original, &si, &case["meshlab_hausdorff"]["forward_original_to_simplified"]),
-            ("backward", &simplified, &oi, &case["meshlab_hausdorff"]["backward_simplified_to_original"]),
+            (
+                "forward",
+                &original,
+                &si,
+                &case["meshlab_hausdorff"]["forward_original_to_simplified"],
+            ),
+            (
+                "backward",
+                &simplified,
+                &oi,
+                &case["meshlab_hausdorff"]["backward_simplified_to_original"],
+            ),
         ] {
             let ours = one_sided(source, target, &params, diag).unwrap();
             // Same plan: every vertex, N edge and N face samples (edge count within a few).
             let theirs_n = theirs["n_samples"].as_u64().unwrap() as usize;
-            assert!(ours.samples.abs_diff(theirs_n) <= 16, "{name} {label}: {} vs {theirs_n}", ours.samples);
+            assert!(
+                ours.samples.abs_diff(theirs_n) <= 16,
+                "{name} {label}: {} vs {theirs_n}",
+                ours.samples
+            );
             for k in ["max", "mean", "RMS"] {
                 let t = theirs[k].as_f64().unwrap();
                 let o = match k {
@@ -173,5 +187,8 @@ fn agrees_with_meshlab_on_pairs_made_from_other_shared_meshes() {
             check(&format!("{name} {label}"), &ours, theirs);
         }
     }
-    eprintln!("worst relative difference to MeshLab: {:.3}%", 100.0 * worst);
+    eprintln!(
+        "worst relative difference to MeshLab: {:.3}%",
+        100.0 * worst
+    );
 }

@@ -77,7 +77,10 @@ fn check_args(args: &ReproduceArgs) -> anyhow::Result<()> {
         anyhow::bail!("--epochs must be at least 1");
     }
     if !(args.target_ratio > 0.0 && args.target_ratio <= 1.0) {
-        anyhow::bail!("--target-ratio must be in (0, 1], got {}", args.target_ratio);
+        anyhow::bail!(
+            "--target-ratio must be in (0, 1], got {}",
+            args.target_ratio
+        );
     }
     Ok(())
 }

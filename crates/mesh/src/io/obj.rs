@@ -34,7 +34,11 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
         };
         let location = || format!("line {}", line_no + 1);
         let rest = std::str::from_utf8(&line[2..]).map_err(|_| {
-            MeshError::parse(path, location(), "vertex or face record is not valid UTF-8 text")
+            MeshError::parse(
+                path,
+                location(),
+                "vertex or face record is not valid UTF-8 text",
+            )
         })?;
         if kind == b'v' {
             let mut it = rest.split_ascii_whitespace();

@@ -31,7 +31,11 @@ fn is_ascii(bytes: &[u8]) -> bool {
     }
     if bytes.len() >= HEADER {
         let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        if count.checked_mul(RECORD).and_then(|n| n.checked_add(HEADER)) == Some(bytes.len()) {
+        if count
+            .checked_mul(RECORD)
+            .and_then(|n| n.checked_add(HEADER))
+            == Some(bytes.len())
+        {
             return false;
         }
     }

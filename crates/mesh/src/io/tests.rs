@@ -271,7 +271,14 @@ fn out_of_range_indices() {
     );
     let e = expect_err("r.obj", b"v 0 0 0\nf 0 1 1\n");
     assert!(
-        matches!(e, MeshError::ObjIndex { line: 2, index: 0, .. }),
+        matches!(
+            e,
+            MeshError::ObjIndex {
+                line: 2,
+                index: 0,
+                ..
+            }
+        ),
         "{e}"
     );
     let props = "property float x\nproperty float y\nproperty float z\n";
@@ -372,7 +379,10 @@ fn obj_with_bom_keeps_the_first_vertex() {
     assert_eq!(t.mesh.triangles.len(), 2);
     // Without the BOM the same mesh comes back.
     bytes.drain(..3);
-    assert_eq!(load(&write(dir.path(), "nobom.obj", &bytes)).unwrap().mesh, l.mesh);
+    assert_eq!(
+        load(&write(dir.path(), "nobom.obj", &bytes)).unwrap().mesh,
+        l.mesh
+    );
 }
 
 /// Issue 12: comments and other records are not decoded, so non-UTF-8 bytes there are fine;
@@ -430,18 +440,32 @@ fn binary_stl_count_mismatch() {
         "{:?}",
         l.warnings
     );
-    assert!(l.warnings.iter().any(|w| w.to_string().contains("says 2 triangles")));
+    assert!(
+        l.warnings
+            .iter()
+            .any(|w| w.to_string().contains("says 2 triangles"))
+    );
     // Header says 30: the error says what was expected.
     let mut more = good.clone();
     more[80..84].copy_from_slice(&30u32.to_le_bytes());
     let e = expect_err("more.stl", &more);
     let msg = e.to_string();
-    assert!(msg.contains("30 triangles (1584 bytes)") && msg.contains("1084 bytes"), "{msg}");
+    assert!(
+        msg.contains("30 triangles (1584 bytes)") && msg.contains("1084 bytes"),
+        "{msg}"
+    );
     // Too short for a header.
     let e = expect_err("short.stl", &good[..40]);
     assert!(e.to_string().contains("84-byte header"), "{e}");
     // A binary file whose 80-byte header starts with "solid" is still binary.
     let mut solid_header = good.clone();
     solid_header[..11].copy_from_slice(b"solid facet");
-    assert_eq!(load(&write(dir.path(), "sh.stl", &solid_header)).unwrap().mesh.triangles.len(), 20);
+    assert_eq!(
+        load(&write(dir.path(), "sh.stl", &solid_header))
+            .unwrap()
+            .mesh
+            .triangles
+            .len(),
+        20
+    );
 }
