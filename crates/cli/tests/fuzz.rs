@@ -117,7 +117,7 @@ fn fuzz(mutants: u64, seed: u64, report_every: u64) -> Counts {
             let out = dir.path().join(format!("out-{method}.{out_ext}"));
             let _ = std::fs::remove_file(&out);
             counts.runs += 1;
-            let target = if next(&mut state) % 2 == 0 {
+            let target = if next(&mut state).is_multiple_of(2) {
                 "--ratio=0.5"
             } else {
                 "--vertices=6"
