@@ -473,42 +473,6 @@ fn invalid_inputs_are_typed_errors() {
     ));
 }
 
-#[test]
-fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
-    let Some((_, m)) = load("armadillo.obj") else {
-        return;
-    };
-    let Some(dir) = mesh::fixtures::shared_meshes_dir("README.md") else {
-        return;
-    };
-    let reference_path = dir.join("../reference/armadillo-meshlab-8648.obj");
-    if !reference_path.exists() {
-        eprintln!(
-            "skipping: no MeshLab reference at {}",
-            reference_path.display()
-        );
-        return;
-    }
-    let reference = mesh::io::load(&reference_path).unwrap().mesh;
-    let (out, _) = qem::simplify(&m, &params(Target::Faces(reference.face_count()))).unwrap();
-    assert!(out.face_count().abs_diff(reference.face_count()) <= 2);
-    let hp = metrics::HausdorffParams::with_samples(200_000);
-    let ours = metrics::hausdorff(&m, &out, &hp).unwrap();
-    let theirs = metrics::hausdorff(&m, &reference, &hp).unwrap();
-    assert!(
-        ours.max <= theirs.max,
-        "max {} vs MeshLab {}",
-        ours.max,
-        theirs.max
-    );
-    assert!(
-        ours.mean <= theirs.mean,
-        "mean {} vs MeshLab {}",
-        ours.mean,
-        theirs.mean
-    );
-}
-
 /// Run `simplify` on a rayon pool of `threads` threads.
 fn simplify_on(threads: usize, m: &TriMesh, p: &QemParams) -> (TriMesh, qem::QemReport) {
     let pool = rayon::ThreadPoolBuilder::new()
