@@ -2,12 +2,12 @@
 //! C++ library as the Python `meshoptimizer` package) on the same input in the same layout:
 //!
 //! ```sh
-//! cargo build --release --example qem_vs_meshopt
+//! cargo build --release -p qem --example vs_meshopt
 //! # alternate one process per call, REPS calls each; prints best / median wall, whole-process
 //! # CPU (getrusage RUSAGE_SELF: all threads) and peak RSS, and the ratios qem / meshopt:
-//! REPS=7 target/release/examples/qem_vs_meshopt bench MESH RATIO [SUBDIVISIONS]
+//! REPS=7 target/release/examples/vs_meshopt bench MESH RATIO [SUBDIVISIONS]
 //! # one call in this process (what `bench` spawns); prints one JSON line:
-//! target/release/examples/qem_vs_meshopt run qem|meshopt MESH RATIO [SUBDIVISIONS]
+//! target/release/examples/vs_meshopt run qem|meshopt MESH RATIO [SUBDIVISIONS]
 //! ```
 //!
 //! `SUBDIVISIONS` (default 0) splits every face 1-to-4 at its edge midpoints that many times
@@ -177,7 +177,7 @@ fn bench(path: &str, ratio: &str, subdivisions: &str) {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: qem_vs_meshopt bench MESH RATIO [SUBDIVISIONS] | run qem|meshopt MESH RATIO [SUBDIVISIONS]";
+    let usage = "usage: vs_meshopt bench MESH RATIO [SUBDIVISIONS] | run qem|meshopt MESH RATIO [SUBDIVISIONS]";
     match args.get(1).map(String::as_str) {
         Some("run") if args.len() >= 5 => run(
             &args[2],
