@@ -41,6 +41,8 @@ pub(super) struct Vertex {
     pub(super) alive: bool,
     /// On a boundary edge (or a non-manifold edge).
     pub(super) boundary: bool,
+    /// Never contracted (shared with another part of a partitioned run).
+    pub(super) locked: bool,
 }
 
 // Two whole cache lines per vertex.
@@ -216,15 +218,12 @@ impl Engine {
         }
     }
 
-    /// Prefetch, in stages, the records, face lists, faces and neighbour records for the pair
-    /// generation of the survivors a few places after `i`.
-
     /// Append the pairs of the merged vertex `a` (mesh edges and non-edge pairs) to `out`; a pair
     /// with another vertex touched in pass `pass` is produced by the smaller index only.
     pub(super) fn pairs_of(&mut self, a: usize, pass: u32, out: &mut Vec<Cand>) {
         let t = self.next_tick();
         self.vx[a].mark = t;
-        let keep = |e: &Self, v: usize| e.vx[v].touched != pass || a < v;
+        let keep = |e: &Self, v: usize| (e.vx[v].touched != pass || a < v) && !e.vx[v].locked;
         for i in self.list(a) {
             let tri = self.faces[self.refs[i] as usize];
             if tri[0] == DEAD {
@@ -438,8 +437,8 @@ impl Engine {
 
     /// The result as a `TriMesh` in model units: the live faces, duplicates removed (two faces
     /// can end up on the same three vertices), and the referenced vertices only, in index order
-    /// (both steps are `mesh::clean`'s).
-    pub(super) fn output(&self, frame: &Frame) -> TriMesh {
+    /// (both steps are `mesh::clean`'s); also returns the engine index of each output vertex.
+    pub(super) fn output(&self, frame: &Frame) -> (TriMesh, Vec<u32>) {
         let faces = self
             .faces
             .iter()
@@ -454,6 +453,6 @@ impl Engine {
             .iter()
             .map(|&v| frame.to_model(self.vx[v as usize].p))
             .collect();
-        out
+        (out, kept)
     }
 }

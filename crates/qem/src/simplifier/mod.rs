@@ -8,6 +8,9 @@
 //!    stall or [`Schedule::next_list`] for the next pass;
 //! 6. [`Engine::output`](engine::Engine::output): compact into a `TriMesh` (via `mesh::clean`).
 //!
+//! Large meshes on a multi-threaded pool go through [`partition`] instead: passes 2–6 on spatial
+//! parts in parallel (shared vertices locked), then once more over the stitched result.
+//!
 //! Contractions are scheduled in passes over a sorted candidate list instead of a heap. Each pass
 //! walks the pairs in increasing cost and contracts every pair whose endpoints were not touched
 //! earlier in the pass, up to a cost cap (1.5 × the cost at the middle of the pass's goal), so the
@@ -17,6 +20,7 @@
 
 mod candidates;
 mod engine;
+mod partition;
 mod prefetch;
 mod prepare;
 mod setup;
@@ -34,27 +38,105 @@ const PARALLEL_MIN: usize = 32_768;
 /// Items per parallel task.
 const PARALLEL_CHUNK: usize = 8_192;
 
+thread_local! {
+    /// Set while this thread simplifies one part of a partitioned run: the parts already occupy
+    /// the pool, and nested splitting would only add memory (per-chunk buffers, more arenas).
+    static SEQUENTIAL: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
 /// Whether `len` work items (at least `min`) are worth splitting over the rayon pool; with one
 /// thread (`RAYON_NUM_THREADS=1`) everything runs on the calling thread.
 fn parallel(len: usize, min: usize) -> bool {
-    len >= min && rayon::current_num_threads() > 1
+    len >= min && rayon::current_num_threads() > 1 && !SEQUENTIAL.with(|s| s.get())
+}
+
+/// Run `f` with [`parallel`] off on this thread.
+fn sequential<R>(f: impl FnOnce() -> R) -> R {
+    let before = SEQUENTIAL.with(|s| s.replace(true));
+    let out = f();
+    SEQUENTIAL.with(|s| s.set(before));
+    out
 }
 
 /// Run the whole simplification.
 pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), QemError> {
     let started = Instant::now();
     validate(params)?;
+    let prepared = prepare::prepare(input)?;
+    let input_faces = prepared.faces.len();
+    let input_vertices = prepared.pos.len();
+    let run = if partition::worth_it(&prepared, params) {
+        partition::run(prepared, params)
+    } else {
+        simplify_prepared(prepared, params, None).0
+    };
+    let report = QemReport {
+        input_vertices,
+        input_faces,
+        collapses: run.collapses,
+        vertices: run.mesh.positions.len(),
+        faces: run.mesh.triangles.len(),
+        max_error: run.max_error,
+        seconds: started.elapsed().as_secs_f64(),
+        target_reached: run.stop_reason == StopReason::TargetReached,
+        stop_reason: run.stop_reason,
+        rejected: run.rejected,
+        virtual_pairs: run.virtual_pairs,
+        passes: run.passes,
+    };
+    Ok((run.mesh, report))
+}
+
+/// What the passes made of one prepared mesh.
+struct Run {
+    /// The simplified mesh, model units.
+    mesh: TriMesh,
+    /// Contractions performed.
+    collapses: usize,
+    /// Contractions rejected by the topology / normal checks.
+    rejected: usize,
+    /// Largest cost of a performed contraction, model units⁴.
+    max_error: f64,
+    /// Contraction passes.
+    passes: usize,
+    /// Why the loop ended.
+    stop_reason: StopReason,
+    /// Non-edge pairs found.
+    virtual_pairs: usize,
+}
+
+impl Run {
+    /// `mesh` as it is (nothing was left to do).
+    fn unchanged(mesh: TriMesh) -> Run {
+        Run {
+            mesh,
+            collapses: 0,
+            rejected: 0,
+            max_error: 0.0,
+            passes: 0,
+            stop_reason: StopReason::NoValidPairs,
+            virtual_pairs: 0,
+        }
+    }
+}
+
+/// Passes 2–6 over a prepared mesh; vertices flagged in `locked` are never contracted. Also
+/// returns, for each output vertex, its index in `prepared`.
+fn simplify_prepared(
+    prepared: prepare::Prepared,
+    params: &QemParams,
+    locked: Option<&[bool]>,
+) -> (Run, Vec<u32>) {
     let prepare::Prepared {
         pos,
         faces,
         refs,
         face_start,
         frame,
-    } = prepare::prepare(input)?;
+    } = prepared;
     let input_faces = faces.len();
-    let referenced_vertices = pos.len();
     let setup::VertexSetup { vx, list } =
-        setup::vertex_setup(&pos, &faces, &refs, &face_start, params);
+        setup::vertex_setup(&pos, &faces, &refs, &face_start, params, locked);
     drop((pos, face_start));
     let mut e = Engine::new(vx, faces, refs, params);
     let mut schedule = Schedule::new(list);
@@ -100,23 +182,18 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         rebuilt_without_progress = false;
         schedule.next_list(&mut e, pass, outcome.consumed);
     };
-
-    let out = e.output(&frame);
-    let report = QemReport {
-        input_vertices: referenced_vertices,
-        input_faces,
+    drop(schedule);
+    let (mesh, kept) = e.output(&frame);
+    let run = Run {
+        mesh,
         collapses: totals.done,
-        vertices: out.positions.len(),
-        faces: out.triangles.len(),
-        max_error: totals.worst / scale4,
-        seconds: started.elapsed().as_secs_f64(),
-        target_reached: stop_reason == StopReason::TargetReached,
-        stop_reason,
         rejected: totals.rejected,
-        virtual_pairs,
+        max_error: totals.worst / scale4,
         passes: pass as usize,
+        stop_reason,
+        virtual_pairs,
     };
-    Ok((out, report))
+    (run, kept)
 }
 
 /// The virtual-pairs pass: non-edge pairs closer than `pair_threshold` (normalised by `scale`)
@@ -350,7 +427,7 @@ impl Schedule {
             e.vx[v].touched = pass; // so that each pair is produced once, by its smaller index
         }
         for v in 0..e.vx.len() {
-            if e.vx[v].alive && e.vx[v].len > 0 {
+            if e.vx[v].alive && e.vx[v].len > 0 && !e.vx[v].locked {
                 e.pairs_of(v, pass, &mut self.list);
             }
         }

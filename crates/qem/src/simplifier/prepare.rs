@@ -20,15 +20,15 @@ pub(super) struct Frame {
 }
 
 impl Frame {
-    /// The frame of `p` point, from model units.
+    /// Model point `p` in this frame.
     #[inline]
-    pub(super) fn from_model(&self, p: Vec3) -> DVec3 {
+    pub(super) fn to_frame(self, p: Vec3) -> DVec3 {
         (p.as_dvec3() - self.center) * self.scale
     }
 
     /// Back to model units (`f32`, as `TriMesh` stores them).
     #[inline]
-    pub(super) fn to_model(&self, p: DVec3) -> Vec3 {
+    pub(super) fn to_model(self, p: DVec3) -> Vec3 {
         let p = p / self.scale + self.center;
         Vec3::new(p.x as f32, p.y as f32, p.z as f32)
     }
@@ -96,7 +96,7 @@ fn usable_faces(input: &TriMesh) -> Result<Vec<[u32; 3]>, QemError> {
 }
 
 /// Number of faces around each of the `n` vertices (0: unreferenced).
-fn faces_per_vertex(n: usize, faces: &[[u32; 3]]) -> Vec<u32> {
+pub(super) fn faces_per_vertex(n: usize, faces: &[[u32; 3]]) -> Vec<u32> {
     let mut face_len = vec![0u32; n];
     for t in faces {
         for &v in t {
@@ -136,7 +136,7 @@ fn morton_renumbering(
     let n = positions.len();
     let mut order: Vec<u64> = (0..n)
         .filter(|&i| old_face_len[i] > 0)
-        .map(|i| (morton(frame.from_model(positions[i])) << 32) | i as u64)
+        .map(|i| (morton(frame.to_frame(positions[i])) << 32) | i as u64)
         .collect();
     let mut scratch64: Vec<u64> = Vec::new();
     // The 22 high bits of the Morton code (7 per axis) are locality enough: two radix passes.
@@ -148,7 +148,7 @@ fn morton_renumbering(
     }
     let pos = order
         .iter()
-        .map(|&o| frame.from_model(positions[o as u32 as usize]))
+        .map(|&o| frame.to_frame(positions[o as u32 as usize]))
         .collect();
     let face_len = order
         .iter()
@@ -192,7 +192,7 @@ fn sort_faces(faces: &[[u32; 3]], new_index: &[u32], n: usize) -> Vec<[u32; 3]> 
 }
 
 /// Vertex → face lists in CSR form: `(face_start, refs)`, each vertex's faces in face order.
-fn vertex_face_lists(faces: &[[u32; 3]], face_len: &[u32]) -> (Vec<u32>, Vec<u32>) {
+pub(super) fn vertex_face_lists(faces: &[[u32; 3]], face_len: &[u32]) -> (Vec<u32>, Vec<u32>) {
     let n = face_len.len();
     let mut face_start = vec![0u32; n];
     let mut acc = 0u32;

@@ -35,7 +35,9 @@ pub(super) fn vertex_setup(
     refs: &[u32],
     face_start: &[u32],
     params: &QemParams,
+    locked: Option<&[bool]>,
 ) -> VertexSetup {
+    let is_locked = |v: usize| locked.is_some_and(|l| l[v]);
     let n = pos.len();
     // Face planes scaled so that the plane quadric is their outer product: `g = n·√(area)`,
     // `gd = d·√(area)` (zero for degenerate faces).
@@ -126,7 +128,7 @@ pub(super) fn vertex_setup(
                         q += Quadric::from_plane(m, -m.dot(pos[lo]), w);
                     }
                 }
-                if v > uu {
+                if v > uu && !is_locked(u) && !is_locked(v as usize) {
                     edges.push(Cand {
                         a: uu,
                         b: v,
@@ -144,6 +146,7 @@ pub(super) fn vertex_setup(
                 touched: 0,
                 alive: true,
                 boundary: on_boundary,
+                locked: is_locked(u),
             });
         }
         edges
