@@ -58,47 +58,50 @@ pub(super) fn run(prepared: Prepared, params: &QemParams) -> Run {
     drop((refs, face_start)); // each part builds its own face lists
     let parts = split(n, &faces, parts_count);
     drop(faces);
-    let results: Vec<(Run, Vec<u32>)> =
-        parts
-            .into_par_iter()
-            .map(|part| {
-                let Part {
-                    globals,
-                    faces,
-                    locked,
-                } = part;
-                // Each part gets the target in proportion to its size (faces, or vertices for a
-                // vertex target).
-                let target = match params.target {
-                    Target::Vertices(v) => Target::Vertices(
-                        ((v as f64) * globals.len() as f64 / n as f64).round() as usize,
-                    ),
-                    _ => Target::Faces(
-                        ((target_faces as f64) * faces.len() as f64 / input_faces as f64).round()
-                            as usize,
-                    ),
-                };
-                let part_params = QemParams {
-                    target,
-                    ..params.clone()
-                };
-                let part_pos: Vec<DVec3> = globals.iter().map(|&g| pos[g as usize]).collect();
-                let face_len = prepare::faces_per_vertex(part_pos.len(), &faces);
-                let (face_start, refs) = prepare::vertex_face_lists(&faces, &face_len);
-                drop(face_len);
-                let sub = Prepared {
-                    pos: part_pos,
-                    faces,
-                    refs,
-                    face_start,
-                    frame,
-                };
-                let (run, kept) =
-                    sequential(|| simplify_prepared(sub, &part_params, Some(&locked)));
-                let kept = kept.iter().map(|&l| globals[l as usize]).collect();
-                (run, kept)
-            })
-            .collect();
+    let results: Vec<(Run, Vec<u32>)> = parts
+        .into_par_iter()
+        .map(|part| {
+            let Part {
+                globals,
+                faces,
+                locked,
+            } = part;
+            // Each part is reduced like the whole, except for the band of faces around its
+            // locked vertices, which it cannot touch: that band is left at full density for the
+            // final pass, so the part's target is `ratio × (rest) + band`.
+            let band_faces = faces
+                .iter()
+                .filter(|t| t.iter().any(|&v| locked[v as usize]))
+                .count();
+            let band_vertices = locked.iter().filter(|&&l| l).count();
+            let share = |want: usize, total: usize, own: usize, band: usize| {
+                let ratio = want.min(total) as f64 / total as f64;
+                ((own - band) as f64 * ratio).round() as usize + band
+            };
+            let target = match params.target {
+                Target::Vertices(v) => Target::Vertices(share(v, n, globals.len(), band_vertices)),
+                _ => Target::Faces(share(target_faces, input_faces, faces.len(), band_faces)),
+            };
+            let part_params = QemParams {
+                target,
+                ..params.clone()
+            };
+            let part_pos: Vec<DVec3> = globals.iter().map(|&g| pos[g as usize]).collect();
+            let face_len = prepare::faces_per_vertex(part_pos.len(), &faces);
+            let (face_start, refs) = prepare::vertex_face_lists(&faces, &face_len);
+            drop(face_len);
+            let sub = Prepared {
+                pos: part_pos,
+                faces,
+                refs,
+                face_start,
+                frame,
+            };
+            let (run, kept) = sequential(|| simplify_prepared(sub, &part_params, Some(&locked)));
+            let kept = kept.iter().map(|&l| globals[l as usize]).collect();
+            (run, kept)
+        })
+        .collect();
     drop(pos);
     // Stitch: shared (locked) vertices were not moved, so both sides hold the same position.
     let mut slot = vec![u32::MAX; n];
