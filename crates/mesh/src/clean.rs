@@ -84,25 +84,36 @@ pub fn weld_exact(mesh: &TriMesh) -> (TriMesh, usize) {
 
 /// Drop vertices that no face references, keeping the order of the rest and remapping faces.
 pub fn remove_unreferenced(mesh: &TriMesh) -> TriMesh {
-    let mut new_index = vec![u32::MAX; mesh.positions.len()];
-    for t in &mesh.triangles {
+    let mut triangles = mesh.triangles.clone();
+    let kept = compact_vertex_indices(&mut triangles, mesh.positions.len());
+    let positions = kept.iter().map(|&i| mesh.positions[i as usize]).collect();
+    TriMesh::new(positions, triangles)
+}
+
+/// Renumber the vertices that `triangles` reference (indices below `vertex_count`) to `0..k`,
+/// keeping their order, and rewrite `triangles` in place; returns the old index of each new
+/// vertex, so the caller gathers whatever per-vertex data it keeps (e.g. positions). O(F + V).
+/// The one implementation behind [`remove_unreferenced`] (and QEM's output step).
+pub fn compact_vertex_indices(triangles: &mut [[u32; 3]], vertex_count: usize) -> Vec<u32> {
+    let mut new_index = vec![u32::MAX; vertex_count];
+    for t in triangles.iter() {
         for &v in t {
             new_index[v as usize] = 0;
         }
     }
-    let mut positions = Vec::new();
+    let mut kept = Vec::new();
     for (i, slot) in new_index.iter_mut().enumerate() {
         if *slot == 0 {
-            *slot = positions.len() as u32;
-            positions.push(mesh.positions[i]);
+            *slot = kept.len() as u32;
+            kept.push(i as u32);
         }
     }
-    let triangles = mesh
-        .triangles
-        .iter()
-        .map(|t| t.map(|v| new_index[v as usize]))
-        .collect();
-    TriMesh::new(positions, triangles)
+    for t in triangles.iter_mut() {
+        for v in t.iter_mut() {
+            *v = new_index[*v as usize];
+        }
+    }
+    kept
 }
 
 /// Drop faces with a repeated vertex index and faces whose vertex set equals an earlier face's
@@ -322,6 +333,14 @@ mod tests {
         let out = remove_unreferenced(&m);
         assert_eq!(out.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
         assert_eq!(out.triangles, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn compact_vertex_indices_keeps_order_and_reports_old_indices() {
+        let mut tris = vec![[4, 1, 6], [6, 1, 3]];
+        let kept = compact_vertex_indices(&mut tris, 8);
+        assert_eq!(kept, vec![1, 3, 4, 6]);
+        assert_eq!(tris, vec![[2, 0, 3], [3, 0, 1]]);
     }
 
     #[test]

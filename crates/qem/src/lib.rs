@@ -10,6 +10,12 @@
 //! within a pass pairs are taken in increasing cost while their endpoints are untouched, up to a
 //! cost cap, which keeps the order close to the greedy heap order of the paper at a fraction of
 //! the memory traffic.
+//!
+//! Threads: the set-up steps use the rayon pool (same result for any thread count). Meshes of at
+//! least 500,000 faces on a pool of more than one thread are simplified by spatial parts in
+//! parallel (shared vertices locked, then one sequential pass over the stitched result), so their
+//! output depends on the number of threads; with `RAYON_NUM_THREADS=1`, or below that size, the
+//! sequential engine runs and the output is the same for every thread count.
 
 mod pairs;
 pub mod quadric;

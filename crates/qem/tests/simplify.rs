@@ -473,42 +473,6 @@ fn invalid_inputs_are_typed_errors() {
     ));
 }
 
-#[test]
-fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
-    let Some((_, m)) = load("armadillo.obj") else {
-        return;
-    };
-    let Some(dir) = mesh::fixtures::shared_meshes_dir("README.md") else {
-        return;
-    };
-    let reference_path = dir.join("../reference/armadillo-meshlab-8648.obj");
-    if !reference_path.exists() {
-        eprintln!(
-            "skipping: no MeshLab reference at {}",
-            reference_path.display()
-        );
-        return;
-    }
-    let reference = mesh::io::load(&reference_path).unwrap().mesh;
-    let (out, _) = qem::simplify(&m, &params(Target::Faces(reference.face_count()))).unwrap();
-    assert!(out.face_count().abs_diff(reference.face_count()) <= 2);
-    let hp = metrics::HausdorffParams::with_samples(200_000);
-    let ours = metrics::hausdorff(&m, &out, &hp).unwrap();
-    let theirs = metrics::hausdorff(&m, &reference, &hp).unwrap();
-    assert!(
-        ours.max <= theirs.max,
-        "max {} vs MeshLab {}",
-        ours.max,
-        theirs.max
-    );
-    assert!(
-        ours.mean <= theirs.mean,
-        "mean {} vs MeshLab {}",
-        ours.mean,
-        theirs.mean
-    );
-}
-
 /// Run `simplify` on a rayon pool of `threads` threads.
 fn simplify_on(threads: usize, m: &TriMesh, p: &QemParams) -> (TriMesh, qem::QemReport) {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -574,6 +538,54 @@ fn high_valence_vertices_keep_a_closed_manifold() {
         assert!(
             p.z.abs() < 1e-4 || (p.x.abs() < 1e-4 && p.y.abs() < 1e-4),
             "{p}"
+        );
+    }
+}
+
+/// Largest distance of a vertex from the unit sphere, and the fraction of faces whose centroid
+/// lies within `slab` of the plane z = 0 (where the two-part partition cuts the sphere).
+fn sphere_error_and_slab_share(m: &TriMesh, slab: f32) -> (f32, f64) {
+    let radial = m
+        .positions
+        .iter()
+        .map(|p| (p.length() - 1.0).abs())
+        .fold(0.0f32, f32::max);
+    let near = (0..m.face_count())
+        .filter(|&f| {
+            let [a, b, c] = m.triangle(f);
+            ((a.z + b.z + c.z) / 3.0).abs() < slab
+        })
+        .count();
+    (radial, near as f64 / m.face_count() as f64)
+}
+
+#[test]
+fn partitioned_run_on_two_threads_matches_the_sequential_one_in_quality() {
+    // 1.3M faces: above the partition threshold, so two threads take the partitioned path and one
+    // thread the sequential one.
+    let m = mesh::procedural::icosphere(8);
+    for ratio in [0.1, 0.01] {
+        let p = params(Target::Ratio(ratio));
+        let (seq, rs) = simplify_on(1, &m, &p);
+        let (par, rp) = simplify_on(2, &m, &p);
+        assert!(rs.target_reached && rp.target_reached, "{rs:?} {rp:?}");
+        assert_eq!(par.face_count(), seq.face_count());
+        let topo = analyze(&par);
+        assert!(topo.closed && topo.manifold, "{topo:?}");
+        assert_eq!(topo.genus, Some(0));
+        assert_valid(&par);
+        let (err_seq, slab_seq) = sphere_error_and_slab_share(&seq, 0.05);
+        let (err_par, slab_par) = sphere_error_and_slab_share(&par, 0.05);
+        // The border pass removes most of the band the parts had to leave at full density
+        // (without it the band alone would be 3.5× the sequential share at 10 %): measured
+        // 1.41× at 10 % (docs/notes/qem.md); and the geometric error stays within 1.5×.
+        assert!(
+            slab_par <= 1.6 * slab_seq && slab_par >= 0.7 * slab_seq,
+            "ratio {ratio}: slab share {slab_par} vs sequential {slab_seq}"
+        );
+        assert!(
+            err_par <= 1.5 * err_seq,
+            "ratio {ratio}: radial error {err_par} vs sequential {err_seq}"
         );
     }
 }

@@ -1,5 +1,5 @@
 //! Symmetric Hausdorff (metrics crate) of QEM's result and of a reference simplification:
-//! `cargo run --release -p qem --example quality -- ORIGINAL FACES [REFERENCE|""] [SAMPLES]`
+//! `cargo run --release --example qem_quality -- ORIGINAL FACES [REFERENCE|""] [SAMPLES]`
 //! (also shows meshoptimizer's result at the same face count).
 
 fn main() {

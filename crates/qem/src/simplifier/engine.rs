@@ -1,0 +1,458 @@
+//! The contraction engine: per-vertex records in one cache-line-aligned array, per-vertex face
+//! lists in one growing buffer (CSR-like, rewritten on collapse and compacted now and then), the
+//! pair costing and placement, the topology / normal checks and the collapse itself. What to
+//! contract, and when, is decided by the pass loop in the parent module.
+
+use super::candidates::{Cand, cost_key};
+use super::prefetch;
+use super::prepare::Frame;
+use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
+use crate::pairs::VirtualPairs;
+use crate::{QemParams, Quadric};
+use glam::DVec3;
+use mesh::TriMesh;
+use rayon::prelude::*;
+
+/// Marks a dead face (in its first slot).
+pub(super) const DEAD: u32 = u32::MAX;
+
+/// Everything per vertex, in two cache lines: the first holds what the checks read for the
+/// neighbours of a pair (position, scratch mark, valence), the second the rest of the quadric and
+/// the face-list bookkeeping; a record never straddles more lines than it needs (one record
+/// instead of three arrays: pass walk 70 → 58 ms on igea 10 %, docs/notes/qem.md round 3).
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
+pub(super) struct Vertex {
+    /// Position in the normalised frame.
+    pub(super) p: DVec3,
+    /// Scratch mark (compared with `Engine::tick`).
+    pub(super) mark: u32,
+    /// Live faces around the vertex.
+    pub(super) valence: u32,
+    /// Quadric (face planes plus boundary planes) in the normalised frame.
+    pub(super) q: Quadric,
+    /// Start of the face list in `refs`.
+    pub(super) start: u32,
+    /// Length of the face list (may include dead faces).
+    pub(super) len: u32,
+    /// Pass in which the vertex was last touched by a contraction.
+    pub(super) touched: u32,
+    /// Not merged into another vertex.
+    pub(super) alive: bool,
+    /// On a boundary edge (or a non-manifold edge).
+    pub(super) boundary: bool,
+    /// Never contracted (shared with another part of a partitioned run).
+    pub(super) locked: bool,
+}
+
+// Two whole cache lines per vertex.
+const _: () = assert!(std::mem::size_of::<Vertex>() == 128);
+
+/// Mutable simplification state.
+pub(super) struct Engine {
+    /// Geometry and bookkeeping per vertex.
+    pub(super) vx: Vec<Vertex>,
+    /// Version per vertex, bumped by every contraction of the vertex (a separate compact array:
+    /// the candidate walks test it for every entry, in cost order, i.e. at random).
+    pub(super) stamps: Vec<u32>,
+    /// Faces (vertex triples; [`DEAD`] in the first slot once removed).
+    pub(super) faces: Vec<[u32; 3]>,
+    /// Face lists, appended to on every collapse (capacity reserved up to `refs_limit`).
+    pub(super) refs: Vec<u32>,
+    /// Length of `refs` above which it is compacted.
+    refs_limit: usize,
+    /// The other buffer of the compaction.
+    refs_spare: Vec<u32>,
+    /// Current scratch-mark value.
+    tick: u32,
+    /// Faces of the collapsed vertex that move to the survivor (reused by every collapse).
+    scratch: Vec<u32>,
+    /// Non-edge pairs, when `pair_threshold > 0`.
+    pub(super) virt: Option<VirtualPairs>,
+    /// Faces not yet removed.
+    pub(super) live_faces: usize,
+    /// Vertices not yet merged away.
+    pub(super) live_vertices: usize,
+    preserve_topology: bool,
+    min_normal_cos: f64,
+}
+
+#[inline]
+fn contains(t: &[u32; 3], v: u32) -> bool {
+    t[0] == v || t[1] == v || t[2] == v
+}
+
+/// The corner that follows `u` in face `t` (around a closed fan of `u`, every neighbour once).
+#[inline]
+pub(super) fn corner_after(t: &[u32; 3], u: u32) -> u32 {
+    if t[0] == u {
+        t[1]
+    } else if t[1] == u {
+        t[2]
+    } else {
+        t[0]
+    }
+}
+
+impl Engine {
+    /// The engine over the set-up vertex records `vx`, the (renumbered, sorted) `faces` and the
+    /// vertex → face lists `refs` that the records point into.
+    pub(super) fn new(
+        vx: Vec<Vertex>,
+        faces: Vec<[u32; 3]>,
+        mut refs: Vec<u32>,
+        params: &QemParams,
+    ) -> Engine {
+        let refs_limit = (refs.len() * 3).max(1024);
+        // Room for the appended lists up front: growing by doubling would copy and fault in pages.
+        refs.reserve(refs_limit + 64 - refs.len());
+        let n = vx.len();
+        Engine {
+            vx,
+            stamps: vec![0; n],
+            live_faces: faces.len(),
+            faces,
+            refs,
+            refs_limit,
+            refs_spare: Vec::new(),
+            tick: 0,
+            scratch: Vec::new(),
+            virt: None,
+            live_vertices: n,
+            preserve_topology: params.preserve_topology,
+            min_normal_cos: params.min_normal_cos,
+        }
+    }
+
+    #[inline]
+    pub(super) fn list(&self, v: usize) -> std::ops::Range<usize> {
+        let s = self.vx[v].start as usize;
+        s..s + self.vx[v].len as usize
+    }
+
+    #[inline]
+    fn next_tick(&mut self) -> u32 {
+        self.tick = self.tick.wrapping_add(1);
+        if self.tick == 0 {
+            for x in &mut self.vx {
+                x.mark = 0;
+            }
+            self.tick = 1;
+        }
+        self.tick
+    }
+
+    /// Placement and cost for the pair: the quadric minimiser (where `E = c + bᵀv`), else the best
+    /// point of the segment, else the best of the ends and the midpoint.
+    #[inline]
+    fn place(q: &Quadric, pa: DVec3, pb: DVec3) -> (f64, DVec3) {
+        let d = pb - pa;
+        let len2 = d.length_squared();
+        let mid = 0.5 * (pa + pb);
+        if let Some(x) = q.minimizer() {
+            // Guard against nearly singular systems that throw the point far away.
+            if (x - mid).length_squared() <= 9.0 * len2 {
+                return (q.c + q.b_vec().dot(x), x);
+            }
+        }
+        let dad = d.dot(q.mul_a(d));
+        if dad > 1e-12 * q.trace() * len2 {
+            let t = (-d.dot(q.mul_a(pa) + q.b_vec()) / dad).clamp(0.0, 1.0);
+            let x = pa + d * t;
+            return (q.eval(x), x);
+        }
+        let (ea, eb, em) = (q.eval(pa), q.eval(pb), q.eval(mid));
+        if em <= ea && em <= eb {
+            (em, mid)
+        } else if ea <= eb {
+            (ea, pa)
+        } else {
+            (eb, pb)
+        }
+    }
+
+    #[inline]
+    pub(super) fn evaluate(&self, a: usize, b: usize) -> (f64, DVec3) {
+        let (da, db) = (&self.vx[a], &self.vx[b]);
+        let q = da.q + db.q;
+        let (cost, p) = Self::place(&q, da.p, db.p);
+        (cost.max(0.0), p)
+    }
+
+    #[inline]
+    fn candidate(&self, a: usize, b: usize) -> Cand {
+        let (cost, _) = self.evaluate(a, b);
+        Cand {
+            key: cost_key(cost),
+            a: a as u32,
+            b: b as u32,
+            stamp: self.stamps[a].wrapping_add(self.stamps[b]),
+        }
+    }
+
+    /// Evaluate every pair of `list` (the `a` and `b` fields are set; sorted by `a`, so only the
+    /// records of the `b` ends are prefetched), in parallel for large lists.
+    pub(super) fn cost_all(&self, list: &mut [Cand]) {
+        let cost = |chunk: &mut [Cand]| {
+            for i in 0..chunk.len() {
+                if let Some(ahead) = chunk.get(i + prefetch::RECORDS) {
+                    self.prefetch_record(ahead.b as usize);
+                }
+                let c = &mut chunk[i];
+                *c = self.candidate(c.a as usize, c.b as usize);
+            }
+        };
+        if parallel(list.len(), PARALLEL_MIN) {
+            list.par_chunks_mut(PARALLEL_CHUNK).for_each(cost);
+        } else {
+            cost(list);
+        }
+    }
+
+    /// Append the pairs of the merged vertices `survivors` (sorted) to `fresh`, prefetching a few
+    /// survivors ahead (sequential: on two shared cores a parallel split measured no faster).
+    pub(super) fn fresh_pairs(&mut self, survivors: &[u32], pass: u32, fresh: &mut Vec<Cand>) {
+        for (i, &a) in survivors.iter().enumerate() {
+            self.prefetch_survivors(survivors, i);
+            self.pairs_of(a as usize, pass, fresh);
+        }
+    }
+
+    /// Append the pairs of the merged vertex `a` (mesh edges and non-edge pairs) to `out`; a pair
+    /// with another vertex touched in pass `pass` is produced by the smaller index only.
+    pub(super) fn pairs_of(&mut self, a: usize, pass: u32, out: &mut Vec<Cand>) {
+        let t = self.next_tick();
+        self.vx[a].mark = t;
+        let keep = |e: &Self, v: usize| (e.vx[v].touched != pass || a < v) && !e.vx[v].locked;
+        for i in self.list(a) {
+            let tri = self.faces[self.refs[i] as usize];
+            if tri[0] == DEAD {
+                continue;
+            }
+            for v in tri {
+                let v = v as usize;
+                if self.vx[v].mark != t {
+                    self.vx[v].mark = t;
+                    if keep(self, v) {
+                        out.push(self.candidate(a, v));
+                    }
+                }
+            }
+        }
+        if let Some(mut vp) = self.virt.take() {
+            let mut node = vp.head[a];
+            while !VirtualPairs::is_end(node) {
+                let o = vp.find(vp.other[node as usize]) as usize;
+                node = vp.next[node as usize];
+                if self.vx[o].alive && self.vx[o].mark != t {
+                    self.vx[o].mark = t;
+                    if keep(self, o) {
+                        out.push(self.candidate(a, o));
+                    }
+                }
+            }
+            self.virt = Some(vp);
+        }
+    }
+
+    /// Whether moving vertex `u` (now at `pu`) of face `tri` to `p` turns the face normal too far.
+    #[inline(always)]
+    fn flips(&self, tri: [u32; 3], u: u32, pu: DVec3, p: DVec3) -> bool {
+        let (i1, i2) = if tri[0] == u {
+            (tri[1], tri[2])
+        } else if tri[1] == u {
+            (tri[2], tri[0])
+        } else {
+            (tri[0], tri[1])
+        };
+        let p1 = self.vx[i1 as usize].p;
+        let p2 = self.vx[i2 as usize].p;
+        let old = (p1 - pu).cross(p2 - pu);
+        let ol = old.length_squared();
+        if ol == 0.0 {
+            return false;
+        }
+        let new = (p1 - p).cross(p2 - p);
+        let nl = new.length_squared();
+        old.dot(new) <= self.min_normal_cos * (ol * nl).sqrt()
+    }
+
+    /// Check the topology/normal conditions for contracting `b` into `a` at `p`: one walk over the
+    /// faces of `a` (shared faces, neighbour marks, normal flips of the faces that move) and one
+    /// over the faces of `b` (common neighbours, flips, tetrahedron test).
+    pub(super) fn allowed(&mut self, a: usize, b: usize, p: DVec3) -> bool {
+        if !self.preserve_topology {
+            return true;
+        }
+        let (au, bu) = (a as u32, b as u32);
+        let mut shared = 0usize;
+        let mut opp = [DEAD; 2];
+        let mut alive_a = 0usize;
+        let ta = self.next_tick();
+        let pa = self.vx[a].p;
+        for i in self.list(a) {
+            let t = self.faces[self.refs[i] as usize];
+            if t[0] == DEAD {
+                continue;
+            }
+            alive_a += 1;
+            for v in t {
+                self.vx[v as usize].mark = ta;
+            }
+            if contains(&t, bu) {
+                if shared < 2 {
+                    opp[shared] = t[0] ^ t[1] ^ t[2] ^ au ^ bu;
+                }
+                shared += 1;
+            } else if self.flips(t, au, pa, p) {
+                return false;
+            }
+        }
+        if shared > 2 || (shared == 2 && self.vx[a].boundary && self.vx[b].boundary) {
+            return false;
+        }
+        // Link condition: common neighbours must be exactly the opposite vertices.
+        let tb = self.next_tick();
+        let mut common = 0usize;
+        let mut alive_b = 0usize;
+        let (c, d) = (opp[0], opp[1]);
+        let mut b_has_cd = false;
+        let pb = self.vx[b].p;
+        for i in self.list(b) {
+            let t = self.faces[self.refs[i] as usize];
+            if t[0] == DEAD {
+                continue;
+            }
+            alive_b += 1;
+            for v in t {
+                if v != au && v != bu && self.vx[v as usize].mark == ta {
+                    self.vx[v as usize].mark = tb;
+                    common += 1;
+                }
+            }
+            if !contains(&t, au) {
+                if self.flips(t, bu, pb, p) {
+                    return false;
+                }
+                b_has_cd |= shared == 2 && contains(&t, c) && contains(&t, d);
+            }
+        }
+        if common != shared || alive_a + alive_b <= 2 * shared {
+            return false;
+        }
+        // No opposite vertex may be left without faces.
+        for &o in &opp[..shared] {
+            if self.vx[o as usize].valence < 2 {
+                return false;
+            }
+        }
+        // Tetrahedron: faces (a, c, d) and (b, c, d) would become the same face.
+        if b_has_cd
+            && self.list(a).any(|i| {
+                let t = self.faces[self.refs[i] as usize];
+                t[0] != DEAD && contains(&t, c) && contains(&t, d)
+            })
+        {
+            return false;
+        }
+        true
+    }
+
+    /// Contract `b` into `a`, moving `a` to `p`.
+    pub(super) fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
+        let (au, bu) = (a as u32, b as u32);
+        self.vx[a].p = p;
+        let qb = self.vx[b].q;
+        self.vx[a].q += qb;
+        self.vx[a].boundary |= self.vx[b].boundary;
+        self.vx[b].alive = false;
+        self.stamps[a] = self.stamps[a].wrapping_add(1);
+        self.stamps[b] = self.stamps[b].wrapping_add(1);
+        self.live_vertices -= 1;
+        self.scratch.clear();
+        for i in self.list(b) {
+            let f = self.refs[i] as usize;
+            let t = &mut self.faces[f];
+            if t[0] == DEAD {
+                continue;
+            }
+            if contains(t, au) {
+                let third = t[0] ^ t[1] ^ t[2] ^ au ^ bu;
+                t[0] = DEAD;
+                self.vx[third as usize].valence -= 1;
+                self.live_faces -= 1;
+            } else {
+                for v in t.iter_mut() {
+                    if *v == bu {
+                        *v = au;
+                    }
+                }
+                self.scratch.push(f as u32);
+            }
+        }
+        let start = self.refs.len();
+        for i in self.list(a) {
+            let f = self.refs[i];
+            if self.faces[f as usize][0] != DEAD {
+                self.refs.push(f);
+            }
+        }
+        self.refs.extend_from_slice(&self.scratch);
+        self.vx[a].start = start as u32;
+        self.vx[a].len = (self.refs.len() - start) as u32;
+        self.vx[b].len = 0;
+        self.vx[a].valence = self.vx[a].len;
+        self.vx[b].valence = 0;
+        if let Some(vp) = self.virt.as_mut() {
+            vp.merge(a, b);
+        }
+        if self.refs.len() > self.refs_limit {
+            self.compact_refs();
+        }
+    }
+
+    /// Rewrite the face lists without dead faces and free space.
+    fn compact_refs(&mut self) {
+        // Into the spare buffer (kept between compactions: no fresh pages to fault in).
+        let mut fresh = std::mem::take(&mut self.refs_spare);
+        fresh.clear();
+        fresh.reserve(self.refs_limit);
+        for v in 0..self.vx.len() {
+            let range = self.list(v);
+            let start = fresh.len();
+            if self.vx[v].alive {
+                for i in range {
+                    let f = self.refs[i];
+                    if self.faces[f as usize][0] != DEAD {
+                        fresh.push(f);
+                    }
+                }
+            }
+            self.vx[v].start = start as u32;
+            self.vx[v].len = (fresh.len() - start) as u32;
+        }
+        self.refs_spare = std::mem::replace(&mut self.refs, fresh);
+        self.refs_limit = (self.refs.len() * 3).max(1024);
+    }
+
+    /// The result as a `TriMesh` in model units: the live faces, duplicates removed (two faces
+    /// can end up on the same three vertices), and the referenced vertices only, in index order
+    /// (both steps are `mesh::clean`'s); also returns the engine index of each output vertex.
+    pub(super) fn output(&self, frame: &Frame) -> (TriMesh, Vec<u32>) {
+        let faces = self
+            .faces
+            .iter()
+            .copied()
+            .filter(|t| t[0] != DEAD)
+            .collect();
+        // Positions are filled in below, for the referenced vertices only.
+        let mut out = TriMesh::new(Vec::new(), faces);
+        mesh::clean::drop_degenerate_and_duplicate_faces_in_place(&mut out);
+        let kept = mesh::clean::compact_vertex_indices(&mut out.triangles, self.vx.len());
+        out.positions = kept
+            .iter()
+            .map(|&v| frame.to_model(self.vx[v as usize].p))
+            .collect();
+        (out, kept)
+    }
+}

@@ -1,0 +1,488 @@
+//! The simplifier, as a list of named passes (the shape of meshoptimizer's `meshopt_simplify`):
+//!
+//! 1. [`prepare`]: validate, normalise, Morton renumbering, face sort, vertex → face lists;
+//! 2. [`setup`]: per vertex, quadric, boundary planes and flag, edges;
+//! 3. [`add_virtual_pairs`]: non-edge pairs within `pair_threshold` (optional);
+//! 4. initial costing and sort of the candidate list;
+//! 5. the contraction loop: [`Schedule::one_pass`], then either [`Schedule::rebuild`] after a
+//!    stall or [`Schedule::next_list`] for the next pass;
+//! 6. [`Engine::output`](engine::Engine::output): compact into a `TriMesh` (via `mesh::clean`).
+//!
+//! Large meshes on a multi-threaded pool go through [`partition`] instead: passes 2–6 on spatial
+//! parts in parallel (shared vertices locked), then once more over the stitched result.
+//!
+//! Contractions are scheduled in passes over a sorted candidate list instead of a heap. Each pass
+//! walks the pairs in increasing cost and contracts every pair whose endpoints were not touched
+//! earlier in the pass, up to a cost cap (1.5 × the cost at the middle of the pass's goal), so the
+//! order stays close to the greedy order of Garland & Heckbert. Pairs of untouched vertices keep
+//! their exact cost and order for the next pass; pairs of the merged vertices are evaluated
+//! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
+
+mod candidates;
+mod engine;
+mod partition;
+mod prefetch;
+mod prepare;
+mod setup;
+
+use crate::radix::sort_by_u32_key;
+use crate::{QemError, QemParams, QemReport, StopReason, Target, pairs};
+use candidates::{Cand, is_live, merge_live, sort_key};
+use engine::Engine;
+use mesh::TriMesh;
+use prefetch::prefetch_ptr;
+use std::time::Instant;
+
+/// Work lists shorter than this are processed on the calling thread only.
+const PARALLEL_MIN: usize = 32_768;
+/// Items per parallel task.
+const PARALLEL_CHUNK: usize = 8_192;
+
+thread_local! {
+    /// Set while this thread simplifies one part of a partitioned run: the parts already occupy
+    /// the pool, and nested splitting would only add memory (per-chunk buffers, more arenas).
+    static SEQUENTIAL: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether `len` work items (at least `min`) are worth splitting over the rayon pool; with one
+/// thread (`RAYON_NUM_THREADS=1`) everything runs on the calling thread.
+fn parallel(len: usize, min: usize) -> bool {
+    len >= min && rayon::current_num_threads() > 1 && !SEQUENTIAL.with(|s| s.get())
+}
+
+/// Run `f` with [`parallel`] off on this thread.
+fn sequential<R>(f: impl FnOnce() -> R) -> R {
+    let before = SEQUENTIAL.with(|s| s.replace(true));
+    let out = f();
+    SEQUENTIAL.with(|s| s.set(before));
+    out
+}
+
+/// Run the whole simplification.
+pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), QemError> {
+    let started = Instant::now();
+    validate(params)?;
+    let prepared = prepare::prepare(input)?;
+    let input_faces = prepared.faces.len();
+    let input_vertices = prepared.pos.len();
+    let run = if partition::worth_it(&prepared, params) {
+        partition::run(prepared, params)
+    } else {
+        simplify_prepared(prepared, params, None).0
+    };
+    let report = QemReport {
+        input_vertices,
+        input_faces,
+        collapses: run.collapses,
+        vertices: run.mesh.positions.len(),
+        faces: run.mesh.triangles.len(),
+        max_error: run.max_error,
+        seconds: started.elapsed().as_secs_f64(),
+        target_reached: run.stop_reason == StopReason::TargetReached,
+        stop_reason: run.stop_reason,
+        rejected: run.rejected,
+        virtual_pairs: run.virtual_pairs,
+        passes: run.passes,
+    };
+    Ok((run.mesh, report))
+}
+
+/// What the passes made of one prepared mesh.
+struct Run {
+    /// The simplified mesh, model units.
+    mesh: TriMesh,
+    /// Contractions performed.
+    collapses: usize,
+    /// Contractions rejected by the topology / normal checks.
+    rejected: usize,
+    /// Largest cost of a performed contraction, model units⁴.
+    max_error: f64,
+    /// Contraction passes.
+    passes: usize,
+    /// Why the loop ended.
+    stop_reason: StopReason,
+    /// Non-edge pairs found.
+    virtual_pairs: usize,
+}
+
+impl Run {
+    /// `mesh` as it is (nothing was left to do).
+    fn unchanged(mesh: TriMesh) -> Run {
+        Run {
+            mesh,
+            collapses: 0,
+            rejected: 0,
+            max_error: 0.0,
+            passes: 0,
+            stop_reason: StopReason::NoValidPairs,
+            virtual_pairs: 0,
+        }
+    }
+}
+
+/// Passes 2–6 over a prepared mesh; vertices flagged in `locked` are never contracted. Also
+/// returns, for each output vertex, its index in `prepared`.
+fn simplify_prepared(
+    prepared: prepare::Prepared,
+    params: &QemParams,
+    locked: Option<&[bool]>,
+) -> (Run, Vec<u32>) {
+    let prepare::Prepared {
+        pos,
+        faces,
+        refs,
+        face_start,
+        frame,
+    } = prepared;
+    let input_faces = faces.len();
+    let setup::VertexSetup { vx, list } =
+        setup::vertex_setup(&pos, &faces, &refs, &face_start, params, locked);
+    drop((pos, face_start));
+    let mut e = Engine::new(vx, faces, refs, params);
+    let mut schedule = Schedule::new(list);
+    let virtual_pairs = add_virtual_pairs(&mut e, &mut schedule.list, params, frame.scale);
+    e.cost_all(&mut schedule.list);
+    schedule.sort();
+
+    let goal = Goal::new(params.target, input_faces);
+    let scale4 = frame.scale.powi(4);
+    let max_error = params.max_error.map_or(f64::INFINITY, |m| m * scale4);
+    let mut totals = PassOutcome::default();
+    let mut pass = 0u32;
+    let mut rebuilt_without_progress = false;
+    let stop_reason = loop {
+        if goal.reached(&e) {
+            break StopReason::TargetReached;
+        }
+        if schedule.list.is_empty() {
+            break StopReason::NoValidPairs;
+        }
+        pass += 1;
+        let cap = schedule.cost_cap(&e, goal.contractions_needed(&e));
+        let outcome = schedule.one_pass(&mut e, pass, cap, max_error, &goal);
+        totals.done += outcome.done;
+        totals.rejected += outcome.rejected;
+        totals.worst = totals.worst.max(outcome.worst);
+        if let Some(reason) = outcome.stop {
+            break reason;
+        }
+        if goal.reached(&e) {
+            break StopReason::TargetReached;
+        }
+        if outcome.done == 0 {
+            if rebuilt_without_progress {
+                break StopReason::NoValidPairs;
+            }
+            // Everything left was rejected: re-offer every current pair once.
+            rebuilt_without_progress = true;
+            pass += 1;
+            schedule.rebuild(&mut e, pass);
+            continue;
+        }
+        rebuilt_without_progress = false;
+        schedule.next_list(&mut e, pass, outcome.consumed);
+    };
+    drop(schedule);
+    let (mesh, kept) = e.output(&frame);
+    let run = Run {
+        mesh,
+        collapses: totals.done,
+        rejected: totals.rejected,
+        max_error: totals.worst / scale4,
+        passes: pass as usize,
+        stop_reason,
+        virtual_pairs,
+    };
+    (run, kept)
+}
+
+/// The virtual-pairs pass: non-edge pairs closer than `pair_threshold` (normalised by `scale`)
+/// are appended to `list` (not yet costed) and registered with the engine; returns their number.
+fn add_virtual_pairs(
+    e: &mut Engine,
+    list: &mut Vec<Cand>,
+    params: &QemParams,
+    scale: f64,
+) -> usize {
+    if params.pair_threshold <= 0.0 {
+        return 0;
+    }
+    let used: Vec<bool> = e.vx.iter().map(|v| v.len > 0).collect();
+    let positions: Vec<_> = e.vx.iter().map(|d| d.p).collect();
+    let close = pairs::close_pairs(
+        &positions,
+        &used,
+        params.pair_threshold * scale,
+        params.max_pairs_per_vertex,
+    );
+    let mut sorted_edges: Vec<[u32; 2]> = list.iter().map(|c| [c.a, c.b]).collect();
+    sorted_edges.sort_unstable();
+    let non_edge: Vec<[u32; 2]> = close
+        .into_iter()
+        .filter(|p| sorted_edges.binary_search(p).is_err())
+        .collect();
+    list.extend(non_edge.iter().map(|&[a, b]| Cand::pair(a, b)));
+    e.virt = Some(pairs::VirtualPairs::new(e.vx.len(), &non_edge));
+    non_edge.len()
+}
+
+/// When to stop: at most `faces` faces and at most `vertices` vertices (`usize::MAX`: no bound).
+struct Goal {
+    faces: usize,
+    vertices: usize,
+}
+
+impl Goal {
+    fn new(target: Target, input_faces: usize) -> Goal {
+        let (faces, vertices) = match target {
+            Target::Vertices(v) => (usize::MAX, v),
+            Target::Faces(f) => (f, usize::MAX),
+            Target::Ratio(r) => (((input_faces as f64) * r).round() as usize, usize::MAX),
+        };
+        Goal { faces, vertices }
+    }
+
+    #[inline]
+    fn reached(&self, e: &Engine) -> bool {
+        e.live_faces <= self.faces && e.live_vertices <= self.vertices
+    }
+
+    /// Contractions still needed (an interior edge collapse removes two faces).
+    fn contractions_needed(&self, e: &Engine) -> usize {
+        if self.faces != usize::MAX {
+            (e.live_faces - self.faces).div_ceil(2)
+        } else {
+            e.live_vertices - self.vertices
+        }
+    }
+}
+
+/// What a pass did (and, summed, the whole run).
+#[derive(Debug, Default)]
+struct PassOutcome {
+    /// Contractions performed.
+    done: usize,
+    /// Contractions rejected by the topology / normal checks.
+    rejected: usize,
+    /// Largest cost of a performed contraction (normalised frame).
+    worst: f64,
+    /// Entries of the list visited (contracted, rejected or stale); the rest is carried.
+    consumed: usize,
+    /// Set when the run must stop (the next contraction exceeds `max_error`).
+    stop: Option<StopReason>,
+}
+
+/// The sorted candidate list and the buffers the passes reuse (kept for the whole run: no
+/// allocation per pass once they have grown).
+struct Schedule {
+    /// Candidates in increasing cost (stale entries are skipped when visited).
+    list: Vec<Cand>,
+    /// Scratch of the radix sorts, and the other buffer of the merge.
+    sort_tmp: Vec<Cand>,
+    /// Pairs of the vertices merged in the last pass.
+    fresh: Vec<Cand>,
+    /// Vertices that survived a contraction in the current pass.
+    survivors: Vec<u32>,
+    /// Scratch of the survivors' sort.
+    survivors_tmp: Vec<u32>,
+}
+
+impl Schedule {
+    fn new(list: Vec<Cand>) -> Schedule {
+        Schedule {
+            list,
+            sort_tmp: Vec::new(),
+            fresh: Vec::new(),
+            survivors: Vec::new(),
+            survivors_tmp: Vec::new(),
+        }
+    }
+
+    /// Sort the whole list by cost.
+    fn sort(&mut self) {
+        sort_by_u32_key(&mut self.list, &mut self.sort_tmp, |c| sort_key(c.key));
+    }
+
+    /// Cost cap of a pass that needs `goal` contractions: 1.5 × the cost of the (goal/2)-th live
+    /// entry (stale entries skipped), so a pass takes roughly half of what is still needed in
+    /// close to greedy order before the costs around the merged vertices are refreshed.
+    fn cost_cap(&self, e: &Engine, goal: usize) -> f32 {
+        let list = &self.list;
+        let mut cap_key = list[list.len() - 1].key;
+        let mut live = 0usize;
+        for c in list {
+            if is_live(c, &e.stamps) {
+                live += 1;
+                if live > goal / 2 {
+                    cap_key = c.key;
+                    break;
+                }
+            }
+        }
+        1.5 * f32::from_bits(cap_key)
+    }
+
+    /// One pass: walk the list in cost order and contract every live pair up to `cap` (at least
+    /// one) that passes the checks, until the goal is reached or a cost exceeds `max_error`.
+    fn one_pass(
+        &mut self,
+        e: &mut Engine,
+        pass: u32,
+        cap: f32,
+        max_error: f64,
+        goal: &Goal,
+    ) -> PassOutcome {
+        let Schedule {
+            list, survivors, ..
+        } = self;
+        let mut out = PassOutcome {
+            consumed: list.len(),
+            ..PassOutcome::default()
+        };
+        survivors.clear();
+        // The prefetch stages run over the upcoming *live* entries (most entries of a pass go
+        // stale before they are reached): `queue[qh..qt]` (modulo its length) holds the list
+        // indices of the next live entries found by the look-ahead `la`.
+        const QUEUE: usize = prefetch::RECORDS;
+        let mut queue = [0u32; QUEUE];
+        let (mut qh, mut qt, mut la) = (0usize, 0usize, 0usize);
+        loop {
+            while qt - qh < QUEUE && la < list.len() {
+                if let Some(ahead) = list.get(la + prefetch::STAMPS) {
+                    prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.a as usize));
+                    prefetch_ptr(e.stamps.as_ptr().wrapping_add(ahead.b as usize));
+                }
+                let c = &list[la];
+                if is_live(c, &e.stamps) {
+                    e.prefetch(c.a as usize, c.b as usize);
+                    queue[qt % QUEUE] = la as u32;
+                    qt += 1;
+                }
+                la += 1;
+            }
+            if qh == qt {
+                break;
+            }
+            let i = queue[qh % QUEUE] as usize;
+            qh += 1;
+            let upcoming = |k: usize| {
+                (qh + k < qt)
+                    .then(|| &list[queue[(qh + k) % QUEUE] as usize])
+                    .filter(|c| is_live(c, &e.stamps))
+            };
+            if let Some(ahead) = upcoming(prefetch::LISTS - 1) {
+                e.prefetch_lists(ahead.a as usize, ahead.b as usize);
+            }
+            if let Some(ahead) = upcoming(prefetch::FACES - 1) {
+                e.prefetch_faces(ahead.a as usize, ahead.b as usize);
+            }
+            if let Some(ahead) = upcoming(prefetch::RING - 1) {
+                e.prefetch_ring(ahead.a as usize, ahead.b as usize);
+            }
+            let c = &list[i];
+            if !is_live(c, &e.stamps) {
+                continue;
+            }
+            let (a, b) = (c.a as usize, c.b as usize);
+            if out.done > 0 && f32::from_bits(c.key) > cap {
+                out.consumed = i;
+                break;
+            }
+            let (cost, p) = e.evaluate(a, b);
+            if cost > max_error {
+                out.stop = Some(StopReason::MaxError);
+                break;
+            }
+            // Keep the vertex with the longer face list (less relinking).
+            let (a, b) = if e.vx[b].len > e.vx[a].len {
+                (b, a)
+            } else {
+                (a, b)
+            };
+            if !e.allowed(a, b, p) {
+                // Dropped; the pair comes back when a neighbouring contraction touches an
+                // endpoint, or in a full rebuild.
+                out.rejected += 1;
+                continue;
+            }
+            e.collapse(a, b, p);
+            e.vx[a].touched = pass;
+            e.vx[b].touched = pass;
+            survivors.push(a as u32);
+            out.done += 1;
+            out.worst = out.worst.max(cost);
+            if goal.reached(e) {
+                out.consumed = i + 1;
+                break;
+            }
+        }
+        out
+    }
+
+    /// After a pass without progress: a fresh list of every current pair (each produced once,
+    /// by its smaller end), costed and sorted, for pass `pass`.
+    fn rebuild(&mut self, e: &mut Engine, pass: u32) {
+        self.list.clear();
+        for v in 0..e.vx.len() {
+            e.vx[v].touched = pass; // so that each pair is produced once, by its smaller index
+        }
+        for v in 0..e.vx.len() {
+            if e.vx[v].alive && e.vx[v].len > 0 && !e.vx[v].locked {
+                e.pairs_of(v, pass, &mut self.list);
+            }
+        }
+        self.sort();
+    }
+
+    /// The next list after pass `pass`: the unvisited rest `list[consumed..]` (stale entries
+    /// dropped) merged with the fresh pairs of the merged vertices.
+    fn next_list(&mut self, e: &mut Engine, pass: u32, consumed: usize) {
+        self.fresh.clear();
+        // In index (Morton) order, so that neighbouring survivors share cached vertex data
+        // (halves the last-level misses of the re-pairing on igea 10 %).
+        sort_by_u32_key(&mut self.survivors, &mut self.survivors_tmp, |&v| v);
+        e.fresh_pairs(&self.survivors, pass, &mut self.fresh);
+        sort_by_u32_key(&mut self.fresh, &mut self.sort_tmp, |c| sort_key(c.key));
+        merge_live(
+            &self.list,
+            consumed,
+            &self.fresh,
+            &e.stamps,
+            &mut self.sort_tmp,
+        );
+        std::mem::swap(&mut self.list, &mut self.sort_tmp);
+    }
+}
+
+fn validate(p: &QemParams) -> Result<(), QemError> {
+    let bad = |s: String| Err(QemError::InvalidParameter(s));
+    if let Target::Ratio(r) = p.target
+        && !(r > 0.0 && r <= 1.0)
+    {
+        return bad(format!("target ratio {r} is not in (0, 1]"));
+    }
+    if !(p.pair_threshold >= 0.0 && p.pair_threshold.is_finite()) {
+        return bad(format!(
+            "pair threshold {} must be finite and >= 0",
+            p.pair_threshold
+        ));
+    }
+    if !(p.boundary_weight >= 0.0 && p.boundary_weight.is_finite()) {
+        return bad(format!(
+            "boundary weight {} must be finite and >= 0",
+            p.boundary_weight
+        ));
+    }
+    if let Some(m) = p.max_error
+        && m.is_nan()
+    {
+        return bad("max error is NaN".into());
+    }
+    if !(-1.0..=1.0).contains(&p.min_normal_cos) {
+        return bad(format!(
+            "min_normal_cos {} is not in [-1, 1]",
+            p.min_normal_cos
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,128 @@
+//! Software prefetch for the walks in cost order (the pass loop, the initial costing, the pair
+//! generation between passes): they read vertex records, face lists, faces and neighbour records
+//! at random, a chain of dependent cache misses. Each helper hints one link of that chain for a
+//! vertex a few steps ahead; the distances were tuned on igea and armadillo (docs/notes/qem.md,
+//! round 3: the staged pipeline took the pass walk from 145 to ~56 ms on igea 10 %).
+
+use super::engine::Engine;
+
+/// How many list entries ahead the pass loop prefetches version stamps.
+pub(super) const STAMPS: usize = 32;
+/// How many live candidates (or survivors, in the pair generation) ahead the vertex records of
+/// the endpoints are prefetched.
+pub(super) const RECORDS: usize = 16;
+/// How many live candidates (survivors) ahead the face lists are prefetched.
+pub(super) const LISTS: usize = 8;
+/// How many live candidates (survivors) ahead the faces are prefetched.
+pub(super) const FACES: usize = 4;
+/// How many live candidates (survivors) ahead the records around the endpoints are prefetched.
+pub(super) const RING: usize = 2;
+
+/// Hint the CPU to load the cache line at `p` (a hint only: any address is fine).
+#[inline(always)]
+pub(super) fn prefetch_ptr<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: prefetching is only a hint; it never faults, whatever the address.
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>(p.cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
+impl Engine {
+    /// Hint the CPU to load both cache lines of vertex record `i` (a no-op out of range).
+    #[inline]
+    pub(super) fn prefetch_record(&self, i: usize) {
+        if i < self.vx.len() {
+            let d = self.vx.as_ptr().wrapping_add(i).cast::<u8>();
+            prefetch_ptr(d);
+            prefetch_ptr(d.wrapping_add(64));
+        }
+    }
+
+    /// Hint the CPU to load the face list of `i` (its record should be cached).
+    #[inline]
+    pub(super) fn prefetch_list(&self, i: usize) {
+        if let Some(info) = self.vx.get(i) {
+            let s = info.start as usize;
+            prefetch_ptr(self.refs.as_ptr().wrapping_add(s));
+            prefetch_ptr(self.refs.as_ptr().wrapping_add(s + info.len as usize));
+        }
+    }
+
+    /// Hint the CPU to load the faces of `i` (its list should be cached).
+    #[inline]
+    pub(super) fn prefetch_faces_of(&self, i: usize) {
+        if i < self.vx.len() {
+            for &f in &self.refs[self.list(i)] {
+                prefetch_ptr(self.faces.as_ptr().wrapping_add(f as usize));
+            }
+        }
+    }
+
+    /// Hint the CPU to load the records of the vertices around `i` (its faces should be cached):
+    /// the first line only (position, mark and valence: what the topology and flip checks read),
+    /// or the whole record when `whole` (the pair generation also reads the quadric).
+    #[inline]
+    pub(super) fn prefetch_ring_of(&self, i: usize, whole: bool) {
+        if i < self.vx.len() {
+            for &f in &self.refs[self.list(i)] {
+                let w = super::engine::corner_after(&self.faces[f as usize], i as u32) as usize;
+                if whole {
+                    self.prefetch_record(w);
+                } else {
+                    prefetch_ptr(self.vx.as_ptr().wrapping_add(w));
+                }
+            }
+        }
+    }
+
+    /// First prefetch stage of a candidate walk (cost order, i.e. at random): the records of
+    /// `a` and `b`.
+    #[inline]
+    pub(super) fn prefetch(&self, a: usize, b: usize) {
+        self.prefetch_record(a);
+        self.prefetch_record(b);
+    }
+
+    /// Second prefetch stage: the face lists of `a` and `b`.
+    #[inline]
+    pub(super) fn prefetch_lists(&self, a: usize, b: usize) {
+        self.prefetch_list(a);
+        self.prefetch_list(b);
+    }
+
+    /// Third prefetch stage: the faces of `a` and `b`.
+    #[inline]
+    pub(super) fn prefetch_faces(&self, a: usize, b: usize) {
+        self.prefetch_faces_of(a);
+        self.prefetch_faces_of(b);
+    }
+
+    /// Fourth prefetch stage: the positions of the vertices around `a` and `b`.
+    #[inline]
+    pub(super) fn prefetch_ring(&self, a: usize, b: usize) {
+        self.prefetch_ring_of(a, false);
+        self.prefetch_ring_of(b, false);
+    }
+
+    /// Prefetch, in stages, the records, face lists, faces and neighbour records for the pair
+    /// generation of the survivors a few places after `i`.
+    #[inline]
+    pub(super) fn prefetch_survivors(&self, survivors: &[u32], i: usize) {
+        if let Some(&ahead) = survivors.get(i + RECORDS) {
+            self.prefetch_record(ahead as usize);
+        }
+        if let Some(&ahead) = survivors.get(i + LISTS) {
+            self.prefetch_list(ahead as usize);
+        }
+        if let Some(&ahead) = survivors.get(i + FACES) {
+            self.prefetch_faces_of(ahead as usize);
+        }
+        if let Some(&ahead) = survivors.get(i + RING) {
+            self.prefetch_ring_of(ahead as usize, true);
+        }
+    }
+}

@@ -1,0 +1,175 @@
+//! The vertex setup pass: per vertex, its area-weighted plane quadric, the boundary planes of its
+//! boundary edges, its boundary flag and its edges to higher-numbered neighbours, each vertex an
+//! independent task (parallel for large meshes; the result does not depend on the thread count).
+
+use super::candidates::Cand;
+use super::engine::Vertex;
+use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
+use crate::{QemParams, Quadric};
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// What [`vertex_setup`] produces.
+pub(super) struct VertexSetup {
+    /// Per vertex: position, quadric (face planes plus boundary planes), face list (`len` faces
+    /// from `face_start`), valence and boundary flag.
+    pub(super) vx: Vec<Vertex>,
+    /// The mesh edges `(u, v)`, `u < v`, in order of `u` (costs not yet evaluated).
+    pub(super) list: Vec<Cand>,
+}
+
+/// Up to this many faces around a vertex, [`vertex_setup`] finds ring neighbours by linear search.
+const RING_SEARCH_MAX: usize = 32;
+/// Vertices per parallel task of [`vertex_setup`].
+const VERTEX_CHUNK: usize = 2_048;
+
+/// Per-vertex setup over the vertex → face lists `refs` (vertex `u`'s faces start at
+/// `face_start[u]`), one independent task per chunk of vertices: each vertex sums the area-weighted
+/// plane quadrics of its faces (every face's plane is computed by each of its corners, identically)
+/// and, from its ring of distinct neighbours with the number of faces on each edge, gets its
+/// boundary flag, the perpendicular boundary planes of its boundary edges (computed from the
+/// lower-numbered end, so both ends add the same plane) and its edges to higher-numbered vertices.
+pub(super) fn vertex_setup(
+    pos: &[DVec3],
+    faces: &[[u32; 3]],
+    refs: &[u32],
+    face_start: &[u32],
+    params: &QemParams,
+    locked: Option<&[bool]>,
+) -> VertexSetup {
+    let is_locked = |v: usize| locked.is_some_and(|l| l[v]);
+    let n = pos.len();
+    // Face planes scaled so that the plane quadric is their outer product: `g = n·√(area)`,
+    // `gd = d·√(area)` (zero for degenerate faces).
+    let plane = |t: &[u32; 3]| -> [f64; 4] {
+        let [p0, p1, p2] = t.map(|w| pos[w as usize]);
+        let cross = (p1 - p0).cross(p2 - p0);
+        let len = cross.length();
+        if len > 0.0 && len.is_finite() {
+            let g = cross * (0.5 / len).sqrt();
+            [g.x, g.y, g.z, -g.dot(p0)]
+        } else {
+            [0.0; 4]
+        }
+    };
+    let planes: Vec<[f64; 4]> = if parallel(faces.len(), PARALLEL_MIN) {
+        faces
+            .par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(plane)
+            .collect()
+    } else {
+        faces.iter().map(plane).collect()
+    };
+    let mut vx: Vec<Vertex> = Vec::with_capacity(n);
+    let chunk = |first: usize, out: &mut [std::mem::MaybeUninit<Vertex>]| {
+        let mut edges = Vec::with_capacity(out.len() * 3 + 16);
+        // (neighbour, faces on the edge, last such face)
+        let mut ring: Vec<(u32, u32, u32)> = Vec::with_capacity(64);
+        for (k, slot) in out.iter_mut().enumerate() {
+            let u = first + k;
+            let uu = u as u32;
+            let end = face_start.get(u + 1).map_or(refs.len(), |&e| e as usize);
+            let list = &refs[face_start[u] as usize..end];
+            let mut q = Quadric::default();
+            ring.clear();
+            for &f in list {
+                let tri = faces[f as usize];
+                let [gx, gy, gz, gd] = planes[f as usize];
+                q += Quadric::from_plane(DVec3::new(gx, gy, gz), gd, 1.0);
+                // The two other corners (every face in the list has `u` exactly once).
+                let others = if tri[0] == uu {
+                    [tri[1], tri[2]]
+                } else if tri[1] == uu {
+                    [tri[2], tri[0]]
+                } else {
+                    [tri[0], tri[1]]
+                };
+                if list.len() <= RING_SEARCH_MAX {
+                    for v in others {
+                        match ring.iter_mut().find(|r| r.0 == v) {
+                            Some(r) => {
+                                r.1 += 1;
+                                r.2 = f;
+                            }
+                            None => ring.push((v, 1, f)),
+                        }
+                    }
+                } else {
+                    ring.extend(others.map(|v| (v, 1, f)));
+                }
+            }
+            if list.len() > RING_SEARCH_MAX {
+                // High valence: group by sorting instead of searching (stable: keeps the last face).
+                ring.sort_by_key(|r| r.0);
+                let mut w = 0;
+                for r in 0..ring.len() {
+                    if w > 0 && ring[w - 1].0 == ring[r].0 {
+                        ring[w - 1].1 += 1;
+                        ring[w - 1].2 = ring[r].2;
+                    } else {
+                        ring[w] = ring[r];
+                        w += 1;
+                    }
+                }
+                ring.truncate(w);
+            }
+            let mut on_boundary = false;
+            for &(v, count, f) in &ring {
+                on_boundary |= count != 2;
+                if count == 1 && params.preserve_boundary {
+                    let (lo, hi) = (uu.min(v) as usize, uu.max(v) as usize);
+                    let [p0, p1, p2] = faces[f as usize].map(|w| pos[w as usize]);
+                    let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                    let edge = pos[hi] - pos[lo];
+                    let m = edge.cross(face_normal).normalize_or_zero();
+                    if m != DVec3::ZERO {
+                        let w = params.boundary_weight * edge.length_squared();
+                        q += Quadric::from_plane(m, -m.dot(pos[lo]), w);
+                    }
+                }
+                if v > uu && !is_locked(u) && !is_locked(v as usize) {
+                    edges.push(Cand {
+                        a: uu,
+                        b: v,
+                        ..Cand::default()
+                    });
+                }
+            }
+            slot.write(Vertex {
+                p: pos[u],
+                mark: 0,
+                valence: list.len() as u32,
+                q,
+                start: face_start[u],
+                len: list.len() as u32,
+                touched: 0,
+                alive: true,
+                boundary: on_boundary,
+                locked: is_locked(u),
+            });
+        }
+        edges
+    };
+    let out = &mut vx.spare_capacity_mut()[..n];
+    let lists: Vec<Vec<Cand>> = if parallel(n, PARALLEL_MIN / 4) {
+        out.par_chunks_mut(VERTEX_CHUNK)
+            .enumerate()
+            .map(|(c, o)| chunk(c * VERTEX_CHUNK, o))
+            .collect()
+    } else {
+        vec![chunk(0, out)]
+    };
+    // SAFETY: every chunk wrote each of its slots exactly once, and the chunks cover `0..n`.
+    unsafe { vx.set_len(n) };
+    let list = if lists.len() == 1 {
+        lists.into_iter().next().unwrap_or_default()
+    } else {
+        let mut list = Vec::with_capacity(lists.iter().map(Vec::len).sum());
+        for l in &lists {
+            list.extend_from_slice(l);
+        }
+        list
+    };
+    VertexSetup { vx, list }
+}
