@@ -141,7 +141,7 @@ impl ViewerApp {
             }
             ui.separator();
             let panels = self.panels_mut();
-            ui.toggle_value(&mut panels.controls, "☰ Parameters")
+            ui.toggle_value(&mut panels.controls, "Parameters")
                 .on_hover_text("show/hide the parameter panel (C)");
             ui.separator();
             ui.label(RichText::new(&self.session.model_name).strong());
@@ -470,7 +470,7 @@ impl ViewerApp {
         let columns = self.panels_mut().columns;
         ui.horizontal(|ui| {
             if ui
-                .small_button("▾ Plots")
+                .small_button("Hide plots")
                 .on_hover_text("hide the plots panel (P)")
                 .clicked()
             {

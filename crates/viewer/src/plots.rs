@@ -166,7 +166,36 @@ fn decade_marks(input: GridInput) -> Vec<GridMark> {
         }
         k += 1;
     }
+    // Only marks inside the shown range: egui_plot draws the labels of the others outside the
+    // plot, over the neighbouring widgets.
+    marks.retain(|m| m.value >= lo && m.value <= hi);
     marks
+}
+
+/// At most about five x grid marks at 1, 2 or 5 × 10^k signals, whatever the budget: labels never crowd
+/// and never repeat one value (issue 13: "ticks 102699/102700/102701").
+fn count_marks(input: GridInput) -> Vec<GridMark> {
+    let (lo, hi) = input.bounds;
+    let span = hi - lo;
+    if !(span.is_finite() && span > 0.0) {
+        return Vec::new();
+    }
+    let raw = span / 5.0;
+    let decade = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * decade)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * decade)
+        .max(1.0);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last)
+        .map(|i| GridMark {
+            value: i as f64 * step,
+            step_size: step,
+        })
+        .collect()
 }
 
 fn format_log_tick(mark: GridMark) -> String {
@@ -232,6 +261,7 @@ fn base_plot(id: &str, height: f32, x_max: f64) -> Plot<'static> {
         .grid_spacing(egui::Rangef::new(24.0, 300.0))
         .include_x(0.0)
         .include_x(x_max.max(1.0))
+        .x_grid_spacer(count_marks)
         .x_axis_formatter(|mark, _| format_count(mark.value))
         .x_axis_label("signals")
         .allow_scroll(false)
@@ -456,16 +486,16 @@ pub const TABLE_COLUMNS: [(&str, &str); 11] = [
     ("F", "faces"),
     (
         "E_avg",
-        "mean squared distance original vertex → nearest simplified vertex (model units²)",
+        "mean squared distance from each original vertex to the nearest simplified vertex (model units²)",
     ),
     ("E_max", "largest such squared distance (model units²)"),
     (
         "E_sur",
-        "Area(original) − Area(simplified), model units² (signed)",
+        "Area(original) - Area(simplified), model units² (signed)",
     ),
     ("Hausdorff", "symmetric Hausdorff distance, model units"),
     (
-        "min∠",
+        "min angle",
         "mean smallest triangle angle, degrees (60 = equilateral)",
     ),
     (
@@ -590,7 +620,18 @@ mod tests {
             .filter(|m| m.step_size == 1.0)
             .map(|m| m.value)
             .collect();
-        assert_eq!(decades, vec![-7.0, -6.0, -5.0, -4.0, -3.0, -2.0]);
+        assert_eq!(decades, vec![-6.0, -5.0, -4.0, -3.0]);
+        assert!(marks.iter().all(|m| (-6.5..=-2.2).contains(&m.value)));
+        let x: Vec<f64> = count_marks(GridInput {
+            bounds: (0.0, 87_900.0),
+            base_step_size: 1.0,
+        })
+        .iter()
+        .map(|m| m.value)
+        .collect();
+        assert_eq!(x, vec![0.0, 20_000.0, 40_000.0, 60_000.0, 80_000.0]);
+        assert_eq!(format_count(20_000.0), "20k");
+        assert_eq!(format_count(1_500_000.0), "1.5M");
         assert_eq!(
             format_log_tick(GridMark {
                 value: -3.0,

@@ -96,13 +96,13 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
     {
         return Err(invalid(
             "--watch",
-            format!("{seconds} (seconds ≥ 0; 0 = as fast as possible)"),
+            format!("{seconds} (seconds >= 0; 0 = as fast as possible)"),
         ));
     }
     if let Some(v) = options.quit_after
         && !(v.is_finite() && v >= 0.0)
     {
-        return Err(invalid("--quit-after", format!("{v} (seconds ≥ 0)")));
+        return Err(invalid("--quit-after", format!("{v} (seconds >= 0)")));
     }
     params.max_signals = options.max_signals;
     params.lambda = options.lambda;
@@ -525,7 +525,8 @@ impl Session {
     }
 
     /// Evaluations run one at a time, in order: a run with many checkpoints never starts more
-    /// evaluation threads than there are cores to spare.
+    /// evaluation threads than there are cores to spare. Checkpoints that arrive while one is
+    /// being evaluated wait; of several waiting, only the newest is kept.
     fn poll_evaluations(&mut self) {
         let finished = self.evaluating.as_ref().and_then(|(_, job)| job.poll());
         if let Some(result) = finished
@@ -539,6 +540,12 @@ impl Session {
                 Ok(_) => {}
                 Err(e) => self.error(e.to_string()),
             }
+        }
+        // When the evaluator falls behind (big meshes, a loaded machine), skip to the newest
+        // checkpoint: the table and curves stay live instead of lagging further and further;
+        // the final reconstruction is always the newest, so it is always evaluated.
+        while self.evaluation_queue.len() > 1 {
+            self.evaluation_queue.pop_front();
         }
         if self.evaluating.is_none()
             && let Some(next) = self.evaluation_queue.pop_front()

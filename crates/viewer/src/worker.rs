@@ -337,9 +337,22 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
             // slow machine only make the run longer, never a burst.
             let due = (budget as f64 * (t.paced_clock.as_secs_f64() / seconds.max(1e-3)))
                 .min(budget as f64) as u64;
-            due.saturating_sub(engine.signals()).min(t.batch)
+            if due >= budget {
+                // The pace is done: let the trainer run into its own stop rule (it decides when
+                // it is finished, e.g. only on the step after the last budgeted signal).
+                t.batch
+            } else {
+                // Never step past the next scheduled error measurement: a thread that was
+                // descheduled for a while catches up in several steps, each measured, so every
+                // run gets its `PACED_ERROR_POINTS` points.
+                due.saturating_sub(engine.signals())
+                    .min(t.batch)
+                    .min(t.next_error_signals.saturating_sub(engine.signals()).max(1))
+            }
         }
     };
+    // Checkpoints land exactly on their signal counts (every |V| signals: the paper's protocol).
+    let n = n.min(t.next_checkpoint.saturating_sub(engine.signals()).max(1));
     if n == 0 {
         std::thread::sleep(Duration::from_millis(1));
     } else {

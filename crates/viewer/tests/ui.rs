@@ -352,6 +352,7 @@ fn bad_files_show_an_error_and_exports_round_trip() {
             a.session.has_qem_mesh()
                 && a.session.live().finished
                 && !a.session.history.reconstructions.is_empty()
+                && a.session.evaluations_pending() == 0
         },
     );
     let dir = tempfile::tempdir().unwrap();
@@ -475,12 +476,22 @@ fn default_run_is_watchable_and_fills_the_figure_live() {
         return;
     };
     let start = Instant::now();
-    step_until(
-        &mut h,
-        Duration::from_secs(120),
-        "the default run to finish and its checkpoints to be evaluated",
-        |a| a.session.live().finished && a.session.evaluations_pending() == 0,
-    );
+    loop {
+        h.step();
+        let s = &h.state().session;
+        if s.live().finished && s.evaluations_pending() == 0 {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the default run did not finish: {} of {} signals, running {}, {} evaluations pending",
+            s.live().snapshot.signals,
+            s.live().max_signals,
+            s.live().running,
+            s.evaluations_pending()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
     let wall = start.elapsed().as_secs_f64();
     let history = &h.state().session.history;
     assert!(
