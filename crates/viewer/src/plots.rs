@@ -172,7 +172,7 @@ fn decade_marks(input: GridInput) -> Vec<GridMark> {
     marks
 }
 
-/// At most about five x grid marks at 1, 2 or 5 × 10^k signals, whatever the budget: labels never crowd
+/// About three or four x grid marks at 1, 2 or 5 × 10^k signals, whatever the budget: labels never crowd
 /// and never repeat one value (issue 13: "ticks 102699/102700/102701").
 fn count_marks(input: GridInput) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
@@ -180,7 +180,7 @@ fn count_marks(input: GridInput) -> Vec<GridMark> {
     if !(span.is_finite() && span > 0.0) {
         return Vec::new();
     }
-    let raw = span / 5.0;
+    let raw = span / 3.0;
     let decade = 10f64.powf(raw.log10().floor());
     let step = [1.0, 2.0, 5.0, 10.0]
         .iter()
@@ -629,7 +629,7 @@ mod tests {
         .iter()
         .map(|m| m.value)
         .collect();
-        assert_eq!(x, vec![0.0, 20_000.0, 40_000.0, 60_000.0, 80_000.0]);
+        assert_eq!(x, vec![0.0, 50_000.0]);
         assert_eq!(format_count(20_000.0), "20k");
         assert_eq!(format_count(1_500_000.0), "1.5M");
         assert_eq!(

@@ -526,7 +526,7 @@ impl Session {
 
     /// Evaluations run one at a time, in order: a run with many checkpoints never starts more
     /// evaluation threads than there are cores to spare. Checkpoints that arrive while one is
-    /// being evaluated wait; of several waiting, only the newest is kept.
+    /// being evaluated wait; in a watched (paced) run only the newest of several waiting is kept.
     fn poll_evaluations(&mut self) {
         let finished = self.evaluating.as_ref().and_then(|(_, job)| job.poll());
         if let Some(result) = finished
@@ -541,10 +541,11 @@ impl Session {
                 Err(e) => self.error(e.to_string()),
             }
         }
-        // When the evaluator falls behind (big meshes, a loaded machine), skip to the newest
-        // checkpoint: the table and curves stay live instead of lagging further and further;
-        // the final reconstruction is always the newest, so it is always evaluated.
-        while self.evaluation_queue.len() > 1 {
+        // Watching (paced): when the evaluator falls behind (big meshes, a loaded machine),
+        // skip to the newest checkpoint, so the table and curves stay live instead of lagging
+        // further and further; the final reconstruction is always the newest, so it is always
+        // evaluated. As fast as possible: every checkpoint is evaluated (the complete table).
+        while matches!(self.speed, Speed::Paced { .. }) && self.evaluation_queue.len() > 1 {
             self.evaluation_queue.pop_front();
         }
         if self.evaluating.is_none()

@@ -11,11 +11,13 @@ use viewer::{ViewerApp, ViewerOptions};
 /// Window size of the harness, in points (pixels_per_point = 1).
 const SIZE: egui::Vec2 = egui::vec2(1400.0, 900.0);
 
-/// Options of a test that does not watch: full speed.
+/// Options of a test that does not watch: full speed, no periodic checkpoints (only the final
+/// reconstruction and "Reconstruct now").
 fn fast(target: usize) -> ViewerOptions {
     ViewerOptions {
         target: Some(target),
         watch_seconds: Some(0.0),
+        checkpoint_every: Some(0),
         ..Default::default()
     }
 }
