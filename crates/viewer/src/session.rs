@@ -5,6 +5,8 @@
 //! Two single places the rest of the workspace may swap out:
 //! - [`train_params`]: start-up options → validated GNG3D parameters (headless and window mode);
 //! - [`crate::engine::evaluate`]: the one evaluation of a simplified mesh (table, plots, QEM).
+//!
+//! (About a third of this file is its GPU-free tests.)
 
 use crate::engine::{self, Evaluation, TrainParams};
 use crate::error::{Result, ViewerError};
