@@ -1,11 +1,13 @@
-//! File handling off the UI thread: native file dialogs (rfd), background mesh loading, mesh
-//! export and PNG screenshots.
+//! File handling off the UI thread: file dialogs (native through rfd, or the in-app `egui_file`
+//! picker where no native dialog exists), background mesh loading, mesh export and PNG
+//! screenshots.
 
 use crate::engine;
+use crate::error::{Result, ViewerError};
+use crate::jobs::Job;
 use mesh::TriMesh;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::mpsc::{self, Receiver, TryRecvError};
 
 /// What a file dialog was opened for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,71 +24,163 @@ pub enum DialogPurpose {
     Screenshot,
 }
 
-/// At most one native dialog at a time, run on its own thread so frames keep coming.
-#[derive(Default)]
+/// A native dialog that answers "nothing chosen" faster than this never showed a window: rfd's
+/// portal and zenity backends both failed (no xdg-desktop-portal, no zenity). A person cannot
+/// cancel a dialog that quickly.
+const NATIVE_DIALOG_MIN_SECONDS: f64 = 0.4;
+
+/// Environment variable that forces the in-app picker (`VIEWER_FILE_DIALOG=builtin`).
+pub const FILE_DIALOG_ENV: &str = "VIEWER_FILE_DIALOG";
+
+/// File extensions a dialog for `purpose` offers.
+fn extensions(purpose: DialogPurpose) -> &'static [&'static str] {
+    match purpose {
+        DialogPurpose::OpenMesh | DialogPurpose::ExportGng | DialogPurpose::ExportQem => {
+            &["obj", "ply", "stl"]
+        }
+        DialogPurpose::ExportCsv => &["csv"],
+        DialogPurpose::Screenshot => &["png"],
+    }
+}
+
+/// At most one file dialog at a time: native ones run on their own thread so frames keep
+/// coming; without a native dialog the in-app picker takes over (and says so once).
 pub struct Dialogs {
-    pending: Option<(DialogPurpose, Receiver<Option<PathBuf>>)>,
+    native: Option<(
+        DialogPurpose,
+        String,
+        std::time::Instant,
+        Job<Option<PathBuf>>,
+    )>,
+    builtin: Option<(DialogPurpose, egui_file::FileDialog)>,
+    native_unavailable: bool,
+    notice: Option<String>,
+}
+
+impl Default for Dialogs {
+    fn default() -> Self {
+        Dialogs {
+            native: None,
+            builtin: None,
+            native_unavailable: std::env::var(FILE_DIALOG_ENV).is_ok_and(|v| v == "builtin"),
+            notice: None,
+        }
+    }
 }
 
 impl Dialogs {
     /// Whether a dialog is open.
     pub fn is_open(&self) -> bool {
-        self.pending.is_some()
+        self.native.is_some() || self.builtin.is_some()
+    }
+
+    /// Whether the in-app picker is open.
+    pub fn builtin_open(&self) -> bool {
+        self.builtin.is_some()
     }
 
     /// Open a dialog for `purpose` (ignored while another one is open).
     pub fn open(&mut self, purpose: DialogPurpose, suggested_name: &str) {
-        if self.pending.is_some() {
+        if self.is_open() {
             return;
         }
-        let (tx, rx) = mpsc::channel();
+        if self.native_unavailable {
+            self.open_builtin(purpose, suggested_name);
+            return;
+        }
         let name = suggested_name.to_string();
-        let spawned = std::thread::Builder::new()
-            .name("file-dialog".into())
-            .spawn(move || {
-                let dialog = rfd::FileDialog::new();
-                let path = match purpose {
-                    DialogPurpose::OpenMesh => dialog
-                        .add_filter("meshes", &["obj", "ply", "stl"])
-                        .pick_file(),
-                    DialogPurpose::ExportGng | DialogPurpose::ExportQem => dialog
-                        .add_filter("OBJ", &["obj"])
-                        .add_filter("PLY", &["ply"])
-                        .add_filter("STL", &["stl"])
-                        .set_file_name(name)
-                        .save_file(),
-                    DialogPurpose::ExportCsv => dialog
-                        .add_filter("CSV", &["csv"])
-                        .set_file_name(name)
-                        .save_file(),
-                    DialogPurpose::Screenshot => dialog
-                        .add_filter("PNG", &["png"])
-                        .set_file_name(name)
-                        .save_file(),
-                };
-                let _ = tx.send(path);
-            });
-        if spawned.is_ok() {
-            self.pending = Some((purpose, rx));
+        let job_name = name.clone();
+        let job = Job::spawn("file-dialog", None, move || {
+            let dialog = rfd::FileDialog::new();
+            match purpose {
+                DialogPurpose::OpenMesh => {
+                    dialog.add_filter("meshes", extensions(purpose)).pick_file()
+                }
+                DialogPurpose::ExportGng | DialogPurpose::ExportQem => dialog
+                    .add_filter("OBJ", &["obj"])
+                    .add_filter("PLY", &["ply"])
+                    .add_filter("STL", &["stl"])
+                    .set_file_name(job_name)
+                    .save_file(),
+                DialogPurpose::ExportCsv => dialog
+                    .add_filter("CSV", &["csv"])
+                    .set_file_name(job_name)
+                    .save_file(),
+                DialogPurpose::Screenshot => dialog
+                    .add_filter("PNG", &["png"])
+                    .set_file_name(job_name)
+                    .save_file(),
+            }
+        });
+        self.native = Some((purpose, name, std::time::Instant::now(), job));
+    }
+
+    fn open_builtin(&mut self, purpose: DialogPurpose, suggested_name: &str) {
+        let wanted = extensions(purpose);
+        let filter: egui_file::Filter<PathBuf> = Box::new(move |path: &Path| {
+            path.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| wanted.iter().any(|w| w.eq_ignore_ascii_case(e)))
+        });
+        let mut dialog = match purpose {
+            DialogPurpose::OpenMesh => egui_file::FileDialog::open_file(),
+            _ => egui_file::FileDialog::save_file().default_filename(suggested_name),
+        }
+        .show_files_filter(filter)
+        .default_size([520.0, 360.0]);
+        dialog.open();
+        self.builtin = Some((purpose, dialog));
+    }
+
+    /// A one-off message for the status line (e.g. that the in-app picker replaced a missing
+    /// native dialog).
+    pub fn take_notice(&mut self) -> Option<String> {
+        self.notice.take()
+    }
+
+    /// Draw the in-app picker, if open.
+    pub fn show_fallback(&mut self, ctx: &egui::Context) {
+        if let Some((_, dialog)) = self.builtin.as_mut() {
+            dialog.show(ctx);
         }
     }
 
     /// The dialog's answer once it is closed: `Some((purpose, None))` when cancelled.
     pub fn poll(&mut self) -> Option<(DialogPurpose, Option<PathBuf>)> {
-        let (purpose, rx) = self.pending.as_ref()?;
-        match rx.try_recv() {
-            Ok(path) => {
-                let purpose = *purpose;
-                self.pending = None;
-                Some((purpose, path))
-            }
-            Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => {
-                let purpose = *purpose;
-                self.pending = None;
-                Some((purpose, None))
-            }
+        if let Some((purpose, dialog)) = &self.builtin {
+            let purpose = *purpose;
+            return match dialog.state() {
+                egui_file::State::Open => None,
+                egui_file::State::Selected => {
+                    let path = dialog.path().map(Path::to_path_buf);
+                    self.builtin = None;
+                    Some((purpose, path))
+                }
+                egui_file::State::Closed | egui_file::State::Cancelled => {
+                    self.builtin = None;
+                    Some((purpose, None))
+                }
+            };
         }
+        let (purpose, name, started, job) = self.native.as_ref()?;
+        let answer = job.poll()?.ok().flatten();
+        let (purpose, name, quick) = (
+            *purpose,
+            name.clone(),
+            started.elapsed().as_secs_f64() < NATIVE_DIALOG_MIN_SECONDS,
+        );
+        self.native = None;
+        if answer.is_none() && quick {
+            self.native_unavailable = true;
+            self.notice = Some(
+                "no native file dialog (it needs xdg-desktop-portal or zenity): using the \
+                 built-in file picker"
+                    .into(),
+            );
+            self.open_builtin(purpose, &name);
+            return None;
+        }
+        Some((purpose, answer))
     }
 }
 
@@ -102,49 +196,42 @@ pub struct LoadedModel {
     pub warnings: Vec<String>,
 }
 
-/// Load and clean `path` on a new thread; poll the receiver.
-pub fn spawn_load(
-    path: PathBuf,
-    ctx: Option<egui::Context>,
-) -> Receiver<Result<LoadedModel, String>> {
-    let (tx, rx) = mpsc::channel();
-    let _ = std::thread::Builder::new()
-        .name("load-mesh".into())
-        .spawn(move || {
-            let result = engine::load_mesh(&path).map(|loaded| LoadedModel {
-                name: path
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| path.display().to_string()),
-                path: path.clone(),
-                mesh: Arc::new(loaded.mesh),
-                warnings: loaded.warnings,
-            });
-            let _ = tx.send(result);
-            if let Some(ctx) = ctx {
-                ctx.request_repaint();
-            }
-        });
-    rx
+/// Load and clean `path` on a new thread.
+pub fn spawn_load(path: PathBuf, ctx: Option<egui::Context>) -> Job<Result<LoadedModel>> {
+    Job::spawn("load-mesh", ctx, move || {
+        engine::load_mesh(&path).map(|loaded| LoadedModel {
+            name: path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| path.display().to_string()),
+            path: path.clone(),
+            mesh: Arc::new(loaded.mesh),
+            warnings: loaded.warnings,
+        })
+    })
 }
 
 /// Save `mesh` to `path` (format by extension).
-pub fn export_mesh(mesh: &TriMesh, path: &Path) -> Result<(), String> {
+pub fn export_mesh(mesh: &TriMesh, path: &Path) -> Result<()> {
     engine::save_mesh(mesh, path)
 }
 
 /// Write an egui screenshot as PNG.
-pub fn save_png(image: &egui::ColorImage, path: &Path) -> Result<(), String> {
+pub fn save_png(image: &egui::ColorImage, path: &Path) -> Result<()> {
+    let fail = |message: String| ViewerError::Save {
+        path: path.to_path_buf(),
+        message,
+    };
     let [w, h] = image.size;
     let mut bytes = Vec::with_capacity(w * h * 4);
     for c in &image.pixels {
         bytes.extend_from_slice(&c.to_srgba_unmultiplied());
     }
     let buffer = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
-        .ok_or_else(|| format!("{}: screenshot has an inconsistent size", path.display()))?;
+        .ok_or_else(|| fail("screenshot has an inconsistent size".into()))?;
     buffer
         .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|e| fail(e.to_string()))
 }
 
 /// Fraction of pixels in `image` that differ from its most common colour (0 for a blank image).
@@ -185,7 +272,9 @@ mod tests {
     #[test]
     fn bad_screenshot_path_is_an_error_not_a_panic() {
         let image = egui::ColorImage::filled([2, 2], egui::Color32::WHITE);
-        let err = save_png(&image, Path::new("/nonexistent-dir/x/shot.png")).unwrap_err();
+        let err = save_png(&image, Path::new("/nonexistent-dir/x/shot.png"))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("/nonexistent-dir/x/shot.png"), "{err}");
     }
 }

@@ -1,24 +1,39 @@
 //! gng3d viewer: watch a GNG3D network learn a mesh next to Garland-Heckbert QEM at the same
 //! vertex count, with live error plots in the style of the GNG3D paper.
 //!
-//! The application is [`app::ViewerApp`]; [`run`] opens it in an eframe window with the wgpu
-//! renderer. Tests build the app directly against an `egui_kittest` harness.
+//! [`session::Session`] holds everything that is not UI (model, training thread, QEM,
+//! evaluations, plot history) and is tested without a window; [`app::ViewerApp`] draws it.
+//! [`run`] opens the app in an eframe window with the wgpu renderer (Vulkan, Metal, DX12 or
+//! OpenGL, whatever the adapter offers); tests build the app against an `egui_kittest` harness.
 
 pub mod app;
+pub mod automation;
+pub mod camera;
+pub mod diagnostics;
 pub mod engine;
+pub mod error;
 pub mod io;
+pub mod jobs;
+pub mod panels;
 pub mod plots;
 pub mod render;
+pub mod scene;
+pub mod session;
+pub mod shortcuts;
 pub mod worker;
 
-pub use app::{ViewerApp, ViewerOptions};
+pub use app::ViewerApp;
+pub use error::ViewerError;
+pub use session::{Session, ViewerOptions};
 
 /// Train without a window for `options.quit_after` seconds (default 5) on the same worker thread
-/// the viewer uses, and return a one-line summary with the mean signals/s (the headless baseline
-/// for the viewer's throughput target).
-pub fn run_headless(options: &ViewerOptions) -> Result<String, String> {
+/// the viewer uses, at full speed, and return a one-line summary with the mean signals/s (the
+/// headless baseline for the viewer's throughput target). Options are validated by the same
+/// [`session::train_params`] as in the window.
+pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     use std::sync::Arc;
     use std::time::{Duration, Instant};
+    let params = session::train_params(options)?;
     let (name, mesh) = match &options.path {
         Some(path) => {
             let loaded = engine::load_mesh(path)?;
@@ -26,15 +41,8 @@ pub fn run_headless(options: &ViewerOptions) -> Result<String, String> {
         }
         None => engine::default_model(),
     };
-    let mut params = engine::default_params(options.target.unwrap_or(1000));
-    params.max_signals = options.max_signals;
-    params.lambda = options.lambda;
-    params.time_limit = options.time_limit.map(Duration::from_secs_f64);
-    if let Some(seed) = options.seed {
-        params.seed = seed;
-    }
     let trainer = worker::Trainer::spawn();
-    trainer.send(worker::Command::Reset(Box::new(worker::Session {
+    trainer.send(worker::Command::Reset(Box::new(worker::TrainingJob {
         mesh: Arc::new(mesh),
         params,
         checkpoint_every: None,
@@ -52,10 +60,13 @@ pub fn run_headless(options: &ViewerOptions) -> Result<String, String> {
             rates.push(live.signals_per_second);
         }
     }
-    let mean = if rates.is_empty() {
-        0.0
-    } else {
+    let mean = if !rates.is_empty() {
         rates.iter().sum::<f64>() / rates.len() as f64
+    } else if live.train_seconds > 0.0 {
+        // Training ended within the warm-up: the whole run's rate.
+        live.snapshot.signals as f64 / live.train_seconds
+    } else {
+        0.0
     };
     Ok(format!(
         "headless stats: model={name} nodes={} signals={} mean_signals_per_s={mean:.0} train_s={:.2}",
@@ -65,8 +76,10 @@ pub fn run_headless(options: &ViewerOptions) -> Result<String, String> {
     ))
 }
 
-/// Open the viewer window and run until it is closed.
-pub fn run(options: ViewerOptions) -> Result<(), String> {
+/// Open the viewer window and run until it is closed. Options are validated before the window
+/// opens.
+pub fn run(options: ViewerOptions) -> error::Result<()> {
+    session::train_params(&options)?;
     let mut wgpu_options = egui_wgpu::WgpuConfiguration::default();
     wgpu_options.surface.present_mode = wgpu::PresentMode::AutoNoVsync;
     let native = eframe::NativeOptions {
@@ -85,12 +98,9 @@ pub fn run(options: ViewerOptions) -> Result<(), String> {
         "gng3d viewer",
         native,
         Box::new(move |cc| {
-            Ok(Box::new(ViewerApp::new(
-                &cc.egui_ctx,
-                cc.wgpu_render_state.clone(),
-                options,
-            )))
+            let app = ViewerApp::new(&cc.egui_ctx, cc.wgpu_render_state.clone(), options)?;
+            Ok(Box::new(app))
         }),
     )
-    .map_err(|e| e.to_string())
+    .map_err(|e| ViewerError::Window(e.to_string()))
 }

@@ -1,4 +1,5 @@
-//! `viewer [MESH] [--target N] [--quit-after SECS --screenshot PATH]`: the gng3d desktop viewer.
+//! `viewer [MESH] [--target N] [--watch SECS] [--quit-after SECS --screenshot PATH]`: the gng3d
+//! desktop viewer.
 
 use clap::Parser;
 use std::path::PathBuf;
@@ -24,7 +25,16 @@ struct Args {
     /// λ: signals between node insertions (default: automatic).
     #[arg(long)]
     lambda: Option<u32>,
-    /// Train without a window for --quit-after seconds and print the throughput (baseline).
+    /// Length of the watched run in seconds: the signal budget is spread over it so the network
+    /// visibly grows (default 12; 0 = as fast as possible).
+    #[arg(long, value_name = "SECS")]
+    watch: Option<f64>,
+    /// Reconstruct and measure the neural mesh every N signals (default |V|, the paper's
+    /// protocol; 0 = only at the end).
+    #[arg(long, value_name = "N")]
+    checkpoint_every: Option<u64>,
+    /// Train without a window for --quit-after seconds at full speed and print the throughput
+    /// (baseline).
     #[arg(long)]
     headless: bool,
     /// Start with training paused.
@@ -84,6 +94,8 @@ fn main() {
         seed: args.seed,
         max_signals: args.max_signals,
         lambda: args.lambda,
+        watch_seconds: args.watch,
+        checkpoint_every: args.checkpoint_every,
         paused: args.paused,
         print_stats: args.stats || args.quit_after.is_some(),
         window_size: args.window,

@@ -1,9 +1,12 @@
 //! Live plots in the style of the GNG3D paper's Figure 1 (E_avg and E_max against iterations on a
-//! log scale, QEM's values as horizontal lines), E_sur/Hausdorff after each reconstruction, and a
-//! checkpoint table like the paper's Table 1 with CSV export.
+//! log scale, QEM's values as horizontal lines), E_sur and Hausdorff after each reconstruction on
+//! their own axes, and a checkpoint table like the paper's Table 1 with CSV export. Every plot
+//! spans the run's whole signal budget on x from the start, so the curves fill in left to right.
 
-use egui::Color32;
-use egui_plot::{GridInput, GridMark, HLine, Legend, Line, LineStyle, Plot, PlotPoints, Points};
+use crate::engine::Evaluation;
+use crate::error::{Result, ViewerError};
+use egui::{Color32, Stroke};
+use egui_plot::{GridInput, GridMark, HLine, Line, LineStyle, Plot, PlotPoints, Points};
 use std::path::Path;
 
 /// Most points kept per live series; older points are thinned beyond that.
@@ -16,18 +19,8 @@ pub struct Checkpoint {
     pub method: &'static str,
     /// Training signals (iterations) when taken; 0 for QEM.
     pub iteration: u64,
-    /// Vertices of the mesh.
-    pub vertices: usize,
-    /// Faces of the mesh.
-    pub faces: usize,
-    /// E_avg, squared model units.
-    pub e_avg: f64,
-    /// E_max, squared model units.
-    pub e_max: f64,
-    /// E_sur = |ΔArea|, squared model units.
-    pub e_sur: f64,
-    /// Symmetric Hausdorff distance, model units.
-    pub hausdorff: Option<f64>,
+    /// The measurements ([`crate::engine::evaluate`]).
+    pub evaluation: Evaluation,
     /// Seconds of computation (training time for GNG3D).
     pub seconds: f64,
 }
@@ -80,9 +73,13 @@ impl History {
     }
 
     /// Write the checkpoint table as CSV.
-    pub fn write_csv(&self, path: &Path) -> Result<(), String> {
-        let text = self.csv_string()?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+    pub fn write_csv(&self, path: &Path) -> Result<()> {
+        let fail = |message: String| ViewerError::Save {
+            path: path.to_path_buf(),
+            message,
+        };
+        let text = self.csv_string().map_err(fail)?;
+        std::fs::write(path, text).map_err(|e| fail(e.to_string()))
     }
 
     /// The checkpoint table as CSV text.
@@ -99,6 +96,8 @@ impl History {
                 "e_max",
                 "e_sur",
                 "hausdorff",
+                "mean_min_angle_deg",
+                "share_min_angle_below_30",
                 "seconds",
             ])
             .map_err(err)?;
@@ -107,12 +106,17 @@ impl History {
                 .write_record([
                     row.method.to_string(),
                     row.iteration.to_string(),
-                    row.vertices.to_string(),
-                    row.faces.to_string(),
-                    format!("{:e}", row.e_avg),
-                    format!("{:e}", row.e_max),
-                    format!("{:e}", row.e_sur),
-                    row.hausdorff.map(|h| format!("{h:e}")).unwrap_or_default(),
+                    row.evaluation.vertices.to_string(),
+                    row.evaluation.faces.to_string(),
+                    format!("{:e}", row.evaluation.e_avg),
+                    format!("{:e}", row.evaluation.e_max),
+                    format!("{:e}", row.evaluation.e_sur),
+                    row.evaluation
+                        .hausdorff
+                        .map(|h| format!("{h:e}"))
+                        .unwrap_or_default(),
+                    format!("{:.2}", row.evaluation.mean_min_angle_degrees),
+                    format!("{:.4}", row.evaluation.below_30_degrees),
                     format!("{:.3}", row.seconds),
                 ])
                 .map_err(err)?;
@@ -162,14 +166,92 @@ fn decade_marks(input: GridInput) -> Vec<GridMark> {
         }
         k += 1;
     }
+    // Only marks inside the shown range: egui_plot draws the labels of the others outside the
+    // plot, over the neighbouring widgets.
+    marks.retain(|m| m.value >= lo && m.value <= hi);
     marks
 }
 
+/// About three or four x grid marks at 1, 2 or 5 × 10^k signals, whatever the budget: labels never crowd
+/// and never repeat one value (issue 13: "ticks 102699/102700/102701").
+fn count_marks(input: GridInput) -> Vec<GridMark> {
+    let (lo, hi) = input.bounds;
+    let span = hi - lo;
+    if !(span.is_finite() && span > 0.0) {
+        return Vec::new();
+    }
+    let raw = span / 3.0;
+    let decade = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * decade)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * decade)
+        .max(1.0);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last)
+        .map(|i| GridMark {
+            value: i as f64 * step,
+            step_size: step,
+        })
+        .collect()
+}
+
 fn format_log_tick(mark: GridMark) -> String {
+    // Decades only: the 2× and 5× marks of a zoomed-in axis stay unlabelled grid lines, so
+    // labels never crowd (issue 13: "1.0e-3 twice over a dense band").
+    if mark.step_size < 1.0 {
+        return String::new();
+    }
     format!("{:.0e}", 10f64.powf(mark.value))
 }
 
-fn log_plot(id: &str, height: f32) -> Plot<'static> {
+/// Compact signal counts for the x axis: 0, 500, 12k, 1.5M.
+pub fn format_count(v: f64) -> String {
+    let a = v.abs();
+    if a >= 1e6 {
+        format!("{}M", trim_float(v / 1e6))
+    } else if a >= 1e3 {
+        format!("{}k", trim_float(v / 1e3))
+    } else {
+        format!("{v:.0}")
+    }
+}
+
+/// `v` with at most two decimals and no trailing zeros.
+fn trim_float(v: f64) -> String {
+    let s = format!("{v:.2}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// A linear-axis tick with as many decimals as the tick spacing needs (scientific below 0.01).
+fn format_linear_tick(mark: GridMark) -> String {
+    let step = mark.step_size.abs();
+    if mark.value == 0.0 {
+        return "0".into();
+    }
+    if step < 0.01 || mark.value.abs() >= 1e5 {
+        return format!("{:.1e}", mark.value);
+    }
+    let decimals = (-step.log10().floor()).clamp(0.0, 6.0) as usize;
+    format!("{:.*}", decimals, mark.value)
+}
+
+/// The series name (empty away from data) and plot position under the pointer.
+fn hovered<'a>(pos: &'a egui_plot::HoverPosition<'_>) -> (&'a str, egui_plot::PlotPoint) {
+    match pos {
+        egui_plot::HoverPosition::NearDataPoint {
+            plot_name,
+            position,
+            ..
+        } => (plot_name, *position),
+        egui_plot::HoverPosition::Elsewhere { position } => ("", *position),
+    }
+}
+
+/// Base plot: no background, sparse grid, x from 0 to the signal budget with compact labels.
+fn base_plot(id: &str, height: f32, x_max: f64) -> Plot<'static> {
     Plot::new(id)
         .height(height)
         // The panel colour shows through: no second fill of the plot area.
@@ -177,30 +259,51 @@ fn log_plot(id: &str, height: f32) -> Plot<'static> {
         // Grid lines at least 24 px apart (egui_plot's default, 8 px, draws ~3× as many faint
         // lines, each of which a CPU rasterizer pays for).
         .grid_spacing(egui::Rangef::new(24.0, 300.0))
-        .legend(
-            Legend::default()
-                .position(egui_plot::Corner::RightTop)
-                .text_style(egui::TextStyle::Small)
-                .background_alpha(0.6),
-        )
+        .include_x(0.0)
+        .include_x(x_max.max(1.0))
+        .x_grid_spacer(count_marks)
+        .x_axis_formatter(|mark, _| format_count(mark.value))
+        .x_axis_label("signals")
+        .allow_scroll(false)
+}
+
+/// Base plot with a log10 y axis labelled at decades.
+fn log_plot(id: &str, height: f32, x_max: f64, unit: &'static str) -> Plot<'static> {
+    base_plot(id, height, x_max)
         .y_grid_spacer(decade_marks)
         .y_axis_formatter(|mark, _| format_log_tick(mark))
-        .x_axis_label("iteration (signals)")
-        .label_formatter(|pos| {
-            let (name, p) = match pos {
-                egui_plot::HoverPosition::NearDataPoint {
-                    plot_name,
-                    position,
-                    ..
-                } => (*plot_name, *position),
-                egui_plot::HoverPosition::Elsewhere { position } => ("", *position),
-            };
+        .label_formatter(move |pos| {
+            let (name, p) = hovered(pos);
             Some(format!(
-                "{name}\niteration {:.0}\n{:.3e}",
-                p.x,
+                "{name}\n{} signals\n{:.3e} {unit}",
+                format_count(p.x),
                 10f64.powf(p.y)
             ))
         })
+}
+
+/// One legend entry: label, colour, dashed (QEM) or solid (GNG3D).
+pub type LegendEntry = (&'static str, Color32, bool);
+
+/// A legend drawn as a row above the plot, with a short line sample per entry so solid (GNG3D)
+/// and dashed (QEM) are told apart and no legend box covers data.
+pub fn legend_row(ui: &mut egui::Ui, entries: &[LegendEntry]) {
+    ui.horizontal_wrapped(|ui| {
+        ui.spacing_mut().item_spacing.x = 4.0;
+        for &(label, color, dashed) in entries {
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
+            let (a, b) = (rect.left_center(), rect.right_center());
+            let stroke = Stroke::new(2.0, color);
+            if dashed {
+                ui.painter()
+                    .extend(egui::Shape::dashed_line(&[a, b], stroke, 4.0, 3.0));
+            } else {
+                ui.painter().line_segment([a, b], stroke);
+            }
+            ui.label(egui::RichText::new(label).small());
+            ui.add_space(6.0);
+        }
+    });
 }
 
 /// At most two points (the lowest and the highest, in series order) per bucket of consecutive
@@ -225,8 +328,27 @@ pub fn envelope(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
     out
 }
 
-/// E_avg and E_max of the live network against iterations (log y), QEM as horizontal lines.
-pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
+/// Legend of the vertex-error plot.
+pub const VERTEX_LEGEND: [LegendEntry; 4] = [
+    ("GNG3D E_avg", AVG_COLOR, false),
+    ("GNG3D E_max", MAX_COLOR, false),
+    ("QEM E_avg", AVG_COLOR, true),
+    ("QEM E_max", MAX_COLOR, true),
+];
+/// Legend of the E_sur plot.
+pub const SURFACE_LEGEND: [LegendEntry; 2] = [
+    ("GNG3D E_sur", SUR_COLOR, false),
+    ("QEM E_sur", SUR_COLOR, true),
+];
+/// Legend of the Hausdorff plot.
+pub const HAUSDORFF_LEGEND: [LegendEntry; 2] = [
+    ("GNG3D Hausdorff", HAUSDORFF_COLOR, false),
+    ("QEM Hausdorff", HAUSDORFF_COLOR, true),
+];
+
+/// E_avg and E_max of the live network against signals (log y, squared model units), QEM as
+/// dashed horizontal lines. `x_max`: the run's signal budget.
+pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: f64) {
     // One bucket per two pixels: a CPU rasterizer pays for every tiny line segment.
     let buckets = (ui.available_width() * ui.ctx().pixels_per_point() / 2.0).max(16.0) as usize;
     let series = |column: usize| -> Vec<[f64; 2]> {
@@ -241,9 +363,9 @@ pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
     let max = PlotPoints::from(envelope(&max_points, buckets));
     // Markers while the series is short (a single point draws no line).
     let marks = (history.errors.len() < 40).then_some((avg_points, max_points));
-    let qem = history.qem.clone();
-    log_plot("vertex_errors", height)
-        .y_axis_label("squared error")
+    let qem = history.qem.as_ref().map(|q| q.evaluation);
+    log_plot("vertex_errors", height, x_max, "model units²")
+        .y_axis_label("model units²")
         .show(ui, move |plot| {
             if let Some((avg_marks, max_marks)) = marks {
                 plot.points(
@@ -274,93 +396,153 @@ pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
         });
 }
 
-/// E_sur and Hausdorff after each reconstruction (log y), QEM as horizontal lines.
-pub fn surface_error_plot(ui: &mut egui::Ui, history: &History, height: f32) {
+/// Signed E_sur (Area(original) − Area(simplified), squared model units, linear y) after each
+/// reconstruction, QEM dashed.
+pub fn surface_error_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: f64) {
     let sur: Vec<[f64; 2]> = history
         .reconstructions
         .iter()
-        .map(|c| [c.iteration as f64, log10(c.e_sur)])
+        .map(|c| [c.iteration as f64, c.evaluation.e_sur])
         .collect();
+    let qem = history.qem.as_ref().map(|q| q.evaluation.e_sur);
+    let mut plot = base_plot("surface_error", height, x_max)
+        .y_axis_label("model units²")
+        .y_axis_formatter(|mark, _| format_linear_tick(mark))
+        .label_formatter(|pos| {
+            let (name, p) = hovered(pos);
+            Some(format!(
+                "{name}\n{} signals\nE_sur {:.3e} model units²",
+                format_count(p.x),
+                p.y
+            ))
+        });
+    if sur.is_empty() && qem.is_none() {
+        // Nothing yet: a sane empty axis instead of −0.02…0.02.
+        plot = plot.include_y(0.0).include_y(1.0);
+    }
+    plot.show(ui, move |plot| {
+        plot.line(Line::new("GNG3D E_sur", PlotPoints::from(sur.clone())).color(SUR_COLOR));
+        plot.points(
+            Points::new("GNG3D E_sur", PlotPoints::from(sur))
+                .color(SUR_COLOR)
+                .radius(3.0),
+        );
+        if let Some(q) = qem {
+            plot.hline(
+                HLine::new("QEM E_sur", q)
+                    .color(SUR_COLOR)
+                    .style(LineStyle::dashed_loose()),
+            );
+        }
+    });
+}
+
+/// Symmetric Hausdorff distance (model units, log y) after each reconstruction, QEM dashed.
+pub fn hausdorff_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: f64) {
     let hd: Vec<[f64; 2]> = history
         .reconstructions
         .iter()
-        .filter_map(|c| c.hausdorff.map(|h| [c.iteration as f64, log10(h)]))
+        .filter_map(|c| {
+            c.evaluation
+                .hausdorff
+                .map(|h| [c.iteration as f64, log10(h)])
+        })
         .collect();
-    let qem = history.qem.clone();
-    log_plot("surface_errors", height)
-        .y_axis_label("E_sur / Hausdorff")
-        .show(ui, move |plot| {
-            plot.line(Line::new("GNG3D E_sur", PlotPoints::from(sur.clone())).color(SUR_COLOR));
-            plot.points(
-                Points::new("GNG3D E_sur", PlotPoints::from(sur))
-                    .color(SUR_COLOR)
-                    .radius(3.0),
-            );
-            plot.line(
-                Line::new("GNG3D Hausdorff", PlotPoints::from(hd.clone())).color(HAUSDORFF_COLOR),
-            );
-            plot.points(
-                Points::new("GNG3D Hausdorff", PlotPoints::from(hd))
+    let qem = history.qem.as_ref().and_then(|q| q.evaluation.hausdorff);
+    let mut plot = log_plot("hausdorff", height, x_max, "model units").y_axis_label("model units");
+    if hd.is_empty() && qem.is_none() {
+        plot = plot.include_y(-3.0).include_y(0.0);
+    }
+    plot.show(ui, move |plot| {
+        plot.line(
+            Line::new("GNG3D Hausdorff", PlotPoints::from(hd.clone())).color(HAUSDORFF_COLOR),
+        );
+        plot.points(
+            Points::new("GNG3D Hausdorff", PlotPoints::from(hd))
+                .color(HAUSDORFF_COLOR)
+                .radius(3.0),
+        );
+        if let Some(h) = qem {
+            plot.hline(
+                HLine::new("QEM Hausdorff", log10(h))
                     .color(HAUSDORFF_COLOR)
-                    .radius(3.0),
+                    .style(LineStyle::dashed_loose()),
             );
-            if let Some(q) = qem {
-                plot.hline(
-                    HLine::new("QEM E_sur", log10(q.e_sur))
-                        .color(SUR_COLOR)
-                        .style(LineStyle::dashed_loose()),
-                );
-                if let Some(h) = q.hausdorff {
-                    plot.hline(
-                        HLine::new("QEM Hausdorff", log10(h))
-                            .color(HAUSDORFF_COLOR)
-                            .style(LineStyle::dashed_loose()),
-                    );
-                }
-            }
-        });
+        }
+    });
 }
 
-/// The checkpoint table (paper's Table 1 columns plus Hausdorff and time).
+/// Column headers of the checkpoint table, with their hover explanations.
+pub const TABLE_COLUMNS: [(&str, &str); 11] = [
+    (
+        "method",
+        "GNG3D checkpoint or the QEM result at the same vertex target",
+    ),
+    (
+        "signals",
+        "training signals when the network was reconstructed",
+    ),
+    ("V", "vertices"),
+    ("F", "faces"),
+    (
+        "E_avg",
+        "mean squared distance from each original vertex to the nearest simplified vertex (model units²)",
+    ),
+    ("E_max", "largest such squared distance (model units²)"),
+    (
+        "E_sur",
+        "Area(original) - Area(simplified), model units² (signed)",
+    ),
+    ("Hausdorff", "symmetric Hausdorff distance, model units"),
+    (
+        "min angle",
+        "mean smallest triangle angle, degrees (60 = equilateral)",
+    ),
+    (
+        "<30°",
+        "share of triangles whose smallest angle is under 30°",
+    ),
+    (
+        "time (s)",
+        "training seconds (GNG3D) or simplification seconds (QEM)",
+    ),
+];
+
+/// The checkpoint table (paper's Table 1 columns plus Hausdorff, triangle quality and time),
+/// scrollable both ways inside whatever space it gets.
 pub fn checkpoint_table(ui: &mut egui::Ui, history: &History) {
     // Solid scroll bars take their own space: floating ones would hide the last row.
     ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
     egui::ScrollArea::both()
         .id_salt("checkpoints")
-        .auto_shrink([false, true])
+        .auto_shrink([false, false])
         .show(ui, |ui| {
             egui::Grid::new("checkpoint_grid")
                 .striped(true)
-                .num_columns(9)
+                .num_columns(TABLE_COLUMNS.len())
                 .spacing([8.0, 2.0])
                 .show(ui, |ui| {
-                    for h in [
-                        "method",
-                        "iter.",
-                        "V",
-                        "F",
-                        "E_avg",
-                        "E_max",
-                        "E_sur",
-                        "Hausdorff",
-                        "time (s)",
-                    ] {
-                        ui.strong(h);
+                    for (h, hover) in TABLE_COLUMNS {
+                        ui.strong(h).on_hover_text(hover);
                     }
                     ui.end_row();
+                    // Newest GNG3D checkpoint first, QEM last (always visible without scrolling
+                    // far when the table is short).
                     for row in history.rows() {
+                        let e = &row.evaluation;
                         ui.label(row.method);
-                        ui.label(row.iteration.to_string());
-                        ui.label(row.vertices.to_string());
-                        ui.label(row.faces.to_string());
-                        ui.label(format!("{:.3e}", row.e_avg));
-                        ui.label(format!("{:.3e}", row.e_max));
-                        ui.label(format!("{:.3e}", row.e_sur));
+                        ui.label(format_count(row.iteration as f64));
+                        ui.label(e.vertices.to_string());
+                        ui.label(e.faces.to_string());
+                        ui.label(format!("{:.3e}", e.e_avg));
+                        ui.label(format!("{:.3e}", e.e_max));
+                        ui.label(format!("{:.3e}", e.e_sur));
                         ui.label(
-                            row.hausdorff
-                                .map(|h| format!("{h:.3e}"))
-                                .unwrap_or_else(|| "–".into()),
+                            e.hausdorff
+                                .map_or_else(|| "–".into(), |h| format!("{h:.3e}")),
                         );
+                        ui.label(format!("{:.1}°", e.mean_min_angle_degrees));
+                        ui.label(format!("{:.1} %", 100.0 * e.below_30_degrees));
                         ui.label(format!("{:.2}", row.seconds));
                         ui.end_row();
                     }
@@ -376,12 +558,16 @@ mod tests {
         Checkpoint {
             method,
             iteration,
-            vertices: 10,
-            faces: 16,
-            e_avg,
-            e_max: e_avg * 4.0,
-            e_sur: 0.5,
-            hausdorff: None,
+            evaluation: Evaluation {
+                vertices: 10,
+                faces: 16,
+                e_avg,
+                e_max: e_avg * 4.0,
+                e_sur: -0.5,
+                hausdorff: None,
+                mean_min_angle_degrees: 41.0,
+                below_30_degrees: 0.25,
+            },
             seconds: 1.0,
         }
     }
@@ -403,6 +589,8 @@ mod tests {
         assert_eq!(&rows[2][0], "QEM");
         assert_eq!(rows[0][4].parse::<f64>().unwrap(), 2e-3);
         assert_eq!(&rows[0][7], "");
+        assert_eq!(rows[0][6].parse::<f64>().unwrap(), -0.5, "signed E_sur");
+        assert_eq!(&rows[0][8], "41.00");
     }
 
     #[test]
@@ -432,7 +620,18 @@ mod tests {
             .filter(|m| m.step_size == 1.0)
             .map(|m| m.value)
             .collect();
-        assert_eq!(decades, vec![-7.0, -6.0, -5.0, -4.0, -3.0, -2.0]);
+        assert_eq!(decades, vec![-6.0, -5.0, -4.0, -3.0]);
+        assert!(marks.iter().all(|m| (-6.5..=-2.2).contains(&m.value)));
+        let x: Vec<f64> = count_marks(GridInput {
+            bounds: (0.0, 87_900.0),
+            base_step_size: 1.0,
+        })
+        .iter()
+        .map(|m| m.value)
+        .collect();
+        assert_eq!(x, vec![0.0, 50_000.0]);
+        assert_eq!(format_count(20_000.0), "20k");
+        assert_eq!(format_count(1_500_000.0), "1.5M");
         assert_eq!(
             format_log_tick(GridMark {
                 value: -3.0,

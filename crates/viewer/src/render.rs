@@ -1,12 +1,16 @@
-//! wgpu rendering of the 3D viewports: an orbit camera, GPU copies of meshes and of the live
+//! wgpu rendering of the 3D viewports: GPU copies of meshes and of the live
 //! network, and pipelines that draw them with depth into an offscreen colour+depth target per
 //! viewport. Each target is copied into egui's render pass by a paint callback
 //! ([`ViewportCallback`]): one texel load per pixel, which on a CPU rasterizer (lavapipe) costs a
 //! fraction of egui's own textured-quad shader.
+//!
+//! (Over ~700 lines on purpose: five pipelines, their vertex layouts and the targets share one
+//! bind-group layout and uniform stride; splitting them would spread one GPU contract over files.)
 
+pub use crate::camera::OrbitCamera;
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
-use mesh::{Aabb, TriMesh};
+use glam::Vec3;
+use mesh::TriMesh;
 use std::hash::{Hash, Hasher};
 use std::sync::atomic::{AtomicU64, Ordering};
 use wgpu::util::DeviceExt;
@@ -15,6 +19,54 @@ use wgpu::util::DeviceExt;
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// The same bytes read as sRGB, for copying them unchanged into an sRGB render target.
 const COLOR_FORMAT_SRGB: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// How a viewport's bytes (already display-encoded, see [`COLOR_FORMAT`]) reach egui's render
+/// target unchanged. Chosen from the output format and the adapter's capabilities: OpenGL ES
+/// (Mesa llvmpipe via EGL, `WGPU_BACKEND=gl`) has no `DownlevelFlags::VIEW_FORMATS`, and asking
+/// for an sRGB view there is a validation error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CopyMode {
+    /// The output is not sRGB: read the bytes as they are.
+    Direct,
+    /// sRGB output, reinterpreting views supported: read through an sRGB view of the texture,
+    /// so the hardware decode and the output's encode cancel exactly.
+    SrgbView,
+    /// sRGB output without reinterpreting views: decode sRGB in the copy shader (a WGSL
+    /// `override` constant, so the other modes pay nothing for it).
+    DecodeInShader,
+}
+
+impl CopyMode {
+    /// The mode for copying into `output_format` on a device with `downlevel` capabilities.
+    pub fn choose(
+        output_format: wgpu::TextureFormat,
+        downlevel: &wgpu::DownlevelCapabilities,
+    ) -> CopyMode {
+        if !output_format.is_srgb() {
+            CopyMode::Direct
+        } else if downlevel.flags.contains(wgpu::DownlevelFlags::VIEW_FORMATS) {
+            CopyMode::SrgbView
+        } else {
+            CopyMode::DecodeInShader
+        }
+    }
+
+    /// Format of the view the copy shader reads.
+    fn view_format(self) -> wgpu::TextureFormat {
+        match self {
+            CopyMode::SrgbView => COLOR_FORMAT_SRGB,
+            CopyMode::Direct | CopyMode::DecodeInShader => COLOR_FORMAT,
+        }
+    }
+
+    /// Extra view formats the colour texture must be created with (none unless reinterpreted).
+    fn texture_view_formats(self) -> &'static [wgpu::TextureFormat] {
+        match self {
+            CopyMode::SrgbView => &[COLOR_FORMAT_SRGB],
+            CopyMode::Direct | CopyMode::DecodeInShader => &[],
+        }
+    }
+}
 /// Depth format of the offscreen targets.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Clear colour of the viewports (RGB as shown on screen, 0–1).
@@ -23,140 +75,6 @@ pub const CLEAR_COLOR: [f64; 3] = [0.010, 0.012, 0.018];
 const UNIFORM_STRIDE: u64 = 256;
 /// Draw calls one viewport can issue per frame.
 const MAX_DRAWS: u64 = 8;
-
-/// Orbit camera shared by both viewports: yaw/pitch around a target point at a distance.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OrbitCamera {
-    /// Point orbited around, in model units.
-    pub target: Vec3,
-    /// Distance from target to eye, in model units.
-    pub distance: f32,
-    /// Rotation about the vertical axis, radians.
-    pub yaw: f32,
-    /// Elevation, radians, clamped to just under ±π/2.
-    pub pitch: f32,
-    /// Vertical field of view, radians.
-    pub fov_y: f32,
-    /// Radius of the framed model, for near/far planes and pan speed.
-    pub scene_radius: f32,
-}
-
-impl Default for OrbitCamera {
-    fn default() -> Self {
-        OrbitCamera {
-            target: Vec3::ZERO,
-            distance: 3.0,
-            yaw: 0.6,
-            pitch: 0.35,
-            fov_y: 40f32.to_radians(),
-            scene_radius: 1.0,
-        }
-    }
-}
-
-impl OrbitCamera {
-    /// A camera that frames `bounds` from the default direction.
-    pub fn framing(bounds: &Aabb) -> OrbitCamera {
-        let mut camera = OrbitCamera::default();
-        if !bounds.is_empty() {
-            let radius = (bounds.diagonal() as f32 * 0.5).max(1e-6);
-            camera.target = bounds.center();
-            camera.scene_radius = radius;
-            camera.distance = radius / (camera.fov_y * 0.5).sin() * 1.05;
-        }
-        camera
-    }
-
-    /// Eye position in model units.
-    pub fn eye(&self) -> Vec3 {
-        let dir = Vec3::new(
-            self.pitch.cos() * self.yaw.sin(),
-            self.pitch.sin(),
-            self.pitch.cos() * self.yaw.cos(),
-        );
-        self.target + dir * self.distance
-    }
-
-    /// Combined projection × view matrix for a target of the given aspect ratio (width/height).
-    pub fn view_proj(&self, aspect: f32) -> Mat4 {
-        let near = (self.distance - self.scene_radius * 2.0).max(self.distance * 1e-3);
-        let far = self.distance + self.scene_radius * 2.0;
-        perspective(self.fov_y, aspect.max(1e-3), near, far) * look_at(self.eye(), self.target)
-    }
-
-    /// Rotate by a mouse drag of `dx`, `dy` points.
-    pub fn orbit(&mut self, dx: f32, dy: f32) {
-        self.yaw -= dx * 0.008;
-        self.pitch = (self.pitch + dy * 0.008).clamp(-1.55, 1.55);
-    }
-
-    /// Move the target by a drag of `dx`, `dy` points in a viewport `height` points tall.
-    pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {
-        let eye = self.eye();
-        let forward = (self.target - eye).normalize_or_zero();
-        let right = forward.cross(Vec3::Y).normalize_or_zero();
-        let up = right.cross(forward);
-        let units_per_point = 2.0 * self.distance * (self.fov_y * 0.5).tan() / height.max(1.0);
-        self.target += (-right * dx + up * dy) * units_per_point;
-    }
-
-    /// Zoom by `factor` (> 1 moves closer).
-    pub fn zoom(&mut self, factor: f32) {
-        if factor.is_finite() && factor > 0.0 {
-            self.distance =
-                (self.distance / factor).clamp(self.scene_radius * 0.05, self.scene_radius * 50.0);
-        }
-    }
-}
-
-/// Right-handed perspective projection with wgpu's 0..1 depth range.
-fn perspective(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
-    let f = 1.0 / (fov_y * 0.5).tan();
-    let r = far / (near - far);
-    Mat4::from_cols_array(&[
-        f / aspect,
-        0.0,
-        0.0,
-        0.0, //
-        0.0,
-        f,
-        0.0,
-        0.0, //
-        0.0,
-        0.0,
-        r,
-        -1.0, //
-        0.0,
-        0.0,
-        r * near,
-        0.0,
-    ])
-}
-
-/// Right-handed view matrix looking from `eye` at `center` with +Y up.
-fn look_at(eye: Vec3, center: Vec3) -> Mat4 {
-    let f = (center - eye).normalize_or_zero();
-    let s = f.cross(Vec3::Y).normalize_or(Vec3::X);
-    let u = s.cross(f);
-    Mat4::from_cols_array(&[
-        s.x,
-        u.x,
-        -f.x,
-        0.0, //
-        s.y,
-        u.y,
-        -f.y,
-        0.0, //
-        s.z,
-        u.z,
-        -f.z,
-        0.0, //
-        -s.dot(eye),
-        -u.dot(eye),
-        f.dot(eye),
-        1.0,
-    ])
-}
 
 /// Per-draw uniforms, laid out like `Draw` in shader.wgsl.
 #[repr(C)]
@@ -431,8 +349,8 @@ pub struct SceneRenderer {
     layout: wgpu::BindGroupLayout,
     blit_layout: wgpu::BindGroupLayout,
     blit: wgpu::RenderPipeline,
-    /// Format in which the copy pipeline reads the colour textures (matches the output's encoding).
-    blit_view_format: wgpu::TextureFormat,
+    /// How the copy pipeline reads the colour textures (matches the output's encoding).
+    copy_mode: CopyMode,
     surface: wgpu::RenderPipeline,
     overlay: wgpu::RenderPipeline,
     mesh_lines: wgpu::RenderPipeline,
@@ -442,8 +360,13 @@ pub struct SceneRenderer {
 
 impl SceneRenderer {
     /// Compile the shaders and build the pipelines; `output_format` is the format of egui's
-    /// render target (`RenderState::target_format`), into which the viewports are copied.
-    pub fn new(device: &wgpu::Device, output_format: wgpu::TextureFormat) -> SceneRenderer {
+    /// render target (`RenderState::target_format`), into which the viewports are copied, and
+    /// `copy_mode` how (see [`CopyMode::choose`]).
+    pub fn new(
+        device: &wgpu::Device,
+        output_format: wgpu::TextureFormat,
+        copy_mode: CopyMode,
+    ) -> SceneRenderer {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("viewer shader"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
@@ -531,15 +454,11 @@ impl SceneRenderer {
         };
         let tri = wgpu::PrimitiveTopology::TriangleList;
         let lines = wgpu::PrimitiveTopology::LineList;
-        let (blit_layout, blit) = blit_pipeline(device, output_format);
+        let (blit_layout, blit) = blit_pipeline(device, output_format, copy_mode);
         SceneRenderer {
             blit_layout,
             blit,
-            blit_view_format: if output_format.is_srgb() {
-                COLOR_FORMAT_SRGB
-            } else {
-                COLOR_FORMAT
-            },
+            copy_mode,
             surface: make(
                 "surface",
                 "vs_surface",
@@ -592,7 +511,8 @@ impl SceneRenderer {
     /// A new viewport target of `size` pixels.
     pub fn create_target(&self, device: &wgpu::Device, size: [u32; 2]) -> ViewTarget {
         let size = clamp_target_size(size);
-        let (color, color_view, depth_view) = make_textures(device, size);
+        let (color, color_view, depth_view) =
+            make_textures(device, size, self.copy_mode.texture_view_formats());
         let blit_group = self.blit_group(device, &color);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewport uniforms"),
@@ -634,7 +554,7 @@ impl SceneRenderer {
     /// The bind group through which the copy pipeline reads `color`.
     fn blit_group(&self, device: &wgpu::Device, color: &wgpu::Texture) -> wgpu::BindGroup {
         let view = color.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(self.blit_view_format),
+            format: Some(self.copy_mode.view_format()),
             ..Default::default()
         });
         device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -911,7 +831,10 @@ impl egui_wgpu::CallbackTrait for ViewportCallback {
 fn blit_pipeline(
     device: &wgpu::Device,
     output_format: wgpu::TextureFormat,
+    copy_mode: CopyMode,
 ) -> (wgpu::BindGroupLayout, wgpu::RenderPipeline) {
+    let decode = f64::from(u8::from(copy_mode == CopyMode::DecodeInShader));
+    let constants = [("decode_srgb", decode)];
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("viewport copy shader"),
         source: wgpu::ShaderSource::Wgsl(include_str!("blit.wgsl").into()),
@@ -954,7 +877,10 @@ fn blit_pipeline(
                 blend: None,
                 write_mask: wgpu::ColorWrites::ALL,
             })],
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
         }),
         multiview_mask: None,
         cache: None,
@@ -965,6 +891,7 @@ fn blit_pipeline(
 fn make_textures(
     device: &wgpu::Device,
     size: [u32; 2],
+    view_formats: &[wgpu::TextureFormat],
 ) -> (wgpu::Texture, wgpu::TextureView, wgpu::TextureView) {
     let extent = wgpu::Extent3d {
         width: size[0].max(1),
@@ -981,7 +908,7 @@ fn make_textures(
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[COLOR_FORMAT_SRGB],
+        view_formats,
     });
     let depth = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("viewport depth"),
@@ -996,55 +923,4 @@ fn make_textures(
     let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
     let depth_view = depth.create_view(&wgpu::TextureViewDescriptor::default());
     (color, color_view, depth_view)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn framing_camera_sees_whole_box_and_projects_center_to_origin() {
-        let bounds = Aabb {
-            min: Vec3::new(-1.0, 2.0, 0.0),
-            max: Vec3::new(3.0, 4.0, 1.0),
-        };
-        let camera = OrbitCamera::framing(&bounds);
-        let vp = camera.view_proj(1.0);
-        let c = vp.project_point3(bounds.center());
-        assert!(c.x.abs() < 1e-4 && c.y.abs() < 1e-4, "{c:?}");
-        for corner in 0..8 {
-            let p = Vec3::new(
-                if corner & 1 == 0 {
-                    bounds.min.x
-                } else {
-                    bounds.max.x
-                },
-                if corner & 2 == 0 {
-                    bounds.min.y
-                } else {
-                    bounds.max.y
-                },
-                if corner & 4 == 0 {
-                    bounds.min.z
-                } else {
-                    bounds.max.z
-                },
-            );
-            let q = vp.project_point3(p);
-            assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0, "corner {p} -> {q}");
-            assert!((0.0..=1.0).contains(&q.z), "depth {q}");
-        }
-    }
-
-    #[test]
-    fn zoom_and_orbit_stay_in_range() {
-        let mut camera = OrbitCamera::default();
-        camera.zoom(1e9);
-        assert!(camera.distance >= camera.scene_radius * 0.05 - 1e-6);
-        camera.orbit(0.0, 1e6);
-        assert!(camera.pitch <= 1.55);
-        let before = camera.target;
-        camera.pan(10.0, 0.0, 100.0);
-        assert!(camera.target.distance(before) > 0.0);
-    }
 }

@@ -1,27 +1,38 @@
-//! Background work: the GNG3D training thread (full speed, publishes a network snapshot about
-//! every 16 ms and vertex errors within a 10 % time budget) and one-shot jobs (QEM simplification,
-//! evaluation of a simplified mesh). The UI only ever polls; nothing here blocks a frame.
+//! The GNG3D training thread: trains at full speed or paced over a chosen wall time, publishes a
+//! network snapshot about every 16 ms, measures the live vertex errors densely, and reconstructs
+//! the neural mesh at checkpoints. The UI only ever polls; nothing here blocks a frame.
 
 use crate::engine::{self, Engine, NetworkSnapshot, TrainParams};
 use mesh::TriMesh;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+/// Frame interval while training runs: at most 40 fps, so that on a CPU renderer the UI leaves
+/// cores to the training thread.
+pub const TRAINING_FRAME_INTERVAL: Duration = Duration::from_millis(25);
+
+/// Live vertex-error measurements per paced run: the signal budget is split into this many
+/// equal steps, so the E_avg/E_max curve is dense whatever the mesh size.
+pub const PACED_ERROR_POINTS: u64 = 200;
+
 /// How fast training runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Speed {
     /// As many signals as the thread can do.
     Unlimited,
-    /// This many signals per UI frame (for watching the network grow).
-    PerFrame(u64),
+    /// Spread the whole signal budget over this many seconds of (unpaused) wall time, so the
+    /// network visibly grows; a slow machine simply takes longer.
+    Paced {
+        /// Intended run length, seconds (> 0).
+        seconds: f64,
+    },
 }
 
-/// What a training session works on.
+/// What a training run works on.
 #[derive(Clone)]
-pub struct Session {
+pub struct TrainingJob {
     /// The (cleaned) original mesh.
     pub mesh: Arc<TriMesh>,
     /// Training parameters.
@@ -35,11 +46,13 @@ pub struct Session {
 /// Requests from the UI to the training thread.
 pub enum Command {
     /// Start a new session (drops the old one).
-    Reset(Box<Session>),
+    Reset(Box<TrainingJob>),
     /// Run / pause.
     SetRunning(bool),
     /// Present this many signals now (while paused).
     Step(u64),
+    /// Reconstruct every this many signals from now on (`None`: only at the end and on request).
+    SetCheckpointEvery(Option<u64>),
     /// Change the speed.
     SetSpeed(Speed),
     /// Reconstruct a mesh from the current network.
@@ -96,11 +109,12 @@ pub struct Live {
     pub signals_per_second: f64,
     /// Training time, seconds (pauses excluded).
     pub train_seconds: f64,
+    /// The run's signal budget (0 before a run starts).
+    pub max_signals: u64,
 }
 
 struct Shared {
     live: Mutex<Live>,
-    frame_budget: AtomicU64,
     repaint: Mutex<Option<egui::Context>>,
 }
 
@@ -119,7 +133,6 @@ impl Trainer {
         let (event_tx, events) = mpsc::channel();
         let shared = Arc::new(Shared {
             live: Mutex::new(Live::default()),
-            frame_budget: AtomicU64::new(0),
             repaint: Mutex::new(None),
         });
         let thread_shared = Arc::clone(&shared);
@@ -158,17 +171,6 @@ impl Trainer {
             .clone()
     }
 
-    /// Grant `signals` more signals for [`Speed::PerFrame`] mode.
-    pub fn grant_frame_budget(&self, signals: u64) {
-        // Cap the backlog at a few frames so a stalled UI cannot queue up a burst.
-        let current = self.shared.frame_budget.load(Ordering::Relaxed);
-        if current < signals.saturating_mul(3) {
-            self.shared
-                .frame_budget
-                .fetch_add(signals, Ordering::Relaxed);
-        }
-    }
-
     /// Events that arrived since the last call.
     pub fn drain_events(&self) -> Vec<Event> {
         self.events.try_iter().collect()
@@ -196,9 +198,15 @@ struct Training {
     checkpoint_every: Option<u64>,
     next_checkpoint: u64,
     train_time: Duration,
+    /// Wall time spent running (pauses excluded) since the reset: the clock of a paced run.
+    paced_clock: Duration,
+    /// When `paced_clock` was last advanced.
+    clock_tick: Instant,
     last_publish: Instant,
     last_errors: Instant,
     error_interval: Duration,
+    /// Signal count at which a paced run measures the vertex errors next.
+    next_error_signals: u64,
     rate_window: (Instant, u64),
     signals_per_second: f64,
     /// The last published snapshot and its session: republished as the same `Arc` while the
@@ -218,6 +226,9 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
         checkpoint_every: None,
         next_checkpoint: u64::MAX,
         train_time: Duration::ZERO,
+        paced_clock: Duration::ZERO,
+        clock_tick: Instant::now(),
+        next_error_signals: 0,
         last_publish: Instant::now(),
         published: None,
         last_errors: Instant::now(),
@@ -247,22 +258,23 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                     t.session += 1;
                     t.finished = false;
                     t.train_time = Duration::ZERO;
+                    t.paced_clock = Duration::ZERO;
+                    t.next_error_signals = 0;
                     t.signals_per_second = 0.0;
                     t.rate_window = (Instant::now(), 0);
                     t.checkpoint_every = session.checkpoint_every.filter(|&c| c > 0);
                     t.next_checkpoint = t.checkpoint_every.unwrap_or(u64::MAX);
-                    shared.frame_budget.store(0, Ordering::Relaxed);
                     match Engine::new(&session.mesh, &session.params) {
                         Ok(engine) => {
                             t.engine = Some(engine);
                             t.running = session.autoplay;
                         }
-                        Err(message) => {
+                        Err(error) => {
                             t.engine = None;
                             t.running = false;
                             let _ = events.send(Event::Failed {
                                 session: t.session,
-                                message: format!("GNG3D could not start: {message}"),
+                                message: format!("could not start: {error}"),
                             });
                         }
                     }
@@ -274,9 +286,13 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                     t.rate_window = (Instant::now(), signals_of(&t));
                     publish(&mut t, shared);
                 }
-                Command::SetSpeed(speed) => {
-                    t.speed = speed;
-                    shared.frame_budget.store(0, Ordering::Relaxed);
+                Command::SetSpeed(speed) => t.speed = speed,
+                Command::SetCheckpointEvery(every) => {
+                    t.checkpoint_every = every.filter(|&c| c > 0);
+                    let signals = signals_of(&t);
+                    t.next_checkpoint = t
+                        .checkpoint_every
+                        .map_or(u64::MAX, |c| (signals / c + 1).saturating_mul(c));
                 }
                 Command::Step(n) => {
                     if let Some(engine) = t.engine.as_mut() {
@@ -292,6 +308,11 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
             }
             continue;
         }
+        let now = Instant::now();
+        if busy {
+            t.paced_clock += now.duration_since(t.clock_tick);
+        }
+        t.clock_tick = now;
         if busy {
             train_batch(&mut t, shared, events);
         } else if t.last_publish.elapsed() > Duration::from_millis(250) {
@@ -308,15 +329,30 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
     let Some(engine) = t.engine.as_mut() else {
         return;
     };
+    let budget = engine.max_signals();
     let n = match t.speed {
         Speed::Unlimited => t.batch,
-        Speed::PerFrame(_) => {
-            let budget = shared.frame_budget.load(Ordering::Relaxed);
-            let n = budget.min(t.batch);
-            shared.frame_budget.fetch_sub(n, Ordering::Relaxed);
-            n
+        Speed::Paced { seconds } => {
+            // Where a run of `seconds` would be now; the first checkpoint's reconstruction or a
+            // slow machine only make the run longer, never a burst.
+            let due = (budget as f64 * (t.paced_clock.as_secs_f64() / seconds.max(1e-3)))
+                .min(budget as f64) as u64;
+            if due >= budget {
+                // The pace is done: let the trainer run into its own stop rule (it decides when
+                // it is finished, e.g. only on the step after the last budgeted signal).
+                t.batch
+            } else {
+                // Never step past the next scheduled error measurement: a thread that was
+                // descheduled for a while catches up in several steps, each measured, so every
+                // run gets its `PACED_ERROR_POINTS` points.
+                due.saturating_sub(engine.signals())
+                    .min(t.batch)
+                    .min(t.next_error_signals.saturating_sub(engine.signals()).max(1))
+            }
         }
     };
+    // Checkpoints land exactly on their signal counts (every |V| signals: the paper's protocol).
+    let n = n.min(t.next_checkpoint.saturating_sub(engine.signals()).max(1));
     if n == 0 {
         std::thread::sleep(Duration::from_millis(1));
     } else {
@@ -339,7 +375,14 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
             signals.saturating_sub(t.rate_window.1) as f64 / window.as_secs_f64();
         t.rate_window = (Instant::now(), signals);
     }
-    if t.last_errors.elapsed() >= t.error_interval || t.finished {
+    let measure = match t.speed {
+        // Full speed: a time budget (see `measure_errors`).
+        Speed::Unlimited => t.last_errors.elapsed() >= t.error_interval,
+        // Paced: a fixed signal schedule, so every run gets the same dense curve.
+        Speed::Paced { .. } => signals >= t.next_error_signals,
+    };
+    if measure || t.finished {
+        t.next_error_signals = signals + (budget / PACED_ERROR_POINTS).max(1);
         measure_errors(t, events);
     }
     if signals >= t.next_checkpoint && !t.finished {
@@ -367,7 +410,7 @@ fn measure_errors(t: &mut Training, events: &Sender<Event>) {
     };
     let started = Instant::now();
     let snapshot = engine.snapshot();
-    if let Some((e_avg, e_max)) = engine::vertex_errors(&source.positions, &snapshot.positions) {
+    if let Some((e_avg, e_max)) = engine::network_errors(source, &snapshot.positions) {
         let _ = events.send(Event::Errors {
             session: t.session,
             signals: snapshot.signals,
@@ -392,9 +435,9 @@ fn reconstruct(t: &mut Training, events: &Sender<Event>) {
             mesh: Arc::new(mesh),
             train_seconds: t.train_time.as_secs_f64(),
         },
-        Err(message) => Event::Failed {
+        Err(error) => Event::Failed {
             session: t.session,
-            message: format!("reconstruction failed: {message}"),
+            message: format!("reconstruction failed: {error}"),
         },
     };
     let _ = events.send(event);
@@ -428,6 +471,7 @@ fn publish(t: &mut Training, shared: &Shared) {
             finished: t.finished,
             signals_per_second: if t.running { t.signals_per_second } else { 0.0 },
             train_seconds: t.train_time.as_secs_f64(),
+            max_signals: t.engine.as_ref().map_or(0, Engine::max_signals),
         };
     }
     t.last_publish = Instant::now();
@@ -437,107 +481,6 @@ fn publish(t: &mut Training, shared: &Shared) {
         .unwrap_or_else(PoisonError::into_inner)
         .as_ref()
     {
-        ctx.request_repaint_after(crate::app::TRAINING_FRAME_INTERVAL);
+        ctx.request_repaint_after(TRAINING_FRAME_INTERVAL);
     }
-}
-
-/// Errors of a simplified mesh against the original (what the plots and the table show).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Evaluation {
-    /// Vertices of the simplified mesh.
-    pub vertices: usize,
-    /// Faces of the simplified mesh.
-    pub faces: usize,
-    /// E_avg, squared model units.
-    pub e_avg: f64,
-    /// E_max, squared model units.
-    pub e_max: f64,
-    /// E_sur = |ΔArea|, squared model units.
-    pub e_sur: f64,
-    /// Symmetric Hausdorff distance, model units (when available).
-    pub hausdorff: Option<f64>,
-}
-
-/// Evaluate `simplified` against `original` (runs on the calling thread).
-pub fn evaluate(original: &TriMesh, simplified: &TriMesh) -> Evaluation {
-    let (e_avg, e_max) =
-        engine::vertex_errors(&original.positions, &simplified.positions).unwrap_or((0.0, 0.0));
-    Evaluation {
-        vertices: simplified.vertex_count(),
-        faces: simplified.face_count(),
-        e_avg,
-        e_max,
-        e_sur: engine::surface_error(original, simplified),
-        hausdorff: engine::hausdorff(original, simplified),
-    }
-}
-
-/// A QEM result for a given vertex target.
-pub struct QemOutcome {
-    /// The vertex target it was computed for.
-    pub target: usize,
-    /// The mesh, its evaluation and the time QEM took (seconds), or an error.
-    pub result: Result<(Arc<TriMesh>, Evaluation, f64), String>,
-}
-
-/// Run QEM (and its evaluation) on a new thread; poll the receiver.
-pub fn spawn_qem(
-    original: Arc<TriMesh>,
-    target: usize,
-    ctx: Option<egui::Context>,
-) -> Receiver<QemOutcome> {
-    let (tx, rx) = mpsc::channel();
-    let _ = std::thread::Builder::new()
-        .name("qem".into())
-        .spawn(move || {
-            let started = Instant::now();
-            let result = engine::qem_simplify(&original, target).map(|mesh| {
-                let seconds = started.elapsed().as_secs_f64();
-                let evaluation = evaluate(&original, &mesh);
-                (Arc::new(mesh), evaluation, seconds)
-            });
-            let _ = tx.send(QemOutcome { target, result });
-            if let Some(ctx) = ctx {
-                ctx.request_repaint();
-            }
-        });
-    rx
-}
-
-/// A finished evaluation of a GNG3D reconstruction.
-pub struct ReconstructionEvaluation {
-    /// Session it belongs to.
-    pub session: u64,
-    /// Signals presented when reconstructed.
-    pub signals: u64,
-    /// Training seconds when reconstructed.
-    pub train_seconds: f64,
-    /// The errors.
-    pub evaluation: Evaluation,
-}
-
-/// Evaluate a reconstruction on a new thread; the result arrives on `tx`.
-pub fn spawn_evaluation(
-    original: Arc<TriMesh>,
-    mesh: Arc<TriMesh>,
-    session: u64,
-    signals: u64,
-    train_seconds: f64,
-    tx: Sender<ReconstructionEvaluation>,
-    ctx: Option<egui::Context>,
-) {
-    let _ = std::thread::Builder::new()
-        .name("evaluation".into())
-        .spawn(move || {
-            let evaluation = evaluate(&original, &mesh);
-            let _ = tx.send(ReconstructionEvaluation {
-                session,
-                signals,
-                train_seconds,
-                evaluation,
-            });
-            if let Some(ctx) = ctx {
-                ctx.request_repaint();
-            }
-        });
 }

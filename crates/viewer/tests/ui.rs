@@ -4,16 +4,32 @@
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, wgpu::WgpuTestRenderer};
 use std::time::{Duration, Instant};
-use viewer::app::Side;
 use viewer::render::Shading;
+use viewer::session::Side;
 use viewer::{ViewerApp, ViewerOptions};
 
 /// Window size of the harness, in points (pixels_per_point = 1).
 const SIZE: egui::Vec2 = egui::vec2(1400.0, 900.0);
 
+/// Options of a test that does not watch: full speed, no periodic checkpoints (only the final
+/// reconstruction and "Reconstruct now").
+fn fast(target: usize) -> ViewerOptions {
+    ViewerOptions {
+        target: Some(target),
+        watch_seconds: Some(0.0),
+        checkpoint_every: Some(0),
+        ..Default::default()
+    }
+}
+
 /// A harness around the app with a wgpu render state shared by the app and the snapshot
 /// renderer; `None` (skip) when no wgpu adapter exists, except under CI where that fails.
 fn harness(options: ViewerOptions) -> Option<Harness<'static, ViewerApp>> {
+    harness_sized(options, SIZE)
+}
+
+/// [`harness`] with a window of `size` points.
+fn harness_sized(options: ViewerOptions, size: egui::Vec2) -> Option<Harness<'static, ViewerApp>> {
     let render_state = std::panic::catch_unwind(|| {
         egui_kittest::wgpu::create_render_state(
             egui_kittest::wgpu::default_wgpu_setup(),
@@ -34,10 +50,11 @@ fn harness(options: ViewerOptions) -> Option<Harness<'static, ViewerApp>> {
         &egui::Context::default(),
         Some(render_state.clone()),
         options,
-    );
+    )
+    .expect("valid options");
     Some(
         Harness::builder()
-            .with_size(SIZE)
+            .with_size(size)
             .renderer(WgpuTestRenderer::from_render_state(render_state))
             .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app),
     )
@@ -64,15 +81,12 @@ fn step_until(
 /// A harness whose QEM result exists and whose network has grown to `target` nodes (`None`: no
 /// wgpu adapter, see [`harness`]).
 fn trained_harness(target: usize) -> Option<Harness<'static, ViewerApp>> {
-    let mut h = harness(ViewerOptions {
-        target: Some(target),
-        ..Default::default()
-    })?;
+    let mut h = harness(fast(target))?;
     step_until(
         &mut h,
         Duration::from_secs(60),
         "QEM result and a trained network",
-        |a| a.has_qem_mesh() && a.live().snapshot.positions.len() >= target,
+        |a| a.session.has_qem_mesh() && a.session.live().snapshot.positions.len() >= target,
     );
     Some(h)
 }
@@ -140,13 +154,13 @@ fn model_renders_in_both_viewports() {
     }
     assert!(app.viewport_texture(Side::Gng).is_some());
     // The QEM side is a real simplification at the requested vertex count.
-    let qem = app.history.qem.as_ref().expect("QEM row");
+    let qem = app.session.history.qem.as_ref().expect("QEM row");
     assert!(
-        qem.vertices <= 300 && qem.vertices > 200,
+        qem.evaluation.vertices <= 300 && qem.evaluation.vertices > 200,
         "QEM vertices {}",
-        qem.vertices
+        qem.evaluation.vertices
     );
-    assert!(qem.faces > 0 && qem.faces < app.original().face_count());
+    assert!(qem.evaluation.faces > 0 && qem.evaluation.faces < app.session.original().face_count());
 }
 
 #[test]
@@ -154,7 +168,7 @@ fn unchanged_viewports_are_reused_and_a_camera_move_redraws_them() {
     let Some(mut h) = trained_harness(200) else {
         return;
     };
-    h.state_mut().set_running(false);
+    h.state_mut().session.set_running(false);
     // Let the last snapshot of the running trainer arrive and the panel layout settle: then a
     // frame redraws neither viewport.
     let mut settled = 0;
@@ -181,7 +195,7 @@ fn unchanged_viewports_are_reused_and_a_camera_move_redraws_them() {
         h.state().stats.viewport_redraws,
         before,
         "an unchanged scene must not be redrawn (paused: {})",
-        h.state().live().running
+        h.state().session.live().running
     );
     let image_still = h.render().expect("render");
     let right = h.state().viewport_rects[1].expect("QEM viewport");
@@ -215,43 +229,40 @@ fn unchanged_viewports_are_reused_and_a_camera_move_redraws_them() {
 
 #[test]
 fn controls_change_state() {
-    let Some(mut h) = harness(ViewerOptions {
-        target: Some(200),
-        ..Default::default()
-    }) else {
+    let Some(mut h) = harness(fast(200)) else {
         return;
     };
     // Effectively unlimited training so Play/Pause have something to act on.
-    h.state_mut().params.max_signals = Some(u64::MAX / 4);
-    h.state_mut().reset_training();
+    h.state_mut().session.params.max_signals = Some(u64::MAX / 4);
+    h.state_mut().session.reset_training();
     step_until(&mut h, Duration::from_secs(30), "training to run", |a| {
-        a.live().running && a.live().snapshot.signals > 0
+        a.session.live().running && a.session.live().snapshot.signals > 0
     });
 
     h.get_by_label("Pause").click();
     step_until(&mut h, Duration::from_secs(10), "pause", |a| {
-        !a.live().running
+        !a.session.live().running
     });
-    let paused_at = h.state().live().snapshot.signals;
+    let paused_at = h.state().session.live().snapshot.signals;
     for _ in 0..5 {
         h.step();
         std::thread::sleep(Duration::from_millis(20));
     }
     assert_eq!(
-        h.state().live().snapshot.signals,
+        h.state().session.live().snapshot.signals,
         paused_at,
         "training continued while paused"
     );
 
     h.get_by_label("Step").click();
     step_until(&mut h, Duration::from_secs(10), "a step", |a| {
-        a.live().snapshot.signals > paused_at
+        a.session.live().snapshot.signals > paused_at
     });
-    assert!(!h.state().live().running);
+    assert!(!h.state().session.live().running);
 
     h.get_by_label("Play").click();
     step_until(&mut h, Duration::from_secs(10), "play", |a| {
-        a.live().running
+        a.session.live().running
     });
 
     assert_eq!(h.state().display.shading, Shading::Smooth);
@@ -268,41 +279,44 @@ fn controls_change_state() {
     assert!(h.state().display.show_original);
     save_snapshot(&mut h, "flat_wireframe_overlay.png");
 
-    let session = h.state().live().session;
+    let session = h.state().session.live().session;
     h.get_by_label("Reset").click();
     step_until(&mut h, Duration::from_secs(10), "a new session", |a| {
-        a.live().session > session
+        a.session.live().session > session
     });
 
     // A new vertex target recomputes QEM at that size.
-    h.state_mut().set_target(150);
+    h.state_mut().session.set_target(150);
     step_until(
         &mut h,
         Duration::from_secs(60),
         "QEM at 150 vertices",
-        |a| a.history.qem.as_ref().is_some_and(|q| q.vertices <= 150),
+        |a| {
+            a.session
+                .history
+                .qem
+                .as_ref()
+                .is_some_and(|q| q.evaluation.vertices <= 150)
+        },
     );
-    assert_eq!(h.state().params.target_vertices, 150);
+    assert_eq!(h.state().session.params.target_vertices, 150);
 }
 
 #[test]
 fn plot_gains_points_as_training_runs() {
-    let Some(mut h) = harness(ViewerOptions {
-        target: Some(400),
-        ..Default::default()
-    }) else {
+    let Some(mut h) = harness(fast(400)) else {
         return;
     };
-    h.state_mut().params.max_signals = Some(u64::MAX / 4);
-    h.state_mut().reset_training();
+    h.state_mut().session.params.max_signals = Some(u64::MAX / 4);
+    h.state_mut().session.reset_training();
     step_until(&mut h, Duration::from_secs(30), "first error points", |a| {
-        a.history.errors.len() >= 2
+        a.session.history.errors.len() >= 2
     });
-    let first = h.state().history.errors.len();
+    let first = h.state().session.history.errors.len();
     step_until(&mut h, Duration::from_secs(30), "more error points", |a| {
-        a.history.errors.len() >= first + 3
+        a.session.history.errors.len() >= first + 3
     });
-    let errors = &h.state().history.errors;
+    let errors = &h.state().session.history.errors;
     assert!(
         errors.windows(2).all(|w| w[0][0] < w[1][0]),
         "iterations not increasing"
@@ -317,45 +331,54 @@ fn plot_gains_points_as_training_runs() {
     // "Reconstruct now" adds an evaluated checkpoint row.
     h.get_by_label("Reconstruct now").click();
     step_until(&mut h, Duration::from_secs(60), "a checkpoint row", |a| {
-        !a.history.reconstructions.is_empty()
+        !a.session.history.reconstructions.is_empty()
     });
-    let row = h.state().history.reconstructions[0].clone();
-    assert!(row.vertices <= 400 && row.faces > 0, "{row:?}");
-    assert!(row.e_sur >= 0.0 && row.e_avg > 0.0);
-    let csv = h.state().history.csv_string().unwrap();
+    let row = h.state().session.history.reconstructions[0].clone();
+    let e = &row.evaluation;
+    assert!(e.vertices <= 400 && e.faces > 0, "{row:?}");
+    assert!(e.e_sur.is_finite() && e.e_avg > 0.0 && e.mean_min_angle_degrees > 0.0);
+    let csv = h.state().session.history.csv_string().unwrap();
     assert!(csv.lines().count() >= 2, "{csv}");
 }
 
 #[test]
 fn bad_files_show_an_error_and_exports_round_trip() {
-    let Some(mut h) = harness(ViewerOptions {
-        target: Some(250),
-        ..Default::default()
-    }) else {
+    let Some(mut h) = harness(fast(250)) else {
         return;
     };
     step_until(
         &mut h,
         Duration::from_secs(60),
         "QEM and a reconstruction",
-        |a| a.has_qem_mesh() && a.live().finished && !a.history.reconstructions.is_empty(),
+        |a| {
+            a.session.has_qem_mesh()
+                && a.session.live().finished
+                && !a.session.history.reconstructions.is_empty()
+                && a.session.evaluations_pending() == 0
+        },
     );
     let dir = tempfile::tempdir().unwrap();
-    let faces_before = h.state().original().face_count();
+    let faces_before = h.state().session.original().face_count();
 
     // A missing file and a garbage file: an error message, the model stays.
     let garbage = dir.path().join("garbage.obj");
     std::fs::write(&garbage, "v 1 2\nf 1 2 99\nthis is not obj\n").unwrap();
     for path in [dir.path().join("missing.obj"), garbage.clone()] {
-        let errors = h.state().messages.iter().filter(|m| m.is_error).count();
-        h.state_mut().open_path(path.clone());
+        let errors = h
+            .state()
+            .session
+            .messages
+            .iter()
+            .filter(|m| m.is_error)
+            .count();
+        h.state_mut().session.open_path(path.clone());
         step_until(&mut h, Duration::from_secs(20), "the load to fail", |a| {
-            !a.is_loading()
+            !a.session.is_loading()
         });
         let app = h.state();
-        assert_eq!(app.original().face_count(), faces_before);
-        let new_errors: Vec<_> = app.messages.iter().filter(|m| m.is_error).collect();
-        assert_eq!(new_errors.len(), errors + 1, "{:?}", app.messages);
+        assert_eq!(app.session.original().face_count(), faces_before);
+        let new_errors: Vec<_> = app.session.messages.iter().filter(|m| m.is_error).collect();
+        assert_eq!(new_errors.len(), errors + 1, "{:?}", app.session.messages);
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         assert!(
             new_errors.last().unwrap().text.contains(&name),
@@ -367,17 +390,25 @@ fn bad_files_show_an_error_and_exports_round_trip() {
     // Exports write files that load back with the same counts.
     for (side, file) in [(Side::Qem, "qem.ply"), (Side::Gng, "gng.obj")] {
         let path = dir.path().join(file);
-        h.state_mut().export(side, &path).unwrap();
+        h.state_mut().session.export(side, &path).unwrap();
         let back = mesh::io::load(&path).unwrap().mesh;
         let expected = match side {
-            Side::Qem => h.state().history.qem.clone().unwrap(),
-            Side::Gng => h.state().history.reconstructions.last().cloned().unwrap(),
+            Side::Qem => h.state().session.history.qem.clone().unwrap(),
+            Side::Gng => h
+                .state()
+                .session
+                .history
+                .reconstructions
+                .last()
+                .cloned()
+                .unwrap(),
         };
-        assert_eq!(back.face_count(), expected.faces, "{file}");
+        assert_eq!(back.face_count(), expected.evaluation.faces, "{file}");
     }
     // Exporting into a missing directory is an error, not a panic.
     assert!(
         h.state_mut()
+            .session
             .export(Side::Qem, &dir.path().join("no/such/dir/x.obj"))
             .is_err()
     );
@@ -386,10 +417,130 @@ fn bad_files_show_an_error_and_exports_round_trip() {
     let good = dir.path().join("sphere.obj");
     let sphere = mesh::procedural::icosphere(2);
     mesh::io::save(&sphere, &good).unwrap();
-    h.state_mut().open_path(good);
+    h.state_mut().session.open_path(good);
     step_until(&mut h, Duration::from_secs(20), "the sphere to load", |a| {
-        !a.is_loading()
+        !a.session.is_loading()
     });
-    assert_eq!(h.state().original().face_count(), sphere.face_count());
-    assert_eq!(h.state().model_name, "sphere.obj");
+    assert_eq!(
+        h.state().session.original().face_count(),
+        sphere.face_count()
+    );
+    assert_eq!(h.state().session.model_name, "sphere.obj");
+}
+
+/// Issue 13: at 800×600 and 1024×600 the two viewports keep at least half of the window, both
+/// show the model, and the plots (with a legend per method and line style) are still there.
+#[test]
+fn small_windows_keep_the_viewports_dominant() {
+    for size in [egui::vec2(800.0, 600.0), egui::vec2(1024.0, 600.0)] {
+        let Some(mut h) = harness_sized(fast(300), size) else {
+            return;
+        };
+        step_until(&mut h, Duration::from_secs(60), "QEM and a network", |a| {
+            a.session.has_qem_mesh() && a.session.live().finished
+        });
+        for _ in 0..5 {
+            h.step();
+        }
+        save_snapshot(&mut h, &format!("layout_{}x{}.png", size.x, size.y));
+        let image = h.render().expect("render");
+        let app = h.state();
+        let [Some(left), Some(right)] = app.viewport_rects else {
+            panic!("viewports were not laid out at {size:?}");
+        };
+        let area = left.area() + right.area();
+        let window = size.x * size.y;
+        assert!(
+            area >= 0.5 * window,
+            "{size:?}: viewports cover {:.0} % of the window",
+            100.0 * area / window
+        );
+        assert!(left.max.x <= size.x + 0.5 && right.max.x <= size.x + 0.5 && right.max.y <= size.y);
+        for (side, rect) in [("GNG3D", left), ("QEM", right)] {
+            let (drawn, total) = count_drawn(&image, rect);
+            assert!(
+                drawn as f64 > 0.03 * total as f64,
+                "{size:?}: {side} viewport nearly empty ({drawn}/{total})"
+            );
+        }
+        // The plots are visible, with legends telling GNG3D (solid) from QEM (dashed).
+        for label in ["GNG3D E_avg", "QEM E_avg", "GNG3D E_sur", "QEM Hausdorff"] {
+            h.get_by_label(label);
+        }
+    }
+}
+
+/// Issue 13: the default run is watchable: it takes seconds, not a blink, and fills the
+/// vertex-error curve densely and the E_sur/Hausdorff curves with periodic reconstructions.
+#[test]
+fn default_run_is_watchable_and_fills_the_figure_live() {
+    let Some(mut h) = harness(ViewerOptions::default()) else {
+        return;
+    };
+    let start = Instant::now();
+    loop {
+        h.step();
+        let s = &h.state().session;
+        if s.live().finished && s.evaluations_pending() == 0 {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the default run did not finish: {} of {} signals, running {}, {} evaluations pending",
+            s.live().snapshot.signals,
+            s.live().max_signals,
+            s.live().running,
+            s.evaluations_pending()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let history = &h.state().session.history;
+    assert!(
+        history.errors.len() >= 100,
+        "{} vertex-error points",
+        history.errors.len()
+    );
+    assert!(
+        history.reconstructions.len() >= 5,
+        "{} reconstructions",
+        history.reconstructions.len()
+    );
+    assert!(
+        wall >= 0.6 * viewer::session::DEFAULT_WATCH_SECONDS,
+        "the default run took only {wall:.1} s"
+    );
+    // Reconstructions spread over the run, not all at the end.
+    let first = history.reconstructions[0].iteration as f64;
+    let last = history.reconstructions.last().unwrap().iteration as f64;
+    assert!(first < 0.5 * last, "checkpoints at {first} … {last}");
+}
+
+#[test]
+fn keyboard_shortcuts_and_help_overlay() {
+    let Some(mut h) = harness(fast(200)) else {
+        return;
+    };
+    h.step();
+    assert!(!h.state().display.wireframe);
+    h.key_press(egui::Key::W);
+    h.step();
+    assert!(h.state().display.wireframe, "W toggles the wireframe");
+    h.key_press(egui::Key::F);
+    h.step();
+    assert_eq!(h.state().display.shading, Shading::Flat, "F: flat shading");
+    let plots = h.state().panels.as_ref().unwrap().plots;
+    h.key_press(egui::Key::P);
+    h.step();
+    assert_eq!(
+        h.state().panels.as_ref().unwrap().plots,
+        !plots,
+        "P toggles the plots"
+    );
+    h.key_press(egui::Key::F1);
+    h.step();
+    h.step();
+    assert!(h.state().panels.as_ref().unwrap().help);
+    h.get_by_label("play / pause training");
+    h.get_by_label("orbit (both views share one camera)");
 }

@@ -1,0 +1,578 @@
+//! The window's panels around the viewports: menu bar, status bar, the parameter panel (left)
+//! and the plots/table panel (bottom), laid out so that the two viewports keep at least half of
+//! the window's area at every size down to 800×600 (both panels collapse; the plots panel's
+//! height is capped by that rule and the table scrolls).
+
+use crate::app::{Panels, ViewerApp};
+use crate::io::DialogPurpose;
+use crate::plots;
+use crate::render::Shading;
+use crate::session::DEFAULT_WATCH_SECONDS;
+use crate::worker::Speed;
+use egui::{Color32, RichText};
+use std::time::Duration;
+
+/// Smallest useful height of the plots panel, points (a plot with its axis labels and legend).
+pub const PLOTS_MIN_HEIGHT: f32 = 120.0;
+/// Share of the window the viewports keep at least (issue 13).
+pub const VIEWPORT_AREA_SHARE: f32 = 0.5;
+/// Width at which a plot column stops being readable; narrower windows scroll the row.
+const MIN_COLUMN_WIDTH: f32 = 160.0;
+
+/// Tallest plots panel that leaves the viewports [`VIEWPORT_AREA_SHARE`] of the `window`, when
+/// `rest` is the space left after the menu, status and parameter panels:
+/// `rest.x × (rest.y − h) ≥ share × window.x × window.y`. Never below [`PLOTS_MIN_HEIGHT`].
+pub fn plots_max_height(window: egui::Vec2, rest: egui::Vec2) -> f32 {
+    let needed = VIEWPORT_AREA_SHARE * window.x * window.y / rest.x.max(1.0);
+    (rest.y - needed).max(PLOTS_MIN_HEIGHT)
+}
+
+/// One row of the parameter grid: a label, `widget` labelled by it, end of row.
+fn param_row(ui: &mut egui::Ui, label: &str, widget: impl egui::Widget) -> egui::Response {
+    let label = ui.label(label);
+    let response = ui.add(widget).labelled_by(label.id);
+    ui.end_row();
+    response
+}
+
+impl ViewerApp {
+    /// Lay out all panels and the viewports.
+    pub(crate) fn layout(&mut self, ui: &mut egui::Ui) {
+        let window = ui.max_rect();
+        let panels = self
+            .panels
+            .get_or_insert_with(|| Panels::for_width(window.width()))
+            .clone();
+        // Panels paint no background: the window's clear colour is the panel colour
+        // (`clear_color`), so a CPU rasterizer does not shade every pixel a second time.
+        let bar = egui::Frame::side_top_panel(ui.style()).fill(Color32::TRANSPARENT);
+        let central = egui::Frame::central_panel(ui.style()).fill(Color32::TRANSPARENT);
+        egui::Panel::top("menu")
+            .frame(bar)
+            .show(ui, |ui| self.menu_bar(ui));
+        egui::Panel::bottom("status")
+            .frame(bar)
+            .show(ui, |ui| self.status_bar(ui));
+        if panels.controls {
+            egui::Panel::left("controls")
+                .frame(bar)
+                .resizable(true)
+                .default_size(250.0)
+                .size_range(180.0..=(0.3 * window.width()).clamp(180.0, 380.0))
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui));
+                });
+        }
+        if panels.plots {
+            let rest = ui.available_rect_before_wrap().size();
+            let max = plots_max_height(window.size(), rest);
+            egui::Panel::bottom("plots")
+                .frame(bar)
+                .resizable(true)
+                .default_size((0.32 * window.height()).clamp(PLOTS_MIN_HEIGHT, max))
+                .size_range(PLOTS_MIN_HEIGHT..=max)
+                .show(ui, |ui| self.plots(ui));
+        }
+        egui::CentralPanel::default()
+            .frame(central)
+            .show(ui, |ui| self.viewports(ui));
+    }
+
+    fn panels_mut(&mut self) -> &mut Panels {
+        self.panels.get_or_insert_with(|| Panels::for_width(1600.0))
+    }
+
+    fn menu_bar(&mut self, ui: &mut egui::Ui) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                if ui.button("Open mesh…  (Ctrl+O)").clicked() {
+                    self.open_dialog(DialogPurpose::OpenMesh);
+                }
+                ui.separator();
+                if ui
+                    .add_enabled(
+                        self.session.reconstruction().is_some(),
+                        egui::Button::new("Export GNG3D mesh…"),
+                    )
+                    .clicked()
+                {
+                    self.open_dialog(DialogPurpose::ExportGng);
+                }
+                if ui
+                    .add_enabled(
+                        self.session.has_qem_mesh(),
+                        egui::Button::new("Export QEM mesh…"),
+                    )
+                    .clicked()
+                {
+                    self.open_dialog(DialogPurpose::ExportQem);
+                }
+                if ui.button("Export checkpoint table (CSV)…").clicked() {
+                    self.open_dialog(DialogPurpose::ExportCsv);
+                }
+                if ui.button("Save screenshot (PNG)…  (Ctrl+S)").clicked() {
+                    self.open_dialog(DialogPurpose::Screenshot);
+                }
+                ui.separator();
+                if ui.button("Quit  (Ctrl+Q)").clicked() {
+                    ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+            });
+            ui.menu_button("View", |ui| {
+                ui.radio_value(&mut self.display.shading, Shading::Smooth, "Smooth shading");
+                ui.radio_value(
+                    &mut self.display.shading,
+                    Shading::Flat,
+                    "Flat shading  (F)",
+                );
+                ui.checkbox(&mut self.display.wireframe, "Wireframe  (W)");
+                ui.checkbox(&mut self.display.show_original, "Original overlay  (O)");
+                let panels = self.panels_mut();
+                ui.checkbox(&mut panels.controls, "Parameter panel  (C)");
+                ui.checkbox(&mut panels.plots, "Plots and table  (P)");
+                ui.checkbox(&mut self.display.smooth_ui, "Anti-aliased UI")
+                    .on_hover_text("Off saves about 1 ms per frame on a software renderer");
+                if ui.button("Reset camera  (Home)").clicked() {
+                    self.reset_camera();
+                }
+            });
+            if ui.button("Help (F1)").clicked() {
+                self.panels_mut().help ^= true;
+            }
+            ui.separator();
+            let panels = self.panels_mut();
+            ui.toggle_value(&mut panels.controls, "Parameters")
+                .on_hover_text("show/hide the parameter panel (C)");
+            ui.separator();
+            ui.label(RichText::new(&self.session.model_name).strong());
+            let original = self.session.original();
+            ui.label(format!(
+                "{} vertices, {} faces",
+                original.vertex_count(),
+                original.face_count()
+            ));
+            if let Some(path) = self.session.loading() {
+                ui.spinner();
+                ui.label(format!("loading {} …", path.display()));
+            }
+        });
+    }
+
+    fn status_bar(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            let live = self.session.live();
+            let snapshot = &live.snapshot;
+            let state = self.session.training_state().label();
+            let progress = if live.max_signals > 0 {
+                format!(
+                    " ({:.0} %)",
+                    100.0 * snapshot.signals as f64 / live.max_signals as f64
+                )
+            } else {
+                String::new()
+            };
+            ui.label(format!(
+                "GNG3D [{state}]: {} nodes, {} signals{progress}",
+                snapshot.positions.len(),
+                plots::format_count(snapshot.signals as f64),
+            ));
+            if let Some(m) = self.session.reconstruction() {
+                ui.label(format!(
+                    "mesh {} V / {} F",
+                    m.vertex_count(),
+                    m.face_count()
+                ));
+            }
+            let pending = self.session.evaluations_pending();
+            if pending > 0 {
+                ui.label(format!("evaluating {pending}…"));
+            }
+            ui.separator();
+            match (self.session.qem_mesh(), self.session.qem_pending()) {
+                (_, true) => ui.label("QEM: computing…"),
+                (Some(m), false) => ui.label(format!(
+                    "QEM: {} V / {} F",
+                    m.vertex_count(),
+                    m.face_count()
+                )),
+                (None, false) => ui.label("QEM: –"),
+            };
+            ui.separator();
+            if live.running {
+                ui.label(format!(
+                    "{} signals/s",
+                    plots::format_count(live.signals_per_second)
+                ));
+                ui.separator();
+                let ms = self.stats.frame_ms();
+                if ms > 0.0 {
+                    ui.label(format!("frame {ms:.1} ms ({:.0} fps)", 1000.0 / ms));
+                }
+            } else {
+                // Idle frames are drawn only on input: their interval is not a frame rate.
+                ui.label(RichText::new("idle").weak());
+            }
+        });
+        if let Some(m) = self.session.messages.last() {
+            let color = if m.is_error {
+                Color32::from_rgb(255, 110, 110)
+            } else {
+                ui.visuals().weak_text_color()
+            };
+            ui.add(egui::Label::new(RichText::new(&m.text).color(color)).truncate())
+                .on_hover_text(&m.text);
+        }
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Training");
+        ui.horizontal(|ui| {
+            let live = self.session.live().clone();
+            if ui
+                .add_enabled(
+                    !live.finished,
+                    egui::Button::new(if live.running { "Pause" } else { "Play" }),
+                )
+                .on_hover_text("Space")
+                .clicked()
+            {
+                self.session.set_running(!live.running);
+            }
+            if ui
+                .button("Step")
+                .on_hover_text("present λ signals (100 with auto λ) · S")
+                .clicked()
+            {
+                self.step_once();
+            }
+            let pending = self.session.params_pending();
+            let reset = egui::Button::new(if pending { "Apply + Reset" } else { "Reset" });
+            let reset = if pending {
+                reset.fill(Color32::from_rgb(120, 90, 20))
+            } else {
+                reset
+            };
+            if ui
+                .add(reset)
+                .on_hover_text("restart with the parameters below · R")
+                .clicked()
+            {
+                self.session.reset_training();
+            }
+        });
+        if ui
+            .button("Reconstruct now")
+            .on_hover_text("build and measure the neural mesh from the current network · N")
+            .clicked()
+        {
+            self.session.reconstruct_now();
+        }
+        self.speed_controls(ui);
+        ui.add_space(4.0);
+        if self.session.params_pending() {
+            ui.label(
+                RichText::new("parameters changed: Apply + Reset (R) to use them")
+                    .color(Color32::from_rgb(240, 200, 90)),
+            );
+        } else {
+            ui.label(
+                RichText::new("parameter edits apply on Reset")
+                    .small()
+                    .weak(),
+            );
+        }
+        let params = &mut self.session.params;
+        egui::Grid::new("params").num_columns(2).show(ui, |ui| {
+            param_row(
+                ui,
+                "target vertices",
+                egui::DragValue::new(&mut params.target_vertices)
+                    .range(4..=1_000_000)
+                    .speed(10.0),
+            );
+            let label = ui.label("time limit (s)");
+            ui.horizontal(|ui| {
+                let mut limited = params.time_limit.is_some();
+                ui.checkbox(&mut limited, "limit");
+                let mut seconds = params.time_limit.map_or(30.0, |d| d.as_secs_f64());
+                ui.add_enabled(
+                    limited,
+                    egui::DragValue::new(&mut seconds).range(0.1..=3600.0),
+                )
+                .labelled_by(label.id);
+                params.time_limit = limited.then(|| Duration::from_secs_f64(seconds));
+            });
+            ui.end_row();
+            let label = ui.label("λ (insert every)");
+            ui.horizontal(|ui| {
+                let mut auto = params.lambda.is_none();
+                ui.checkbox(&mut auto, "auto");
+                let mut lambda = params.lambda.unwrap_or(100);
+                ui.add_enabled(!auto, egui::DragValue::new(&mut lambda).range(1..=100_000))
+                    .labelled_by(label.id);
+                params.lambda = (!auto).then_some(lambda);
+            });
+            ui.end_row();
+            param_row(
+                ui,
+                "ε_b (winner)",
+                egui::DragValue::new(&mut params.eps_winner)
+                    .range(0.0..=1.0)
+                    .speed(0.001),
+            );
+            param_row(
+                ui,
+                "ε_n (neighbours)",
+                egui::DragValue::new(&mut params.eps_neighbour)
+                    .range(0.0..=1.0)
+                    .speed(0.0001)
+                    .max_decimals(5),
+            );
+            param_row(
+                ui,
+                "α (insertion)",
+                egui::DragValue::new(&mut params.alpha)
+                    .range(0.0..=1.0)
+                    .speed(0.01),
+            );
+            param_row(
+                ui,
+                "d (error decay)",
+                egui::DragValue::new(&mut params.error_decay)
+                    .range(0.0..=1.0)
+                    .speed(0.0001)
+                    .max_decimals(5),
+            );
+            param_row(
+                ui,
+                "a_max (edge age)",
+                egui::DragValue::new(&mut params.max_edge_age).range(1..=100_000),
+            );
+            param_row(
+                ui,
+                "μ (removal window)",
+                egui::DragValue::new(&mut params.removal_window).range(0.0..=1000.0),
+            )
+            .on_hover_text("nodes without a win in the last μ·|A| signals are removed (0: off)");
+            param_row(ui, "seed", egui::DragValue::new(&mut params.seed));
+            let label = ui.label("signal source");
+            egui::ComboBox::from_id_salt("signal_source")
+                .selected_text(crate::engine::signal_source_label(params.signal_source))
+                .show_ui(ui, |ui| {
+                    for (source, label) in crate::engine::SIGNAL_SOURCES {
+                        ui.selectable_value(&mut params.signal_source, source, label);
+                    }
+                })
+                .response
+                .labelled_by(label.id);
+            ui.end_row();
+            // Vertex placement of the reconstruction. Today a bool (`project_to_surface`); the
+            // GNG3D-Q work turns it into `Placement { Node, Project, Quadric }`: only this row
+            // changes then.
+            let label = ui.label("vertex placement");
+            egui::ComboBox::from_id_salt("placement")
+                .selected_text(if params.reconstruction.project_to_surface {
+                    "project to surface"
+                } else {
+                    "node position (paper)"
+                })
+                .show_ui(ui, |ui| {
+                    let p = &mut params.reconstruction.project_to_surface;
+                    ui.selectable_value(p, false, "node position (paper)");
+                    ui.selectable_value(p, true, "project to surface");
+                })
+                .response
+                .labelled_by(label.id);
+            ui.end_row();
+        });
+        ui.separator();
+        ui.heading("Display");
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut self.display.shading, Shading::Smooth, "smooth");
+            ui.radio_value(&mut self.display.shading, Shading::Flat, "flat");
+        });
+        ui.checkbox(&mut self.display.wireframe, "wireframe");
+        ui.checkbox(&mut self.display.show_original, "original overlay");
+        ui.checkbox(&mut self.display.show_network, "GNG network");
+        ui.checkbox(&mut self.display.show_gng_mesh, "GNG3D reconstruction");
+        ui.add(egui::Slider::new(&mut self.display.point_px, 1.0..=12.0).text("node size (px)"));
+        if ui.button("Reset camera").clicked() {
+            self.reset_camera();
+        }
+        ui.label(
+            RichText::new("drag: orbit · right/middle drag or shift: pan · wheel: zoom · F1: help")
+                .small()
+                .weak(),
+        );
+    }
+
+    /// Speed (watch … as fast as possible) and checkpoint interval: both apply at once.
+    fn speed_controls(&mut self, ui: &mut egui::Ui) {
+        let mut speed = self.session.speed;
+        let mut fast = speed == Speed::Unlimited;
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut fast, "as fast as possible");
+            let mut seconds = match speed {
+                Speed::Paced { seconds } => seconds,
+                Speed::Unlimited => DEFAULT_WATCH_SECONDS,
+            };
+            let label = ui.label("run length");
+            ui.add_enabled(
+                !fast,
+                egui::DragValue::new(&mut seconds)
+                    .range(1.0..=600.0)
+                    .speed(0.5)
+                    .suffix(" s"),
+            )
+            .labelled_by(label.id)
+            .on_hover_text(
+                "the whole signal budget is spread over this wall time (applies at once)",
+            );
+            speed = if fast {
+                Speed::Unlimited
+            } else {
+                Speed::Paced { seconds }
+            };
+        });
+        self.session.set_speed(speed);
+        let mut every = self.session.checkpoint_every;
+        let vertices = self.session.original().vertex_count() as u64;
+        ui.horizontal(|ui| {
+            let label = ui.label("checkpoint every");
+            ui.add(
+                egui::DragValue::new(&mut every)
+                    .range(0..=1_000_000_000)
+                    .speed(100.0)
+                    .suffix(" signals"),
+            )
+            .labelled_by(label.id)
+            .on_hover_text(
+                "reconstruct and measure the neural mesh periodically (0: off; applies at once)",
+            );
+            if ui
+                .small_button("|V|")
+                .on_hover_text("the paper's protocol: every |V| signals")
+                .clicked()
+            {
+                every = vertices;
+            }
+        });
+        self.session.set_checkpoint_every(every);
+    }
+
+    /// Present λ signals (100 with automatic λ).
+    pub(crate) fn step_once(&mut self) {
+        let lambda = self.session.params.lambda.unwrap_or(100).max(1);
+        self.session.step(u64::from(lambda));
+    }
+
+    fn plots(&mut self, ui: &mut egui::Ui) {
+        let columns = self.panels_mut().columns;
+        ui.horizontal(|ui| {
+            if ui
+                .small_button("Hide plots")
+                .on_hover_text("hide the plots panel (P)")
+                .clicked()
+            {
+                self.panels_mut().plots = false;
+            }
+            let panels = self.panels_mut();
+            for (shown, name) in
+                panels
+                    .columns
+                    .iter_mut()
+                    .zip(["vertex errors", "E_sur", "Hausdorff", "table"])
+            {
+                ui.toggle_value(shown, name);
+            }
+            if ui.small_button("Export CSV…").clicked() {
+                self.open_dialog(DialogPurpose::ExportCsv);
+            }
+        });
+        let shown: Vec<usize> = (0..4).filter(|&i| columns[i]).collect();
+        if shown.is_empty() {
+            return;
+        }
+        // The table gets a larger share: it has eleven columns.
+        let weight = |i: usize| if i == 3 { 1.6 } else { 1.0 };
+        let total: f32 = shown.iter().map(|&i| weight(i)).sum();
+        let gap = 10.0;
+        let available = ui.available_width() - gap * (shown.len() as f32 - 1.0);
+        let min_total = MIN_COLUMN_WIDTH * total;
+        let width = available.max(min_total);
+        let height = ui.available_height();
+        let x_max = self.session.live().max_signals as f64;
+        let history = &self.session.history;
+        let row = |ui: &mut egui::Ui| {
+            ui.horizontal_top(|ui| {
+                ui.spacing_mut().item_spacing.x = gap;
+                for &i in &shown {
+                    let w = width * weight(i) / total;
+                    ui.allocate_ui_with_layout(
+                        egui::vec2(w, height),
+                        egui::Layout::top_down(egui::Align::Min),
+                        |ui| {
+                            ui.set_width(w);
+                            let (title, legend): (&str, &[plots::LegendEntry]) = match i {
+                                0 => ("Vertex errors (squared model units)", &plots::VERTEX_LEGEND),
+                                1 => ("E_sur = area lost (model units²)", &plots::SURFACE_LEGEND),
+                                2 => ("Hausdorff distance (model units)", &plots::HAUSDORFF_LEGEND),
+                                _ => ("Checkpoints (Table 1)", &[]),
+                            };
+                            ui.add(egui::Label::new(RichText::new(title).strong()).truncate());
+                            if !legend.is_empty() {
+                                plots::legend_row(ui, legend);
+                            }
+                            // Keep the top y tick label clear of the legend.
+                            ui.add_space(4.0);
+                            let h = ui.available_height().max(40.0);
+                            match i {
+                                0 => plots::vertex_error_plot(ui, history, h, x_max),
+                                1 => plots::surface_error_plot(ui, history, h, x_max),
+                                2 => plots::hausdorff_plot(ui, history, h, x_max),
+                                _ => plots::checkpoint_table(ui, history),
+                            }
+                        },
+                    );
+                }
+            });
+        };
+        if width > available + 1.0 {
+            egui::ScrollArea::horizontal()
+                .id_salt("plots_row")
+                .show(ui, row);
+        } else {
+            row(ui);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plots_cap_keeps_half_the_window_for_the_viewports() {
+        for (w, h, controls) in [
+            (800.0, 600.0, 0.0),
+            (1024.0, 600.0, 0.0),
+            (1024.0, 768.0, 0.0),
+            (1280.0, 720.0, 250.0),
+            (1600.0, 900.0, 250.0),
+        ] {
+            let window = egui::vec2(w, h);
+            // Menu and status bars take about 60 points.
+            let rest = egui::vec2(w - controls, h - 60.0);
+            let max = plots_max_height(window, rest);
+            let area = rest.x * (rest.y - max);
+            assert!(
+                area >= VIEWPORT_AREA_SHARE * w * h - 1.0,
+                "{w}x{h}: viewports {area} of {}",
+                w * h
+            );
+            assert!(max >= PLOTS_MIN_HEIGHT, "{w}x{h}: plots {max}");
+        }
+        assert!(!Panels::for_width(1024.0).controls);
+        assert!(Panels::for_width(1280.0).controls);
+    }
+}

@@ -1,0 +1,189 @@
+//! What the two viewports show: the GPU copies of the meshes and of the live network, kept in
+//! step with the [`Session`](crate::session::Session) by pointer identity, and the draw lists of
+//! each side (GNG3D on the left, QEM on the right) rendered into their offscreen targets.
+
+use crate::app::Display;
+use crate::camera::OrbitCamera;
+use crate::engine::NetworkSnapshot;
+use crate::render::{CopyMode, DrawItem, GpuMesh, GpuNetwork, SceneRenderer, ViewTarget};
+use crate::session::Session;
+use egui_wgpu::RenderState;
+use mesh::TriMesh;
+use std::sync::Arc;
+
+/// A GPU mesh and the CPU mesh it was uploaded from (to notice when the session replaced it).
+struct Uploaded {
+    source: Arc<TriMesh>,
+    mesh: GpuMesh,
+}
+
+/// Upload `source` into `slot` unless the slot already holds exactly that mesh.
+fn sync(device: &wgpu::Device, slot: &mut Option<Uploaded>, source: Option<&Arc<TriMesh>>) {
+    match source {
+        None => *slot = None,
+        Some(s) if slot.as_ref().is_some_and(|u| Arc::ptr_eq(&u.source, s)) => {}
+        Some(s) => {
+            *slot = Some(Uploaded {
+                source: Arc::clone(s),
+                mesh: GpuMesh::new(device, s),
+            })
+        }
+    }
+}
+
+/// GPU resources of the viewports (absent when no wgpu render state is available).
+pub struct Scene {
+    render_state: RenderState,
+    renderer: SceneRenderer,
+    targets: [ViewTarget; 2],
+    original: Option<Uploaded>,
+    gng_mesh: Option<Uploaded>,
+    qem_mesh: Option<Uploaded>,
+    network: GpuNetwork,
+    network_source: Option<Arc<NetworkSnapshot>>,
+    /// How the viewports are copied into egui's target (chosen from the adapter).
+    pub copy_mode: CopyMode,
+}
+
+impl Scene {
+    /// Pipelines and targets for `render_state`; the copy into egui's target follows the
+    /// adapter's capabilities (no reinterpreting views on OpenGL ES).
+    pub fn new(render_state: RenderState) -> Scene {
+        let copy_mode = CopyMode::choose(
+            render_state.target_format,
+            &render_state.adapter.get_downlevel_capabilities(),
+        );
+        let device = &render_state.device;
+        let renderer = SceneRenderer::new(device, render_state.target_format, copy_mode);
+        let targets = [
+            renderer.create_target(device, [64, 64]),
+            renderer.create_target(device, [64, 64]),
+        ];
+        let network = GpuNetwork::new(device);
+        Scene {
+            renderer,
+            targets,
+            original: None,
+            gng_mesh: None,
+            qem_mesh: None,
+            network,
+            network_source: None,
+            copy_mode,
+            render_state,
+        }
+    }
+
+    /// The graphics backend in use (Vulkan, Gl, …), for the run summary.
+    pub fn backend(&self) -> wgpu::Backend {
+        self.render_state.adapter.get_info().backend
+    }
+
+    /// The offscreen colour texture of viewport `index` (0: GNG3D, 1: QEM), for tests.
+    pub fn color_texture(&self, index: usize) -> &wgpu::Texture {
+        self.targets[index].color_texture()
+    }
+
+    /// A paint callback copying viewport `index` into egui's pass at `rect`.
+    pub fn paint_callback(&self, index: usize, rect: egui::Rect) -> egui::PaintCallback {
+        self.renderer.paint_callback(&self.targets[index], rect)
+    }
+
+    /// Bring the GPU copies up to date with `session`, then redraw each viewport whose content
+    /// changed, at `sizes` pixels. Returns which viewports were redrawn.
+    pub fn render(
+        &mut self,
+        session: &Session,
+        camera: &OrbitCamera,
+        display: &Display,
+        sizes: [[u32; 2]; 2],
+    ) -> [bool; 2] {
+        let device = &self.render_state.device;
+        let queue = &self.render_state.queue;
+        sync(device, &mut self.original, Some(session.original()));
+        sync(device, &mut self.gng_mesh, session.reconstruction());
+        sync(device, &mut self.qem_mesh, session.qem_mesh());
+        // Upload the network when the worker published a new snapshot.
+        let snapshot = &session.live().snapshot;
+        if self
+            .network_source
+            .as_ref()
+            .is_none_or(|s| !Arc::ptr_eq(s, snapshot))
+        {
+            self.network
+                .update(device, queue, &snapshot.positions, &snapshot.edges);
+            self.network_source = Some(Arc::clone(snapshot));
+        }
+        for (target, size) in self.targets.iter_mut().zip(sizes) {
+            self.renderer.resize_target(device, target, size);
+        }
+        let shading = display.shading;
+        let wire = [0.02, 0.02, 0.03, 0.55];
+        let overlay = [0.45, 0.45, 0.50, 0.28];
+        let mut left: Vec<DrawItem<'_>> = Vec::new();
+        let gng_mesh = self.gng_mesh.as_ref().map(|u| &u.mesh);
+        let gng_mesh_shown = display.show_gng_mesh && gng_mesh.is_some();
+        if let (true, Some(mesh)) = (display.show_gng_mesh, gng_mesh) {
+            left.push(DrawItem::Surface {
+                mesh,
+                color: [0.85, 0.42, 0.16],
+                shading,
+            });
+            if display.wireframe {
+                left.push(DrawItem::Wireframe { mesh, color: wire });
+            }
+        }
+        if display.show_network && !(gng_mesh_shown && session.live().finished) {
+            left.push(DrawItem::Network {
+                network: &self.network,
+                node_color: [1.0, 0.55, 0.12],
+                edge_color: [0.35, 0.65, 1.0, 0.9],
+                point_px: display.point_px,
+            });
+        }
+        let mut right: Vec<DrawItem<'_>> = Vec::new();
+        if let Some(mesh) = self.qem_mesh.as_ref().map(|u| &u.mesh) {
+            right.push(DrawItem::Surface {
+                mesh,
+                color: [0.20, 0.45, 0.85],
+                shading,
+            });
+            if display.wireframe {
+                right.push(DrawItem::Wireframe { mesh, color: wire });
+            }
+        }
+        if let Some(original) = self.original.as_ref().map(|u| &u.mesh) {
+            if display.show_original {
+                left.push(DrawItem::Overlay {
+                    mesh: original,
+                    color: overlay,
+                });
+                right.push(DrawItem::Overlay {
+                    mesh: original,
+                    color: overlay,
+                });
+            } else if self.qem_mesh.is_none() {
+                // The original stands in on the right while QEM computes (or failed): the
+                // label says which.
+                right.push(DrawItem::Surface {
+                    mesh: original,
+                    color: [0.5, 0.5, 0.55],
+                    shading,
+                });
+            }
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("viewports"),
+        });
+        let [left_target, right_target] = &mut self.targets;
+        let drew_left = self
+            .renderer
+            .render(queue, &mut encoder, left_target, camera, &left);
+        let drew_right = self
+            .renderer
+            .render(queue, &mut encoder, right_target, camera, &right);
+        if drew_left || drew_right {
+            queue.submit(std::iter::once(encoder.finish()));
+        }
+        [drew_left, drew_right]
+    }
+}

@@ -1,0 +1,775 @@
+//! The viewer's state without any UI: the model, the training thread, the QEM job, the
+//! evaluations, the plot history and the messages. The window ([`crate::app`]) draws it and turns
+//! clicks into calls here; tests drive it directly, without a window or a GPU.
+//!
+//! Two single places the rest of the workspace may swap out:
+//! - [`train_params`]: start-up options → validated GNG3D parameters (headless and window mode);
+//! - [`crate::engine::evaluate`]: the one evaluation of a simplified mesh (table, plots, QEM).
+//!
+//! (About a third of this file is its GPU-free tests.)
+
+use crate::engine::{self, Evaluation, TrainParams};
+use crate::error::{Result, ViewerError};
+use crate::io::{self, LoadedModel};
+use crate::jobs::Job;
+use crate::plots::{Checkpoint, History};
+use crate::worker::{self, Command, Event, Live, Speed, TrainingJob};
+use mesh::TriMesh;
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// Default length of a watched run: the whole signal budget is spread over this many seconds,
+/// so the network visibly grows whatever the mesh size (issue 13: "roughly 10–20 s").
+pub const DEFAULT_WATCH_SECONDS: f64 = 12.0;
+
+/// Start-up options (from the command line).
+#[derive(Debug, Clone, Default)]
+pub struct ViewerOptions {
+    /// Mesh to open (`None`: the built-in procedural model).
+    pub path: Option<PathBuf>,
+    /// Close the window after this many seconds.
+    pub quit_after: Option<f64>,
+    /// Save a PNG of the window just before quitting (needs `quit_after`).
+    pub screenshot: Option<PathBuf>,
+    /// Vertex target for both methods.
+    pub target: Option<usize>,
+    /// GNG3D time limit, seconds.
+    pub time_limit: Option<f64>,
+    /// Seed of the training signals.
+    pub seed: Option<u64>,
+    /// GNG3D signal budget (`None`: the crate's default, 30 epochs).
+    pub max_signals: Option<u64>,
+    /// λ, signals between insertions (`None`: the crate's automatic choice).
+    pub lambda: Option<u32>,
+    /// Length of a watched run in seconds (`None`: [`DEFAULT_WATCH_SECONDS`]; 0: as fast as
+    /// possible).
+    pub watch_seconds: Option<f64>,
+    /// Reconstruct and evaluate every this many signals (`None`: every |V| signals, the paper's
+    /// protocol; 0: only at the end and on request).
+    pub checkpoint_every: Option<u64>,
+    /// Start paused instead of training right away.
+    pub paused: bool,
+    /// Print frame and training statistics to stdout when quitting.
+    pub print_stats: bool,
+    /// Inner window size in points (default 1600×900).
+    pub window_size: Option<[f32; 2]>,
+}
+
+/// The one mapping from user options to GNG3D parameters, shared by the window and headless
+/// mode. Rejects values that would panic or silently mean something else (negative or NaN
+/// seconds, zero budgets) with an error naming the option.
+pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
+    fn invalid(option: &'static str, problem: impl Into<String>) -> ViewerError {
+        ViewerError::InvalidOption {
+            option,
+            problem: problem.into(),
+        }
+    }
+    let target = options.target.unwrap_or(1000);
+    if target < 4 {
+        return Err(invalid(
+            "--target",
+            format!("{target} (at least 4 vertices)"),
+        ));
+    }
+    let mut params = engine::default_params(target);
+    if let Some(seconds) = options.time_limit {
+        if !(seconds.is_finite() && seconds > 0.0) {
+            return Err(invalid(
+                "--time-limit",
+                format!("{seconds} (a positive number of seconds)"),
+            ));
+        }
+        params.time_limit = Some(Duration::from_secs_f64(seconds));
+    }
+    if options.max_signals == Some(0) {
+        return Err(invalid("--max-signals", "0 (at least 1 signal)"));
+    }
+    if options.lambda == Some(0) {
+        return Err(invalid(
+            "--lambda",
+            "0 (at least 1 signal between insertions)",
+        ));
+    }
+    if let Some(seconds) = options.watch_seconds
+        && !(seconds.is_finite() && seconds >= 0.0)
+    {
+        return Err(invalid(
+            "--watch",
+            format!("{seconds} (seconds >= 0; 0 = as fast as possible)"),
+        ));
+    }
+    if let Some(v) = options.quit_after
+        && !(v.is_finite() && v >= 0.0)
+    {
+        return Err(invalid("--quit-after", format!("{v} (seconds >= 0)")));
+    }
+    params.max_signals = options.max_signals;
+    params.lambda = options.lambda;
+    if let Some(seed) = options.seed {
+        params.seed = seed;
+    }
+    Ok(params)
+}
+
+/// The training speed the options ask for.
+pub fn speed_for(watch_seconds: Option<f64>) -> Speed {
+    match watch_seconds.unwrap_or(DEFAULT_WATCH_SECONDS) {
+        s if s > 0.0 && s.is_finite() => Speed::Paced { seconds: s },
+        _ => Speed::Unlimited,
+    }
+}
+
+/// Which viewport.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// GNG3D (left).
+    Gng,
+    /// QEM (right).
+    Qem,
+}
+
+/// A message shown in the message strip.
+#[derive(Debug, Clone)]
+pub struct Message {
+    /// Text.
+    pub text: String,
+    /// Whether it is an error (red) or information.
+    pub is_error: bool,
+}
+
+/// What QEM computed: the mesh, its evaluation and the seconds it took.
+type QemResult = Result<(Arc<TriMesh>, Evaluation, f64)>;
+
+/// The QEM side.
+#[derive(Default)]
+struct QemState {
+    target: usize,
+    mesh: Option<Arc<TriMesh>>,
+    pending: Option<Job<QemResult>>,
+    error: Option<String>,
+}
+
+/// A reconstruction waiting for (or under) evaluation.
+struct PendingEvaluation {
+    session: u64,
+    signals: u64,
+    train_seconds: f64,
+    mesh: Arc<TriMesh>,
+}
+
+/// The training thread's state as one word, for the viewport label and the status bar alike.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TrainingState {
+    /// Training runs.
+    Training,
+    /// Paused by the user (or started with `--paused`).
+    Paused,
+    /// Reached its budget, target or time limit.
+    Finished,
+}
+
+impl TrainingState {
+    /// Lower-case label.
+    pub fn label(self) -> &'static str {
+        match self {
+            TrainingState::Training => "training",
+            TrainingState::Paused => "paused",
+            TrainingState::Finished => "finished",
+        }
+    }
+}
+
+/// The viewer's state (see the module header).
+pub struct Session {
+    options: ViewerOptions,
+    repaint: Option<egui::Context>,
+    /// Display name of the model.
+    pub model_name: String,
+    original: Arc<TriMesh>,
+    loading: Option<(PathBuf, Job<Result<LoadedModel>>)>,
+    /// Training parameters for the next reset (edited in the UI).
+    pub params: TrainParams,
+    /// Parameters of the running session (to show that edits wait for Reset).
+    applied: TrainParams,
+    /// Training speed (applies at once).
+    pub speed: Speed,
+    /// Reconstruct every this many signals (0: only at the end and on request; applies at once).
+    pub checkpoint_every: u64,
+    trainer: worker::Trainer,
+    live: Live,
+    /// Plot and table data.
+    pub history: History,
+    reconstruction: Option<Arc<TriMesh>>,
+    evaluating: Option<(PendingEvaluation, Job<Evaluation>)>,
+    evaluation_queue: VecDeque<PendingEvaluation>,
+    qem: QemState,
+    /// Recent messages (newest last).
+    pub messages: Vec<Message>,
+}
+
+impl Session {
+    /// Validate `options`, spawn the training thread and open the model (in the background when
+    /// it is a file). `repaint` is woken when background work finishes.
+    pub fn new(options: ViewerOptions, repaint: Option<egui::Context>) -> Result<Session> {
+        let params = train_params(&options)?;
+        let trainer = worker::Trainer::spawn();
+        if let Some(ctx) = &repaint {
+            trainer.set_repaint_context(ctx);
+        }
+        let mut session = Session {
+            speed: speed_for(options.watch_seconds),
+            checkpoint_every: 0,
+            options,
+            repaint,
+            model_name: String::new(),
+            original: Arc::new(TriMesh::new(Vec::new(), Vec::new())),
+            loading: None,
+            applied: params.clone(),
+            params,
+            trainer,
+            live: Live::default(),
+            history: History::default(),
+            reconstruction: None,
+            evaluating: None,
+            evaluation_queue: VecDeque::new(),
+            qem: QemState::default(),
+            messages: Vec::new(),
+        };
+        match session.options.path.clone() {
+            Some(path) => session.open_path(path),
+            None => {
+                let (name, mesh) = engine::default_model();
+                session.set_model(name, Arc::new(mesh));
+            }
+        }
+        Ok(session)
+    }
+
+    /// Wake `ctx` when background work finishes (the context that draws may differ from the one
+    /// given at construction, e.g. in test harnesses).
+    pub fn set_repaint_context(&mut self, ctx: &egui::Context) {
+        self.trainer.set_repaint_context(ctx);
+        self.repaint = Some(ctx.clone());
+    }
+
+    /// The start-up options.
+    pub fn options(&self) -> &ViewerOptions {
+        &self.options
+    }
+
+    /// Replace the model: restart training and QEM on it.
+    pub fn set_model(&mut self, name: String, mesh: Arc<TriMesh>) {
+        self.model_name = name;
+        let n = mesh.vertex_count();
+        if self.options.target.is_none() {
+            self.params.target_vertices = (n / 10).clamp(200, 10_000).min(n.max(4));
+        }
+        // The paper's protocol: a checkpoint every |V| signals (30 for the default budget).
+        self.checkpoint_every = self.options.checkpoint_every.unwrap_or(n as u64);
+        self.original = mesh;
+        self.qem = QemState::default();
+        self.history = History::default();
+        // Also starts QEM: its target (0 after the reset above) differs from the parameters'.
+        self.reset_training();
+    }
+
+    /// The mesh being simplified.
+    pub fn original(&self) -> &Arc<TriMesh> {
+        &self.original
+    }
+
+    /// The latest GNG3D reconstruction, if any.
+    pub fn reconstruction(&self) -> Option<&Arc<TriMesh>> {
+        self.reconstruction.as_ref()
+    }
+
+    /// The QEM result, if any.
+    pub fn qem_mesh(&self) -> Option<&Arc<TriMesh>> {
+        self.qem.mesh.as_ref()
+    }
+
+    /// Whether QEM is computing.
+    pub fn qem_pending(&self) -> bool {
+        self.qem.pending.is_some()
+    }
+
+    /// The vertex target QEM was last asked for.
+    pub fn qem_target(&self) -> usize {
+        self.qem.target
+    }
+
+    /// QEM's last error, if it failed.
+    pub fn qem_error(&self) -> Option<&str> {
+        self.qem.error.as_deref()
+    }
+
+    /// Whether a model is being loaded, and which file.
+    pub fn loading(&self) -> Option<&Path> {
+        self.loading.as_ref().map(|(p, _)| p.as_path())
+    }
+
+    /// Whether a model is being loaded.
+    pub fn is_loading(&self) -> bool {
+        self.loading.is_some()
+    }
+
+    /// Whether a QEM result is shown.
+    pub fn has_qem_mesh(&self) -> bool {
+        self.qem.mesh.is_some()
+    }
+
+    /// Reconstructions waiting for or under evaluation.
+    pub fn evaluations_pending(&self) -> usize {
+        self.evaluation_queue.len() + usize::from(self.evaluating.is_some())
+    }
+
+    /// The latest state of the training thread.
+    pub fn live(&self) -> &Live {
+        &self.live
+    }
+
+    /// Training, paused or finished (one answer for every label that shows it).
+    pub fn training_state(&self) -> TrainingState {
+        if self.live.finished {
+            TrainingState::Finished
+        } else if self.live.running {
+            TrainingState::Training
+        } else {
+            TrainingState::Paused
+        }
+    }
+
+    /// Whether parameters were edited since the running session started (they apply on Reset).
+    pub fn params_pending(&self) -> bool {
+        self.params != self.applied
+    }
+
+    /// Start a new training session with the current parameters (all parameter edits apply
+    /// here); recompute QEM when the vertex target changed.
+    pub fn reset_training(&mut self) {
+        if self.qem.target != self.params.target_vertices {
+            self.request_qem();
+        }
+        self.history.clear_training();
+        self.reconstruction = None;
+        self.evaluation_queue.clear();
+        self.evaluating = None;
+        self.applied = self.params.clone();
+        if self.original.face_count() == 0 {
+            return;
+        }
+        self.trainer.send(Command::SetSpeed(self.speed));
+        self.trainer.send(Command::Reset(Box::new(TrainingJob {
+            mesh: Arc::clone(&self.original),
+            params: self.params.clone(),
+            checkpoint_every: (self.checkpoint_every > 0).then_some(self.checkpoint_every),
+            autoplay: !self.options.paused,
+        })));
+    }
+
+    /// Change the speed of the running session.
+    pub fn set_speed(&mut self, speed: Speed) {
+        if speed != self.speed {
+            self.speed = speed;
+            self.trainer.send(Command::SetSpeed(speed));
+        }
+    }
+
+    /// Change the checkpoint interval of the running session (0: off).
+    pub fn set_checkpoint_every(&mut self, every: u64) {
+        if every != self.checkpoint_every {
+            self.checkpoint_every = every;
+            self.trainer
+                .send(Command::SetCheckpointEvery((every > 0).then_some(every)));
+        }
+    }
+
+    /// Run or pause training.
+    pub fn set_running(&mut self, running: bool) {
+        self.options.paused = !running;
+        self.trainer.send(Command::SetRunning(running));
+    }
+
+    /// Present `signals` signals now.
+    pub fn step(&mut self, signals: u64) {
+        self.trainer.send(Command::Step(signals));
+    }
+
+    /// Reconstruct a mesh from the current network.
+    pub fn reconstruct_now(&mut self) {
+        self.trainer.send(Command::Reconstruct);
+    }
+
+    /// Change the vertex target and apply it at once: restart training and recompute QEM.
+    pub fn set_target(&mut self, target: usize) {
+        let target = target.max(4);
+        if target != self.applied.target_vertices || self.qem.target != target {
+            self.params.target_vertices = target;
+            self.reset_training();
+        }
+    }
+
+    fn request_qem(&mut self) {
+        if self.original.face_count() == 0 {
+            return;
+        }
+        let target = self.params.target_vertices;
+        let original = Arc::clone(&self.original);
+        self.qem.target = target;
+        self.qem.error = None;
+        self.qem.pending = Some(Job::spawn("qem", self.repaint.clone(), move || {
+            let started = std::time::Instant::now();
+            let mesh = engine::qem_simplify(&original, target)?;
+            let seconds = started.elapsed().as_secs_f64();
+            let evaluation = engine::evaluate(&original, &mesh);
+            Ok((Arc::new(mesh), evaluation, seconds))
+        }));
+    }
+
+    /// Open a mesh file in the background.
+    pub fn open_path(&mut self, path: PathBuf) {
+        let job = io::spawn_load(path.clone(), self.repaint.clone());
+        self.loading = Some((path, job));
+    }
+
+    /// Show an information message.
+    pub fn info(&mut self, text: impl Into<String>) {
+        self.push_message(text.into(), false);
+    }
+
+    /// Show an error message (also printed to stderr).
+    pub fn error(&mut self, text: impl Into<String>) {
+        self.push_message(text.into(), true);
+    }
+
+    fn push_message(&mut self, text: String, is_error: bool) {
+        if is_error {
+            eprintln!("viewer: {text}");
+        }
+        self.messages.push(Message { text, is_error });
+        if self.messages.len() > 6 {
+            self.messages.remove(0);
+        }
+    }
+
+    /// Collect results from the background threads (non-blocking); call once per frame.
+    pub fn poll(&mut self) {
+        self.poll_loading();
+        self.poll_training();
+        self.poll_evaluations();
+        self.poll_qem();
+    }
+
+    fn poll_loading(&mut self) {
+        let Some(result) = self.loading.as_ref().and_then(|(_, job)| job.poll()) else {
+            return;
+        };
+        self.loading = None;
+        match result.and_then(|r| r) {
+            Ok(model) => {
+                let summary = format!(
+                    "opened {} ({} vertices, {} faces)",
+                    model.path.display(),
+                    model.mesh.vertex_count(),
+                    model.mesh.face_count()
+                );
+                for w in &model.warnings {
+                    self.info(format!("{}: {w}", model.name));
+                }
+                self.info(summary);
+                self.set_model(model.name, model.mesh);
+            }
+            Err(e) => {
+                self.error(format!("could not open {e}"));
+                if self.original.face_count() == 0 {
+                    let (name, mesh) = engine::default_model();
+                    self.set_model(name, Arc::new(mesh));
+                }
+            }
+        }
+    }
+
+    fn poll_training(&mut self) {
+        self.live = self.trainer.live();
+        let session = self.live.session;
+        for event in self.trainer.drain_events() {
+            match event {
+                Event::Errors {
+                    session: s,
+                    signals,
+                    e_avg,
+                    e_max,
+                } if s == session => self.history.push_errors(signals, e_avg, e_max),
+                Event::Reconstructed {
+                    session: s,
+                    signals,
+                    mesh,
+                    train_seconds,
+                } if s == session => {
+                    self.evaluation_queue.push_back(PendingEvaluation {
+                        session: s,
+                        signals,
+                        train_seconds,
+                        mesh: Arc::clone(&mesh),
+                    });
+                    self.reconstruction = Some(mesh);
+                }
+                Event::Failed {
+                    session: s,
+                    message,
+                } if s == session => self.error(format!("GNG3D: {message}")),
+                _ => {}
+            }
+        }
+    }
+
+    /// Evaluations run one at a time, in order: a run with many checkpoints never starts more
+    /// evaluation threads than there are cores to spare. Checkpoints that arrive while one is
+    /// being evaluated wait; in a watched (paced) run only the newest of several waiting is kept.
+    fn poll_evaluations(&mut self) {
+        let finished = self.evaluating.as_ref().and_then(|(_, job)| job.poll());
+        if let Some(result) = finished
+            && let Some((pending, _)) = self.evaluating.take()
+        {
+            match result {
+                Ok(e) if pending.session == self.live.session => {
+                    let row = checkpoint("GNG3D", pending.signals, &e, pending.train_seconds);
+                    self.history.push_reconstruction(row);
+                }
+                Ok(_) => {}
+                Err(e) => self.error(e.to_string()),
+            }
+        }
+        // Watching (paced): when the evaluator falls behind (big meshes, a loaded machine),
+        // skip to the newest checkpoint, so the table and curves stay live instead of lagging
+        // further and further; the final reconstruction is always the newest, so it is always
+        // evaluated. As fast as possible: every checkpoint is evaluated (the complete table).
+        while matches!(self.speed, Speed::Paced { .. }) && self.evaluation_queue.len() > 1 {
+            self.evaluation_queue.pop_front();
+        }
+        if self.evaluating.is_none()
+            && let Some(next) = self.evaluation_queue.pop_front()
+        {
+            let (original, mesh) = (Arc::clone(&self.original), Arc::clone(&next.mesh));
+            let job = Job::spawn("evaluation", self.repaint.clone(), move || {
+                engine::evaluate(&original, &mesh)
+            });
+            self.evaluating = Some((next, job));
+        }
+    }
+
+    fn poll_qem(&mut self) {
+        let Some(result) = self.qem.pending.as_ref().and_then(Job::poll) else {
+            return;
+        };
+        self.qem.pending = None;
+        match result.and_then(|r| r) {
+            Ok((mesh, e, seconds)) => {
+                self.history.qem = Some(checkpoint("QEM", 0, &e, seconds));
+                self.qem.mesh = Some(mesh);
+            }
+            Err(e) => {
+                self.qem.mesh = None;
+                self.error(e.to_string());
+                self.qem.error = Some(e.to_string());
+            }
+        }
+    }
+
+    /// Save the simplified mesh of `side` to `path` (format by extension); the outcome is also
+    /// shown in the message strip.
+    pub fn export(&mut self, side: Side, path: &Path) -> Result<()> {
+        let (mesh, what) = match side {
+            Side::Gng => (self.reconstruction.clone(), "no GNG3D reconstruction"),
+            Side::Qem => (self.qem.mesh.clone(), "no QEM result"),
+        };
+        let result = match mesh {
+            Some(mesh) => io::export_mesh(&mesh, path),
+            None => Err(ViewerError::NothingToExport {
+                path: path.to_path_buf(),
+                what,
+            }),
+        };
+        match &result {
+            Ok(()) => self.info(format!("saved {}", path.display())),
+            Err(e) => self.error(e.to_string()),
+        }
+        result
+    }
+
+    /// Write the checkpoint table as CSV to `path`, reporting the outcome in the message strip.
+    pub fn export_csv(&mut self, path: &Path) -> Result<()> {
+        let result = self.history.write_csv(path);
+        match &result {
+            Ok(()) => self.info(format!("saved {}", path.display())),
+            Err(e) => self.error(e.to_string()),
+        }
+        result
+    }
+}
+
+/// A table row from an evaluation.
+fn checkpoint(method: &'static str, iteration: u64, e: &Evaluation, seconds: f64) -> Checkpoint {
+    Checkpoint {
+        method,
+        iteration,
+        evaluation: *e,
+        seconds,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Instant;
+
+    fn wait_until(session: &mut Session, what: &str, done: impl Fn(&Session) -> bool) {
+        let start = Instant::now();
+        while !done(session) {
+            assert!(
+                start.elapsed() < Duration::from_secs(90),
+                "timed out waiting for {what}"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+            session.poll();
+        }
+    }
+
+    #[test]
+    fn bad_options_are_errors_naming_the_option() {
+        for (options, flag) in [
+            (
+                ViewerOptions {
+                    time_limit: Some(-1.0),
+                    ..Default::default()
+                },
+                "--time-limit",
+            ),
+            (
+                ViewerOptions {
+                    time_limit: Some(f64::NAN),
+                    ..Default::default()
+                },
+                "--time-limit",
+            ),
+            (
+                ViewerOptions {
+                    target: Some(2),
+                    ..Default::default()
+                },
+                "--target",
+            ),
+            (
+                ViewerOptions {
+                    watch_seconds: Some(f64::INFINITY),
+                    ..Default::default()
+                },
+                "--watch",
+            ),
+            (
+                ViewerOptions {
+                    quit_after: Some(-3.0),
+                    ..Default::default()
+                },
+                "--quit-after",
+            ),
+            (
+                ViewerOptions {
+                    max_signals: Some(0),
+                    ..Default::default()
+                },
+                "--max-signals",
+            ),
+        ] {
+            let err = train_params(&options).unwrap_err();
+            assert!(err.to_string().contains(flag), "{err}");
+            assert!(Session::new(options, None).is_err());
+        }
+        let params = train_params(&ViewerOptions {
+            time_limit: Some(2.5),
+            target: Some(300),
+            seed: Some(9),
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(params.time_limit, Some(Duration::from_secs_f64(2.5)));
+        assert_eq!((params.target_vertices, params.seed), (300, 9));
+        assert_eq!(speed_for(Some(0.0)), Speed::Unlimited);
+        assert_eq!(
+            speed_for(None),
+            Speed::Paced {
+                seconds: DEFAULT_WATCH_SECONDS
+            }
+        );
+    }
+
+    /// Without a window or GPU: a fast run trains, records errors, reconstructs at checkpoints,
+    /// evaluates them with the same function as QEM, and the state word is consistent.
+    #[test]
+    fn session_trains_checkpoints_and_evaluates_without_a_window() {
+        let mut session = Session::new(
+            ViewerOptions {
+                target: Some(150),
+                watch_seconds: Some(0.0),
+                ..Default::default()
+            },
+            None,
+        )
+        .unwrap();
+        let vertices = session.original().vertex_count() as u64;
+        assert_eq!(
+            session.checkpoint_every, vertices,
+            "paper protocol: every |V|"
+        );
+        wait_until(&mut session, "training, QEM and evaluations", |s| {
+            s.live().finished && s.has_qem_mesh() && s.evaluations_pending() == 0
+        });
+        assert_eq!(session.training_state(), TrainingState::Finished);
+        let h = &session.history;
+        assert!(h.errors.len() >= 2, "{} error points", h.errors.len());
+        // 30 epochs with a checkpoint each; the last one is the final reconstruction.
+        assert!(
+            h.reconstructions.len() >= 5,
+            "{} checkpoints",
+            h.reconstructions.len()
+        );
+        let last = h.reconstructions.last().unwrap();
+        let direct = engine::evaluate(session.original(), session.reconstruction().unwrap());
+        assert_eq!(last.evaluation, direct, "table row = direct evaluation");
+        let qem = h.qem.as_ref().unwrap();
+        let qem_direct = engine::evaluate(session.original(), session.qem_mesh().unwrap());
+        assert_eq!(qem.evaluation, qem_direct);
+        assert!(qem.evaluation.vertices <= 150);
+        // Signed E_sur: Area(original) − Area(simplified), as the CLI reports it.
+        let area = |m: &TriMesh| metrics::surface_error(m, m).original_area;
+        let signed = area(session.original()) - area(session.qem_mesh().unwrap());
+        assert!((qem.evaluation.e_sur - signed).abs() <= 1e-9 * signed.abs().max(1.0));
+    }
+
+    #[test]
+    fn missing_file_is_an_error_message_and_the_built_in_model_stands_in() {
+        let mut session = Session::new(
+            ViewerOptions {
+                path: Some("/nonexistent/model.obj".into()),
+                ..Default::default()
+            },
+            None,
+        )
+        .unwrap();
+        wait_until(&mut session, "the load to fail", |s| !s.is_loading());
+        let error = session.messages.iter().find(|m| m.is_error).expect("error");
+        assert!(
+            error.text.contains("/nonexistent/model.obj"),
+            "{}",
+            error.text
+        );
+        assert!(session.original().face_count() > 0);
+        let err = session
+            .export(Side::Gng, Path::new("/tmp/never-written.obj"))
+            .unwrap_err();
+        assert!(matches!(err, ViewerError::NothingToExport { .. }), "{err}");
+    }
+}
