@@ -4,6 +4,7 @@
 pub mod clean;
 pub mod error;
 pub mod fixtures;
+pub mod geometry;
 pub mod io;
 pub mod procedural;
 pub mod sampling;
