@@ -73,6 +73,9 @@ pub struct ReconstructionReport {
 /// f64 kd-tree over `points` (f64 so that squared distances of 1e30-sized coordinates do not
 /// overflow); `None` when empty.
 fn kd_tree(points: &[Vec3]) -> Option<ImmutableKdTree<f64, 3>> {
+    if points.is_empty() {
+        return None;
+    }
     let pts: Vec<[f64; 3]> = points.iter().map(|p| p.as_dvec3().to_array()).collect();
     ImmutableKdTree::<f64, 3>::new_from_slice(&pts).ok()
 }
@@ -104,6 +107,15 @@ pub fn label_vertices_by_component(
     nodes: &[Vec3],
     edges: &[[u32; 2]],
 ) -> Vec<u32> {
+    labels_and_node_components(original, nodes, edges).0
+}
+
+/// [`label_vertices_by_component`] plus the piece of each node.
+fn labels_and_node_components(
+    original: &TriMesh,
+    nodes: &[Vec3],
+    edges: &[[u32; 2]],
+) -> (Vec<u32>, Vec<u32>) {
     let (ids, distinct) = crate::domain::distinct_ids(original);
     let (comp, count) = crate::domain::components(original, &ids, distinct.len());
     if count <= 1 || nodes.is_empty() {
@@ -113,10 +125,10 @@ pub fn label_vertices_by_component(
                 *l = u32::MAX;
             }
         }
-        return labels;
+        return (labels, vec![0; nodes.len()]);
     }
     let Some(points) = kd_tree(&distinct) else {
-        return vec![u32::MAX; original.positions.len()];
+        return (vec![u32::MAX; original.positions.len()], vec![0; nodes.len()]);
     };
     let nearest_comp: Vec<u32> = nodes
         .iter()
@@ -149,9 +161,12 @@ pub fn label_vertices_by_component(
         }
     }
     let mut by_comp: Vec<Vec<u32>> = vec![Vec::new(); count];
+    let mut node_comp = vec![0u32; nodes.len()];
     for i in 0..nodes.len() as u32 {
         let g = root(&mut parent, i);
-        by_comp[group_comp[&g].0 as usize].push(i);
+        let c = group_comp[&g].0;
+        by_comp[c as usize].push(i);
+        node_comp[i as usize] = c;
     }
     let trees: Vec<Option<ImmutableKdTree<f64, 3>>> = by_comp
         .iter()
@@ -160,7 +175,7 @@ pub fn label_vertices_by_component(
             kd_tree(&pts)
         })
         .collect();
-    original
+    let labels = original
         .positions
         .iter()
         .zip(&ids)
@@ -174,7 +189,8 @@ pub fn label_vertices_by_component(
                 None => u32::MAX,
             }
         })
-        .collect()
+        .collect();
+    (labels, node_comp)
 }
 
 /// Make every node's cell (the original vertices labelled with it) edge-connected on the
@@ -319,7 +335,7 @@ pub fn reconstruct(
         topology: mesh::topology::analyze(&TriMesh::default()),
         seconds: 0.0,
     };
-    let mut labels = label_vertices_by_component(original, nodes, edges);
+    let (mut labels, node_comp) = labels_and_node_components(original, nodes, edges);
     if params.connected_cells {
         report.relabelled_vertices = make_cells_connected(original, nodes, &mut labels);
     }
@@ -401,7 +417,7 @@ pub fn reconstruct(
         }
     }
 
-    report.attached_nodes = attach_unreferenced(&mut faces, nodes, edges, original, &labels);
+    report.attached_nodes = attach_unreferenced(&mut faces, nodes, edges, original, &labels, &node_comp);
 
     // Compact: keep referenced nodes only, in node order.
     let mut remap = vec![u32::MAX; nodes.len()];
@@ -532,7 +548,8 @@ const EDGE_SPLIT_WEIGHT: f64 = 0.2;
 /// labels fell into degenerate, merged or fin faces; or no vertex chose it) is inserted into the
 /// output triangle nearest to it among those around its cell (triangles of its GNG neighbours
 /// and of the nodes labelling vertices next to its cell); nodes with no such triangle yet wait
-/// for their neighbours, and as a last resort take the nearest triangle of the whole output.
+/// for their neighbours, and as a last resort take the nearest triangle of their own piece
+/// (`node_comp`), never one of another piece.
 /// Edge and face splits keep a closed manifold closed, manifold and consistently oriented.
 /// Returns the number of nodes attached.
 fn attach_unreferenced(
@@ -541,6 +558,7 @@ fn attach_unreferenced(
     edges: &[[u32; 2]],
     original: &TriMesh,
     labels: &[u32],
+    node_comp: &[u32],
 ) -> usize {
     let mut referenced = vec![false; nodes.len()];
     for c in faces.iter() {
@@ -601,7 +619,11 @@ fn attach_unreferenced(
         for &m in &pending {
             candidates.clear();
             if global {
-                candidates.extend(0..faces.len() as u32);
+                let c = node_comp[m as usize];
+                candidates.extend(
+                    (0..faces.len() as u32)
+                        .filter(|&f| node_comp[faces[f as usize].tri[0] as usize] == c),
+                );
             } else {
                 for &x in &near[slot[m as usize] as usize] {
                     candidates.extend_from_slice(&vf[x as usize]);

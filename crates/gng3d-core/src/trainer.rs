@@ -218,13 +218,22 @@ impl Part {
         };
         let mut net = Network::new(grid, piece.target + 16);
         let pts = &piece.points;
-        let a = rng.random_range(0..pts.len());
-        let mut b = rng.random_range(0..pts.len() - 1);
-        if b >= a {
-            b += 1;
+        // A piece asked to keep every vertex (vertex signals, target = point count) is its own
+        // best approximation: nodes sit on the points and it needs no training.
+        let saturated = source == SignalSource::Vertices && piece.target >= pts.len();
+        if saturated {
+            for &p in pts {
+                net.add_node(p, 0.0, 0);
+            }
+        } else {
+            let a = rng.random_range(0..pts.len());
+            let mut b = rng.random_range(0..pts.len() - 1);
+            if b >= a {
+                b += 1;
+            }
+            net.add_node(pts[a], 0.0, 0);
+            net.add_node(pts[b], 0.0, 0);
         }
-        net.add_node(pts[a], 0.0, 0);
-        net.add_node(pts[b], 0.0, 0);
         Ok(Part {
             frame: piece.frame,
             signals_src,
@@ -240,7 +249,7 @@ impl Part {
             window_start: 0,
             insertions: 0,
             removed_inactive: 0,
-            done: false,
+            done: saturated,
             capped: false,
         })
     }
