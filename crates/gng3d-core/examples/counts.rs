@@ -39,7 +39,11 @@ fn main() {
                         input.components,
                         target,
                         r.mesh.vertex_count(),
-                        if r.mesh.vertex_count() == target { "EXACT" } else { "short" },
+                        if r.mesh.vertex_count() == target {
+                            "EXACT"
+                        } else {
+                            "short"
+                        },
                         r.report.reconstruction.attached_nodes,
                         t.closed,
                         t.manifold,
@@ -48,7 +52,11 @@ fn main() {
                         r.report.reconstruction.seconds,
                         r.report.training.signals,
                         r.report.training.growth_seconds,
-                        r.report.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+                        r.report
+                            .warnings
+                            .iter()
+                            .map(|w| w.to_string())
+                            .collect::<Vec<_>>(),
                     );
                 }
                 Err(e) => println!("{name:<24} target={target}: error: {e}"),

@@ -62,8 +62,7 @@ pub use reconstruct::{
 };
 pub use report::{GngReport, GngWarning};
 pub use trainer::{
-    CancelToken, GROWTH_SHARE_OF_TIME_LIMIT, Progress, Snapshot, StopReason, Trainer,
-    TrainingStats,
+    CancelToken, GROWTH_SHARE_OF_TIME_LIMIT, Progress, Snapshot, StopReason, Trainer, TrainingStats,
 };
 
 use glam::Vec3;

@@ -128,7 +128,10 @@ fn labels_and_node_components(
         return (labels, vec![0; nodes.len()]);
     }
     let Some(points) = kd_tree(&distinct) else {
-        return (vec![u32::MAX; original.positions.len()], vec![0; nodes.len()]);
+        return (
+            vec![u32::MAX; original.positions.len()],
+            vec![0; nodes.len()],
+        );
     };
     let nearest_comp: Vec<u32> = nodes
         .iter()
@@ -417,7 +420,8 @@ pub fn reconstruct(
         }
     }
 
-    report.attached_nodes = attach_unreferenced(&mut faces, nodes, edges, original, &labels, &node_comp);
+    report.attached_nodes =
+        attach_unreferenced(&mut faces, nodes, edges, original, &labels, &node_comp);
 
     // Compact: keep referenced nodes only, in node order.
     let mut remap = vec![u32::MAX; nodes.len()];
@@ -720,7 +724,14 @@ fn split_for(
 }
 
 /// Split directed edge (ea, eb) of face `f` at node `m`: [ea, eb, c] -> [ea, m, c], [m, eb, c].
-fn split_edge_of(faces: &mut Vec<Candidate>, vf: &mut [Vec<u32>], f: u32, ea: u32, eb: u32, m: u32) {
+fn split_edge_of(
+    faces: &mut Vec<Candidate>,
+    vf: &mut [Vec<u32>],
+    f: u32,
+    ea: u32,
+    eb: u32,
+    m: u32,
+) {
     let t = faces[f as usize].tri;
     let k = (0..3).find(|&k| t[k] == ea).unwrap_or(0);
     let c = t[(k + 2) % 3];

@@ -6,7 +6,9 @@ use crate::domain::{Domain, Frame, Piece};
 use crate::error::GngError;
 use crate::grid::{Grid, NONE, Nearest2};
 use crate::network::Network;
-use crate::params::{DEFAULT_SIGNALS_PER_NODE, GngParams, PAPER_EPOCHS, SearchStrategy, SignalSource};
+use crate::params::{
+    DEFAULT_SIGNALS_PER_NODE, GngParams, PAPER_EPOCHS, SearchStrategy, SignalSource,
+};
 use crate::reconstruct::{Reconstruction, reconstruct};
 use crate::report::GngWarning;
 use glam::Vec3;
@@ -207,9 +209,9 @@ impl Part {
     ) -> Result<Part, GngError> {
         let signals_src = match source {
             SignalSource::Vertices => Signals::Points(piece.points.clone()),
-            SignalSource::Surface => Signals::Surface(
-                AreaSampler::new(&piece.surface).map_err(|_| GngError::ZeroArea)?,
-            ),
+            SignalSource::Surface => {
+                Signals::Surface(AreaSampler::new(&piece.surface).map_err(|_| GngError::ZeroArea)?)
+            }
         };
         let bbox = mesh::Aabb::from_points(&piece.points);
         let grid = match search {
