@@ -49,13 +49,13 @@ pub(crate) struct Frame {
 impl Frame {
     /// World to local coordinates.
     #[inline]
-    pub fn to_local(&self, p: Vec3) -> Vec3 {
+    pub fn to_local(self, p: Vec3) -> Vec3 {
         ((p.as_dvec3() - self.center) / self.scale).as_vec3()
     }
 
     /// Local to world coordinates.
     #[inline]
-    pub fn to_world(&self, p: Vec3) -> Vec3 {
+    pub fn to_world(self, p: Vec3) -> Vec3 {
         (p.as_dvec3() * self.scale + self.center).as_vec3()
     }
 }

@@ -181,15 +181,13 @@ impl GngParams {
         if self.max_signals == Some(0) {
             return bad("max_signals", 0.0);
         }
-        if let Some(e) = self.epochs {
-            if !(e.is_finite() && e > 0.0) {
-                return bad("epochs", e);
-            }
+        if let Some(e) = self.epochs
+            && !(e.is_finite() && e > 0.0)
+        {
+            return bad("epochs", e);
         }
-        if let Some(t) = self.time_limit {
-            if t.is_zero() {
-                return bad("time_limit", 0.0);
-            }
+        if self.time_limit.is_some_and(|t| t.is_zero()) {
+            return bad("time_limit", 0.0);
         }
         if self.reconstruction.max_hole_edges > 1 << 20 {
             return bad(
