@@ -101,8 +101,11 @@ fn simplify_gng_json_reports_the_count_and_warnings_and_empty_results_fail() {
     let mut m: TriMesh = mesh::procedural::icosphere(3);
     let base = m.positions.len() as u32;
     let far = glam_vec3(1e8, 0.0, 0.0);
-    m.positions
-        .extend([far, far + glam_vec3(100.0, 0.0, 0.0), far + glam_vec3(0.0, 100.0, 0.0)]);
+    m.positions.extend([
+        far,
+        far + glam_vec3(100.0, 0.0, 0.0),
+        far + glam_vec3(0.0, 100.0, 0.0),
+    ]);
     m.triangles.push([base, base + 1, base + 2]);
     let input = dir.path().join("outlier.obj");
     mesh::io::save(&m, &input).unwrap();
@@ -139,6 +142,9 @@ fn simplify_gng_json_reports_the_count_and_warnings_and_empty_results_fail() {
     let o = run(args(&["--time-limit", "1e-9"]));
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.starts_with("error:") && err.contains("too few"), "{err}");
+    assert!(
+        err.starts_with("error:") && err.contains("too few"),
+        "{err}"
+    );
     assert!(!out.exists());
 }
