@@ -425,6 +425,8 @@ pub struct Trainer {
     signals: u64,
     elapsed: Duration,
     growth_elapsed: Option<Duration>,
+    /// Highest signals/s seen over one chunk (for the time-limit schedule).
+    peak_rate: f64,
     stop: Option<StopReason>,
     cancel: CancelToken,
 }
@@ -477,6 +479,7 @@ impl Trainer {
             signals: 0,
             elapsed: Duration::ZERO,
             growth_elapsed: None,
+            peak_rate: 0.0,
             stop: None,
             cancel: CancelToken::default(),
         })
@@ -586,7 +589,10 @@ impl Trainer {
     }
 
     /// Time-limit schedule: lower λ so that the missing nodes are inserted by
-    /// [`GROWTH_SHARE_OF_TIME_LIMIT`] of the limit at the throughput measured so far.
+    /// [`GROWTH_SHARE_OF_TIME_LIMIT`] of the limit at the peak throughput measured over one
+    /// chunk. The peak, not the running mean: insertions get dearer as the network grows
+    /// (max-error scan, grid rebuilds), and a falling mean rate made the schedule spiral down
+    /// to λ = 1 with growth still unfinished (measured on igea, N = 20,000, 0.5 s).
     fn schedule_growth(&mut self, now: Duration) {
         let Some(limit) = self.params.time_limit else {
             return;
@@ -602,7 +608,7 @@ impl Trainer {
         if missing == 0 {
             return;
         }
-        let rate = self.signals as f64 / now.as_secs_f64();
+        let rate = self.peak_rate.max(self.signals as f64 / now.as_secs_f64());
         let left = (limit.as_secs_f64() * GROWTH_SHARE_OF_TIME_LIMIT - now.as_secs_f64()).max(0.0);
         let affordable = (rate * left / missing as f64).floor().max(1.0) as u64;
         if affordable < self.lambda {
@@ -663,10 +669,17 @@ impl Trainer {
             if part.signals < part.budget {
                 chunk = chunk.min(part.budget - part.signals);
             }
+            let chunk_start = Instant::now();
             match self.params.search {
                 SearchStrategy::Grid => part.run_signals::<true>(chunk, &mut self.rng, settings),
                 SearchStrategy::LinearScan => {
                     part.run_signals::<false>(chunk, &mut self.rng, settings)
+                }
+            }
+            if self.params.time_limit.is_some() && chunk >= CHECK_EVERY / 2 {
+                let dt = chunk_start.elapsed().as_secs_f64();
+                if dt > 0.0 {
+                    self.peak_rate = self.peak_rate.max(chunk as f64 / dt);
                 }
             }
             part.update_state();
