@@ -91,3 +91,60 @@ fn bad_input_fails_with_message_naming_the_file() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+#[test]
+fn simplify_gng_json_reports_the_count_and_warnings_and_empty_results_fail() {
+    use gng3d::mesh::{self, TriMesh};
+    let glam_vec3 = glam::Vec3::new;
+    let dir = tempfile::tempdir().unwrap();
+    // A sphere plus one far stray triangle (a scanner outlier).
+    let mut m: TriMesh = mesh::procedural::icosphere(3);
+    let base = m.positions.len() as u32;
+    let far = glam_vec3(1e8, 0.0, 0.0);
+    m.positions.extend([
+        far,
+        far + glam_vec3(100.0, 0.0, 0.0),
+        far + glam_vec3(0.0, 100.0, 0.0),
+    ]);
+    m.triangles.push([base, base + 1, base + 2]);
+    let input = dir.path().join("outlier.obj");
+    mesh::io::save(&m, &input).unwrap();
+    let out = dir.path().join("out.obj");
+    let args = |extra: &[&str]| {
+        let mut a = vec![
+            "simplify",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--method",
+            "gng",
+            "--vertices",
+            "200",
+            "--json",
+        ];
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let run = |a: Vec<String>| {
+        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+        gng3d(&refs)
+    };
+    let o = run(args(&[]));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["target_vertices"], 200);
+    assert_eq!(v["vertices"], 200);
+    assert_eq!(v["warnings"][0]["kind"], "dropped_components");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("warning:"));
+    let info = gng3d(&["info", out.to_str().unwrap(), "--json"]);
+    assert!(info.status.success());
+    // A time limit too short for any network is an error, and no file is written.
+    std::fs::remove_file(&out).unwrap();
+    let o = run(args(&["--time-limit", "1e-9"]));
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.starts_with("error:") && err.contains("too few"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

@@ -1,5 +1,6 @@
 //! Errors of GNG3D training and simplification.
 
+use crate::trainer::StopReason;
 use thiserror::Error;
 
 /// Why GNG3D could not run on the given mesh and parameters.
@@ -22,8 +23,8 @@ pub enum GngError {
         /// Distinct referenced vertices of the input.
         available: usize,
     },
-    /// A parameter is outside its valid range.
-    #[error("parameter {name} = {value} is out of range")]
+    /// A parameter is outside its valid range (see [`crate::GngParams::validate`]).
+    #[error("parameter {name} = {value} is out of range (see the GngParams docs for its range)")]
     Parameter {
         /// Field name in `GngParams`.
         name: &'static str,
@@ -45,4 +46,23 @@ pub enum GngError {
     /// Surface signals were requested but every triangle has zero area.
     #[error("surface sampling needs a mesh with positive area")]
     ZeroArea,
+    /// Training ended with fewer than three nodes, so there is no mesh (typically a time limit
+    /// shorter than the set-up, or a cancel right after the start).
+    #[error(
+        "training stopped ({stop:?}) with {nodes} nodes, too few for a mesh; give it more time or signals"
+    )]
+    TooFewNodes {
+        /// Nodes when training stopped.
+        nodes: usize,
+        /// Why it stopped.
+        stop: Option<StopReason>,
+    },
+    /// The reconstruction produced no triangle (e.g. the input is a set of slivers).
+    #[error(
+        "the reconstruction from {nodes} nodes produced no triangle: the input has no surface GNG3D can rebuild"
+    )]
+    EmptyMesh {
+        /// Trained nodes.
+        nodes: usize,
+    },
 }

@@ -17,7 +17,8 @@
 //! params.seed = 7;
 //! let result = simplify(&sphere, &params).unwrap();
 //! assert_eq!(result.nodes.len(), 200);
-//! assert!(result.mesh.vertex_count() <= 200);
+//! assert_eq!(result.mesh.vertex_count(), 200); // every node is a vertex
+//! assert!(result.report.warnings.is_empty());
 //! assert!(result.mesh.face_count() > 300);
 //! println!("{} signals in {:.3} s", result.report.training.signals, result.report.seconds);
 //! ```
@@ -41,69 +42,101 @@
 //! assert!(rec.mesh.face_count() > 0);
 //! ```
 
+mod domain;
 mod error;
 mod grid;
 mod network;
 mod options;
 mod params;
 mod reconstruct;
+mod report;
 mod trainer;
 
+pub use domain::{MIN_COMPONENT_NODES, STRAY_RADII};
 pub use error::GngError;
 pub use options::{GngOptions, GngTarget};
-pub use params::{GngParams, OppositeFaces, ReconstructionParams, SearchStrategy, SignalSource};
-pub use reconstruct::{Reconstruction, ReconstructionReport, label_vertices, reconstruct};
-pub use trainer::{CancelToken, Progress, Snapshot, StopReason, Trainer, TrainingStats};
+pub use params::{
+    DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, ReconstructionParams,
+    SearchStrategy, SignalSource,
+};
+pub use reconstruct::{
+    Reconstruction, ReconstructionReport, label_vertices, label_vertices_by_component, reconstruct,
+};
+pub use report::{GngReport, GngWarning};
+pub use trainer::{
+    CancelToken, GROWTH_SHARE_OF_TIME_LIMIT, Progress, Snapshot, StopReason, Trainer, TrainingStats,
+};
 
 use glam::Vec3;
 use mesh::TriMesh;
-use serde::Serialize;
 use std::time::Instant;
 
 /// Output of [`simplify`].
 #[derive(Debug, Clone)]
 pub struct GngResult {
-    /// The simplified mesh (referenced nodes only, original orientation).
+    /// The simplified mesh: one vertex per trained node (original orientation).
     pub mesh: TriMesh,
-    /// All trained node positions, including nodes the reconstruction left unreferenced.
+    /// All trained node positions.
     pub nodes: Vec<Vec3>,
-    /// What happened in both phases.
+    /// What happened in both phases, including why the vertex count differs from the target
+    /// when it does.
     pub report: GngReport,
-}
-
-/// Report of a [`simplify`] run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GngReport {
-    /// Phase-1 counters.
-    pub training: TrainingStats,
-    /// Phase-2 counts and output topology.
-    pub reconstruction: ReconstructionReport,
-    /// Output vertex count.
-    pub vertices: usize,
-    /// Output face count.
-    pub faces: usize,
-    /// Wall time of both phases, seconds.
-    pub seconds: f64,
 }
 
 /// Simplify `mesh` with GNG3D: train to `params.target_vertices` nodes, then reconstruct.
 ///
 /// The input should be welded (e.g. `mesh::clean::prepare`); signals use distinct vertex
-/// positions either way. Errors are returned for unusable input or parameters, never panics.
+/// positions either way. On a closed manifold input that can hold N nodes the output has
+/// exactly N vertices; otherwise [`GngReport::warnings`] says why not. Errors are returned for
+/// unusable input or parameters and for results with no mesh (fewer than three nodes, no
+/// triangle), never panics.
 pub fn simplify(mesh: &TriMesh, params: &GngParams) -> Result<GngResult, GngError> {
     let start = Instant::now();
     let mut trainer = Trainer::new(mesh, params.clone())?;
     while !trainer.is_finished() {
         trainer.step(u64::MAX);
     }
+    finish(&trainer, start)
+}
+
+/// Phase 2 on a trained (or stopped) `trainer`, with the checks and warnings of [`simplify`];
+/// `start` is when the run began (for [`GngReport::seconds`]). Front ends that drive the
+/// trainer themselves (progress bars, viewers) call this to get the same result.
+pub fn finish(trainer: &Trainer, start: Instant) -> Result<GngResult, GngError> {
+    let stats = trainer.stats();
     let snap = trainer.snapshot();
-    let rec = reconstruct(mesh, &snap.positions, &snap.edges, &params.reconstruction);
+    if snap.positions.len() < 3 {
+        return Err(GngError::TooFewNodes {
+            nodes: snap.positions.len(),
+            stop: stats.stop,
+        });
+    }
+    let params = trainer.params();
+    let rec = reconstruct(
+        trainer.original(),
+        &snap.positions,
+        &snap.edges,
+        &params.reconstruction,
+    );
+    if rec.mesh.face_count() == 0 {
+        return Err(GngError::EmptyMesh {
+            nodes: snap.positions.len(),
+        });
+    }
+    let mut warnings = trainer.warnings();
+    if rec.report.unreferenced_nodes > 0 {
+        warnings.push(GngWarning::UnattachedNodes {
+            nodes: rec.report.unreferenced_nodes,
+        });
+    }
     let report = GngReport {
-        training: trainer.stats(),
+        training: stats,
+        target_vertices: params.target_vertices,
         vertices: rec.mesh.vertex_count(),
         faces: rec.mesh.face_count(),
         reconstruction: rec.report,
         seconds: start.elapsed().as_secs_f64(),
+        warnings,
     };
     Ok(GngResult {
         mesh: rec.mesh,

@@ -1,7 +1,17 @@
 //! Parameters of GNG3D training (phase 1) and reconstruction (phase 2), with documented defaults.
 
+use crate::error::GngError;
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
+
+/// Default signal budget per target node (when neither [`GngParams::max_signals`] nor
+/// [`GngParams::epochs`] is set). Chosen from the quality-vs-budget curve in docs/notes/gng.md:
+/// Hausdorff and E_avg flatten out by this budget on the shared meshes at 1-50 %.
+pub const DEFAULT_SIGNALS_PER_NODE: f64 = 400.0;
+
+/// Epochs of the GNG3D paper's protocol (30 passes over the input vertices), for
+/// [`GngParams::epochs`].
+pub const PAPER_EPOCHS: f64 = 30.0;
 
 /// Where training signals come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -94,9 +104,13 @@ pub struct GngParams {
     /// μ: nodes that won no signal during the last μ·|A| signals are removed (GNG3D).
     /// Default 30 (GNG3DI). 0 disables the rule.
     pub removal_window: f64,
-    /// Signal budget. `None` (default) means 30 epochs of the signal-point count (the paper's
-    /// protocol: 30 × distinct vertices).
+    /// Signal budget as an explicit count; overrides [`GngParams::epochs`]. Default `None`.
     pub max_signals: Option<u64>,
+    /// Signal budget in epochs of the signal-point count (distinct input vertices): the GNG3D
+    /// paper's protocol is `Some(30.0)` ([`PAPER_EPOCHS`]). `None` (default) makes the budget
+    /// follow the output instead: [`DEFAULT_SIGNALS_PER_NODE`] × target, capped at the paper's
+    /// 30 epochs (so large ratios never cost more than the paper).
+    pub epochs: Option<f64>,
     /// Wall-clock limit for training (phase 1). Default none.
     pub time_limit: Option<Duration>,
     /// Seed of the PCG random generator; equal seeds give identical results. Default 1.
@@ -105,9 +119,6 @@ pub struct GngParams {
     pub signal_source: SignalSource,
     /// Nearest-node search. Default [`SearchStrategy::Grid`].
     pub search: SearchStrategy,
-    /// Compute e_avg/e_max of the nodes against the original vertices for every
-    /// [`crate::Progress`] report (costs a kd-tree build per report). Default `false`.
-    pub track_errors: bool,
     /// Phase-2 options.
     pub reconstruction: ReconstructionParams,
 }
@@ -124,11 +135,11 @@ impl Default for GngParams {
             max_edge_age: 100,
             removal_window: 30.0,
             max_signals: None,
+            epochs: None,
             time_limit: None,
             seed: 1,
             signal_source: SignalSource::Vertices,
             search: SearchStrategy::Grid,
-            track_errors: false,
             reconstruction: ReconstructionParams::default(),
         }
     }
@@ -141,5 +152,58 @@ impl GngParams {
             target_vertices,
             ..GngParams::default()
         }
+    }
+
+    /// The paper's protocol: defaults with a budget of 30 epochs ([`PAPER_EPOCHS`]).
+    pub fn paper(target_vertices: usize) -> GngParams {
+        GngParams {
+            epochs: Some(PAPER_EPOCHS),
+            ..GngParams::for_target(target_vertices)
+        }
+    }
+
+    /// Check every parameter on its own (finite, positive, in range); the error names the
+    /// field. Checks that need the mesh (target against the vertex count) are done by
+    /// [`crate::Trainer::new`], which also calls this.
+    pub fn validate(&self) -> Result<(), GngError> {
+        let bad = |name: &'static str, value: f64| Err(GngError::Parameter { name, value });
+        check_range("eps_winner", self.eps_winner as f64, 0.0, 1.0)?;
+        check_range("eps_neighbour", self.eps_neighbour as f64, 0.0, 1.0)?;
+        check_range("alpha", self.alpha, 0.0, 1.0)?;
+        check_range("error_decay", self.error_decay, f64::MIN_POSITIVE, 1.0)?;
+        check_range("removal_window", self.removal_window, 0.0, f64::MAX)?;
+        if self.lambda == Some(0) {
+            return bad("lambda", 0.0);
+        }
+        if self.max_edge_age == 0 {
+            return bad("max_edge_age", 0.0);
+        }
+        if self.max_signals == Some(0) {
+            return bad("max_signals", 0.0);
+        }
+        if let Some(e) = self.epochs
+            && !(e.is_finite() && e > 0.0)
+        {
+            return bad("epochs", e);
+        }
+        if self.time_limit.is_some_and(|t| t.is_zero()) {
+            return bad("time_limit", 0.0);
+        }
+        if self.reconstruction.max_hole_edges > 1 << 20 {
+            return bad(
+                "reconstruction.max_hole_edges",
+                self.reconstruction.max_hole_edges as f64,
+            );
+        }
+        Ok(())
+    }
+}
+
+/// `Ok` when `value` is finite and within `[lo, hi]`, else a [`GngError::Parameter`].
+fn check_range(name: &'static str, value: f64, lo: f64, hi: f64) -> Result<(), GngError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(GngError::Parameter { name, value })
     }
 }

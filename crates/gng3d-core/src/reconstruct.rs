@@ -2,11 +2,17 @@
 //! node; every original face becomes the triple of its corners' labels. Degenerate triples are
 //! dropped, duplicates (in either orientation) merged, and optional passes filter by GNG edges,
 //! remove non-manifold fins, fill small holes and project vertices onto the original surface.
+//!
+//! Steps: label (component-aware: a vertex only takes a node trained on its own connected
+//! piece), make cells connected, map faces, resolve orientation, GNG-edge filter, cleanup,
+//! attach every node that no triangle references (so `N` nodes give `N` vertices), compact,
+//! project.
 
 use crate::params::{OppositeFaces, ReconstructionParams};
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
+use mesh::geometry::closest_point_triangle;
 use mesh::topology::TopologyReport;
 use serde::Serialize;
 use std::collections::{HashMap, HashSet};
@@ -46,7 +52,11 @@ pub struct ReconstructionReport {
     pub holes_filled: usize,
     /// Triangles added to close those loops.
     pub fill_faces: usize,
-    /// Nodes that ended up in no triangle and were dropped.
+    /// Nodes that no mapped triangle referenced and that were inserted into the nearest
+    /// output triangle (edge or face split) so that every node is an output vertex.
+    pub attached_nodes: usize,
+    /// Nodes that ended up in no triangle and were dropped (0 unless the mesh has no triangle
+    /// near them).
     pub unreferenced_nodes: usize,
     /// Output vertices moved onto the original surface (option (c)).
     pub projected_vertices: usize,
@@ -60,21 +70,130 @@ pub struct ReconstructionReport {
     pub seconds: f64,
 }
 
+/// f64 kd-tree over `points` (f64 so that squared distances of 1e30-sized coordinates do not
+/// overflow); `None` when empty.
+fn kd_tree(points: &[Vec3]) -> Option<ImmutableKdTree<f64, 3>> {
+    if points.is_empty() {
+        return None;
+    }
+    let pts: Vec<[f64; 3]> = points.iter().map(|p| p.as_dvec3().to_array()).collect();
+    ImmutableKdTree::<f64, 3>::new_from_slice(&pts).ok()
+}
+
+/// Index of the point of `tree` nearest to `p`.
+#[inline]
+fn nearest(tree: &ImmutableKdTree<f64, 3>, p: Vec3) -> u32 {
+    tree.query(&p.as_dvec3().to_array())
+        .nearest_one::<SquaredEuclidean<f64>>()
+        .execute()
+        .item
+}
+
 /// Label each original vertex with its nearest node (`u32::MAX` when there are no nodes).
 pub fn label_vertices(original: &[Vec3], nodes: &[Vec3]) -> Vec<u32> {
-    let points: Vec<[f32; 3]> = nodes.iter().map(|p| p.to_array()).collect();
-    let Ok(tree) = ImmutableKdTree::<f32, 3>::new_from_slice(&points) else {
+    let Some(tree) = kd_tree(nodes) else {
         return vec![u32::MAX; original.len()];
     };
-    original
+    original.iter().map(|&p| nearest(&tree, p)).collect()
+}
+
+/// Component-aware labels: each node belongs to the connected piece of the original holding
+/// its nearest vertex (by majority over its connected group of GNG edges, which never span two
+/// pieces when the trainer trains each piece on its own), and each vertex takes the nearest
+/// node of its own piece (`u32::MAX` for unreferenced vertices and pieces without nodes). Two
+/// nearby pieces then never share a node, and a piece's faces are never stitched to another's.
+pub fn label_vertices_by_component(
+    original: &TriMesh,
+    nodes: &[Vec3],
+    edges: &[[u32; 2]],
+) -> Vec<u32> {
+    labels_and_node_components(original, nodes, edges).0
+}
+
+/// [`label_vertices_by_component`] plus the piece of each node.
+fn labels_and_node_components(
+    original: &TriMesh,
+    nodes: &[Vec3],
+    edges: &[[u32; 2]],
+) -> (Vec<u32>, Vec<u32>) {
+    let (ids, distinct) = crate::domain::distinct_ids(original);
+    let (comp, count) = crate::domain::components(original, &ids, distinct.len());
+    if count <= 1 || nodes.is_empty() {
+        let mut labels = label_vertices(&original.positions, nodes);
+        for (l, &i) in labels.iter_mut().zip(&ids) {
+            if i == u32::MAX {
+                *l = u32::MAX;
+            }
+        }
+        return (labels, vec![0; nodes.len()]);
+    }
+    let Some(points) = kd_tree(&distinct) else {
+        return (
+            vec![u32::MAX; original.positions.len()],
+            vec![0; nodes.len()],
+        );
+    };
+    let nearest_comp: Vec<u32> = nodes
         .iter()
-        .map(|p| {
-            tree.query(&p.to_array())
-                .nearest_one::<SquaredEuclidean<f32>>()
-                .execute()
-                .item
+        .map(|&p| comp[nearest(&points, p) as usize])
+        .collect();
+    // Majority vote over GNG-connected groups (union-find over the edges).
+    let mut parent: Vec<u32> = (0..nodes.len() as u32).collect();
+    fn root(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for e in edges {
+        let (a, b) = (root(&mut parent, e[0]), root(&mut parent, e[1]));
+        if a != b {
+            parent[a.max(b) as usize] = a.min(b);
+        }
+    }
+    let mut votes: HashMap<(u32, u32), u32> = HashMap::new();
+    for (i, &c) in nearest_comp.iter().enumerate() {
+        *votes.entry((root(&mut parent, i as u32), c)).or_insert(0) += 1;
+    }
+    let mut group_comp: HashMap<u32, (u32, u32)> = HashMap::new();
+    for (&(g, c), &n) in &votes {
+        let e = group_comp.entry(g).or_insert((c, n));
+        if n > e.1 || (n == e.1 && c < e.0) {
+            *e = (c, n);
+        }
+    }
+    let mut by_comp: Vec<Vec<u32>> = vec![Vec::new(); count];
+    let mut node_comp = vec![0u32; nodes.len()];
+    for i in 0..nodes.len() as u32 {
+        let g = root(&mut parent, i);
+        let c = group_comp[&g].0;
+        by_comp[c as usize].push(i);
+        node_comp[i as usize] = c;
+    }
+    let trees: Vec<Option<ImmutableKdTree<f64, 3>>> = by_comp
+        .iter()
+        .map(|members| {
+            let pts: Vec<Vec3> = members.iter().map(|&i| nodes[i as usize]).collect();
+            kd_tree(&pts)
         })
-        .collect()
+        .collect();
+    let labels = original
+        .positions
+        .iter()
+        .zip(&ids)
+        .map(|(&p, &i)| {
+            if i == u32::MAX {
+                return u32::MAX;
+            }
+            let c = comp[i as usize] as usize;
+            match &trees[c] {
+                Some(t) => by_comp[c][nearest(t, p) as usize],
+                None => u32::MAX,
+            }
+        })
+        .collect();
+    (labels, node_comp)
 }
 
 /// Make every node's cell (the original vertices labelled with it) edge-connected on the
@@ -211,6 +330,7 @@ pub fn reconstruct(
         fin_faces: 0,
         holes_filled: 0,
         fill_faces: 0,
+        attached_nodes: 0,
         unreferenced_nodes: 0,
         projected_vertices: 0,
         vertices: 0,
@@ -218,7 +338,7 @@ pub fn reconstruct(
         topology: mesh::topology::analyze(&TriMesh::default()),
         seconds: 0.0,
     };
-    let mut labels = label_vertices(&original.positions, nodes);
+    let (mut labels, node_comp) = labels_and_node_components(original, nodes, edges);
     if params.connected_cells {
         report.relabelled_vertices = make_cells_connected(original, nodes, &mut labels);
     }
@@ -299,6 +419,9 @@ pub fn reconstruct(
             report.fill_faces = added;
         }
     }
+
+    report.attached_nodes =
+        attach_unreferenced(&mut faces, nodes, edges, original, &labels, &node_comp);
 
     // Compact: keep referenced nodes only, in node order.
     let mut remap = vec![u32::MAX; nodes.len()];
@@ -417,6 +540,213 @@ fn remove_fins(faces: &mut Vec<Candidate>, nodes: &[Vec3]) -> usize {
         dropped_total += before - faces.len();
     }
     dropped_total
+}
+
+/// Share of a triangle's area below which the opposite corner's barycentric weight counts as
+/// "on the edge": the node is then inserted by splitting that edge (two faces into four, or a
+/// boundary face into two) instead of the face (one into three), which avoids the needle
+/// triangles a face split next to an edge would make.
+const EDGE_SPLIT_WEIGHT: f64 = 0.2;
+
+/// Step: every node an output vertex. A node whose cell produced no surviving triangle (its
+/// labels fell into degenerate, merged or fin faces; or no vertex chose it) is inserted into the
+/// output triangle nearest to it among those around its cell (triangles of its GNG neighbours
+/// and of the nodes labelling vertices next to its cell); nodes with no such triangle yet wait
+/// for their neighbours, and as a last resort take the nearest triangle of their own piece
+/// (`node_comp`), never one of another piece.
+/// Edge and face splits keep a closed manifold closed, manifold and consistently oriented.
+/// Returns the number of nodes attached.
+fn attach_unreferenced(
+    faces: &mut Vec<Candidate>,
+    nodes: &[Vec3],
+    edges: &[[u32; 2]],
+    original: &TriMesh,
+    labels: &[u32],
+    node_comp: &[u32],
+) -> usize {
+    let mut referenced = vec![false; nodes.len()];
+    for c in faces.iter() {
+        for &v in &c.tri {
+            referenced[v as usize] = true;
+        }
+    }
+    let missing: Vec<u32> = (0..nodes.len() as u32)
+        .filter(|&v| !referenced[v as usize])
+        .collect();
+    if missing.is_empty() || faces.is_empty() {
+        return 0;
+    }
+    // Nodes near each missing node: GNG neighbours and labels adjacent to its cell.
+    let mut slot = vec![u32::MAX; nodes.len()];
+    for (k, &m) in missing.iter().enumerate() {
+        slot[m as usize] = k as u32;
+    }
+    let mut near: Vec<Vec<u32>> = vec![Vec::new(); missing.len()];
+    for e in edges {
+        for (a, b) in [(e[0], e[1]), (e[1], e[0])] {
+            if (a as usize) < slot.len() && slot[a as usize] != u32::MAX {
+                near[slot[a as usize] as usize].push(b);
+            }
+        }
+    }
+    for t in &original.triangles {
+        let l = t.map(|v| labels[v as usize]);
+        for k in 0..3 {
+            let a = l[k];
+            if a != u32::MAX && slot[a as usize] != u32::MAX {
+                for &b in &[l[(k + 1) % 3], l[(k + 2) % 3]] {
+                    if b != a && b != u32::MAX {
+                        near[slot[a as usize] as usize].push(b);
+                    }
+                }
+            }
+        }
+    }
+    for n in &mut near {
+        n.sort_unstable();
+        n.dedup();
+    }
+    // Faces around each node, kept up to date by the splits.
+    let mut vf: Vec<Vec<u32>> = vec![Vec::new(); nodes.len()];
+    for (f, c) in faces.iter().enumerate() {
+        for &v in &c.tri {
+            vf[v as usize].push(f as u32);
+        }
+    }
+    let mut attached = 0;
+    let mut pending: Vec<u32> = missing;
+    let mut candidates: Vec<u32> = Vec::new();
+    let mut global = false;
+    while !pending.is_empty() {
+        let before = pending.len();
+        let mut next = Vec::new();
+        for &m in &pending {
+            candidates.clear();
+            if global {
+                let c = node_comp[m as usize];
+                candidates.extend(
+                    (0..faces.len() as u32)
+                        .filter(|&f| node_comp[faces[f as usize].tri[0] as usize] == c),
+                );
+            } else {
+                for &x in &near[slot[m as usize] as usize] {
+                    candidates.extend_from_slice(&vf[x as usize]);
+                }
+                candidates.sort_unstable();
+                candidates.dedup();
+            }
+            let p = nodes[m as usize].as_dvec3();
+            let best = candidates
+                .iter()
+                .map(|&f| {
+                    let [a, b, c] = faces[f as usize].tri.map(|v| nodes[v as usize].as_dvec3());
+                    let q = closest_point_triangle(p, a, b, c);
+                    ((q - p).length_squared(), f, q)
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+            let Some((_, f, q)) = best else {
+                next.push(m);
+                continue;
+            };
+            split_for(faces, &mut vf, nodes, f, m, q);
+            attached += 1;
+        }
+        pending = next;
+        if pending.len() == before {
+            if global {
+                break;
+            }
+            global = true;
+        }
+    }
+    attached
+}
+
+/// Insert node `m` (nearest point `q` on face `f`) by an edge split when `q` is near an edge
+/// with at most one other face, else by a face split.
+fn split_for(
+    faces: &mut Vec<Candidate>,
+    vf: &mut [Vec<u32>],
+    nodes: &[Vec3],
+    f: u32,
+    m: u32,
+    q: DVec3,
+) {
+    let tri = faces[f as usize].tri;
+    let [a, b, c] = tri.map(|v| nodes[v as usize].as_dvec3());
+    let area = (b - a).cross(c - a).length();
+    // Barycentric weight of each corner = area of the sub-triangle opposite it.
+    let w = [
+        (c - b).cross(q - b).length(),
+        (a - c).cross(q - c).length(),
+        (b - a).cross(q - a).length(),
+    ];
+    let (k, wk) = w
+        .iter()
+        .copied()
+        .enumerate()
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .unwrap_or((0, 0.0));
+    if area > 0.0 && wk <= EDGE_SPLIT_WEIGHT * area {
+        // Edge opposite corner k, directed as in the face: (tri[k+1], tri[k+2]).
+        let (ea, eb) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+        let shared: Vec<u32> = vf[ea as usize]
+            .iter()
+            .copied()
+            .filter(|g| vf[eb as usize].contains(g))
+            .collect();
+        let twins: Vec<u32> = shared
+            .iter()
+            .copied()
+            .filter(|&g| g != f && half_edges(faces[g as usize].tri).contains(&(eb, ea)))
+            .collect();
+        if shared.len() <= 2 && twins.len() == shared.len() - 1 {
+            split_edge_of(faces, vf, f, ea, eb, m);
+            if let Some(&g) = twins.first() {
+                split_edge_of(faces, vf, g, eb, ea, m);
+            }
+            return;
+        }
+    }
+    // Face split [a, b, c] -> [a, b, m], [b, c, m], [c, a, m].
+    let [ta, tb, tc] = tri;
+    let support = faces[f as usize].support;
+    faces[f as usize].tri = [ta, tb, m];
+    vf[tc as usize].retain(|&g| g != f);
+    vf[m as usize].push(f);
+    for t in [[tb, tc, m], [tc, ta, m]] {
+        let id = faces.len() as u32;
+        faces.push(Candidate { tri: t, support });
+        for &v in &t {
+            vf[v as usize].push(id);
+        }
+    }
+}
+
+/// Split directed edge (ea, eb) of face `f` at node `m`: [ea, eb, c] -> [ea, m, c], [m, eb, c].
+fn split_edge_of(
+    faces: &mut Vec<Candidate>,
+    vf: &mut [Vec<u32>],
+    f: u32,
+    ea: u32,
+    eb: u32,
+    m: u32,
+) {
+    let t = faces[f as usize].tri;
+    let k = (0..3).find(|&k| t[k] == ea).unwrap_or(0);
+    let c = t[(k + 2) % 3];
+    let support = faces[f as usize].support;
+    faces[f as usize].tri = [ea, m, c];
+    vf[eb as usize].retain(|&g| g != f);
+    vf[m as usize].push(f);
+    let id = faces.len() as u32;
+    faces.push(Candidate {
+        tri: [m, eb, c],
+        support,
+    });
+    for v in [m, eb, c] {
+        vf[v as usize].push(id);
+    }
 }
 
 /// Area of a triangle of nodes (f64).
@@ -580,7 +910,7 @@ fn project(
         let mut best = (f64::INFINITY, p);
         while i < pairs.len() && pairs[i].0 == o {
             let [a, b, c] = original.triangle_f64(pairs[i].1 as usize);
-            let q = metrics::closest_point_triangle(p, a, b, c);
+            let q = closest_point_triangle(p, a, b, c);
             let d = (q - p).length_squared();
             if d < best.0 {
                 best = (d, q);

@@ -10,6 +10,7 @@ pub mod error;
 /// Test and benchmark helper: the shared meshes folder (feature `fixtures`).
 #[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
+pub mod geometry;
 pub mod io;
 pub mod procedural;
 pub mod sampling;

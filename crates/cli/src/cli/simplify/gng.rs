@@ -3,7 +3,7 @@
 
 use super::SimplifyArgs;
 use anyhow::{Context, bail};
-use gng3d_core::{GngOptions, GngTarget, Trainer};
+use gng3d_core::{GngOptions, GngTarget, GngWarning, Trainer};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::ops::ControlFlow;
@@ -20,8 +20,11 @@ struct Summary {
     /// Wall time of training plus reconstruction, seconds (loading and saving excluded).
     seconds: f64,
     training_seconds: f64,
+    /// Requested vertex count; `vertices` equals it unless `warnings` says why not.
     target_vertices: usize,
     nodes: usize,
+    /// Machine-readable reasons why the output differs from the request (empty when exact).
+    warnings: Vec<GngWarning>,
     closed: bool,
     manifold: bool,
     genus: Option<i64>,
@@ -76,21 +79,27 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         ControlFlow::Continue(())
     });
     bar.finish_and_clear();
-    let rec = trainer.reconstruct(&params.reconstruction);
+    // Same checks and warnings as gng3d_core::simplify: no mesh is an error, never exit 0.
+    let result = gng3d_core::finish(&trainer, start)
+        .with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let seconds = start.elapsed().as_secs_f64();
     let stats = trainer.stats();
-    crate::cli::save_checked(&rec.mesh, &args.output, "GNG3D")
+    crate::cli::save_checked(&result.mesh, &args.output, "GNG3D")
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
-    let t = &rec.report.topology;
+    for w in &result.report.warnings {
+        eprintln!("warning: {w}");
+    }
+    let t = &result.report.reconstruction.topology;
     let summary = Summary {
         method: "gng",
-        vertices: rec.mesh.vertex_count(),
-        faces: rec.mesh.face_count(),
+        vertices: result.mesh.vertex_count(),
+        faces: result.mesh.face_count(),
         iterations: stats.signals,
         seconds,
         training_seconds: stats.seconds,
         target_vertices: target,
         nodes: trainer.node_count(),
+        warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,
         genus: t.genus,

@@ -1,4 +1,4 @@
-//! Measure GNG3D on mesh files: `cargo run --release -p gng3d-core --example probe -- RATIO FILE...`
+//! Measure GNG3D on mesh files: `cargo run --release --example gng_probe -- RATIO FILE...`
 //! prints phase timings, signals/s, vertex errors and output topology per file.
 
 use gng3d_core::{GngParams, simplify};

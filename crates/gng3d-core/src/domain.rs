@@ -1,0 +1,418 @@
+//! The training domain: what the network learns and how many nodes each piece gets.
+//!
+//! Steps, in order:
+//! 1. **Distinct points**: referenced vertex positions, exact duplicates counted once (unwelded
+//!    input behaves like welded input).
+//! 2. **Components**: pieces connected through faces (union-find over distinct points), so
+//!    separate pieces of a scan get their own network and never share a node.
+//! 3. **Frame and stray points**: per component, a local frame centred on the coordinate-wise
+//!    median and scaled by a power of two near the component's robust radius (the 90th
+//!    percentile distance from that median). Coordinates of 1e30 or far-away pieces then train
+//!    in f32 without overflow or lost precision. Vertices farther than [`STRAY_RADII`] robust
+//!    radii are stray points: they are no training signal and do not size the grid.
+//! 4. **Allocation**: the target N is split over components in proportion to their signal mass
+//!    (point count for vertex signals, area for surface signals) by largest remainder, capped at
+//!    each component's capacity (its point count for vertex signals). Components whose share
+//!    is below [`MIN_COMPONENT_NODES`] nodes are dropped, smallest first, and their share goes
+//!    to the others (reported as a warning).
+
+use crate::error::GngError;
+use crate::params::{GngParams, SignalSource};
+use crate::report::GngWarning;
+use glam::{DVec3, Vec3};
+use mesh::TriMesh;
+use std::collections::HashMap;
+
+/// A component keeps its own nodes only when its proportional share of the target is at least
+/// this many nodes: fewer cannot make a closed triangle fan, and a 1-2 node piece would be a
+/// dangling sliver. Smaller components are dropped with a [`GngWarning::DroppedComponents`].
+pub const MIN_COMPONENT_NODES: usize = 3;
+
+/// A vertex farther than this many robust radii (90th-percentile distance from the component's
+/// median) is a stray point (scanner outlier, corrupted coordinate) and gives no signal. 1000
+/// keeps legitimate long, thin parts (a rod 100× longer than wide is ~2 radii long at its
+/// tips) and catches the 1e8-away points of the scans.
+pub const STRAY_RADII: f64 = 1000.0;
+
+/// Percentile of the distances from the median that defines the robust radius.
+const RADIUS_PERCENTILE: f64 = 0.9;
+
+/// A similarity transform `local = (world - center) / scale`, `scale` a power of two.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Frame {
+    /// World-space origin of the frame.
+    pub center: DVec3,
+    /// World units per local unit (a power of two, so scaling is exact).
+    pub scale: f64,
+}
+
+impl Frame {
+    /// World to local coordinates.
+    #[inline]
+    pub fn to_local(self, p: Vec3) -> Vec3 {
+        ((p.as_dvec3() - self.center) / self.scale).as_vec3()
+    }
+
+    /// Local to world coordinates.
+    #[inline]
+    pub fn to_world(self, p: Vec3) -> Vec3 {
+        (p.as_dvec3() * self.scale + self.center).as_vec3()
+    }
+}
+
+/// One connected piece of the input, ready for training.
+#[derive(Debug, Clone)]
+pub(crate) struct Piece {
+    /// Local frame.
+    pub frame: Frame,
+    /// Distinct non-stray points, local coordinates.
+    pub points: Vec<Vec3>,
+    /// Faces with only non-stray corners, local coordinates (for surface signals).
+    pub surface: TriMesh,
+    /// Nodes allotted to this piece.
+    pub target: usize,
+}
+
+/// The pieces to train and what was left out.
+#[derive(Debug, Clone)]
+pub(crate) struct Domain {
+    /// Pieces with at least one node, largest first.
+    pub pieces: Vec<Piece>,
+    /// Distinct referenced vertex positions of the whole input, world coordinates.
+    pub distinct: usize,
+    /// What was dropped or cannot be held.
+    pub warnings: Vec<GngWarning>,
+}
+
+/// Distinct position id of each vertex (`u32::MAX` when unreferenced) and the positions.
+pub(crate) fn distinct_ids(mesh: &TriMesh) -> (Vec<u32>, Vec<Vec3>) {
+    let mut id = vec![u32::MAX; mesh.positions.len()];
+    let mut out = Vec::new();
+    let mut seen: HashMap<[u32; 3], u32> = HashMap::new();
+    for t in &mesh.triangles {
+        for &v in t {
+            let v = v as usize;
+            if id[v] == u32::MAX {
+                let p = mesh.positions[v];
+                let next = out.len() as u32;
+                let d = *seen.entry(p.to_array().map(f32::to_bits)).or_insert(next);
+                if d == next {
+                    out.push(p);
+                }
+                id[v] = d;
+            }
+        }
+    }
+    (id, out)
+}
+
+/// Union-find root with path halving.
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let p = parent[parent[x as usize] as usize];
+        parent[x as usize] = p;
+        x = p;
+    }
+    x
+}
+
+/// Face-connected components over distinct ids: component of each distinct point (dense,
+/// numbered in first-seen order) and the component count.
+pub(crate) fn components(mesh: &TriMesh, ids: &[u32], distinct: usize) -> (Vec<u32>, usize) {
+    let mut parent: Vec<u32> = (0..distinct as u32).collect();
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| ids[v as usize]);
+        for (x, y) in [(a, b), (b, c)] {
+            let (rx, ry) = (find(&mut parent, x), find(&mut parent, y));
+            if rx != ry {
+                parent[rx.max(ry) as usize] = rx.min(ry);
+            }
+        }
+    }
+    let mut dense = vec![u32::MAX; distinct];
+    let mut comp = vec![0u32; distinct];
+    let mut count = 0;
+    for i in 0..distinct as u32 {
+        let r = find(&mut parent, i) as usize;
+        if dense[r] == u32::MAX {
+            dense[r] = count;
+            count += 1;
+        }
+        comp[i as usize] = dense[r];
+    }
+    (comp, count as usize)
+}
+
+/// Frame of a point set: median centre, power-of-two scale near the robust radius; also the
+/// robust radius in world units.
+fn frame_of(points: &[DVec3]) -> (Frame, f64) {
+    let mut axis: Vec<f64> = Vec::with_capacity(points.len());
+    let mut center = DVec3::ZERO;
+    for a in 0..3 {
+        axis.clear();
+        axis.extend(points.iter().map(|p| p[a]));
+        let mid = axis.len() / 2;
+        let (_, m, _) = axis.select_nth_unstable_by(mid, f64::total_cmp);
+        center[a] = *m;
+    }
+    let mut dist: Vec<f64> = points.iter().map(|p| (*p - center).length()).collect();
+    let k = ((dist.len() as f64 * RADIUS_PERCENTILE) as usize).min(dist.len() - 1);
+    let (_, r, _) = dist.select_nth_unstable_by(k, f64::total_cmp);
+    let mut radius = *r;
+    if !(radius > 0.0 && radius.is_finite()) {
+        radius = dist
+            .iter()
+            .copied()
+            .filter(|d| d.is_finite())
+            .fold(0.0, f64::max);
+    }
+    let scale = if radius > 0.0 && radius.is_finite() {
+        2f64.powi(radius.log2().ceil() as i32)
+    } else {
+        1.0
+    };
+    (Frame { center, scale }, radius)
+}
+
+/// Split `target` over `mass` by largest remainder with per-entry `capacity`; returns the
+/// allotment (sum = min(target, total capacity)).
+pub(crate) fn allot(target: usize, mass: &[f64], capacity: &[usize]) -> Vec<usize> {
+    let n = mass.len();
+    let mut out = vec![0usize; n];
+    let mut open: Vec<usize> = (0..n).collect();
+    let mut left = target;
+    // Water-filling: entries whose proportional share exceeds their capacity take the
+    // capacity; the rest is shared again among the others.
+    loop {
+        let total: f64 = open.iter().map(|&i| mass[i]).sum();
+        if open.is_empty() || left == 0 || total <= 0.0 {
+            break;
+        }
+        let full: Vec<usize> = open
+            .iter()
+            .copied()
+            .filter(|&i| left as f64 * mass[i] / total >= capacity[i] as f64)
+            .collect();
+        if full.is_empty() {
+            let share: Vec<f64> = open
+                .iter()
+                .map(|&i| left as f64 * mass[i] / total)
+                .collect();
+            let mut given = 0;
+            for (k, &i) in open.iter().enumerate() {
+                out[i] = share[k].floor() as usize;
+                given += out[i];
+            }
+            let mut order: Vec<usize> = (0..open.len()).collect();
+            order.sort_by(|&a, &b| {
+                let (fa, fb) = (share[a] - share[a].floor(), share[b] - share[b].floor());
+                fb.total_cmp(&fa).then(a.cmp(&b))
+            });
+            for &k in order.iter().cycle().take(left.saturating_sub(given)) {
+                out[open[k]] += 1;
+            }
+            break;
+        }
+        for &i in &full {
+            out[i] = capacity[i];
+            left -= capacity[i];
+        }
+        open.retain(|i| !full.contains(i));
+    }
+    out
+}
+
+impl Domain {
+    /// Build the domain of `mesh` for `params` (see the module docs for the steps).
+    pub fn build(mesh: &TriMesh, params: &GngParams) -> Result<Domain, GngError> {
+        // 1. Distinct points.
+        let (ids, distinct) = distinct_ids(mesh);
+        if distinct.len() < 3 {
+            return Err(GngError::TooFewVertices {
+                vertices: distinct.len(),
+            });
+        }
+        let target = params.target_vertices;
+        let vertex_bound = params.signal_source == SignalSource::Vertices;
+        if target < 3 || (vertex_bound && target > distinct.len()) {
+            return Err(GngError::Target {
+                target,
+                available: distinct.len(),
+            });
+        }
+        // 2. Components.
+        let (comp, count) = components(mesh, &ids, distinct.len());
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
+        for (i, &c) in comp.iter().enumerate() {
+            members[c as usize].push(i as u32);
+        }
+        let mut faces_of: Vec<Vec<[u32; 3]>> = vec![Vec::new(); count];
+        for t in &mesh.triangles {
+            let d = t.map(|v| ids[v as usize]);
+            faces_of[comp[d[0] as usize] as usize].push(d);
+        }
+        // 3. Frames and stray points.
+        let mut warnings = Vec::new();
+        let mut stray_total = 0;
+        let mut pieces = Vec::with_capacity(count);
+        let mut mass = Vec::with_capacity(count);
+        let mut capacity = Vec::with_capacity(count);
+        let mut local_of = vec![u32::MAX; distinct.len()];
+        for (c, ids_c) in members.iter().enumerate() {
+            let world: Vec<DVec3> = ids_c
+                .iter()
+                .map(|&i| distinct[i as usize].as_dvec3())
+                .collect();
+            let (frame, radius) = frame_of(&world);
+            let limit = STRAY_RADII * radius;
+            let mut points = Vec::with_capacity(ids_c.len());
+            for (k, &i) in ids_c.iter().enumerate() {
+                if (world[k] - frame.center).length() <= limit {
+                    local_of[i as usize] = points.len() as u32;
+                    points.push(frame.to_local(distinct[i as usize]));
+                } else {
+                    stray_total += 1;
+                }
+            }
+            let triangles: Vec<[u32; 3]> = faces_of[c]
+                .iter()
+                .map(|t| t.map(|i| local_of[i as usize]))
+                .filter(|t| !t.contains(&u32::MAX))
+                .collect();
+            let surface = TriMesh::new(points.clone(), triangles);
+            let m = match params.signal_source {
+                SignalSource::Vertices => points.len() as f64,
+                SignalSource::Surface => surface.area() * frame.scale * frame.scale,
+            };
+            mass.push(if m.is_finite() { m } else { 0.0 });
+            capacity.push(if vertex_bound {
+                points.len()
+            } else {
+                usize::MAX / 4
+            });
+            pieces.push(Piece {
+                frame,
+                points,
+                surface,
+                target: 0,
+            });
+        }
+        if stray_total > 0 {
+            warnings.push(GngWarning::StrayVertices {
+                vertices: stray_total,
+            });
+        }
+        // 4. Allocation: drop the smallest components whose share is below the minimum.
+        let mut keep: Vec<usize> = (0..count)
+            .filter(|&c| mass[c] > 0.0 && pieces[c].points.len() >= 3)
+            .collect();
+        keep.sort_by(|&a, &b| mass[b].total_cmp(&mass[a]).then(a.cmp(&b)));
+        loop {
+            let total: f64 = keep.iter().map(|&c| mass[c]).sum();
+            match keep.last() {
+                Some(&c)
+                    if keep.len() > 1
+                        && (target as f64 * mass[c] / total) < MIN_COMPONENT_NODES as f64 =>
+                {
+                    keep.pop();
+                }
+                _ => break,
+            }
+        }
+        if keep.is_empty() {
+            return Err(GngError::TooFewVertices { vertices: 0 });
+        }
+        let dropped = count - keep.len();
+        if dropped > 0 {
+            let vertices: usize = (0..count)
+                .filter(|c| !keep.contains(c))
+                .map(|c| members[c].len())
+                .sum();
+            warnings.push(GngWarning::DroppedComponents {
+                components: dropped,
+                vertices,
+                kept: keep.len(),
+            });
+        }
+        let km: Vec<f64> = keep.iter().map(|&c| mass[c]).collect();
+        let kc: Vec<usize> = keep.iter().map(|&c| capacity[c]).collect();
+        let alloc = allot(target, &km, &kc);
+        let held: usize = alloc.iter().sum();
+        if held < target {
+            warnings.push(GngWarning::TargetAboveCapacity {
+                target,
+                capacity: held,
+            });
+        }
+        let mut chosen = Vec::with_capacity(keep.len());
+        for (k, &c) in keep.iter().enumerate() {
+            if alloc[k] >= 2 {
+                let mut p = pieces[c].clone();
+                p.target = alloc[k];
+                chosen.push(p);
+            }
+        }
+        Ok(Domain {
+            pieces: chosen,
+            distinct: distinct.len(),
+            warnings,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn allotment_is_proportional_capped_and_exact() {
+        assert_eq!(allot(10, &[1.0, 1.0], &[100, 100]), vec![5, 5]);
+        // Largest remainder: 7 * (0.5, 0.3, 0.2) = 3.5, 2.1, 1.4 -> 4, 2, 1.
+        assert_eq!(allot(7, &[5.0, 3.0, 2.0], &[100, 100, 100]), vec![4, 2, 1]);
+        // The capped entry gives its excess to the others.
+        assert_eq!(allot(10, &[8.0, 1.0, 1.0], &[4, 100, 100]), vec![4, 3, 3]);
+        // Not enough capacity: everything saturates.
+        assert_eq!(allot(20, &[1.0, 1.0], &[3, 4]), vec![3, 4]);
+    }
+
+    #[test]
+    fn frames_survive_huge_and_offset_coordinates() {
+        let pts: Vec<DVec3> = (0..100)
+            .map(|i| DVec3::new(1e30 + i as f64 * 1e28, 2e30, -(i as f64) * 1e27))
+            .collect();
+        let (f, r) = frame_of(&pts);
+        assert!(r > 1e28 && r < 1e30, "{r}");
+        for p in &pts {
+            let l = f.to_local(p.as_vec3());
+            assert!(l.is_finite() && l.length() <= 2.0, "{l}");
+            let back = f.to_world(l).as_dvec3();
+            assert!((back - *p).length() <= 1e-6 * p.length());
+        }
+    }
+
+    #[test]
+    fn components_weld_duplicate_positions() {
+        // Two triangles sharing an edge by position only (unwelded), plus a separate one.
+        let p = |x: f32, y: f32| Vec3::new(x, y, 0.0);
+        let m = TriMesh::new(
+            vec![
+                p(0., 0.),
+                p(1., 0.),
+                p(0., 1.),
+                p(1., 0.),
+                p(1., 1.),
+                p(0., 1.),
+                p(5., 5.),
+                p(6., 5.),
+                p(5., 6.),
+            ],
+            vec![[0, 1, 2], [3, 4, 5], [6, 7, 8]],
+        );
+        let (ids, d) = distinct_ids(&m);
+        assert_eq!(d.len(), 7);
+        let (comp, count) = components(&m, &ids, d.len());
+        assert_eq!(count, 2);
+        assert_eq!(comp[ids[0] as usize], comp[ids[4] as usize]);
+        assert_ne!(comp[ids[0] as usize], comp[ids[6] as usize]);
+    }
+}

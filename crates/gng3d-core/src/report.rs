@@ -1,0 +1,108 @@
+//! What a [`crate::simplify`] run reports: counters of both phases, the requested and delivered
+//! vertex counts, and machine-readable warnings for everything that kept the output from being
+//! exactly what was asked for.
+
+use crate::reconstruct::ReconstructionReport;
+use crate::trainer::TrainingStats;
+use serde::Serialize;
+use std::fmt;
+
+/// Why the output differs from the request (or what was left out of it). Serialised with a
+/// `"kind"` tag in snake case, e.g. `{"kind":"dropped_components","components":3,...}`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum GngWarning {
+    /// Vertices farther than [`crate::STRAY_RADII`] robust radii from their component's median
+    /// gave no training signal (scanner outliers, corrupted coordinates).
+    StrayVertices {
+        /// Distinct vertices left out.
+        vertices: usize,
+    },
+    /// Components too small for [`crate::MIN_COMPONENT_NODES`] nodes of the target were
+    /// dropped; their share went to the kept ones.
+    DroppedComponents {
+        /// Components dropped.
+        components: usize,
+        /// Distinct vertices in them.
+        vertices: usize,
+        /// Components kept.
+        kept: usize,
+    },
+    /// The kept components cannot hold the target (with vertex signals a component gets at
+    /// most one node per distinct vertex).
+    TargetAboveCapacity {
+        /// Requested vertex count.
+        target: usize,
+        /// Most nodes the kept components can hold.
+        capacity: usize,
+    },
+    /// The time limit ended training before the network reached its node count.
+    TimeLimitBeforeTarget {
+        /// Nodes when the limit struck.
+        nodes: usize,
+        /// Nodes the schedule aimed for.
+        target: usize,
+        /// The time limit, seconds.
+        limit_seconds: f64,
+    },
+    /// Nodes that no reconstructed triangle could take (should not happen on closed inputs).
+    UnattachedNodes {
+        /// Nodes left out of the mesh.
+        nodes: usize,
+    },
+}
+
+impl fmt::Display for GngWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GngWarning::StrayVertices { vertices } => write!(
+                f,
+                "{vertices} stray vertices (over {} robust radii from their piece) were ignored",
+                crate::STRAY_RADII
+            ),
+            GngWarning::DroppedComponents {
+                components,
+                vertices,
+                kept,
+            } => write!(
+                f,
+                "{components} small components ({vertices} vertices) were too small for {} nodes and were dropped; {kept} kept",
+                crate::MIN_COMPONENT_NODES
+            ),
+            GngWarning::TargetAboveCapacity { target, capacity } => write!(
+                f,
+                "target of {target} vertices cannot be held: the usable components hold at most {capacity}"
+            ),
+            GngWarning::TimeLimitBeforeTarget {
+                nodes,
+                target,
+                limit_seconds,
+            } => write!(
+                f,
+                "the time limit of {limit_seconds} s ended growth at {nodes} of {target} nodes"
+            ),
+            GngWarning::UnattachedNodes { nodes } => {
+                write!(f, "{nodes} nodes could not be attached to the mesh")
+            }
+        }
+    }
+}
+
+/// Report of a [`crate::simplify`] run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GngReport {
+    /// Phase-1 counters.
+    pub training: TrainingStats,
+    /// Phase-2 counts and output topology.
+    pub reconstruction: ReconstructionReport,
+    /// Requested output vertex count N.
+    pub target_vertices: usize,
+    /// Output vertex count (equals `target_vertices` unless `warnings` says why not).
+    pub vertices: usize,
+    /// Output face count.
+    pub faces: usize,
+    /// Wall time of both phases, seconds.
+    pub seconds: f64,
+    /// Everything that was dropped or kept the output from `target_vertices` vertices.
+    pub warnings: Vec<GngWarning>,
+}
