@@ -42,14 +42,19 @@
 //! ```
 
 mod error;
+pub mod features;
+pub mod flip;
 mod grid;
 mod network;
 mod params;
+pub mod placement;
 mod reconstruct;
 mod trainer;
 
 pub use error::GngError;
-pub use params::{GngParams, OppositeFaces, ReconstructionParams, SearchStrategy, SignalSource};
+pub use params::{
+    GngParams, OppositeFaces, Placement, ReconstructionParams, SearchStrategy, SignalSource,
+};
 pub use reconstruct::{Reconstruction, ReconstructionReport, label_vertices, reconstruct};
 pub use trainer::{CancelToken, Progress, Snapshot, StopReason, Trainer, TrainingStats};
 

@@ -284,13 +284,16 @@ impl Trainer {
         }
         let signals_src = match params.signal_source {
             SignalSource::Vertices => Signals::Points(vertices.clone()),
-            SignalSource::Surface => {
+            SignalSource::Surface | SignalSource::Curvature => {
                 let mut corners = Vec::with_capacity(mesh.triangles.len());
                 let mut areas = Vec::with_capacity(mesh.triangles.len());
+                // GNG3D-Q: curvature-weighted areas (crate::features).
+                let weights = (params.signal_source == SignalSource::Curvature)
+                    .then(|| crate::features::curvature_face_weights(mesh, n));
                 for f in 0..mesh.triangles.len() {
                     let a = mesh.triangle_area(f);
                     if a > 0.0 && a.is_finite() {
-                        areas.push(a);
+                        areas.push(weights.as_ref().map_or(a, |w| w[f]));
                         corners.push(mesh.triangle(f));
                     }
                 }
