@@ -24,7 +24,10 @@ fn bench(c: &mut Criterion) {
         while !trainer.is_finished() {
             trainer.step(u64::MAX);
         }
-        let mut group = c.benchmark_group(format!("reconstruct_{}", name.split('.').next().unwrap_or(name)));
+        let mut group = c.benchmark_group(format!(
+            "reconstruct_{}",
+            name.split('.').next().unwrap_or(name)
+        ));
         group.sample_size(10);
         group.warm_up_time(Duration::from_millis(500));
         group.measurement_time(Duration::from_secs(4));

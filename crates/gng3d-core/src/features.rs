@@ -98,7 +98,8 @@ mod tests {
                             p[v] = j + dj;
                             p
                         };
-                        let q = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
+                        let q = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)]
+                            .map(&mut vertex);
                         if side == n {
                             triangles.push([q[0], q[1], q[2]]);
                             triangles.push([q[0], q[2], q[3]]);
@@ -124,7 +125,9 @@ mod tests {
         let mut crease = 0;
         for (f, &wf) in w.iter().enumerate() {
             let a = cube.triangle_area(f);
-            assert!(wf >= a * (1.0 - 1e-12) && wf <= a * (1.0 + CURVATURE_STRENGTH) * (1.0 + 1e-12));
+            assert!(
+                wf >= a * (1.0 - 1e-12) && wf <= a * (1.0 + CURVATURE_STRENGTH) * (1.0 + 1e-12)
+            );
             if (wf - a).abs() < 1e-12 * a {
                 flat += 1;
             } else {

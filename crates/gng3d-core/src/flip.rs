@@ -57,16 +57,24 @@ pub struct FlipStats {
     pub error_after: f64,
 }
 
-/// Smallest interior angle of a triangle, degrees (0 for degenerate ones).
-fn min_angle_degrees(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let angle = |p: DVec3, q: DVec3, r: DVec3| {
-        let (u, v) = (q - p, r - p);
-        u.cross(v).length().atan2(u.dot(v))
-    };
-    angle(a, b, c)
-        .min(angle(b, c, a))
-        .min(angle(c, a, b))
-        .to_degrees()
+/// Squared sine of the smallest interior angle of a triangle (0 for degenerate ones). The
+/// smallest angle (≤ 60°) sits between the two longest edges, so
+/// `sin² = |cross|² / (|e₁|²·|e₂|²)` over those two; monotone in the angle, no trigonometry.
+#[inline]
+fn min_angle_sin2(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let cross = (b - a).cross(c - a).length_squared();
+    let (x, y, z) = (
+        (b - a).length_squared(),
+        (c - b).length_squared(),
+        (a - c).length_squared(),
+    );
+    let shortest = x.min(y).min(z);
+    let denom = x * y * z / shortest;
+    if denom > 0.0 && denom.is_finite() {
+        cross / denom
+    } else {
+        0.0
+    }
 }
 
 /// Squared distance from `p` to triangle `t` of `pos`.
@@ -123,8 +131,12 @@ pub fn flip_edges(
     }
     stats.error_before = face_err.iter().sum();
 
-    // Step 2: passes.
-    let keep_angle = KEEP_ANGLE_DEGREES;
+    // Step 2: passes. After the first, only edges of faces near a flip (faces of the fans of
+    // its four corners) are looked at again: an edge's verdict depends only on its two faces,
+    // their points and the fans of its corners.
+    let keep_sin2 = KEEP_ANGLE_DEGREES.to_radians().sin().powi(2);
+    let mut dirty = vec![true; triangles.len()];
+    let mut next_dirty = vec![false; triangles.len()];
     for _ in 0..MAX_PASSES {
         stats.passes += 1;
         let mut flipped = 0;
@@ -147,8 +159,15 @@ pub fn flip_edges(
                 if on_edge != 2 || f2 == NONE || (f2 as usize) < f1 {
                     continue;
                 }
+                if !dirty[f1] && !dirty[f2 as usize] {
+                    continue;
+                }
                 let t2 = triangles[f2 as usize];
-                let d = t2.iter().copied().find(|&v| v != a && v != b).unwrap_or(NONE);
+                let d = t2
+                    .iter()
+                    .copied()
+                    .find(|&v| v != a && v != b)
+                    .unwrap_or(NONE);
                 if d == NONE || d == c {
                     continue;
                 }
@@ -164,8 +183,12 @@ pub fn flip_edges(
                         continue;
                     }
                     // Geometry: new faces (c a d) and (d b c).
-                    let (pa, pb, pc, pd) =
-                        (pos[a as usize], pos[b as usize], pos[c as usize], pos[d as usize]);
+                    let (pa, pb, pc, pd) = (
+                        pos[a as usize],
+                        pos[b as usize],
+                        pos[c as usize],
+                        pos[d as usize],
+                    );
                     if is_degenerate(pc, pa, pd) || is_degenerate(pd, pb, pc) {
                         continue;
                     }
@@ -179,9 +202,9 @@ pub fn flip_edges(
                     {
                         continue;
                     }
-                    let old_angle = min_angle_degrees(pa, pb, pc).min(min_angle_degrees(pb, pa, pd));
-                    let new_angle = min_angle_degrees(pc, pa, pd).min(min_angle_degrees(pd, pb, pc));
-                    if new_angle < old_angle.min(keep_angle) {
+                    let old_angle = min_angle_sin2(pa, pb, pc).min(min_angle_sin2(pb, pa, pd));
+                    let new_angle = min_angle_sin2(pc, pa, pd).min(min_angle_sin2(pd, pb, pc));
+                    if new_angle < old_angle.min(keep_sin2) {
                         continue;
                     }
                     // Error of the quad's points on the new faces, with early exit.
@@ -232,7 +255,10 @@ pub fn flip_edges(
                 while p != NONE {
                     let after = next[p as usize];
                     let q = pts[p as usize];
-                    let (d1, d2) = (dist2(q, triangles[f1], &pos), dist2(q, triangles[f2u], &pos));
+                    let (d1, d2) = (
+                        dist2(q, triangles[f1], &pos),
+                        dist2(q, triangles[f2u], &pos),
+                    );
                     let (f, dd) = if d1 <= d2 { (f1, d1) } else { (f2u, d2) };
                     point_err[p as usize] = dd;
                     face_err[f] += dd;
@@ -241,6 +267,11 @@ pub fn flip_edges(
                     p = after;
                 }
                 debug_assert!(face_err[f1] + face_err[f2u] < e_old);
+                for v in [a, b, c, d] {
+                    for &g in &fan[v as usize] {
+                        next_dirty[g as usize] = true;
+                    }
+                }
                 flipped += 1;
             }
         }
@@ -248,6 +279,8 @@ pub fn flip_edges(
         if flipped == 0 {
             break;
         }
+        std::mem::swap(&mut dirty, &mut next_dirty);
+        next_dirty.fill(false);
     }
     stats.error_after = face_err.iter().sum();
     stats

@@ -338,7 +338,8 @@ pub fn reconstruct(
     let mut triangles = triangles;
     if params.flip_edges {
         let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
-        let flips = crate::flip::flip_edges(&positions, &mut triangles, &original.positions, &owner);
+        let flips =
+            crate::flip::flip_edges(&positions, &mut triangles, &original.positions, &owner);
         report.flipped_edges = flips.flips;
     }
 

@@ -166,7 +166,10 @@ fn projection_puts_vertices_on_the_surface() {
     let mut params = GngParams::for_target(150);
     params.reconstruction.placement = gng3d_core::Placement::Project;
     let r = simplify(&sphere, &params).unwrap();
-    assert_eq!(r.report.reconstruction.placed_vertices, r.mesh.vertex_count());
+    assert_eq!(
+        r.report.reconstruction.placed_vertices,
+        r.mesh.vertex_count()
+    );
     // Every projected vertex lies on the original polyhedron, i.e. inside the unit sphere but
     // no deeper than the flat facets' sagitta.
     for p in &r.mesh.positions {

@@ -45,7 +45,11 @@ fn point_triangle_d2(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
     let inside = [(a, b), (b, c), (c, a)]
         .iter()
         .all(|&(x, y)| (y - x).cross(q - x).dot(n) >= 0.0);
-    if inside { (q - p).length_squared() } else { edges }
+    if inside {
+        (q - p).length_squared()
+    } else {
+        edges
+    }
 }
 
 /// Mean squared distance from the original's vertices to the mesh `m` (brute force).
@@ -78,7 +82,15 @@ fn backward_torus_mean(m: &TriMesh, r0: f64, r1: f64) -> f64 {
     for f in 0..m.face_count() {
         let [a, b, c] = m.triangle(f);
         let w = m.triangle_area(f);
-        let pts = [a, b, c, (a + b) / 2.0, (b + c) / 2.0, (c + a) / 2.0, (a + b + c) / 3.0];
+        let pts = [
+            a,
+            b,
+            c,
+            (a + b) / 2.0,
+            (b + c) / 2.0,
+            (c + a) / 2.0,
+            (a + b + c) / 3.0,
+        ];
         let d: f64 = pts.iter().map(|&p| torus_distance(p, r0, r1)).sum::<f64>() / 7.0;
         sum += w * d;
         area += w;
@@ -118,8 +130,14 @@ fn quadric_placement_and_flips_fit_a_curved_surface_better_than_nodes() {
     let (dn, dp, dq, dg) = (d(&node), d(&project), d(&quadric), d(&gngq));
     // Nodes sit inside the curved surface (centroids of their signals); projection and quadric
     // placement move them onto it, halving (at least) both directions' error.
-    assert!(dp.0 < 0.7 * dn.0 && dp.1 < 0.7 * dn.1, "{dn:?} -> project {dp:?}");
-    assert!(dq.0 < 0.5 * dn.0 && dq.1 < 0.5 * dn.1, "{dn:?} -> quadric {dq:?}");
+    assert!(
+        dp.0 < 0.7 * dn.0 && dp.1 < 0.7 * dn.1,
+        "{dn:?} -> project {dp:?}"
+    );
+    assert!(
+        dq.0 < 0.5 * dn.0 && dq.1 < 0.5 * dn.1,
+        "{dn:?} -> quadric {dq:?}"
+    );
     // Flips only ever lower the forward error.
     assert!(dg.0 <= dq.0 * (1.0 + 1e-9), "{dq:?} -> flips {dg:?}");
     assert!(closed_oriented(&gngq));
@@ -148,7 +166,8 @@ fn grid_cube(n: i32) -> TriMesh {
                         p[v] = j + dj;
                         p
                     };
-                    let q = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
+                    let q =
+                        [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
                     if side == n {
                         triangles.push([q[0], q[1], q[2]]);
                         triangles.push([q[0], q[2], q[3]]);
@@ -204,7 +223,10 @@ fn eigen_truncation_keeps_cad_vertices_near_their_nodes_and_on_the_part() {
         s / 8.0
     };
     let node_mesh = t.reconstruct(&rec(Placement::Node, false)).mesh;
-    let (en, eq) = (corner_error(&node_mesh.positions), corner_error(&r.mesh.positions));
+    let (en, eq) = (
+        corner_error(&node_mesh.positions),
+        corner_error(&r.mesh.positions),
+    );
     assert!(eq < 0.5 * en, "corner error node {en} vs quadric {eq}");
 }
 
@@ -224,16 +246,28 @@ fn flips_keep_manifold_orientation_and_never_increase_the_error() {
             let (tb, ta) = (&before.report.topology, &after.report.topology);
             assert_eq!(before.mesh.face_count(), after.mesh.face_count(), "{name}");
             assert_eq!(before.mesh.positions, after.mesh.positions, "{name}");
-            assert_eq!((tb.closed, tb.manifold, tb.genus), (ta.closed, ta.manifold, ta.genus));
+            assert_eq!(
+                (tb.closed, tb.manifold, tb.genus),
+                (ta.closed, ta.manifold, ta.genus)
+            );
             if closed_oriented(&before.mesh) {
                 assert!(closed_oriented(&after.mesh), "{name} {placement:?}");
             }
             let (vb, va) = (before.mesh.signed_volume(), after.mesh.signed_volume());
             assert!(va.signum() == vb.signum() && (va - vb).abs() < 0.05 * vb.abs());
-            let (eb, ea) = (forward_mean_d2(&m, &before.mesh), forward_mean_d2(&m, &after.mesh));
-            assert!(ea <= eb * (1.0 + 1e-9), "{name} {placement:?}: {eb} -> {ea}");
+            let (eb, ea) = (
+                forward_mean_d2(&m, &before.mesh),
+                forward_mean_d2(&m, &after.mesh),
+            );
+            assert!(
+                ea <= eb * (1.0 + 1e-9),
+                "{name} {placement:?}: {eb} -> {ea}"
+            );
             if name == "torus" || name == "cube" {
-                assert!(after.report.flipped_edges > 0, "{name} {placement:?}: no flips");
+                assert!(
+                    after.report.flipped_edges > 0,
+                    "{name} {placement:?}: no flips"
+                );
             }
         }
     }

@@ -4,8 +4,8 @@
 pub mod clean;
 pub mod error;
 pub mod fixtures;
-pub mod io;
 pub mod geometry;
+pub mod io;
 pub mod procedural;
 pub mod quadric;
 pub mod sampling;

@@ -77,7 +77,12 @@ impl Quadric {
     /// degenerate. The plane does not depend on the edge direction, so both ends of an edge may
     /// add the same quadric.
     #[inline]
-    pub fn from_boundary_edge(lo: DVec3, hi: DVec3, face: [DVec3; 3], boundary_weight: f64) -> Quadric {
+    pub fn from_boundary_edge(
+        lo: DVec3,
+        hi: DVec3,
+        face: [DVec3; 3],
+        boundary_weight: f64,
+    ) -> Quadric {
         let [p0, p1, p2] = face;
         let face_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
         let edge = hi - lo;
@@ -163,7 +168,8 @@ pub fn symmetric_eigen(upper: [f64; 6]) -> ([f64; 3], [DVec3; 3]) {
     for _sweep in 0..32 {
         let off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
         let diag = m[0][0] * m[0][0] + m[1][1] * m[1][1] + m[2][2] * m[2][2];
-        if !(off > 1e-30 * diag) {
+        // Converged (or not finite: NaN compares false).
+        if off.partial_cmp(&(1e-30 * diag)) != Some(std::cmp::Ordering::Greater) {
             break;
         }
         for (p, q) in [(0, 1), (0, 2), (1, 2)] {
@@ -176,15 +182,16 @@ pub fn symmetric_eigen(upper: [f64; 6]) -> ([f64; 3], [DVec3; 3]) {
             let t = if theta == 0.0 { 1.0 } else { t };
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
-            for k in 0..3 {
-                let (mkp, mkq) = (m[k][p], m[k][q]);
-                m[k][p] = c * mkp - s * mkq;
-                m[k][q] = s * mkp + c * mkq;
+            // Columns p, q (M·J), then rows p, q (Jᵀ·M·J).
+            for row in m.iter_mut() {
+                let (mkp, mkq) = (row[p], row[q]);
+                row[p] = c * mkp - s * mkq;
+                row[q] = s * mkp + c * mkq;
             }
+            let (row_p, row_q) = (m[p], m[q]);
             for k in 0..3 {
-                let (mpk, mqk) = (m[p][k], m[q][k]);
-                m[p][k] = c * mpk - s * mqk;
-                m[q][k] = s * mpk + c * mqk;
+                m[p][k] = c * row_p[k] - s * row_q[k];
+                m[q][k] = s * row_p[k] + c * row_q[k];
             }
             for row in v.iter_mut() {
                 let (vp, vq) = (row[p], row[q]);
@@ -237,7 +244,11 @@ mod tests {
     fn eigen_decomposition_reconstructs_the_matrix() {
         let upper = [4.0, 1.0, -2.0, 3.0, 0.5, 5.0];
         let (values, vectors) = symmetric_eigen(upper);
-        let q = Quadric { a: upper, b: [0.0; 3], c: 0.0 };
+        let q = Quadric {
+            a: upper,
+            b: [0.0; 3],
+            c: 0.0,
+        };
         for (l, u) in values.iter().zip(vectors) {
             assert!((u.length() - 1.0).abs() < 1e-12);
             assert!((q.mul_a(u) - u * *l).length() < 1e-10);
@@ -248,7 +259,11 @@ mod tests {
 
     #[test]
     fn triangle_quadric_is_area_times_squared_plane_distance() {
-        let (p0, p1, p2) = (DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 3.0, 0.0));
+        let (p0, p1, p2) = (
+            DVec3::ZERO,
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(0.0, 3.0, 0.0),
+        );
         let q = Quadric::from_triangle(p0, p1, p2);
         // Area 3, plane z = 0.
         assert!((q.eval(DVec3::new(5.0, -1.0, 0.5)) - 3.0 * 0.25).abs() < 1e-12);
