@@ -113,21 +113,43 @@ pub(crate) fn place(
     let cells = cell_faces(original, &owner, positions.len());
     let pos = |v: u32| original.positions[v as usize].as_dvec3();
 
-    // Step 2: p0, the closest point on the cell's faces.
+    // Step 2: p0, the closest point on the cell's faces. The search starts from the nearest
+    // cell vertex (a point of the surface, so an upper bound) and skips every face whose
+    // bounding box is farther than the best so far: on igea at 1 % a cell has ~300 faces and
+    // nearly all of them are culled by the box test, which costs a fraction of the exact one.
+    let mut best: Vec<(f64, DVec3)> = positions
+        .iter()
+        .map(|p| (f64::INFINITY, p.as_dvec3()))
+        .collect();
+    for (v, &o) in owner.iter().enumerate() {
+        if o != u32::MAX {
+            let p = original.positions[v].as_dvec3();
+            let node = positions[o as usize].as_dvec3();
+            let d = (p - node).length_squared();
+            if d < best[o as usize].0 {
+                best[o as usize] = (d, p);
+            }
+        }
+    }
     let mut projected: Vec<Option<DVec3>> = vec![None; positions.len()];
     for (o, p0) in projected.iter_mut().enumerate() {
         let node = positions[o].as_dvec3();
-        let mut best = (f64::INFINITY, node);
+        let (mut best_d, mut best_q) = best[o];
         for &f in &cells.faces[cells.start[o] as usize..cells.start[o + 1] as usize] {
             let [a, b, c] = original.triangles[f as usize].map(pos);
+            let lo = a.min(b).min(c);
+            let hi = a.max(b).max(c);
+            if (node.clamp(lo, hi) - node).length_squared() >= best_d {
+                continue;
+            }
             let q = closest_point_triangle(node, a, b, c);
             let d = (q - node).length_squared();
-            if d < best.0 {
-                best = (d, q);
+            if d < best_d {
+                (best_d, best_q) = (d, q);
             }
         }
-        if best.0.is_finite() {
-            *p0 = Some(best.1);
+        if best_d.is_finite() {
+            *p0 = Some(best_q);
         }
     }
     if placement == Placement::Project {
