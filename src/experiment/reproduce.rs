@@ -32,7 +32,11 @@ impl Default for ReproduceParams {
         ReproduceParams {
             epochs: 30,
             target_ratio: 0.5,
-            gng: GngOptions::default(),
+            // The paper's method (node placement, no flips); GNG3D-Q is the CLI default.
+            gng: GngOptions {
+                reconstruction: gng3d_core::ReconstructionParams::paper(),
+                ..GngOptions::default()
+            },
             qem: QemParams::default(),
             hausdorff: HausdorffParams::with_samples(100_000),
         }

@@ -29,7 +29,11 @@ impl Default for SurveyParams {
         SurveyParams {
             ratios: vec![0.1, 0.25, 0.5],
             epochs: 30,
-            gng: GngOptions::default(),
+            // The paper's method (node placement, no flips); GNG3D-Q is the CLI default.
+            gng: GngOptions {
+                reconstruction: gng3d_core::ReconstructionParams::paper(),
+                ..GngOptions::default()
+            },
             qem: QemParams::default(),
             hausdorff: HausdorffParams::with_samples(200_000),
         }

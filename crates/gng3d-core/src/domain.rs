@@ -282,7 +282,9 @@ impl Domain {
             let surface = TriMesh::new(points.clone(), triangles);
             let m = match params.signal_source {
                 SignalSource::Vertices => points.len() as f64,
-                SignalSource::Surface => surface.area() * frame.scale * frame.scale,
+                SignalSource::Surface | SignalSource::Curvature => {
+                    surface.area() * frame.scale * frame.scale
+                }
             };
             mass.push(if m.is_finite() { m } else { 0.0 });
             capacity.push(if vertex_bound {

@@ -44,10 +44,13 @@
 
 mod domain;
 mod error;
+pub mod features;
+pub mod flip;
 mod grid;
 mod network;
 mod options;
 mod params;
+pub mod placement;
 mod reconstruct;
 mod report;
 mod trainer;
@@ -56,7 +59,7 @@ pub use domain::{MIN_COMPONENT_NODES, STRAY_RADII};
 pub use error::GngError;
 pub use options::{GngOptions, GngTarget};
 pub use params::{
-    DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, ReconstructionParams,
+    DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, Placement, ReconstructionParams,
     SearchStrategy, SignalSource,
 };
 pub use reconstruct::{

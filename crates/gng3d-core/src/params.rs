@@ -23,6 +23,10 @@ pub enum SignalSource {
     /// Area-weighted uniform points on the surface (each signal picks a triangle with probability
     /// proportional to its area, then a uniform point inside it).
     Surface,
+    /// Like `Surface`, with each face's area weighted up by the curvature the surface has over
+    /// one output edge length (bounded to at most 4×; [`crate::features`]), so curved parts and
+    /// creases get more nodes (GNG3D-Q option).
+    Curvature,
 }
 
 /// Nearest/second-nearest node search used during training.
@@ -46,8 +50,9 @@ pub enum OppositeFaces {
     DropBoth,
 }
 
-/// Phase-2 (reconstruction) options. The defaults give the plain "concordance" rule plus the
-/// cleanup pass and no projection.
+/// Phase-2 (reconstruction) options. The defaults give the "concordance" rule plus the cleanup
+/// pass, quadric placement and edge flips (GNG3D-Q); [`ReconstructionParams::paper`] is the
+/// published method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReconstructionParams {
     /// Make every node's cell edge-connected on the original mesh before mapping faces (vertices
@@ -64,9 +69,42 @@ pub struct ReconstructionParams {
     pub cleanup: bool,
     /// (b) Largest boundary loop, in edges, that the cleanup fills. Default 8 (0 disables filling).
     pub max_hole_edges: usize,
-    /// (c) Move every output vertex to the closest point of the original surface among the
-    /// original faces touching the vertices it represents. Default `false`.
-    pub project_to_surface: bool,
+    /// (c) Where output vertices go (GNG3D-Q). Default [`Placement::Quadric`];
+    /// [`Placement::Node`] is the paper's method.
+    pub placement: Placement,
+    /// (d) Error-driven edge flips after placement (GNG3D-Q): flip an interior edge when the
+    /// two new triangles are clearly closer to the original vertices, keeping orientation,
+    /// manifoldness and triangle shape. Default `true`.
+    pub flip_edges: bool,
+}
+
+// --- GNG3D-Q (placement + flips) -------------------------------------------------------------
+
+/// Where the output vertex of each node is placed (reconstruction option (c)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Placement {
+    /// At the trained node (GNG3D as published: the centroid of its signals, which lies inside
+    /// curved surfaces and off creases).
+    Node,
+    /// At the closest point to the node on the original faces touching its cell.
+    Project,
+    /// At the minimiser of the cell's summed Garland–Heckbert quadrics, solved from the
+    /// projected point with small eigenvalues dropped; falls back to the projected point when
+    /// that solution is not finite or lies more than two cell radii from the node.
+    #[default]
+    Quadric,
+}
+
+impl ReconstructionParams {
+    /// The paper's reconstruction: defaults with node placement and no flips (what
+    /// `reproduce` uses for the paper's columns).
+    pub fn paper() -> ReconstructionParams {
+        ReconstructionParams {
+            placement: Placement::Node,
+            flip_edges: false,
+            ..ReconstructionParams::default()
+        }
+    }
 }
 
 impl Default for ReconstructionParams {
@@ -77,7 +115,8 @@ impl Default for ReconstructionParams {
             opposite_faces: OppositeFaces::KeepMajority,
             cleanup: true,
             max_hole_edges: 8,
-            project_to_surface: false,
+            placement: Placement::Quadric,
+            flip_edges: true,
         }
     }
 }

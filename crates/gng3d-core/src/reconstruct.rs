@@ -1,12 +1,14 @@
 //! Phase 2: reconstruction by "concordance". Every original vertex is labelled with its nearest
 //! node; every original face becomes the triple of its corners' labels. Degenerate triples are
 //! dropped, duplicates (in either orientation) merged, and optional passes filter by GNG edges,
-//! remove non-manifold fins, fill small holes and project vertices onto the original surface.
+//! remove non-manifold fins and fill small holes; then every node that no triangle references is
+//! attached, the output vertices are placed ([`crate::placement`]) and edges flipped toward
+//! the surface ([`crate::flip`]).
 //!
 //! Steps: label (component-aware: a vertex only takes a node trained on its own connected
 //! piece), make cells connected, map faces, resolve orientation, GNG-edge filter, cleanup,
 //! attach every node that no triangle references (so `N` nodes give `N` vertices), compact,
-//! project.
+//! place, flip.
 
 use crate::params::{OppositeFaces, ReconstructionParams};
 use glam::{DVec3, Vec3};
@@ -21,7 +23,7 @@ use std::time::Instant;
 /// Result of phase 2.
 #[derive(Debug, Clone)]
 pub struct Reconstruction {
-    /// The simplified mesh; its vertices are the referenced nodes (projected when requested).
+    /// The simplified mesh; its vertices are the referenced nodes (moved by the placement).
     pub mesh: TriMesh,
     /// For each output vertex, the index of the node it came from.
     pub node_of_vertex: Vec<u32>,
@@ -58,8 +60,10 @@ pub struct ReconstructionReport {
     /// Nodes that ended up in no triangle and were dropped (0 unless the mesh has no triangle
     /// near them).
     pub unreferenced_nodes: usize,
-    /// Output vertices moved onto the original surface (option (c)).
-    pub projected_vertices: usize,
+    /// Output vertices moved by the placement (option (c); 0 for `Placement::Node`).
+    pub placed_vertices: usize,
+    /// Edges flipped by option (d).
+    pub flipped_edges: usize,
     /// Output vertex count.
     pub vertices: usize,
     /// Output face count.
@@ -332,7 +336,8 @@ pub fn reconstruct(
         fill_faces: 0,
         attached_nodes: 0,
         unreferenced_nodes: 0,
-        projected_vertices: 0,
+        placed_vertices: 0,
+        flipped_edges: 0,
         vertices: 0,
         faces: 0,
         topology: mesh::topology::analyze(&TriMesh::default()),
@@ -445,8 +450,21 @@ pub fn reconstruct(
         .map(|c| c.tri.map(|v| remap[v as usize]))
         .collect();
 
-    if params.project_to_surface {
-        report.projected_vertices = project(original, &labels, &node_of_vertex, &mut positions);
+    // GNG3D-Q: placement (c) and flips (d).
+    report.placed_vertices = crate::placement::place(
+        original,
+        &labels,
+        &node_of_vertex,
+        nodes.len(),
+        params.placement,
+        &mut positions,
+    );
+    let mut triangles = triangles;
+    if params.flip_edges {
+        let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
+        let flips =
+            crate::flip::flip_edges(&positions, &mut triangles, &original.positions, &owner);
+        report.flipped_edges = flips.flips;
     }
 
     let mesh = TriMesh::new(positions, triangles);
@@ -864,65 +882,6 @@ fn clip_ears(
     }
     out.push(t);
     Some(out)
-}
-
-/// Move each output vertex to the closest point on the original faces that touch a vertex
-/// labelled with its node. Returns the number of vertices moved.
-fn project(
-    original: &TriMesh,
-    labels: &[u32],
-    node_of_vertex: &[u32],
-    positions: &mut [Vec3],
-) -> usize {
-    let node_count = node_of_vertex
-        .iter()
-        .map(|&n| n as usize + 1)
-        .max()
-        .unwrap_or(0);
-    let mut out_of_node = vec![u32::MAX; node_count];
-    for (o, &n) in node_of_vertex.iter().enumerate() {
-        out_of_node[n as usize] = o as u32;
-    }
-    // (output vertex, original face) pairs, grouped by sorting.
-    let owner = |v: u32| -> u32 {
-        let l = labels[v as usize];
-        if (l as usize) < out_of_node.len() {
-            out_of_node[l as usize]
-        } else {
-            u32::MAX
-        }
-    };
-    let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(original.triangles.len() * 3);
-    for (f, t) in original.triangles.iter().enumerate() {
-        let o = t.map(owner);
-        for k in 0..3 {
-            if o[k] != u32::MAX && !o[..k].contains(&o[k]) {
-                pairs.push((o[k], f as u32));
-            }
-        }
-    }
-    pairs.sort_unstable();
-    let mut moved = 0;
-    let mut i = 0;
-    while i < pairs.len() {
-        let o = pairs[i].0;
-        let p = positions[o as usize].as_dvec3();
-        let mut best = (f64::INFINITY, p);
-        while i < pairs.len() && pairs[i].0 == o {
-            let [a, b, c] = original.triangle_f64(pairs[i].1 as usize);
-            let q = closest_point_triangle(p, a, b, c);
-            let d = (q - p).length_squared();
-            if d < best.0 {
-                best = (d, q);
-            }
-            i += 1;
-        }
-        if best.0.is_finite() {
-            positions[o as usize] = best.1.as_vec3();
-            moved += 1;
-        }
-    }
-    moved
 }
 
 #[cfg(test)]

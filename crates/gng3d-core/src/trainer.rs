@@ -212,6 +212,14 @@ impl Part {
             SignalSource::Surface => {
                 Signals::Surface(AreaSampler::new(&piece.surface).map_err(|_| GngError::ZeroArea)?)
             }
+            // GNG3D-Q: curvature-weighted areas (crate::features), bounded to 1-4x the area.
+            SignalSource::Curvature => {
+                let weights = crate::features::curvature_face_weights(&piece.surface, piece.target);
+                Signals::Surface(
+                    AreaSampler::weighted(&piece.surface, |f, _| weights[f])
+                        .map_err(|_| GngError::ZeroArea)?,
+                )
+            }
         };
         let bbox = mesh::Aabb::from_points(&piece.points);
         let grid = match search {

@@ -185,10 +185,10 @@ fn reconstruction_of_sphere_and_torus_is_closed_with_the_right_genus() {
 fn projection_puts_vertices_on_the_surface() {
     let sphere = icosphere(3);
     let mut params = GngParams::for_target(150);
-    params.reconstruction.project_to_surface = true;
+    params.reconstruction.placement = gng3d_core::Placement::Project;
     let r = simplify(&sphere, &params).unwrap();
     assert_eq!(
-        r.report.reconstruction.projected_vertices,
+        r.report.reconstruction.placed_vertices,
         r.mesh.vertex_count()
     );
     // Every projected vertex lies on the original polyhedron, i.e. inside the unit sphere but

@@ -13,6 +13,7 @@ pub mod fixtures;
 pub mod geometry;
 pub mod io;
 pub mod procedural;
+pub mod quadric;
 pub mod sampling;
 pub mod topology;
 mod trimesh;

@@ -109,17 +109,32 @@ pub struct AreaSampler {
 impl AreaSampler {
     /// Builds the sampler over all triangles with positive area.
     pub fn new(mesh: &TriMesh) -> Result<AreaSampler, SamplingError> {
+        AreaSampler::weighted(mesh, |_, area| area)
+    }
+
+    /// Builds a sampler whose triangle probabilities are `weight(face, area)` instead of the
+    /// area (e.g. curvature-weighted areas); triangles with zero area or a non-positive or
+    /// non-finite weight are never drawn. Points stay uniform inside each triangle.
+    pub fn weighted(
+        mesh: &TriMesh,
+        weight: impl Fn(usize, f64) -> f64,
+    ) -> Result<AreaSampler, SamplingError> {
         validate(mesh)?;
         let mut corners = Vec::with_capacity(mesh.triangles.len());
         let mut faces = Vec::with_capacity(mesh.triangles.len());
         let mut areas = Vec::with_capacity(mesh.triangles.len());
         for f in 0..mesh.triangles.len() {
             let area = mesh.triangle_area(f);
-            if area > 0.0 && area.is_finite() {
+            let w = if area > 0.0 && area.is_finite() {
+                weight(f, area)
+            } else {
+                0.0
+            };
+            if w > 0.0 && w.is_finite() {
                 let [a, b, c] = mesh.triangle(f);
                 corners.push([a, b - a, c - a]);
                 faces.push(f as u32);
-                areas.push(area);
+                areas.push(w);
             }
         }
         if areas.is_empty() {

@@ -1,0 +1,221 @@
+//! Output vertex placement of phase 2 ([`Placement`]): where the vertex that represents a node's
+//! cell (the original vertices labelled with the node) is put.
+//!
+//! Steps, per output vertex:
+//! 1. **Cell faces**: the original faces with at least one corner in the cell (CSR by counting
+//!    sort, no per-vertex allocation).
+//! 2. **Project** (p0): the closest point to the node on those faces.
+//! 3. **Quadric**: the sum of the Garland–Heckbert quadrics of the cell's original vertices
+//!    (area-weighted face planes plus boundary constraint planes, [`mesh::quadric`], the same
+//!    ones qem builds) is minimised from p0 with the rank-truncated solve
+//!    ([`Quadric::minimizer_near`]): flat cells only move onto their plane, creases onto the
+//!    crease line, corners to the corner. The result falls back to p0 when it is not finite or
+//!    lies farther than [`MAX_JUMP_CELL_RADII`] cell radii from the node.
+//!
+//! GNG3D as published (Node) keeps the node positions: they sit at the centroid of their
+//! signals, i.e. inside curved surfaces and off creases.
+
+use crate::params::Placement;
+use glam::{DVec3, Vec3};
+use mesh::TriMesh;
+use mesh::geometry::closest_point_triangle;
+use mesh::quadric::Quadric;
+use mesh::topology::EdgeTable;
+
+/// Eigenvalues of a cell quadric below this fraction of the largest are treated as zero by the
+/// truncated solve. 1e-3 keeps real corners (three planes at ≥ ~2° apart) and drops the noise
+/// directions of almost flat cells; the prototype used the same value.
+pub const EIGEN_REL_TOL: f64 = 1e-3;
+
+/// A quadric solution farther than this many cell radii (largest node-to-cell-vertex distance)
+/// from the node is rejected in favour of the projected point: the minimiser of a quadric is
+/// only meaningful near the planes it was built from.
+pub const MAX_JUMP_CELL_RADII: f64 = 2.0;
+
+/// Boundary constraint weight, qem's default (`QemParams::boundary_weight`), so that open
+/// borders stay where the original's are.
+pub const BOUNDARY_WEIGHT: f64 = 1000.0;
+
+/// Original faces touching each output vertex's cell, as CSR lists.
+pub(crate) struct CellFaces {
+    /// `start[o]..start[o + 1]` indexes `faces` for output vertex `o`.
+    pub start: Vec<u32>,
+    /// Original face indices.
+    pub faces: Vec<u32>,
+}
+
+/// Output vertex of each original vertex (`u32::MAX` when its node is not in the output).
+pub(crate) fn owners(labels: &[u32], node_of_vertex: &[u32], node_count: usize) -> Vec<u32> {
+    let mut out_of_node = vec![u32::MAX; node_count];
+    for (o, &n) in node_of_vertex.iter().enumerate() {
+        out_of_node[n as usize] = o as u32;
+    }
+    labels
+        .iter()
+        .map(|&l| out_of_node.get(l as usize).copied().unwrap_or(u32::MAX))
+        .collect()
+}
+
+/// Step 1: the original faces with a corner owned by each output vertex (each face once per
+/// distinct owner), grouped by a counting sort over the owners.
+pub(crate) fn cell_faces(original: &TriMesh, owner: &[u32], outputs: usize) -> CellFaces {
+    let distinct = |t: &[u32; 3]| {
+        let o = t.map(|v| owner[v as usize]);
+        [
+            o[0],
+            if o[1] != o[0] { o[1] } else { u32::MAX },
+            if o[2] != o[0] && o[2] != o[1] {
+                o[2]
+            } else {
+                u32::MAX
+            },
+        ]
+    };
+    let mut start = vec![0u32; outputs + 1];
+    for t in &original.triangles {
+        for o in distinct(t) {
+            if o != u32::MAX {
+                start[o as usize + 1] += 1;
+            }
+        }
+    }
+    for o in 0..outputs {
+        start[o + 1] += start[o];
+    }
+    let mut fill = start.clone();
+    let mut faces = vec![0u32; start[outputs] as usize];
+    for (f, t) in original.triangles.iter().enumerate() {
+        for o in distinct(t) {
+            if o != u32::MAX {
+                faces[fill[o as usize] as usize] = f as u32;
+                fill[o as usize] += 1;
+            }
+        }
+    }
+    CellFaces { start, faces }
+}
+
+/// Move the output vertices (`positions`, one per entry of `node_of_vertex`, initially the node
+/// positions) according to `placement`. `labels` gives each original vertex's node. Returns the
+/// number of vertices moved.
+pub(crate) fn place(
+    original: &TriMesh,
+    labels: &[u32],
+    node_of_vertex: &[u32],
+    node_count: usize,
+    placement: Placement,
+    positions: &mut [Vec3],
+) -> usize {
+    if placement == Placement::Node || positions.is_empty() {
+        return 0;
+    }
+    let owner = owners(labels, node_of_vertex, node_count);
+    let cells = cell_faces(original, &owner, positions.len());
+    let pos = |v: u32| original.positions[v as usize].as_dvec3();
+
+    // Step 2: p0, the closest point on the cell's faces. The search starts from the nearest
+    // cell vertex (a point of the surface, so an upper bound) and skips every face whose
+    // bounding box is farther than the best so far: on igea at 1 % a cell has ~300 faces and
+    // nearly all of them are culled by the box test, which costs a fraction of the exact one.
+    let mut best: Vec<(f64, DVec3)> = positions
+        .iter()
+        .map(|p| (f64::INFINITY, p.as_dvec3()))
+        .collect();
+    for (v, &o) in owner.iter().enumerate() {
+        if o != u32::MAX {
+            let p = original.positions[v].as_dvec3();
+            let node = positions[o as usize].as_dvec3();
+            let d = (p - node).length_squared();
+            if d < best[o as usize].0 {
+                best[o as usize] = (d, p);
+            }
+        }
+    }
+    let mut projected: Vec<Option<DVec3>> = vec![None; positions.len()];
+    for (o, p0) in projected.iter_mut().enumerate() {
+        let node = positions[o].as_dvec3();
+        let (mut best_d, mut best_q) = best[o];
+        for &f in &cells.faces[cells.start[o] as usize..cells.start[o + 1] as usize] {
+            let [a, b, c] = original.triangles[f as usize].map(pos);
+            let lo = a.min(b).min(c);
+            let hi = a.max(b).max(c);
+            if (node.clamp(lo, hi) - node).length_squared() >= best_d {
+                continue;
+            }
+            let q = closest_point_triangle(node, a, b, c);
+            let d = (q - node).length_squared();
+            if d < best_d {
+                (best_d, best_q) = (d, q);
+            }
+        }
+        if best_d.is_finite() {
+            *p0 = Some(best_q);
+        }
+    }
+    if placement == Placement::Project {
+        let mut moved = 0;
+        for (p, p0) in positions.iter_mut().zip(&projected) {
+            if let Some(q) = p0 {
+                *p = q.as_vec3();
+                moved += 1;
+            }
+        }
+        return moved;
+    }
+
+    // Step 3: cell quadrics. Summing the vertex quadrics of the cell adds every face plane once
+    // per corner in the cell, and every boundary plane once per end in the cell.
+    let mut quadrics = vec![Quadric::default(); positions.len()];
+    for t in &original.triangles {
+        let q = Quadric::from_triangle(pos(t[0]), pos(t[1]), pos(t[2]));
+        if q == Quadric::default() {
+            continue;
+        }
+        for &v in t {
+            let o = owner[v as usize];
+            if o != u32::MAX {
+                quadrics[o as usize] += q;
+            }
+        }
+    }
+    let edges = EdgeTable::new(original);
+    for e in 0..edges.len() {
+        if !edges.is_boundary(e) {
+            continue;
+        }
+        let [lo, hi] = edges.edges[e];
+        let face = edges.corners(e)[0] / 3;
+        let corners = original.triangles[face as usize].map(pos);
+        let q = Quadric::from_boundary_edge(pos(lo), pos(hi), corners, BOUNDARY_WEIGHT);
+        for v in [lo, hi] {
+            let o = owner[v as usize];
+            if o != u32::MAX {
+                quadrics[o as usize] += q;
+            }
+        }
+    }
+    // Cell radii (squared): the farthest cell vertex from its node.
+    let mut radius2 = vec![0.0f64; positions.len()];
+    for (v, &o) in owner.iter().enumerate() {
+        if o != u32::MAX {
+            let d = (original.positions[v].as_dvec3() - positions[o as usize].as_dvec3())
+                .length_squared();
+            radius2[o as usize] = radius2[o as usize].max(d);
+        }
+    }
+    let mut moved = 0;
+    for o in 0..positions.len() {
+        let Some(p0) = projected[o] else { continue };
+        let node = positions[o].as_dvec3();
+        let x = quadrics[o].minimizer_near(p0, EIGEN_REL_TOL);
+        let limit2 = MAX_JUMP_CELL_RADII * MAX_JUMP_CELL_RADII * radius2[o];
+        let x = if x.is_finite() && (x - node).length_squared() <= limit2 {
+            x
+        } else {
+            p0
+        };
+        positions[o] = x.as_vec3();
+        moved += 1;
+    }
+    moved
+}
