@@ -59,8 +59,8 @@ pub use domain::{MIN_COMPONENT_NODES, STRAY_RADII};
 pub use error::GngError;
 pub use options::{GngOptions, GngTarget};
 pub use params::{
-    DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, Placement, ReconstructionParams,
-    SearchStrategy, SignalSource,
+    DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, Placement,
+    ReconstructionParams, SearchStrategy, SignalSource,
 };
 pub use reconstruct::{
     Reconstruction, ReconstructionReport, label_vertices, label_vertices_by_component, reconstruct,

@@ -161,8 +161,13 @@ impl GngOptions {
 
     /// The output vertex count these options ask for on `input`.
     pub fn target_vertices(&self, input: &TriMesh) -> Result<usize, GngError> {
+        self.target_vertices_of(referenced_vertices(input))
+    }
+
+    /// The output vertex count these options ask for on an input with `available` referenced
+    /// vertices.
+    fn target_vertices_of(&self, available: usize) -> Result<usize, GngError> {
         self.validate()?;
-        let available = referenced_vertices(input);
         let n = match self.target {
             GngTarget::Vertices(n) => n,
             GngTarget::Ratio(r) => ((available as f64) * r).round() as usize,
@@ -182,14 +187,18 @@ impl GngOptions {
     /// Errors name the option (`GngError::Parameter`) or the target (`GngError::Target`); the
     /// trainer's own checks (mesh validity, distinct vertices) still run in `Trainer::new`.
     pub fn resolve(&self, input: &TriMesh) -> Result<GngParams, GngError> {
-        let target_vertices = self.target_vertices(input)?;
+        self.resolve_for_vertex_count(referenced_vertices(input))
+    }
+
+    /// [`Self::resolve`] for a front end that knows only the input's referenced vertex count
+    /// (`available`, which ratios and epochs are taken of), e.g. to check options before the
+    /// mesh is loaded; `Trainer::new` still checks the mesh itself.
+    pub fn resolve_for_vertex_count(&self, available: usize) -> Result<GngParams, GngError> {
+        let target_vertices = self.target_vertices_of(available)?;
         let defaults = GngParams::default();
         let max_signals = match (self.max_signals, self.epochs) {
             (Some(s), _) => Some(s),
-            (None, Some(e)) => {
-                let v = referenced_vertices(input) as f64;
-                Some(((e * v).round() as u64).max(1))
-            }
+            (None, Some(e)) => Some(((e * available as f64).round() as u64).max(1)),
             (None, None) => defaults.max_signals,
         };
         Ok(GngParams {

@@ -14,9 +14,10 @@ pub type SignalSourceKind = gng3d_core::SignalSource;
 pub type NetworkSnapshot = gng3d_core::Snapshot;
 
 /// Every signal source, in menu order, with its label.
-pub const SIGNAL_SOURCES: [(SignalSourceKind, &str); 2] = [
+pub const SIGNAL_SOURCES: [(SignalSourceKind, &str); 3] = [
     (SignalSourceKind::Vertices, "original vertices (paper)"),
     (SignalSourceKind::Surface, "surface samples"),
+    (SignalSourceKind::Curvature, "curvature-weighted surface"),
 ];
 
 /// Label of a signal source.
@@ -24,6 +25,21 @@ pub fn signal_source_label(source: SignalSourceKind) -> &'static str {
     SIGNAL_SOURCES
         .iter()
         .find(|(s, _)| *s == source)
+        .map_or("?", |(_, l)| l)
+}
+
+/// Every vertex placement of the reconstruction, in menu order, with its label.
+pub const PLACEMENTS: [(gng3d_core::Placement, &str); 3] = [
+    (gng3d_core::Placement::Node, "node position (paper)"),
+    (gng3d_core::Placement::Project, "projected to surface"),
+    (gng3d_core::Placement::Quadric, "quadric (GNG3D-Q)"),
+];
+
+/// Label of a vertex placement.
+pub fn placement_label(placement: gng3d_core::Placement) -> &'static str {
+    PLACEMENTS
+        .iter()
+        .find(|(p, _)| *p == placement)
         .map_or("?", |(_, l)| l)
 }
 
@@ -96,11 +112,21 @@ pub fn qem_simplify(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh> {
         .map_err(|e| ViewerError::Qem(e.to_string()))
 }
 
-/// Most surface samples per direction for the Hausdorff distance (keeps evaluation to seconds).
-const HAUSDORFF_SAMPLES: usize = 200_000;
+/// Surface samples per direction for the Hausdorff distance (keeps one evaluation to about a
+/// second on a 2-core machine; `gng3d metrics --samples 200000` measures the same pair with the
+/// same numbers, since both go through [`metrics::Evaluator`]).
+pub const HAUSDORFF_SAMPLES: usize = 200_000;
+
+/// The metrics parameters of every viewer evaluation.
+pub fn metrics_params() -> metrics::MetricsParams {
+    metrics::MetricsParams {
+        hausdorff: metrics::HausdorffParams::with_samples(HAUSDORFF_SAMPLES),
+    }
+}
 
 /// Errors and triangle shape of a simplified mesh against the original: what the plots and the
-/// table show, for GNG3D and QEM alike.
+/// table show, for GNG3D and QEM alike (a compact copy of the fields of
+/// [`metrics::Evaluation`] the viewer displays).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Evaluation {
     /// Vertices of the simplified mesh.
@@ -117,34 +143,36 @@ pub struct Evaluation {
     pub e_sur: f64,
     /// Symmetric Hausdorff distance, model units (`None` when it could not be computed).
     pub hausdorff: Option<f64>,
-    /// Mean over triangles of the smallest interior angle, degrees (60 = all equilateral).
-    pub mean_min_angle_degrees: f64,
-    /// Share of triangles whose smallest angle is under 30°, 0–1.
-    pub below_30_degrees: f64,
+    /// Median over triangles of the smallest interior angle, degrees (60 = all equilateral).
+    pub median_min_angle_degrees: f64,
+    /// Share of triangles whose smallest angle is under 20°, 0–1.
+    pub below_20_degrees: f64,
+}
+
+impl Evaluation {
+    /// The displayed fields of a full [`metrics::Evaluation`].
+    pub fn from_metrics(e: &metrics::Evaluation) -> Evaluation {
+        Evaluation {
+            vertices: e.meshes.simplified.referenced_vertices,
+            faces: e.meshes.simplified.faces,
+            e_avg: e.e_avg,
+            e_max: e.e_max,
+            e_sur: e.e_sur_signed,
+            hausdorff: Some(e.hausdorff.max),
+            median_min_angle_degrees: e.quality.simplified.median_min_angle_degrees,
+            below_20_degrees: e.quality.simplified.below_20_degrees,
+        }
+    }
 }
 
 /// The viewer's one evaluation of `simplified` against `original` (runs on the calling thread;
-/// the session calls it from a background job). Hausdorff is sampled Metro-style with
-/// min(10 × faces, 200 000) samples per direction.
-pub fn evaluate(original: &TriMesh, simplified: &TriMesh) -> Evaluation {
-    let (e_avg, e_max) = metrics::vertex_errors(&original.positions, &simplified.positions)
-        .map_or((0.0, 0.0), |e| (e.e_avg, e.e_max));
-    let faces = original.face_count().max(simplified.face_count());
-    let hausdorff_params =
-        metrics::HausdorffParams::with_samples((faces * 10).min(HAUSDORFF_SAMPLES));
-    let quality = metrics::triangle_quality(simplified);
-    Evaluation {
-        vertices: simplified.vertex_count(),
-        faces: simplified.face_count(),
-        e_avg,
-        e_max,
-        e_sur: metrics::surface_error(original, simplified).e_sur,
-        hausdorff: metrics::hausdorff(original, simplified, &hausdorff_params)
-            .ok()
-            .map(|h| h.max),
-        mean_min_angle_degrees: quality.mean_min_angle_degrees,
-        below_30_degrees: quality.below_30_degrees,
-    }
+/// the session calls it from a background job): [`metrics::Evaluator`] with
+/// [`metrics_params`], the same code and numbers as the CLI's `metrics`/`compare`.
+pub fn evaluate(original: &TriMesh, simplified: &TriMesh) -> Result<Evaluation> {
+    let evaluation = metrics::Evaluator::new(original, &metrics_params())
+        .and_then(|evaluator| evaluator.evaluate(simplified))
+        .map_err(|e| ViewerError::Metrics(e.to_string()))?;
+    Ok(Evaluation::from_metrics(&evaluation))
 }
 
 /// E_avg/E_max (squared model units) of the live network's nodes against the original

@@ -44,6 +44,9 @@ pub enum ViewerError {
     /// QEM failed.
     #[error("QEM: {0}")]
     Qem(String),
+    /// A simplified mesh could not be measured.
+    #[error("metrics: {0}")]
+    Metrics(String),
     /// A background job ended without an answer (its thread panicked).
     #[error("background job {0} ended without a result")]
     JobLost(&'static str),

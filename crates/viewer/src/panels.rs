@@ -366,23 +366,21 @@ impl ViewerApp {
                 .response
                 .labelled_by(label.id);
             ui.end_row();
-            // Vertex placement of the reconstruction. Today a bool (`project_to_surface`); the
-            // GNG3D-Q work turns it into `Placement { Node, Project, Quadric }`: only this row
-            // changes then.
+            // Vertex placement of the reconstruction (GNG3D-Q: quadric placement + edge flips).
             let label = ui.label("vertex placement");
+            let rec = &mut params.reconstruction;
             egui::ComboBox::from_id_salt("placement")
-                .selected_text(if params.reconstruction.project_to_surface {
-                    "project to surface"
-                } else {
-                    "node position (paper)"
-                })
+                .selected_text(crate::engine::placement_label(rec.placement))
                 .show_ui(ui, |ui| {
-                    let p = &mut params.reconstruction.project_to_surface;
-                    ui.selectable_value(p, false, "node position (paper)");
-                    ui.selectable_value(p, true, "project to surface");
+                    for (placement, text) in crate::engine::PLACEMENTS {
+                        ui.selectable_value(&mut rec.placement, placement, text);
+                    }
                 })
                 .response
                 .labelled_by(label.id);
+            ui.end_row();
+            ui.label("edge flips");
+            ui.checkbox(&mut rec.flip_edges, "toward the surface (GNG3D-Q)");
             ui.end_row();
         });
         ui.separator();

@@ -115,8 +115,8 @@ impl History {
                         .hausdorff
                         .map(|h| format!("{h:e}"))
                         .unwrap_or_default(),
-                    format!("{:.2}", row.evaluation.mean_min_angle_degrees),
-                    format!("{:.4}", row.evaluation.below_30_degrees),
+                    format!("{:.2}", row.evaluation.median_min_angle_degrees),
+                    format!("{:.4}", row.evaluation.below_20_degrees),
                     format!("{:.3}", row.seconds),
                 ])
                 .map_err(err)?;
@@ -541,8 +541,8 @@ pub fn checkpoint_table(ui: &mut egui::Ui, history: &History) {
                             e.hausdorff
                                 .map_or_else(|| "–".into(), |h| format!("{h:.3e}")),
                         );
-                        ui.label(format!("{:.1}°", e.mean_min_angle_degrees));
-                        ui.label(format!("{:.1} %", 100.0 * e.below_30_degrees));
+                        ui.label(format!("{:.1}°", e.median_min_angle_degrees));
+                        ui.label(format!("{:.1} %", 100.0 * e.below_20_degrees));
                         ui.label(format!("{:.2}", row.seconds));
                         ui.end_row();
                     }
@@ -565,8 +565,8 @@ mod tests {
                 e_max: e_avg * 4.0,
                 e_sur: -0.5,
                 hausdorff: None,
-                mean_min_angle_degrees: 41.0,
-                below_30_degrees: 0.25,
+                median_min_angle_degrees: 41.0,
+                below_20_degrees: 0.25,
             },
             seconds: 1.0,
         }

@@ -18,7 +18,6 @@ use mesh::TriMesh;
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::Duration;
 
 /// Default length of a watched run: the whole signal budget is spread over this many seconds,
 /// so the network visibly grows whatever the mesh size (issue 13: "roughly 10–20 s").
@@ -74,25 +73,33 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
             format!("{target} (at least 4 vertices)"),
         ));
     }
-    let mut params = engine::default_params(target);
-    if let Some(seconds) = options.time_limit {
-        if !(seconds.is_finite() && seconds > 0.0) {
-            return Err(invalid(
-                "--time-limit",
-                format!("{seconds} (a positive number of seconds)"),
-            ));
+    let gng = gng3d_core::GngOptions {
+        target: gng3d_core::GngTarget::Vertices(target),
+        time_limit_seconds: options.time_limit,
+        max_signals: options.max_signals,
+        lambda: options.lambda,
+        seed: options
+            .seed
+            .unwrap_or(gng3d_core::GngParams::default().seed),
+        ..gng3d_core::GngOptions::default()
+    };
+    // The library's one validation of GNG3D options (the CLI uses the same); the option name
+    // the user typed is added here.
+    let flag = |e: &gng3d_core::GngError| match e {
+        gng3d_core::GngError::Parameter { name, .. } if name.starts_with("time limit") => {
+            "--time-limit"
         }
-        params.time_limit = Some(Duration::from_secs_f64(seconds));
-    }
-    if options.max_signals == Some(0) {
-        return Err(invalid("--max-signals", "0 (at least 1 signal)"));
-    }
-    if options.lambda == Some(0) {
-        return Err(invalid(
-            "--lambda",
-            "0 (at least 1 signal between insertions)",
-        ));
-    }
+        gng3d_core::GngError::Parameter { name, .. } if name.starts_with("signal budget") => {
+            "--max-signals"
+        }
+        gng3d_core::GngError::Parameter { name, .. } if name.starts_with("lambda") => "--lambda",
+        _ => "--target",
+    };
+    // The input's size is not known yet: ratios are not offered here, so any count will do;
+    // Trainer::new checks the target against the mesh.
+    let params = gng
+        .resolve_for_vertex_count(usize::MAX)
+        .map_err(|e| invalid(flag(&e), e.to_string()))?;
     if let Some(seconds) = options.watch_seconds
         && !(seconds.is_finite() && seconds >= 0.0)
     {
@@ -105,11 +112,6 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
         && !(v.is_finite() && v >= 0.0)
     {
         return Err(invalid("--quit-after", format!("{v} (seconds >= 0)")));
-    }
-    params.max_signals = options.max_signals;
-    params.lambda = options.lambda;
-    if let Some(seed) = options.seed {
-        params.seed = seed;
     }
     Ok(params)
 }
@@ -203,7 +205,7 @@ pub struct Session {
     /// Plot and table data.
     pub history: History,
     reconstruction: Option<Arc<TriMesh>>,
-    evaluating: Option<(PendingEvaluation, Job<Evaluation>)>,
+    evaluating: Option<(PendingEvaluation, Job<crate::error::Result<Evaluation>>)>,
     evaluation_queue: VecDeque<PendingEvaluation>,
     qem: QemState,
     /// Recent messages (newest last).
@@ -424,7 +426,7 @@ impl Session {
             let started = std::time::Instant::now();
             let mesh = engine::qem_simplify(&original, target)?;
             let seconds = started.elapsed().as_secs_f64();
-            let evaluation = engine::evaluate(&original, &mesh);
+            let evaluation = engine::evaluate(&original, &mesh)?;
             Ok((Arc::new(mesh), evaluation, seconds))
         }));
     }
@@ -530,7 +532,11 @@ impl Session {
     /// evaluation threads than there are cores to spare. Checkpoints that arrive while one is
     /// being evaluated wait; in a watched (paced) run only the newest of several waiting is kept.
     fn poll_evaluations(&mut self) {
-        let finished = self.evaluating.as_ref().and_then(|(_, job)| job.poll());
+        let finished = self
+            .evaluating
+            .as_ref()
+            .and_then(|(_, job)| job.poll())
+            .map(|r| r.and_then(|e| e));
         if let Some(result) = finished
             && let Some((pending, _)) = self.evaluating.take()
         {
@@ -737,10 +743,11 @@ mod tests {
             h.reconstructions.len()
         );
         let last = h.reconstructions.last().unwrap();
-        let direct = engine::evaluate(session.original(), session.reconstruction().unwrap());
+        let direct =
+            engine::evaluate(session.original(), session.reconstruction().unwrap()).unwrap();
         assert_eq!(last.evaluation, direct, "table row = direct evaluation");
         let qem = h.qem.as_ref().unwrap();
-        let qem_direct = engine::evaluate(session.original(), session.qem_mesh().unwrap());
+        let qem_direct = engine::evaluate(session.original(), session.qem_mesh().unwrap()).unwrap();
         assert_eq!(qem.evaluation, qem_direct);
         assert!(qem.evaluation.vertices <= 150);
         // Signed E_sur: Area(original) − Area(simplified), as the CLI reports it.

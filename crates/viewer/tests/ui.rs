@@ -336,7 +336,7 @@ fn plot_gains_points_as_training_runs() {
     let row = h.state().session.history.reconstructions[0].clone();
     let e = &row.evaluation;
     assert!(e.vertices <= 400 && e.faces > 0, "{row:?}");
-    assert!(e.e_sur.is_finite() && e.e_avg > 0.0 && e.mean_min_angle_degrees > 0.0);
+    assert!(e.e_sur.is_finite() && e.e_avg > 0.0 && e.median_min_angle_degrees > 0.0);
     let csv = h.state().session.history.csv_string().unwrap();
     assert!(csv.lines().count() >= 2, "{csv}");
 }
