@@ -1,5 +1,23 @@
 //! Shared triangle mesh type for gng3d: geometry, I/O, cleaning, topology, sampling and
 //! procedural models. Every algorithm crate takes and returns a [`TriMesh`].
+//!
+//! ```
+//! use mesh::{TriMesh, clean, io, procedural, topology};
+//! let sphere = procedural::icosphere(2); // 162 vertices, 320 faces, closed, genus 0
+//! let report = topology::analyze(&sphere);
+//! assert_eq!((report.boundary_edges, report.genus), (0, Some(0)));
+//! // Welding merges exact duplicates (as OBJ/STL exporters write them), cleaning drops
+//! // degenerate faces and unreferenced vertices.
+//! let (welded, cleaning) = clean::prepare(&sphere);
+//! assert_eq!(welded.vertex_count(), 162);
+//! assert_eq!(cleaning.welded_vertices, 0);
+//! // Files: OBJ, PLY and STL, chosen by extension; writes go through a temp file + rename.
+//! let path = std::env::temp_dir().join("mesh-doc-example.ply");
+//! io::save(&welded, &path).unwrap();
+//! let back: TriMesh = io::load(&path).unwrap().mesh;
+//! assert_eq!(back.face_count(), 320);
+//! # std::fs::remove_file(&path).ok();
+//! ```
 
 // Lets shared helper code (fixtures.rs, also compiled into this crate's own tests and benches)
 // name this crate `mesh` from inside and outside.

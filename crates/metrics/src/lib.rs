@@ -8,6 +8,19 @@
 //!   direction, symmetric Hausdorff), exact closest points through [`SurfaceDistanceIndex`].
 //! - [`Evaluator`] / [`evaluate`]: everything above in one serde-serializable record,
 //!   [`MetricsReport`] (alias [`Evaluation`]), with the original indexed once.
+//!
+//! ```
+//! use metrics::{HausdorffParams, hausdorff, surface_error, vertex_errors};
+//! let fine = mesh::procedural::icosphere(4);
+//! let coarse = mesh::procedural::icosphere(2);
+//! // The paper's errors: squared vertex-to-nearest-vertex distances, and the area lost.
+//! let v = vertex_errors(&fine.positions, &coarse.positions).unwrap();
+//! assert!(v.e_max >= v.e_avg && v.e_avg > 0.0);
+//! assert!(surface_error(&fine, &coarse).e_sur_signed > 0.0); // inscribed: smaller area
+//! // Metro-style distance: the coarse sphere's flat faces sag at most 1 - cos(angle) inside.
+//! let h = hausdorff(&fine, &coarse, &HausdorffParams::with_samples(20_000)).unwrap();
+//! assert!(h.max > 0.0 && h.max < 0.05 && h.mean < h.max);
+//! ```
 
 mod closest;
 mod hausdorff;

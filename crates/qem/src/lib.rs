@@ -16,6 +16,17 @@
 //! parallel (shared vertices locked, then one sequential pass over the stitched result), so their
 //! output depends on the number of threads; with `RAYON_NUM_THREADS=1`, or below that size, the
 //! sequential engine runs and the output is the same for every thread count.
+//!
+//! ```
+//! use qem::{QemParams, Target, simplify};
+//! let sphere = mesh::procedural::icosphere(4); // 2,562 vertices, 5,120 faces
+//! let params = QemParams::with_target(Target::Vertices(500));
+//! let (coarse, report) = simplify(&sphere, &params).unwrap();
+//! assert!(coarse.vertex_count() <= 500 && coarse.face_count() > 900);
+//! // The unit sphere stays a unit sphere: every vertex within 1 % of radius 1.
+//! assert!(coarse.positions.iter().all(|p| (p.length() - 1.0).abs() < 0.01));
+//! println!("{} collapses in {:.3} s", report.collapses, report.seconds);
+//! ```
 
 mod pairs;
 pub mod quadric;
