@@ -1,0 +1,215 @@
+//! Phase-2 attach step: every trained node becomes an output vertex (the exact vertex count).
+//! A node that no surviving triangle references is inserted into the nearest output triangle
+//! around its cell by an edge or a face split.
+
+use super::{Candidate, half_edges};
+use glam::{DVec3, Vec3};
+use mesh::TriMesh;
+use mesh::geometry::closest_point_triangle;
+
+/// Share of a triangle's area below which the opposite corner's barycentric weight counts as
+/// "on the edge": the node is then inserted by splitting that edge (two faces into four, or a
+/// boundary face into two) instead of the face (one into three), which avoids the needle
+/// triangles a face split next to an edge would make.
+const EDGE_SPLIT_WEIGHT: f64 = 0.2;
+
+/// Step: every node an output vertex. A node whose cell produced no surviving triangle (its
+/// labels fell into degenerate, merged or fin faces; or no vertex chose it) is inserted into the
+/// output triangle nearest to it among those around its cell (triangles of its GNG neighbours
+/// and of the nodes labelling vertices next to its cell); nodes with no such triangle yet wait
+/// for their neighbours, and as a last resort take the nearest triangle of their own piece
+/// (`node_comp`), never one of another piece.
+/// Edge and face splits keep a closed manifold closed, manifold and consistently oriented.
+/// Returns the number of nodes attached.
+pub(super) fn attach_unreferenced(
+    faces: &mut Vec<Candidate>,
+    nodes: &[Vec3],
+    edges: &[[u32; 2]],
+    original: &TriMesh,
+    labels: &[u32],
+    node_comp: &[u32],
+) -> usize {
+    let mut referenced = vec![false; nodes.len()];
+    for c in faces.iter() {
+        for &v in &c.tri {
+            referenced[v as usize] = true;
+        }
+    }
+    let missing: Vec<u32> = (0..nodes.len() as u32)
+        .filter(|&v| !referenced[v as usize])
+        .collect();
+    if missing.is_empty() || faces.is_empty() {
+        return 0;
+    }
+    // Nodes near each missing node: GNG neighbours and labels adjacent to its cell.
+    let mut slot = vec![u32::MAX; nodes.len()];
+    for (k, &m) in missing.iter().enumerate() {
+        slot[m as usize] = k as u32;
+    }
+    let mut near: Vec<Vec<u32>> = vec![Vec::new(); missing.len()];
+    for e in edges {
+        for (a, b) in [(e[0], e[1]), (e[1], e[0])] {
+            if (a as usize) < slot.len() && slot[a as usize] != u32::MAX {
+                near[slot[a as usize] as usize].push(b);
+            }
+        }
+    }
+    for t in &original.triangles {
+        let l = t.map(|v| labels[v as usize]);
+        for k in 0..3 {
+            let a = l[k];
+            if a != u32::MAX && slot[a as usize] != u32::MAX {
+                for &b in &[l[(k + 1) % 3], l[(k + 2) % 3]] {
+                    if b != a && b != u32::MAX {
+                        near[slot[a as usize] as usize].push(b);
+                    }
+                }
+            }
+        }
+    }
+    for n in &mut near {
+        n.sort_unstable();
+        n.dedup();
+    }
+    // Faces around each node, kept up to date by the splits.
+    let mut vf: Vec<Vec<u32>> = vec![Vec::new(); nodes.len()];
+    for (f, c) in faces.iter().enumerate() {
+        for &v in &c.tri {
+            vf[v as usize].push(f as u32);
+        }
+    }
+    let mut attached = 0;
+    let mut pending: Vec<u32> = missing;
+    let mut candidates: Vec<u32> = Vec::new();
+    let mut global = false;
+    while !pending.is_empty() {
+        let before = pending.len();
+        let mut next = Vec::new();
+        for &m in &pending {
+            candidates.clear();
+            if global {
+                let c = node_comp[m as usize];
+                candidates.extend(
+                    (0..faces.len() as u32)
+                        .filter(|&f| node_comp[faces[f as usize].tri[0] as usize] == c),
+                );
+            } else {
+                for &x in &near[slot[m as usize] as usize] {
+                    candidates.extend_from_slice(&vf[x as usize]);
+                }
+                candidates.sort_unstable();
+                candidates.dedup();
+            }
+            let p = nodes[m as usize].as_dvec3();
+            let best = candidates
+                .iter()
+                .map(|&f| {
+                    let [a, b, c] = faces[f as usize].tri.map(|v| nodes[v as usize].as_dvec3());
+                    let q = closest_point_triangle(p, a, b, c);
+                    ((q - p).length_squared(), f, q)
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+            let Some((_, f, q)) = best else {
+                next.push(m);
+                continue;
+            };
+            split_for(faces, &mut vf, nodes, f, m, q);
+            attached += 1;
+        }
+        pending = next;
+        if pending.len() == before {
+            if global {
+                break;
+            }
+            global = true;
+        }
+    }
+    attached
+}
+
+/// Insert node `m` (nearest point `q` on face `f`) by an edge split when `q` is near an edge
+/// with at most one other face, else by a face split.
+fn split_for(
+    faces: &mut Vec<Candidate>,
+    vf: &mut [Vec<u32>],
+    nodes: &[Vec3],
+    f: u32,
+    m: u32,
+    q: DVec3,
+) {
+    let tri = faces[f as usize].tri;
+    let [a, b, c] = tri.map(|v| nodes[v as usize].as_dvec3());
+    let area = (b - a).cross(c - a).length();
+    // Barycentric weight of each corner = area of the sub-triangle opposite it.
+    let w = [
+        (c - b).cross(q - b).length(),
+        (a - c).cross(q - c).length(),
+        (b - a).cross(q - a).length(),
+    ];
+    let (k, wk) = w
+        .iter()
+        .copied()
+        .enumerate()
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .unwrap_or((0, 0.0));
+    if area > 0.0 && wk <= EDGE_SPLIT_WEIGHT * area {
+        // Edge opposite corner k, directed as in the face: (tri[k+1], tri[k+2]).
+        let (ea, eb) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+        let shared: Vec<u32> = vf[ea as usize]
+            .iter()
+            .copied()
+            .filter(|g| vf[eb as usize].contains(g))
+            .collect();
+        let twins: Vec<u32> = shared
+            .iter()
+            .copied()
+            .filter(|&g| g != f && half_edges(faces[g as usize].tri).contains(&(eb, ea)))
+            .collect();
+        if shared.len() <= 2 && twins.len() == shared.len() - 1 {
+            split_edge_of(faces, vf, f, ea, eb, m);
+            if let Some(&g) = twins.first() {
+                split_edge_of(faces, vf, g, eb, ea, m);
+            }
+            return;
+        }
+    }
+    // Face split [a, b, c] -> [a, b, m], [b, c, m], [c, a, m].
+    let [ta, tb, tc] = tri;
+    let support = faces[f as usize].support;
+    faces[f as usize].tri = [ta, tb, m];
+    vf[tc as usize].retain(|&g| g != f);
+    vf[m as usize].push(f);
+    for t in [[tb, tc, m], [tc, ta, m]] {
+        let id = faces.len() as u32;
+        faces.push(Candidate { tri: t, support });
+        for &v in &t {
+            vf[v as usize].push(id);
+        }
+    }
+}
+
+/// Split directed edge (ea, eb) of face `f` at node `m`: [ea, eb, c] -> [ea, m, c], [m, eb, c].
+fn split_edge_of(
+    faces: &mut Vec<Candidate>,
+    vf: &mut [Vec<u32>],
+    f: u32,
+    ea: u32,
+    eb: u32,
+    m: u32,
+) {
+    let t = faces[f as usize].tri;
+    let k = (0..3).find(|&k| t[k] == ea).unwrap_or(0);
+    let c = t[(k + 2) % 3];
+    let support = faces[f as usize].support;
+    faces[f as usize].tri = [ea, m, c];
+    vf[eb as usize].retain(|&g| g != f);
+    vf[m as usize].push(f);
+    let id = faces.len() as u32;
+    faces.push(Candidate {
+        tri: [m, eb, c],
+        support,
+    });
+    for v in [m, eb, c] {
+        vf[v as usize].push(id);
+    }
+}
