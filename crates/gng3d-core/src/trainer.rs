@@ -1,5 +1,14 @@
 //! Phase 1: the GNG3D training loop, step-wise ([`Trainer::step`]) or to completion with a
 //! progress observer ([`Trainer::train`]), plus snapshots and cancellation for viewers.
+//!
+//! Steps of one [`Trainer::step`] call: for every piece of the domain ([`crate::domain`]) in
+//! turn, present signals in chunks of `CHECK_EVERY` (winner search on the grid, GNG update,
+//! insertion every λ, removal of nodes that won nothing in the μ window), then check the
+//! budget, the target, the time limit (rescheduling λ from the measured throughput) and the
+//! cancel token.
+//!
+//! (Over ~700 lines on purpose: the per-piece loop (`Part`) and the `Trainer` that schedules it
+//! share the loop settings and counters of the hot path; the tests are the last 20 lines.)
 
 use crate::ReconstructionParams;
 use crate::domain::{Domain, Frame, Piece};
