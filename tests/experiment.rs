@@ -20,7 +20,7 @@ fn small_params(epochs: u64) -> ReproduceParams {
 fn reproduce_table_has_paper_columns_and_falling_error() {
     let sphere = procedural::icosphere(4); // 2,562 vertices
     let start = std::time::Instant::now();
-    let report = reproduce(&sphere, &small_params(8), |_, _| {}).unwrap();
+    let report = reproduce(&sphere, &small_params(8), |_| {}).unwrap();
     assert!(start.elapsed().as_secs_f64() < 60.0);
     assert_eq!(report.original_vertices, 2562);
     assert_eq!(report.target_vertices, 1281);
@@ -56,7 +56,7 @@ fn reproduce_table_has_paper_columns_and_falling_error() {
 #[test]
 fn reproduce_files_parse_back() {
     let torus = procedural::torus(1.0, 0.35, 40, 20);
-    let report = reproduce(&torus, &small_params(4), |_, _| {}).unwrap();
+    let report = reproduce(&torus, &small_params(4), |_| {}).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let written = write_reproduction(&report, "torus", dir.path()).unwrap();
     for name in [

@@ -90,14 +90,48 @@ pub struct ReproduceReport {
     pub seconds: Timings,
 }
 
+/// The stage [`reproduce`] is in, for progress bars.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// Training GNG3D: one step per checkpoint.
+    Training,
+    /// Reconstructing and measuring each GNG3D checkpoint (most of the run time).
+    Evaluating,
+    /// Simplifying with QEM at each distinct vertex count and measuring it.
+    Qem,
+}
+
+/// Progress of [`reproduce`]: `done` of `total` steps of `stage`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Progress {
+    /// The current stage.
+    pub stage: Stage,
+    /// Steps of this stage finished.
+    pub done: u64,
+    /// Steps of this stage in all.
+    pub total: u64,
+}
+
 /// Run the paper's protocol on `original` (expected welded, e.g. by `mesh::clean::prepare`).
 ///
-/// `on_checkpoint(done, total)` is called after each training checkpoint, for progress bars.
+/// `on_progress` is called after each training checkpoint, each evaluated checkpoint and each
+/// QEM run (from worker threads, one call at a time), for progress bars.
 pub fn reproduce(
     original: &TriMesh,
     params: &ReproduceParams,
-    mut on_checkpoint: impl FnMut(u64, u64),
+    on_progress: impl FnMut(Progress) + Send,
 ) -> Result<ReproduceReport, ExperimentError> {
+    let on_progress = std::sync::Mutex::new(on_progress);
+    let report = |stage, done, total| {
+        if let Ok(mut f) = on_progress.lock() {
+            f(Progress { stage, done, total });
+        }
+    };
+    let done_count = std::sync::atomic::AtomicU64::new(0);
+    let tick = |stage, total| {
+        let done = done_count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        report(stage, done, total);
+    };
     let start = Instant::now();
     let n = original.vertex_count();
     if !(params.target_ratio > 0.0 && params.target_ratio <= 1.0) {
@@ -130,7 +164,7 @@ pub fn reproduce(
             break;
         }
         snapshots.push(trainer.snapshot());
-        on_checkpoint(snapshots.len() as u64, params.epochs);
+        report(Stage::Training, snapshots.len() as u64, params.epochs);
     }
     let training = start.elapsed().as_secs_f64();
 
@@ -142,6 +176,8 @@ pub fn reproduce(
         let (mesh, _) = qem::simplify(original, &qp)?;
         evaluator.evaluate(&mesh)
     };
+    let evaluations = snapshots.len() as u64;
+    report(Stage::Evaluating, 0, evaluations);
     let gng_rows: Vec<(u64, usize, PaperRow)> = snapshots
         .par_iter()
         .map(|snap| {
@@ -151,11 +187,9 @@ pub fn reproduce(
                 &snap.edges,
                 &params.gng.reconstruction,
             );
-            Ok((
-                snap.signals,
-                snap.positions.len(),
-                evaluator.evaluate(&rec.mesh)?,
-            ))
+            let row = evaluator.evaluate(&rec.mesh)?;
+            tick(Stage::Evaluating, evaluations);
+            Ok((snap.signals, snap.positions.len(), row))
         })
         .collect::<Result<_, ExperimentError>>()?;
     // Many checkpoints share a vertex count once the network holds its target: QEM runs once each.
@@ -163,9 +197,16 @@ pub fn reproduce(
     counts.push(target);
     counts.sort_unstable();
     counts.dedup();
+    let qem_runs = counts.len() as u64;
+    done_count.store(0, std::sync::atomic::Ordering::Relaxed);
+    report(Stage::Qem, 0, qem_runs);
     let qem_rows: BTreeMap<usize, PaperRow> = counts
         .par_iter()
-        .map(|&v| Ok((v, qem_at(v)?)))
+        .map(|&v| {
+            let row = qem_at(v)?;
+            tick(Stage::Qem, qem_runs);
+            Ok((v, row))
+        })
         .collect::<Result<_, ExperimentError>>()?;
     let checkpoints = gng_rows
         .into_iter()

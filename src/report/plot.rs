@@ -1,8 +1,21 @@
 //! Line charts (SVG and PNG) for the reproduction report, drawn with plotters.
+//!
+//! Steps of one chart: pick the data ranges ([`Chart::ranges`]), choose the tick values
+//! ([`log_ticks`] on a log axis, [`linear_label`] formats a linear one), draw grid, axes and
+//! curves, then the legend in its own strip under the plot so it never covers a curve.
+//! PNG text goes through [`GlyphText`], which lays glyphs out itself (see there why).
 
+use ab_glyph::{Font, FontRef, ScaleFont, point};
 use plotters::coord::Shift;
-use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::ranged1d::{
+    KeyPointHint, KeyPointWeight, NoDefaultFormatting, ValueFormatter,
+};
 use plotters::prelude::*;
+use plotters_backend::text_anchor::{HPos, VPos};
+use plotters_backend::{
+    BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind,
+};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
@@ -43,6 +56,8 @@ pub struct Chart {
 }
 
 const FONT: &str = "sans-serif";
+/// egui's bundled Ubuntu Light font: no system font lookup, so PNGs render the same everywhere.
+const FONT_BYTES: &[u8] = epaint_default_fonts::UBUNTU_LIGHT;
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -51,24 +66,123 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
 ];
+/// Image size in pixels.
+const SIZE: (u32, u32) = (1000, 600);
+/// Height of the legend strip under the plot, pixels.
+const LEGEND_HEIGHT: u32 = 40;
 
 fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
-        // egui's bundled Ubuntu font: no system font lookup, so PNGs render the same everywhere.
-        let _ = plotters::style::register_font(
-            FONT,
-            FontStyle::Normal,
-            epaint_default_fonts::UBUNTU_LIGHT,
-        );
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES);
     });
+}
+
+/// Tick values to label on a log axis over `[lo, hi]` (both > 0): every power of ten inside
+/// the range, plus 2× and 5× when the range spans at most three decades, plus every integer
+/// mantissa when it spans less than one, so that at least two ticks are labelled whenever the
+/// range allows. Each value is an integer mantissa times a power of ten, so [`log_label`]
+/// gives distinct labels.
+pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
+    }
+    let decades = (hi / lo).log10();
+    let mantissas: &[f64] = if decades < 1.0 {
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+    } else if decades <= 3.0 {
+        &[1.0, 2.0, 5.0]
+    } else {
+        &[1.0]
+    };
+    mantissa_ticks(lo, hi, mantissas)
+}
+
+/// Every `m × 10^e` in `[lo, hi]` for the given mantissas, ascending.
+fn mantissa_ticks(lo: f64, hi: f64, mantissas: &[f64]) -> Vec<f64> {
+    let mut out = Vec::new();
+    let first = lo.log10().floor() as i32;
+    let last = hi.log10().ceil() as i32;
+    for e in first..=last {
+        for &m in mantissas {
+            let v = m * 10f64.powi(e);
+            // Relative slack so a tick at exactly the range end is kept despite rounding.
+            if v >= lo * (1.0 - 1e-9) && v <= hi * (1.0 + 1e-9) {
+                out.push(v);
+            }
+        }
+    }
+    out
+}
+
+/// A log-axis tick label: `1e-4`, `2e-4`, `1`, `5e2`.
+pub fn log_label(v: f64) -> String {
+    let s = format!("{v:.0e}");
+    s.strip_suffix("e0").map_or(s.clone(), str::to_string)
+}
+
+/// A linear-axis tick label in plain numbers with as many decimals as a tick step of `span / 10`
+/// needs (`0.05`, `-0.10`, `1500`).
+pub fn linear_label(v: f64, span: f64) -> String {
+    let step = (span / 10.0).abs().max(f64::MIN_POSITIVE);
+    let decimals = (-step.log10().floor()).clamp(0.0, 12.0) as usize;
+    let s = format!("{v:.decimals$}");
+    // "-0.00" reads as a different value from "0.00".
+    if s.trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
+        s.trim_start_matches('-').to_string()
+    } else {
+        s
+    }
+}
+
+/// A logarithmic y axis whose labelled ticks are [`log_ticks`] and whose light grid lines fall
+/// on every integer mantissa (plotters' own log axis labels near-duplicate values such as
+/// 9.5e-4 and 1.0e-3 as `1.0e-3` twice and skips decades).
+#[derive(Debug, Clone)]
+struct LogAxis {
+    lo: f64,
+    hi: f64,
+}
+
+impl Ranged for LogAxis {
+    type FormatOption = NoDefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        let (a, b) = (self.lo.log10(), self.hi.log10());
+        let t = (value.max(f64::MIN_POSITIVE).log10() - a) / (b - a);
+        limit.0 + ((limit.1 - limit.0) as f64 * t).round() as i32
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        match hint.weight() {
+            KeyPointWeight::Bold => log_ticks(self.lo, self.hi),
+            KeyPointWeight::Any => mantissa_ticks(
+                self.lo,
+                self.hi,
+                &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+            ),
+        }
+    }
+
+    fn range(&self) -> Range<f64> {
+        self.lo..self.hi
+    }
+}
+
+impl ValueFormatter<f64> for LogAxis {
+    fn format(value: &f64) -> String {
+        log_label(*value)
+    }
 }
 
 impl Chart {
     /// Write `<stem>.svg` and `<stem>.png` (1000×600) and return both paths. Both are drawn in
     /// memory and written atomically (temporary file + rename).
     pub fn write(&self, stem: &Path) -> Result<[PathBuf; 2], ReportError> {
-        const SIZE: (u32, u32) = (1000, 600);
         register_font();
         let svg = stem.with_extension("svg");
         let png = stem.with_extension("png");
@@ -81,7 +195,13 @@ impl Chart {
         mesh::io::write_atomic(&svg, svg_text.as_bytes())?;
         let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
         {
-            let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+            let font = FontRef::try_from_slice(FONT_BYTES)
+                .map_err(|e| plot_err(&png, format!("font: {e}")))?;
+            let backend = GlyphText {
+                inner: BitMapBackend::with_buffer(&mut rgb, SIZE),
+                font,
+            };
+            let root = backend.into_drawing_area();
             self.draw(&root).map_err(|m| plot_err(&png, m))?;
             root.present().map_err(|e| plot_err(&png, e.to_string()))?;
         }
@@ -132,28 +252,30 @@ impl Chart {
     {
         let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
         root.fill(&WHITE).map_err(err)?;
+        let (plot_area, legend_area) = root.split_vertically(SIZE.1 - LEGEND_HEIGHT);
         let ((x0, x1), (y0, y1)) = self.ranges();
-        let mut builder = ChartBuilder::on(root);
+        let mut builder = ChartBuilder::on(&plot_area);
         builder
             .caption(&self.title, (FONT, 26))
             .margin(16)
+            .margin_bottom(4)
             .x_label_area_size(44)
             .y_label_area_size(90);
         if self.log_y {
             let mut chart = builder
-                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .build_cartesian_2d(x0..x1, LogAxis { lo: y0, hi: y1 })
                 .map_err(err)?;
-            self.decorate(&mut chart, &|v| format!("{v:.1e}"))
-                .map_err(err)?;
+            self.decorate(&mut chart, &|v| log_label(*v)).map_err(err)?;
         } else {
             let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?;
-            self.decorate(&mut chart, &|v| format!("{v:.3e}"))
+            let span = y1 - y0;
+            self.decorate(&mut chart, &|v| linear_label(*v, span))
                 .map_err(err)?;
         }
-        Ok(())
+        self.draw_legend(&legend_area).map_err(err)
     }
 
-    /// Axes, grid, labels (y values formatted by `y_format`), the series and the legend.
+    /// Axes, grid, labels (y values formatted by `y_format`) and the series.
     fn decorate<'a, DB, Y>(
         &self,
         chart: &mut ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
@@ -168,16 +290,59 @@ impl Chart {
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
             .label_style((FONT, 15))
+            .axis_desc_style((FONT, 16))
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(y_format)
+            .light_line_style(RGBColor(235, 235, 235))
+            .bold_line_style(RGBColor(200, 200, 200))
             .draw()?;
-        self.draw_series(chart)?;
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font((FONT, 15))
-            .draw()
+        self.draw_series(chart)
+    }
+
+    /// One row of legend entries (line sample + label), centred in `area` under the plot.
+    fn draw_legend<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        const SAMPLE: i32 = 28;
+        const GAP: i32 = 8;
+        const SPACING: i32 = 32;
+        let text = TextStyle::from((FONT, 16).into_font()).pos(
+            plotters::style::text_anchor::Pos::new(HPos::Left, VPos::Center),
+        );
+        let widths: Vec<i32> = self
+            .series
+            .iter()
+            .map(|s| {
+                area.estimate_text_size(&s.label, &text)
+                    .map(|(w, _)| w as i32)
+            })
+            .collect::<Result<_, _>>()?;
+        let total: i32 = widths.iter().map(|w| SAMPLE + GAP + w).sum::<i32>()
+            + SPACING * (widths.len() as i32 - 1).max(0);
+        let (w, h) = area.dim_in_pixel();
+        let mut x = ((w as i32 - total) / 2).max(4);
+        let y = h as i32 / 2;
+        for (i, (s, width)) in self.series.iter().zip(widths).enumerate() {
+            let color = PALETTE[i % PALETTE.len()];
+            let style = ShapeStyle::from(color).stroke_width(2);
+            if s.reference {
+                for k in 0..3 {
+                    let a = x + k * 10;
+                    area.draw(&PathElement::new(vec![(a, y), (a + 6, y)], style))?;
+                }
+            } else {
+                area.draw(&PathElement::new(vec![(x, y), (x + SAMPLE, y)], style))?;
+                area.draw(&Circle::new((x + SAMPLE / 2, y), 3, color.filled()))?;
+            }
+            area.draw(&Text::new(
+                s.label.clone(),
+                (x + SAMPLE + GAP, y),
+                text.clone(),
+            ))?;
+            x += SAMPLE + GAP + width + SPACING;
+        }
+        Ok(())
     }
 
     fn draw_series<'a, DB, Y>(
@@ -198,20 +363,156 @@ impl Chart {
                 .collect();
             let style = ShapeStyle::from(color).stroke_width(2);
             if s.reference {
-                chart
-                    .draw_series(DashedLineSeries::new(pts, 8, 5, style))?
-                    .label(&s.label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
+                chart.draw_series(DashedLineSeries::new(pts, 8, 5, style))?;
             } else {
-                chart
-                    .draw_series(LineSeries::new(pts.clone(), style))?
-                    .label(&s.label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
+                chart.draw_series(LineSeries::new(pts.clone(), style))?;
                 chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A bitmap backend that lays out text itself. plotters 0.3.7's ab_glyph path places each
+/// glyph's bitmap at the pen position without its left side bearing (and truncates the pen
+/// to whole pixels per glyph), which renders "GNG3D" as "GN G3D"; here every glyph is
+/// positioned at its sub-pixel pen position, so its outline bounds carry the bearing.
+/// Everything else is delegated to the wrapped backend.
+struct GlyphText<'f, B> {
+    inner: B,
+    font: FontRef<'f>,
+}
+
+impl<B: DrawingBackend> DrawingBackend for GlyphText<'_, B> {
+    type ErrorType = B::ErrorType;
+
+    fn get_size(&self) -> (u32, u32) {
+        self.inner.get_size()
+    }
+    fn ensure_prepared(&mut self) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.ensure_prepared()
+    }
+    fn present(&mut self) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.present()
+    }
+    fn draw_pixel(
+        &mut self,
+        point: BackendCoord,
+        color: BackendColor,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.draw_pixel(point, color)
+    }
+    fn draw_line<S: BackendStyle>(
+        &mut self,
+        from: BackendCoord,
+        to: BackendCoord,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.draw_line(from, to, style)
+    }
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        upper_left: BackendCoord,
+        bottom_right: BackendCoord,
+        style: &S,
+        fill: bool,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.draw_rect(upper_left, bottom_right, style, fill)
+    }
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.draw_path(path, style)
+    }
+    fn draw_circle<S: BackendStyle>(
+        &mut self,
+        center: BackendCoord,
+        radius: u32,
+        style: &S,
+        fill: bool,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.draw_circle(center, radius, style, fill)
+    }
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vert: I,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.fill_polygon(vert, style)
+    }
+    fn blit_bitmap(
+        &mut self,
+        pos: BackendCoord,
+        size: (u32, u32),
+        src: &[u8],
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.inner.blit_bitmap(pos, size, src)
+    }
+
+    /// Same anchoring and rotation as plotters' default (its layout box), but glyph placement
+    /// from ab_glyph's own positioned outlines.
+    fn draw_text<S: BackendTextStyle>(
+        &mut self,
+        text: &str,
+        style: &S,
+        pos: BackendCoord,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        let color = style.color();
+        if color.alpha == 0.0 {
+            return Ok(());
+        }
+        let ((min_x, min_y), (max_x, max_y)) = style
+            .layout_box(text)
+            .map_err(|e| DrawingErrorKind::FontError(Box::new(e)))?;
+        let (width, height) = (max_x - min_x, max_y - min_y);
+        let dx = match style.anchor().h_pos {
+            HPos::Left => 0,
+            HPos::Right => -width,
+            HPos::Center => -width / 2,
+        };
+        let dy = match style.anchor().v_pos {
+            VPos::Top => 0,
+            VPos::Center => -height / 2,
+            VPos::Bottom => -height,
+        };
+        let font = self.font.as_scaled(style.size() as f32);
+        // Baseline inside the layout box in the font's own ascent : descent proportion.
+        let baseline = height as f32 * font.ascent() / (font.ascent() - font.descent());
+        let trans = style.transform();
+        let (w, h) = self.get_size();
+        let mut pen = 0.0f32;
+        let mut prev = None;
+        for c in text.chars() {
+            let id = font.glyph_id(c);
+            if let Some(p) = prev {
+                pen += font.kern(p, id);
+            }
+            prev = Some(id);
+            let glyph = id.with_scale_and_position(font.scale(), point(pen, baseline));
+            pen += font.h_advance(id);
+            let Some(outline) = font.outline_glyph(glyph) else {
+                continue;
+            };
+            let bounds = outline.px_bounds();
+            let mut pixels = Vec::new();
+            outline.draw(|x, y, coverage| pixels.push((x, y, coverage)));
+            for (x, y, coverage) in pixels {
+                if coverage <= 0.0 {
+                    continue;
+                }
+                let lx = bounds.min.x as i32 + x as i32;
+                let ly = bounds.min.y as i32 + y as i32;
+                let (tx, ty) = trans.transform(lx + dx, ly + dy);
+                let (px, py) = (pos.0 + tx, pos.1 + ty);
+                if px >= 0 && px < w as i32 && py >= 0 && py < h as i32 {
+                    let pixel = BackendColor {
+                        alpha: color.alpha * f64::from(coverage.min(1.0)),
+                        rgb: color.rgb,
+                    };
+                    self.inner.draw_pixel((px, py), pixel)?;
+                }
             }
         }
         Ok(())
@@ -249,5 +550,72 @@ mod tests {
         let png_bytes = std::fs::read(png).unwrap();
         assert_eq!(&png_bytes[1..4], b"PNG");
         assert!(png_bytes.len() > 5_000);
+    }
+
+    /// Ranges seen in real reports (gargoyle-10k E_avg, E_max, Hausdorff) and edge cases.
+    const RANGES: [(f64, f64); 7] = [
+        (1.7e-5, 1.0e-3),
+        (2.6e-5, 9.6e-4),
+        (3.0e-4, 8.0e-4),
+        (1.1e-3, 4.0e-2),
+        (1e-9, 1.0),
+        (0.5, 20.0),
+        (1e-4, 1e-3),
+    ];
+
+    #[test]
+    fn log_ticks_have_distinct_labels_and_cover_every_decade() {
+        for (lo, hi) in RANGES {
+            let ticks = log_ticks(lo, hi);
+            let labels: Vec<String> = ticks.iter().map(|&v| log_label(v)).collect();
+            let mut unique = labels.clone();
+            unique.sort();
+            unique.dedup();
+            assert_eq!(unique.len(), labels.len(), "{lo}..{hi}: {labels:?}");
+            assert!(ticks.len() >= 2, "{lo}..{hi}: {labels:?}");
+            assert!(ticks.iter().all(|&t| t >= lo * 0.999 && t <= hi * 1.001));
+            assert!(ticks.windows(2).all(|w| w[0] < w[1]));
+            // Every power of ten inside the range, computed independently, is labelled.
+            let mut e = -30;
+            while e <= 30 {
+                let p = 10f64.powi(e);
+                if p >= lo && p <= hi {
+                    let want = format!("1e{e}");
+                    let want = if e == 0 { "1".to_string() } else { want };
+                    assert!(
+                        labels.contains(&want),
+                        "{lo}..{hi}: {want} not in {labels:?}"
+                    );
+                }
+                e += 1;
+            }
+        }
+    }
+
+    #[test]
+    fn log_labels_round_trip_to_their_tick() {
+        for (lo, hi) in RANGES {
+            for t in log_ticks(lo, hi) {
+                let parsed: f64 = log_label(t).parse().unwrap();
+                assert!((parsed - t).abs() <= 1e-9 * t, "{t} -> {}", log_label(t));
+            }
+        }
+        assert_eq!(log_label(1e-4), "1e-4");
+        assert_eq!(log_label(2.0), "2");
+        assert!(log_ticks(0.0, 1.0).is_empty());
+    }
+
+    #[test]
+    fn linear_labels_are_plain_and_distinct_per_step() {
+        let span = 0.25;
+        let labels: Vec<String> = (0..=10)
+            .map(|i| linear_label(-0.05 + i as f64 * span / 10.0, span))
+            .collect();
+        assert!(labels.iter().all(|l| !l.contains('e')), "{labels:?}");
+        let mut unique = labels.clone();
+        unique.dedup();
+        assert_eq!(unique.len(), labels.len(), "{labels:?}");
+        assert_eq!(linear_label(-0.0001, 0.25), "0.00");
+        assert_eq!(linear_label(1500.0, 3000.0), "1500");
     }
 }

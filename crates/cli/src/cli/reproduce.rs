@@ -3,9 +3,11 @@
 use super::load_prepared;
 use anyhow::Context;
 use clap::Args;
-use gng3d::experiment::reproduce::{ReproduceParams, reproduce};
+use gng3d::experiment::reproduce::{Progress, ReproduceParams, Stage, reproduce};
 use gng3d::experiment::survey::{SurveyParams, SurveyRow, survey_mesh};
-use gng3d::report::paper::{summary_markdown, summary_table, write_reproduction};
+use gng3d::report::paper::{
+    summary_markdown, summary_table, terminal_legend, terminal_table, write_reproduction,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 use metrics::HausdorffParams;
 use rayon::prelude::*;
@@ -96,8 +98,21 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
     };
     params.gng.seed = args.seed;
     params.hausdorff.seed = args.seed;
-    let progress = bar(args.epochs, "training");
-    let report = reproduce(&original, &params, |done, _| progress.set_position(done))
+    // One bar, re-labelled per stage: evaluation is most of the run, so it counts too.
+    let progress = bar(args.epochs, "training GNG3D  ");
+    let on_progress = |p: Progress| {
+        let what = match p.stage {
+            Stage::Training => "training GNG3D  ",
+            Stage::Evaluating => "evaluating GNG3D",
+            Stage::Qem => "QEM + evaluation",
+        };
+        if progress.message() != what {
+            progress.set_message(what);
+        }
+        progress.set_length(p.total);
+        progress.set_position(p.done);
+    };
+    let report = reproduce(&original, &params, on_progress)
         .with_context(|| format!("reproducing on {}", input.display()))?;
     progress.finish_and_clear();
     let name = stem(input);
@@ -109,10 +124,9 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
     if args.json {
         return super::print_json(&report);
     }
-    print!(
-        "{}",
-        gng3d::report::paper::checkpoint_table(&report).to_text()
-    );
+    // The full table (faces, E_sur, QEM at the target) is in table.md / table.csv.
+    print!("{}", terminal_table(&report).to_text());
+    print!("{}", terminal_legend(&report));
     println!(
         "training {:.2} s, evaluation {:.2} s, total {:.2} s; wrote {} files to {}",
         report.seconds.training,
