@@ -61,6 +61,41 @@ pub struct CompareReport {
     pub qem: MethodRun,
     /// GNG3D's run.
     pub gng: MethodRun,
+    /// Which GNG3D ran, in words (placement, flips, signal budget), e.g. "GNG3D-Q (quadric
+    /// placement, edge flips, default budget)".
+    pub gng_variant: String,
+    /// GNG3D's vertex placement.
+    pub gng_placement: gng3d_core::Placement,
+    /// Whether GNG3D's edge-flip pass ran.
+    pub gng_flips: bool,
+}
+
+/// `options`' variant in words: "GNG3D (paper: ...)" for node placement without flips,
+/// "GNG3D-Q (...)" otherwise.
+pub fn variant_label(options: &GngOptions) -> String {
+    use gng3d_core::Placement;
+    let r = &options.reconstruction;
+    let placement = match r.placement {
+        Placement::Node => "node placement",
+        Placement::Project => "projected placement",
+        Placement::Quadric => "quadric placement",
+    };
+    let flips = if r.flip_edges {
+        "edge flips"
+    } else {
+        "no flips"
+    };
+    let budget = match (options.epochs, options.max_signals) {
+        (Some(e), _) => format!("{e} epochs of |V| signals"),
+        (None, Some(s)) => format!("{s} signals"),
+        (None, None) => "default signal budget".to_string(),
+    };
+    let name = if r.placement == Placement::Node && !r.flip_edges {
+        "GNG3D (paper)"
+    } else {
+        "GNG3D-Q"
+    };
+    format!("{name}: {placement}, {flips}, {budget}")
 }
 
 /// The report plus both simplified meshes.
@@ -127,6 +162,9 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
             target_vertices: n,
             qem: run("qem", &qem_mesh, qem_seconds, qem_metrics?),
             gng: run("gng", &gng.mesh, gng_seconds, gng_metrics?),
+            gng_variant: variant_label(&params.gng),
+            gng_placement: params.gng.reconstruction.placement,
+            gng_flips: params.gng.reconstruction.flip_edges,
         },
         qem_mesh,
         gng_mesh: gng.mesh,

@@ -148,3 +148,139 @@ fn simplify_gng_json_reports_the_count_and_warnings_and_empty_results_fail() {
     );
     assert!(!out.exists());
 }
+
+/// Mean distance of a mesh's vertices from the origin.
+fn mean_radius(path: &std::path::Path) -> f64 {
+    let m = gng3d::mesh::io::load(path).unwrap().mesh;
+    m.positions
+        .iter()
+        .map(|p| f64::from(p.length()))
+        .sum::<f64>()
+        / m.positions.len() as f64
+}
+
+#[test]
+fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() {
+    use gng3d::mesh;
+    let dir = tempfile::tempdir().unwrap();
+    // The unit icosphere: vertices on the sphere of radius 1, faces just inside it.
+    let input = dir.path().join("sphere.obj");
+    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut a = vec![
+            "simplify",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--method",
+            "gng",
+            "--vertices",
+            "160",
+            "--json",
+        ];
+        a.extend_from_slice(extra);
+        let o = gng3d(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (v, mean_radius(&out))
+    };
+    let (paper, r_node) = run(
+        "node.obj",
+        &["--placement", "node", "--no-flips", "--epochs", "10"],
+    );
+    assert_eq!(paper["placement"], "Node");
+    assert_eq!(paper["flips"], false);
+    assert_eq!(paper["vertices"], 160);
+    // --epochs 10: 10 × |V| signals, not the default min(400 N, 30 |V|) = 30 × 642.
+    assert_eq!(paper["iterations"], 10 * 642);
+    let (q, _) = run("q.obj", &[]);
+    assert_eq!(q["placement"], "Quadric");
+    assert_eq!(q["flips"], true);
+    assert_eq!(q["vertices"], 160);
+    let (p, r_project) = run("p.obj", &["--placement", "project", "--epochs", "30"]);
+    assert_eq!(p["placement"], "Project");
+    // Nodes are signal centroids, inside the convex sphere; projected vertices lie on the
+    // original faces, much closer to radius 1.
+    assert!(r_node < r_project, "node {r_node} vs project {r_project}");
+    assert!(r_project > 0.99 && r_project <= 1.0 + 1e-6, "{r_project}");
+}
+
+#[test]
+fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
+    use gng3d::mesh;
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.obj");
+    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    let out = dir.path().join("out.obj");
+    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let fails = |a: &[&str], needle: &str| {
+        let r = gng3d(a);
+        assert!(!r.status.success(), "{a:?} succeeded");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains(needle), "{a:?}: {err}");
+    };
+    let gng = ["simplify", i, o, "--method", "gng", "--vertices", "100"];
+    fails(
+        &[&gng[..], &["--placement", "centroid"]].concat(),
+        "placement",
+    );
+    fails(&[&gng[..], &["--epochs", "0"]].concat(), "epochs");
+    fails(&[&gng[..], &["--epochs", "nan"]].concat(), "epochs");
+    fails(
+        &["simplify", i, o, "--vertices", "100", "--placement", "node"],
+        "--method gng only",
+    );
+    fails(
+        &["simplify", i, o, "--vertices", "100", "--no-flips"],
+        "--method gng only",
+    );
+    fails(
+        &[
+            "compare",
+            i,
+            "--vertices",
+            "100",
+            "--paper",
+            "--placement",
+            "quadric",
+        ],
+        "cannot be used with",
+    );
+    assert!(!out.exists(), "a failed run wrote {}", out.display());
+
+    let report = |extra: &[&str]| {
+        let r = gng3d(
+            &[
+                &[
+                    "compare",
+                    i,
+                    "--vertices",
+                    "100",
+                    "--samples",
+                    "5000",
+                    "--json",
+                ],
+                extra,
+            ]
+            .concat(),
+        );
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        serde_json::from_slice::<serde_json::Value>(&r.stdout).unwrap()
+    };
+    let paper = report(&["--paper"]);
+    assert_eq!(paper["gng_placement"], "Node");
+    assert_eq!(paper["gng_flips"], false);
+    assert!(paper["gng_variant"].as_str().unwrap().contains("paper"));
+    assert!(paper["gng_variant"].as_str().unwrap().contains("30 epochs"));
+    let q = report(&["--placement", "project", "--no-flips"]);
+    assert_eq!(q["gng_placement"], "Project");
+    assert_eq!(q["gng_flips"], false);
+    assert!(q["gng_variant"].as_str().unwrap().starts_with("GNG3D-Q"));
+    let d = report(&[]);
+    assert_eq!(d["gng_placement"], "Quadric");
+    assert_eq!(d["gng_flips"], true);
+    // Both variants hold the vertex count exactly on the closed sphere.
+    for r in [&paper, &q, &d] {
+        assert_eq!(r["gng"]["vertices"], 100);
+    }
+}

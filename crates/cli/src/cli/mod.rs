@@ -30,6 +30,66 @@ enum Command {
     Reproduce(reproduce::ReproduceArgs),
 }
 
+/// Where GNG3D places each output vertex (`gng3d_core::Placement`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum PlacementArg {
+    /// At the trained node, as published (inside curved surfaces, off creases).
+    Node,
+    /// At the closest point of the original surface to the node.
+    Project,
+    /// At the minimiser of the cell's Garland–Heckbert quadrics (GNG3D-Q, the default).
+    Quadric,
+}
+
+impl From<PlacementArg> for gng3d_core::Placement {
+    fn from(p: PlacementArg) -> Self {
+        match p {
+            PlacementArg::Node => gng3d_core::Placement::Node,
+            PlacementArg::Project => gng3d_core::Placement::Project,
+            PlacementArg::Quadric => gng3d_core::Placement::Quadric,
+        }
+    }
+}
+
+/// GNG3D / GNG3D-Q options shared by `simplify --method gng` and `compare`. The defaults are
+/// GNG3D-Q (quadric placement, edge flips, a signal budget that follows the output size);
+/// `--placement node --no-flips --epochs 30` is the paper's method and protocol.
+#[derive(Debug, Clone, clap::Args)]
+pub(crate) struct GngVariantArgs {
+    /// GNG3D vertex placement: node (the paper), project (onto the surface) or quadric
+    /// (GNG3D-Q, default).
+    #[arg(long, value_enum)]
+    pub placement: Option<PlacementArg>,
+    /// GNG3D: skip the error-driven edge-flip pass after reconstruction (the paper has none).
+    #[arg(long)]
+    pub no_flips: bool,
+    /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30), instead of the
+    /// default budget min(400 × N, 30 × |V|) for N output vertices.
+    #[arg(long)]
+    pub epochs: Option<f64>,
+}
+
+impl GngVariantArgs {
+    /// Whether any of these flags was given (they apply to GNG3D only).
+    pub fn any(&self) -> bool {
+        self.placement.is_some() || self.no_flips || self.epochs.is_some()
+    }
+
+    /// Writes the flags into `options` (validated later by `GngOptions::validate`/`resolve`).
+    pub fn apply(&self, options: &mut gng3d_core::GngOptions) {
+        if let Some(p) = self.placement {
+            options.reconstruction.placement = p.into();
+        }
+        if self.no_flips {
+            options.reconstruction.flip_edges = false;
+        }
+        if self.epochs.is_some() {
+            options.epochs = self.epochs;
+            options.max_signals = None;
+        }
+    }
+}
+
 /// Run the parsed command.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {

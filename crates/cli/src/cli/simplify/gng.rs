@@ -23,6 +23,10 @@ struct Summary {
     /// Requested vertex count; `vertices` equals it unless `warnings` says why not.
     target_vertices: usize,
     nodes: usize,
+    /// Vertex placement used ("Node": the paper, "Project", "Quadric": GNG3D-Q).
+    placement: gng3d_core::Placement,
+    /// Whether the edge-flip pass ran.
+    flips: bool,
     /// Machine-readable reasons why the output differs from the request (empty when exact).
     warnings: Vec<GngWarning>,
     closed: bool,
@@ -40,13 +44,14 @@ fn options(args: &SimplifyArgs) -> anyhow::Result<GngOptions> {
         (None, Some(r)) => GngTarget::Ratio(r),
         (None, None) => bail!("give a target with --vertices N or --ratio R"),
     };
-    Ok(GngOptions {
+    let mut options = GngOptions {
         target,
         time_limit_seconds: args.time_limit,
         seed: args.seed,
-        epochs: args.epochs,
         ..GngOptions::default()
-    })
+    };
+    args.gng.apply(&mut options);
+    Ok(options)
 }
 
 /// Simplify with GNG3D.
@@ -99,6 +104,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         training_seconds: stats.seconds,
         target_vertices: target,
         nodes: trainer.node_count(),
+        placement: params.reconstruction.placement,
+        flips: params.reconstruction.flip_edges,
         warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,

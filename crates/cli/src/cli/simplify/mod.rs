@@ -43,9 +43,9 @@ pub struct SimplifyArgs {
     /// GNG3D random seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30).
-    #[arg(long)]
-    pub epochs: Option<f64>,
+    /// GNG3D variant: placement, flips, paper protocol.
+    #[command(flatten)]
+    pub gng: crate::cli::GngVariantArgs,
     /// Keep exact duplicate positions unwelded (welding is on by default).
     #[arg(long)]
     pub no_weld: bool,

@@ -20,8 +20,8 @@ struct Summary {
 
 /// Simplify with QEM.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
-    if args.time_limit.is_some() || args.epochs.is_some() {
-        bail!("--time-limit and --epochs apply to --method gng only");
+    if args.time_limit.is_some() || args.gng.any() {
+        bail!("--time-limit, --epochs, --placement and --no-flips apply to --method gng only");
     }
     let target = match (args.vertices, args.faces, args.ratio) {
         (Some(n), _, _) => Target::Vertices(n),
