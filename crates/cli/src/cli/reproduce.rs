@@ -109,8 +109,11 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
         if progress.message() != what {
             progress.set_message(what);
         }
-        progress.set_length(p.total);
-        progress.set_position(p.done);
+        // Length and position together: never a redraw showing "30/16".
+        progress.update(|state| {
+            state.set_len(p.total);
+            state.set_pos(p.done);
+        });
     };
     let report = reproduce(&original, &params, on_progress)
         .with_context(|| format!("reproducing on {}", input.display()))?;
