@@ -307,45 +307,21 @@ struct Edge {
 }
 
 /// Unique undirected edges in (lower vertex, higher vertex) order, each with the lowest incident
-/// face index. Linear time: bucket by lower vertex, then deduplicate within each small bucket.
+/// face index, from the one edge builder of the crate ([`crate::topology::EdgeTable`], whose
+/// half-edges are sorted by id within an edge); edges of a degenerate face that join a vertex
+/// to itself are skipped.
 fn unique_edges(mesh: &TriMesh) -> Vec<Edge> {
-    let n = mesh.positions.len();
-    let mut start = vec![0u32; n + 1];
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            start[a.min(b) as usize + 1] += 1;
-        }
-    }
-    for i in 0..n {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut entries = vec![(0u32, 0u32); mesh.triangles.len() * 3];
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            let lo = a.min(b) as usize;
-            entries[fill[lo] as usize] = (a.max(b), f as u32);
-            fill[lo] += 1;
-        }
-    }
-    let mut edges = Vec::with_capacity(mesh.triangles.len() * 3 / 2 + 1);
-    for lo in 0..n {
-        let bucket = &mut entries[start[lo] as usize..start[lo + 1] as usize];
-        bucket.sort_unstable();
-        let mut last = u32::MAX;
-        for &(hi, face) in bucket.iter() {
-            if hi != last && hi != lo as u32 {
-                edges.push(Edge {
-                    v: [lo as u32, hi],
-                    face,
-                });
-            }
-            last = hi;
-        }
-    }
-    edges
+    let table = crate::topology::EdgeTable::new(mesh);
+    table
+        .edges
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v[0] != v[1])
+        .map(|(e, &v)| Edge {
+            v,
+            face: table.edge_corners[table.offsets[e] as usize] / 3,
+        })
+        .collect()
 }
 
 /// Metro-style stratified sampling: vertices, edges and faces, reproducible for a given `seed`.

@@ -126,14 +126,8 @@ impl GpuMesh {
             })
             .collect();
         let triangle_indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-        let mut edges: Vec<[u32; 2]> = mesh
-            .triangles
-            .iter()
-            .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
-            .map(|[a, b]| [a.min(b), a.max(b)])
-            .collect();
-        edges.sort_unstable();
-        edges.dedup();
+        // Wireframe: the unique edges from the mesh crate's one edge builder.
+        let edges = mesh::topology::EdgeTable::new(mesh).edges;
         let edge_indices: Vec<u32> = edges.into_iter().flatten().collect();
         GpuMesh {
             id: NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed),
