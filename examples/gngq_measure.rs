@@ -115,7 +115,7 @@ fn main() -> anyhow::Result<()> {
                     hausdorff: r.hausdorff_max,
                     e_avg: r.e_avg,
                     e_max: r.e_max,
-                    e_sur_rel: r.e_sur / area,
+                    e_sur_rel: r.e_sur_signed / area,
                     min_angle_median: med,
                     below20: below,
                     manifold: t.manifold,

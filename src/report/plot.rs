@@ -1,9 +1,9 @@
 //! Line charts (SVG and PNG) for the reproduction report, drawn with plotters.
 //!
-//! Steps of one chart: pick the data ranges ([`Chart::ranges`]), choose the tick values
+//! Steps of one chart: pick the data ranges (`Chart::ranges`), choose the tick values
 //! ([`log_ticks`] on a log axis, [`linear_label`] formats a linear one), draw grid, axes and
 //! curves, then the legend in its own strip under the plot so it never covers a curve.
-//! PNG text goes through [`GlyphText`], which lays glyphs out itself (see there why).
+//! PNG text goes through `GlyphText`, which lays glyphs out itself (see there why).
 
 use ab_glyph::{Font, FontRef, ScaleFont, point};
 use plotters::coord::Shift;
