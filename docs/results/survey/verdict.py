@@ -2,7 +2,7 @@ import json, statistics, sys
 rows = json.load(open(sys.argv[1]))
 def am(r): return r["hausdorff_area_mean"]
 metrics = [("E_avg", lambda r: r["e_avg"], True), ("E_max", lambda r: r["e_max"], True),
-           ("|E_sur|", lambda r: abs(r["e_sur_signed"]), True), ("Hausdorff (max)", lambda r: r["hausdorff_max"], True),
+           ("\\|E_sur\\|", lambda r: abs(r["e_sur_signed"]), True), ("Hausdorff (max)", lambda r: r["hausdorff_max"], True),
            ("mean surface distance (area-weighted)", am, True),
            ("median min angle", lambda r: r["median_min_angle_degrees"], False),
            ("share of triangles < 20°", lambda r: r["below_20_degrees"], True)]
