@@ -100,6 +100,15 @@ fn main() {
         print_stats: args.stats || args.quit_after.is_some(),
         window_size: args.window,
     };
+    // A file given on the command line that cannot be opened is an error with a non-zero exit,
+    // before any window: never the built-in model standing in for it. (Files opened from the
+    // window later show their error in the status line and keep the current model.)
+    if let Some(path) = &options.path
+        && let Err(e) = viewer::engine::load_mesh(path)
+    {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
     if args.headless {
         match viewer::run_headless(&options) {
             Ok(summary) => println!("{summary}"),

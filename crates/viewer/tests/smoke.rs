@@ -115,3 +115,26 @@ fn vulkan_backend_renders_both_viewports() {
 fn gl_backend_renders_both_viewports() {
     smoke("gl", "Gl");
 }
+
+/// A mesh given on the command line that cannot be read is an error naming the file, with a
+/// non-zero exit, before any window opens (no X server needed), in window and headless mode.
+#[test]
+fn unreadable_mesh_argument_fails_with_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.obj");
+    std::fs::write(&bad, "v 0 0 0\nf 1 2 3\n").unwrap();
+    let missing = dir.path().join("missing.ply");
+    for path in [&bad, &missing] {
+        for extra in [&["--quit-after", "1"][..], &["--headless", "--quit-after", "1"][..]] {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_viewer"))
+                .arg(path)
+                .args(extra)
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{path:?} {extra:?}: {stderr}");
+            let name = path.file_name().unwrap().to_string_lossy();
+            assert!(stderr.contains("error:") && stderr.contains(name.as_ref()), "{stderr}");
+        }
+    }
+}
