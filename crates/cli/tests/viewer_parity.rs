@@ -18,10 +18,18 @@ fn viewer_and_cli_report_identical_numbers_for_the_same_pair() {
         .arg("metrics")
         .arg(&a)
         .arg(&b)
-        .args(["--samples", &viewer::engine::HAUSDORFF_SAMPLES.to_string(), "--json"])
+        .args([
+            "--samples",
+            &viewer::engine::HAUSDORFF_SAMPLES.to_string(),
+            "--json",
+        ])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let cli: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
 
     // The viewer evaluates the meshes as loaded (binary PLY round-trips f32 exactly).
