@@ -71,7 +71,7 @@ pub struct TriMesh {
 }
 
 impl TriMesh {
-    /// A mesh from positions and triangles (no validation; see [`crate::validate`]).
+    /// A mesh from positions and triangles (no validation; see [`crate::sampling::validate`]).
     pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> TriMesh {
         TriMesh {
             positions,

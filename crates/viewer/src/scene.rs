@@ -1,5 +1,5 @@
 //! What the two viewports show: the GPU copies of the meshes and of the live network, kept in
-//! step with the [`Session`](crate::session::Session) by pointer identity, and the draw lists of
+//! step with the [`Session`] by pointer identity, and the draw lists of
 //! each side (GNG3D on the left, QEM on the right) rendered into their offscreen targets.
 
 use crate::app::Display;

@@ -632,7 +632,7 @@ fn checkpoint(method: &'static str, iteration: u64, e: &Evaluation, seconds: f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::time::Instant;
+    use std::time::{Duration, Instant};
 
     fn wait_until(session: &mut Session, what: &str, done: impl Fn(&Session) -> bool) {
         let start = Instant::now();

@@ -21,7 +21,7 @@ for key, qkey, name in [("gng", "qem", "GNG3D (paper)"), ("gngq", "qem_at_gngq",
         out.append(f"| {mname} | {w.count('A')} | {w.count('B')} | {w.count('tie')} | {med:.3g} |")
     cm = sum(r[key + "_closed_manifold"] for r in rows) if key + "_closed_manifold" in rows[0] else None
     out.append(f"\n{name} output closed and manifold in {cm} of {len(rows)} runs; vertex count equal to the target in "
-               f"{sum(r[key]['vertices'] == round(r['original_vertices']*r['ratio']) or r[key]['vertices']==max(4,round(r['original_vertices']*r['ratio'])) for r in rows)} of {len(rows)}; "
+               f"{sum(r[key]['vertices'] == max(4, int(r['original_vertices'] * r['ratio'] + 0.5)) for r in rows)} of {len(rows)} (target = ratio·|V| rounded half-up, as the survey does); "
                f"GNG seconds total {sum(r[key+'_seconds'] for r in rows):.1f} (QEM {sum(r['qem_seconds'] for r in rows):.1f}).")
 print("\n".join(out))
 # per-mesh GNG3D-Q/QEM ratios
