@@ -125,7 +125,10 @@ fn unreadable_mesh_argument_fails_with_its_name() {
     std::fs::write(&bad, "v 0 0 0\nf 1 2 3\n").unwrap();
     let missing = dir.path().join("missing.ply");
     for path in [&bad, &missing] {
-        for extra in [&["--quit-after", "1"][..], &["--headless", "--quit-after", "1"][..]] {
+        for extra in [
+            &["--quit-after", "1"][..],
+            &["--headless", "--quit-after", "1"][..],
+        ] {
             let out = std::process::Command::new(env!("CARGO_BIN_EXE_viewer"))
                 .arg(path)
                 .args(extra)
@@ -134,7 +137,10 @@ fn unreadable_mesh_argument_fails_with_its_name() {
             let stderr = String::from_utf8_lossy(&out.stderr);
             assert_eq!(out.status.code(), Some(1), "{path:?} {extra:?}: {stderr}");
             let name = path.file_name().unwrap().to_string_lossy();
-            assert!(stderr.contains("error:") && stderr.contains(name.as_ref()), "{stderr}");
+            assert!(
+                stderr.contains("error:") && stderr.contains(name.as_ref()),
+                "{stderr}"
+            );
         }
     }
 }
