@@ -39,18 +39,11 @@ pub(super) fn vertex_setup(
 ) -> VertexSetup {
     let is_locked = |v: usize| locked.is_some_and(|l| l[v]);
     let n = pos.len();
-    // Face planes scaled so that the plane quadric is their outer product: `g = n·√(area)`,
-    // `gd = d·√(area)` (zero for degenerate faces).
+    // Face planes scaled so that the plane quadric is their outer product (the shared
+    // definition GNG3D-Q's placement uses too; zero for degenerate faces).
     let plane = |t: &[u32; 3]| -> [f64; 4] {
         let [p0, p1, p2] = t.map(|w| pos[w as usize]);
-        let cross = (p1 - p0).cross(p2 - p0);
-        let len = cross.length();
-        if len > 0.0 && len.is_finite() {
-            let g = cross * (0.5 / len).sqrt();
-            [g.x, g.y, g.z, -g.dot(p0)]
-        } else {
-            [0.0; 4]
-        }
+        mesh::quadric::area_weighted_plane(p0, p1, p2)
     };
     let planes: Vec<[f64; 4]> = if parallel(faces.len(), PARALLEL_MIN) {
         faces
