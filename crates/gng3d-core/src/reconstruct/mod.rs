@@ -430,8 +430,17 @@ pub fn reconstruct(
         }
     }
 
-    report.attached_nodes =
-        attach_unreferenced(&mut faces, nodes, edges, original, &labels, &node_comp);
+    let mut nodes_after_attach = nodes.to_vec();
+    let attachments = attach_unreferenced(
+        &mut faces,
+        &mut nodes_after_attach,
+        edges,
+        original,
+        &labels,
+        &node_comp,
+    );
+    report.attached_nodes = attachments.len();
+    let nodes = &nodes_after_attach[..];
 
     // Compact: keep referenced nodes only, in node order.
     let mut remap = vec![u32::MAX; nodes.len()];
@@ -464,6 +473,19 @@ pub fn reconstruct(
         params.placement,
         &mut positions,
     );
+    // Attached nodes have no cell to place them by: they follow their split triangle, in the
+    // order they were attached (a later one may sit on an earlier one's triangle).
+    if params.placement != crate::params::Placement::Node {
+        for a in &attachments {
+            let p = a
+                .corners
+                .iter()
+                .zip(a.weights)
+                .map(|(&c, w)| positions[remap[c as usize] as usize].as_dvec3() * w)
+                .sum::<glam::DVec3>();
+            positions[remap[a.node as usize] as usize] = p.as_vec3();
+        }
+    }
     let mut triangles = triangles;
     if params.flip_edges {
         let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
@@ -505,6 +527,7 @@ fn half_edges(t: [u32; 3]) -> [(u32, u32); 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::Placement;
 
     #[test]
     fn identity_nodes_reproduce_the_mesh() {
@@ -515,6 +538,39 @@ mod tests {
         assert!(r.report.topology.closed && r.report.topology.manifold);
         assert_eq!(r.report.topology.genus, Some(0));
         assert!((r.mesh.signed_volume() - m.signed_volume()).abs() < 1e-9);
+    }
+
+    /// A node that wins no vertex (here one far outside the sphere) is attached, and it is put
+    /// on the triangle it split, for the paper's placement and for GNG3D-Q's, instead of
+    /// staying where training left it (which set the Hausdorff max at 50 % targets).
+    #[test]
+    fn attached_node_moves_onto_the_triangle_it_splits() {
+        let m = mesh::procedural::icosphere(2);
+        let mut nodes = m.positions.clone();
+        nodes.push(Vec3::new(0.1, 0.2, 4.0));
+        for placement in [Placement::Node, Placement::Quadric] {
+            let params = ReconstructionParams {
+                placement,
+                flip_edges: false,
+                ..ReconstructionParams::default()
+            };
+            let r = reconstruct(&m, &nodes, &[], &params);
+            assert_eq!(r.mesh.vertex_count(), nodes.len(), "{placement:?}");
+            assert_eq!(r.report.attached_nodes, 1, "{placement:?}");
+            let v = r
+                .node_of_vertex
+                .iter()
+                .position(|&n| n as usize == nodes.len() - 1)
+                .expect("the far node is an output vertex");
+            let radius = r.mesh.positions[v].length();
+            // Inside a face of the unit icosphere (level 2): between its inradius and 1.
+            assert!(
+                (0.9..=1.0 + 1e-5).contains(&radius),
+                "{placement:?}: {radius}"
+            );
+            assert!(r.report.topology.closed && r.report.topology.manifold);
+            assert_eq!(r.report.degenerate_faces, 0);
+        }
     }
 
     #[test]
