@@ -21,7 +21,7 @@ use crate::params::{GngParams, SignalSource};
 use crate::report::GngWarning;
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A component keeps its own nodes only when its proportional share of the target is at least
 /// this many nodes: fewer cannot make a closed triangle fan, and a 1-2 node piece would be a
@@ -88,7 +88,8 @@ pub(crate) struct Domain {
 pub(crate) fn distinct_ids(mesh: &TriMesh) -> (Vec<u32>, Vec<Vec3>) {
     let mut id = vec![u32::MAX; mesh.positions.len()];
     let mut out = Vec::new();
-    let mut seen: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut seen: HashMap<[u32; 3], u32> =
+        HashMap::with_capacity_and_hasher(mesh.positions.len(), Default::default());
     for t in &mesh.triangles {
         for &v in t {
             let v = v as usize;

@@ -74,8 +74,8 @@ mod tests {
     /// Closed unit cube with every side an `n × n` grid of quads (welded).
     pub(crate) fn grid_cube(n: u32) -> TriMesh {
         use glam::Vec3;
-        use std::collections::HashMap;
-        let mut index: HashMap<[i32; 3], u32> = HashMap::new();
+        use rustc_hash::FxHashMap as HashMap;
+        let mut index: HashMap<[i32; 3], u32> = HashMap::default();
         let mut positions = Vec::new();
         let mut vertex = |p: [i32; 3]| {
             *index.entry(p).or_insert_with(|| {

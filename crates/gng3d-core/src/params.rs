@@ -7,7 +7,7 @@ use std::time::Duration;
 /// Default signal budget per target node (when neither [`GngParams::max_signals`] nor
 /// [`GngParams::epochs`] is set). Chosen from the quality-vs-budget curve in docs/notes/gng.md:
 /// Hausdorff and E_avg flatten out by this budget on the shared meshes at 1-50 %.
-pub const DEFAULT_SIGNALS_PER_NODE: f64 = 400.0;
+pub const DEFAULT_SIGNALS_PER_NODE: f64 = 150.0;
 
 /// Epochs of the GNG3D paper's protocol (30 passes over the input vertices), for
 /// [`GngParams::epochs`].

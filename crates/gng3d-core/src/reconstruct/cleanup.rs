@@ -3,7 +3,7 @@
 
 use super::{Candidate, edge_key, half_edges};
 use glam::Vec3;
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 /// On every edge with more than two faces keep the best-supported face and the best-supported
 /// face traversing the edge the other way (else the next best); drop the rest. Repeats until no
@@ -81,9 +81,12 @@ pub(super) fn fill_holes(
     nodes: &[Vec3],
     max_edges: usize,
 ) -> (usize, usize) {
-    let mut directed: HashSet<(u32, u32)> = HashSet::with_capacity(faces.len() * 3);
-    let mut undirected: HashMap<(u32, u32), u32> = HashMap::with_capacity(faces.len() * 3);
-    let mut keys: HashSet<[u32; 3]> = HashSet::with_capacity(faces.len());
+    let mut directed: HashSet<(u32, u32)> =
+        HashSet::with_capacity_and_hasher(faces.len() * 3, Default::default());
+    let mut undirected: HashMap<(u32, u32), u32> =
+        HashMap::with_capacity_and_hasher(faces.len() * 3, Default::default());
+    let mut keys: HashSet<[u32; 3]> =
+        HashSet::with_capacity_and_hasher(faces.len(), Default::default());
     for c in faces.iter() {
         for (a, b) in half_edges(c.tri) {
             directed.insert((a, b));
@@ -94,8 +97,8 @@ pub(super) fn fill_holes(
         keys.insert(k);
     }
     // Boundary half-edges: an edge with one face, oriented as in that face.
-    let mut next: HashMap<u32, u32> = HashMap::new();
-    let mut ambiguous: HashSet<u32> = HashSet::new();
+    let mut next: HashMap<u32, u32> = HashMap::default();
+    let mut ambiguous: HashSet<u32> = HashSet::default();
     let mut boundary: Vec<(u32, u32)> = directed
         .iter()
         .copied()
@@ -107,7 +110,7 @@ pub(super) fn fill_holes(
             ambiguous.insert(a);
         }
     }
-    let mut visited: HashSet<u32> = HashSet::new();
+    let mut visited: HashSet<u32> = HashSet::default();
     let (mut holes, mut added) = (0, 0);
     for &(start, _) in &boundary {
         if visited.contains(&start) || ambiguous.contains(&start) {
@@ -157,7 +160,7 @@ fn clip_ears(
     keys: &HashSet<[u32; 3]>,
 ) -> Option<Vec<[u32; 3]>> {
     let mut ring: Vec<u32> = lp.to_vec();
-    let mut new_edges: HashSet<(u32, u32)> = HashSet::new();
+    let mut new_edges: HashSet<(u32, u32)> = HashSet::default();
     let mut out = Vec::with_capacity(lp.len() - 2);
     while ring.len() > 3 {
         let n = ring.len();

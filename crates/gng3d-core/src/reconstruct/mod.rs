@@ -15,8 +15,8 @@ use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
 use mesh::topology::TopologyReport;
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use serde::Serialize;
-use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 mod attach;
@@ -161,11 +161,11 @@ fn labels_and_node_components(
             parent[a.max(b) as usize] = a.min(b);
         }
     }
-    let mut votes: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut votes: HashMap<(u32, u32), u32> = HashMap::default();
     for (i, &c) in nearest_comp.iter().enumerate() {
         *votes.entry((root(&mut parent, i as u32), c)).or_insert(0) += 1;
     }
-    let mut group_comp: HashMap<u32, (u32, u32)> = HashMap::new();
+    let mut group_comp: HashMap<u32, (u32, u32)> = HashMap::default();
     for (&(g, c), &n) in &votes {
         let e = group_comp.entry(g).or_insert((c, n));
         if n > e.1 || (n == e.1 && c < e.0) {
@@ -355,7 +355,8 @@ pub fn reconstruct(
 
     // Map faces to triples, merge duplicates by sorted key with per-orientation votes.
     // Orientation sign: +1 when the triple rotated to start at its smallest label is ascending.
-    let mut index: HashMap<[u32; 3], usize> = HashMap::with_capacity(original.triangles.len());
+    let mut index: HashMap<[u32; 3], usize> =
+        HashMap::with_capacity_and_hasher(original.triangles.len(), Default::default());
     let mut triples: Vec<([u32; 3], [u32; 2])> = Vec::new(); // (first seen triple, votes [+, -])
     for t in &original.triangles {
         let l = t.map(|v| labels[v as usize]);
