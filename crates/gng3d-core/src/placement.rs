@@ -219,3 +219,53 @@ pub(crate) fn place(
     }
     moved
 }
+
+/// Place the vertices of attached nodes (nodes that won no original vertex, so they have no
+/// cell of their own): each `(vertex, corners, weights)` is put at its barycentric point on the
+/// split triangle's current corners, then projected onto the original faces of those corners'
+/// cells (the surface the triangle stands for). In attachment order, so a vertex attached onto
+/// an earlier one's triangle sees it placed. Without the projection these vertices stay on
+/// chords: on spot, rocker-arm and cow at 50 % (13 % of the nodes attached) the mean distance
+/// was 2.6-4.0x QEM's.
+pub(crate) fn place_attached(
+    original: &TriMesh,
+    labels: &[u32],
+    node_of_vertex: &[u32],
+    node_count: usize,
+    attached: &[(u32, [u32; 3], [f64; 3])],
+    positions: &mut [Vec3],
+) {
+    if attached.is_empty() {
+        return;
+    }
+    let owner = owners(labels, node_of_vertex, node_count);
+    let cells = cell_faces(original, &owner, positions.len());
+    let pos = |v: u32| original.positions[v as usize].as_dvec3();
+    for &(v, corners, weights) in attached {
+        let p: DVec3 = (0..3)
+            .map(|i| positions[corners[i] as usize].as_dvec3() * weights[i])
+            .sum();
+        let mut best = (f64::INFINITY, p);
+        for &c in &corners {
+            let c = c as usize;
+            if c + 1 >= cells.start.len() {
+                continue;
+            }
+            for &f in &cells.faces[cells.start[c] as usize..cells.start[c + 1] as usize] {
+                let [a, b, d] = original.triangles[f as usize].map(pos);
+                let lo = a.min(b).min(d);
+                let hi = a.max(b).max(d);
+                if (p.clamp(lo, hi) - p).length_squared() >= best.0 {
+                    continue;
+                }
+                let q = closest_point_triangle(p, a, b, d);
+                let dq = (q - p).length_squared();
+                if dq < best.0 {
+                    best = (dq, q);
+                }
+            }
+        }
+        positions[v as usize] = best.1.as_vec3();
+    }
+}
+

@@ -475,17 +475,27 @@ pub fn reconstruct(
         &mut positions,
     );
     // Attached nodes have no cell to place them by: they follow their split triangle, in the
-    // order they were attached (a later one may sit on an earlier one's triangle).
+    // order they were attached (a later one may sit on an earlier one's triangle), and are
+    // projected onto the surface of its corners' cells.
     if params.placement != crate::params::Placement::Node {
-        for a in &attachments {
-            let p = a
-                .corners
-                .iter()
-                .zip(a.weights)
-                .map(|(&c, w)| positions[remap[c as usize] as usize].as_dvec3() * w)
-                .sum::<glam::DVec3>();
-            positions[remap[a.node as usize] as usize] = p.as_vec3();
-        }
+        let attached: Vec<(u32, [u32; 3], [f64; 3])> = attachments
+            .iter()
+            .map(|a| {
+                (
+                    remap[a.node as usize],
+                    a.corners.map(|c| remap[c as usize]),
+                    a.weights,
+                )
+            })
+            .collect();
+        crate::placement::place_attached(
+            original,
+            &labels,
+            &node_of_vertex,
+            nodes.len(),
+            &attached,
+            &mut positions,
+        );
     }
     let mut triangles = triangles;
     if params.flip_edges {
