@@ -122,7 +122,7 @@ impl ViewerApp {
             "viewer stats: model={} frames={} mean_fps={:.1} last_frame_ms={:.1} \
              drawing_cpu_ms_per_frame={:.1} max_nodes={} signals={} mean_signals_per_s={:.0} \
              train_s={:.2} gng_mesh_faces={} qem_faces={} error_points={} checkpoints={} \
-             backend={} gng_viewport={} qem_viewport={}",
+             skipped_checkpoints={} backend={} gng_viewport={} qem_viewport={}",
             self.session.model_name,
             self.stats.frames,
             self.stats.mean_fps(),
@@ -137,6 +137,7 @@ impl ViewerApp {
             self.session.qem_mesh().map_or(0, |m| m.face_count()),
             self.session.history.errors.len(),
             self.session.history.reconstructions.len(),
+            live.skipped_checkpoints,
             self.backend()
                 .map_or_else(|| "none".to_string(), |b| format!("{b:?}")),
             rect(self.viewport_rects[0]),

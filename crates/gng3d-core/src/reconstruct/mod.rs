@@ -422,10 +422,26 @@ pub fn reconstruct(
         report.non_gng_faces = before - faces.len();
     }
 
+    // Nodes whose cell holds a vertex of an original border: a hole of the output along them
+    // is a hole of the input, and is kept open.
+    let original_edges = mesh::topology::EdgeTable::new(original);
+    let mut on_border = vec![false; nodes.len()];
+    for e in 0..original_edges.len() {
+        if original_edges.is_boundary(e) {
+            for v in original_edges.edges[e] {
+                if let Some(&l) = labels.get(v as usize)
+                    && l != u32::MAX
+                {
+                    on_border[l as usize] = true;
+                }
+            }
+        }
+    }
+
     if params.cleanup {
         report.fin_faces = remove_fins(&mut faces, nodes);
         if params.max_hole_edges >= 3 {
-            let (holes, added) = fill_holes(&mut faces, nodes, params.max_hole_edges);
+            let (holes, added) = fill_holes(&mut faces, nodes, &on_border, params.max_hole_edges);
             report.holes_filled = holes;
             report.fill_faces = added;
         }
@@ -468,6 +484,7 @@ pub fn reconstruct(
     // GNG3D-Q: placement (c) and flips (d).
     report.placed_vertices = crate::placement::place(
         original,
+        &original_edges,
         &labels,
         &node_of_vertex,
         nodes.len(),
@@ -584,11 +601,13 @@ mod tests {
         }
     }
 
+    /// A hole of the input (here the 1-ring of vertex 0 removed) is kept open, while the same
+    /// loop, when it is not along an original border (a hole the mapping made), is closed by
+    /// `fill_holes` with faces oriented like their neighbours.
     #[test]
-    fn small_hole_is_filled_with_consistent_orientation() {
+    fn input_holes_stay_open_and_mapping_holes_are_filled() {
         let m = mesh::procedural::icosphere(2);
         let mut holed = m.clone();
-        // Remove the faces around vertex 0: a hole bounded by its 1-ring (5 edges).
         holed.triangles.retain(|t| !t.contains(&0));
         let r = reconstruct(
             &holed,
@@ -596,9 +615,38 @@ mod tests {
             &[],
             &ReconstructionParams::default(),
         );
-        assert_eq!(r.report.holes_filled, 1);
-        assert_eq!(r.report.fill_faces, 3);
-        assert!(r.report.topology.closed && r.report.topology.manifold);
-        assert!(r.mesh.signed_volume() > 0.0);
+        assert_eq!(r.report.holes_filled, 0);
+        // 5 edges, or 6 when the unreferenced node 0 is attached on the loop.
+        assert!(
+            r.report.topology.boundary_edges >= 5,
+            "{:?}",
+            r.report.topology
+        );
+
+        let mut faces: Vec<Candidate> = holed
+            .triangles
+            .iter()
+            .map(|&tri| Candidate { tri, support: 1 })
+            .collect();
+        let before = faces.len();
+        let not_border = vec![false; holed.positions.len()];
+        let (holes, added) = fill_holes(&mut faces, &holed.positions, &not_border, 8);
+        assert_eq!((holes, added), (1, 3));
+        assert_eq!(faces.len(), before + 3);
+        let filled = TriMesh::new(
+            holed.positions.clone(),
+            faces.iter().map(|c| c.tri).collect(),
+        );
+        let topology = mesh::topology::analyze(&filled);
+        assert!(topology.closed && topology.manifold);
+        assert!(filled.signed_volume() > 0.0);
+        // The same loop along an original border stays open.
+        let border = vec![true; holed.positions.len()];
+        let mut faces: Vec<Candidate> = holed
+            .triangles
+            .iter()
+            .map(|&tri| Candidate { tri, support: 1 })
+            .collect();
+        assert_eq!(fill_holes(&mut faces, &holed.positions, &border, 8), (0, 0));
     }
 }
