@@ -754,12 +754,16 @@ mod tests {
             ViewerOptions {
                 target: Some(150),
                 watch_seconds: Some(0.0),
+                // 300 epochs of the built-in model's 7,594 vertices: long enough (~1 s in a
+                // release build) for time-sampled error points (every ≥ 100 ms) at full speed.
+                max_signals: Some(300 * 7_594),
                 ..Default::default()
             },
             None,
         )
         .unwrap();
         let vertices = session.original().vertex_count() as u64;
+        assert_eq!(vertices, 7_594, "built-in model changed: update max_signals");
         assert_eq!(
             session.checkpoint_every, vertices,
             "paper protocol: every |V|"
@@ -770,7 +774,7 @@ mod tests {
         assert_eq!(session.training_state(), TrainingState::Finished);
         let h = &session.history;
         assert!(h.errors.len() >= 2, "{} error points", h.errors.len());
-        // 30 epochs with a checkpoint each. As fast as possible, checkpoints beyond the time
+        // A checkpoint every epoch. As fast as possible, checkpoints beyond the time
         // share are skipped and an evaluator that falls behind skips to the newest, so the
         // table has at least the first checkpoint and the final reconstruction.
         assert!(
