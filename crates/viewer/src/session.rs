@@ -440,13 +440,17 @@ impl Session {
         let original = Arc::clone(&self.original);
         self.qem.target = target;
         self.qem.error = None;
-        self.qem.pending = Some(Job::spawn("qem", self.repaint.clone(), move || {
-            let started = std::time::Instant::now();
-            let mesh = engine::qem_simplify(&original, target)?;
-            let seconds = started.elapsed().as_secs_f64();
-            let evaluation = engine::evaluate(&original, &mesh)?;
-            Ok((Arc::new(mesh), evaluation, seconds))
-        }));
+        self.qem.pending = Some(Job::spawn_background(
+            "qem",
+            self.repaint.clone(),
+            move || {
+                let started = std::time::Instant::now();
+                let mesh = engine::qem_simplify(&original, target)?;
+                let seconds = started.elapsed().as_secs_f64();
+                let evaluation = engine::evaluate(&original, &mesh)?;
+                Ok((Arc::new(mesh), evaluation, seconds))
+            },
+        ));
     }
 
     /// Open a mesh file in the background.
@@ -591,7 +595,7 @@ impl Session {
                 _ => std::time::Duration::ZERO,
             };
             let (original, mesh) = (Arc::clone(&self.original), Arc::clone(&next.mesh));
-            let job = Job::spawn("evaluation", self.repaint.clone(), move || {
+            let job = Job::spawn_background("evaluation", self.repaint.clone(), move || {
                 std::thread::sleep(wait);
                 let started = std::time::Instant::now();
                 let result = engine::evaluate(&original, &mesh);
@@ -763,7 +767,10 @@ mod tests {
         )
         .unwrap();
         let vertices = session.original().vertex_count() as u64;
-        assert_eq!(vertices, 7_594, "built-in model changed: update max_signals");
+        assert_eq!(
+            vertices, 7_594,
+            "built-in model changed: update max_signals"
+        );
         assert_eq!(
             session.checkpoint_every, vertices,
             "paper protocol: every |V|"
