@@ -22,7 +22,7 @@ pub const PACED_ERROR_POINTS: u64 = 200;
 /// skipped (the table then has fewer rows, each still at a multiple of the interval). Without
 /// it, armadillo with a 10,000-node network trained at 7-8 % of its headless rate: one
 /// reconstruction (~0.3 s) took longer than the |V| signals between two checkpoints.
-pub const CHECKPOINT_TIME_SHARE: f64 = 0.15;
+pub const CHECKPOINT_TIME_SHARE: f64 = 0.1;
 
 /// How fast training runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -434,7 +434,7 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
 }
 
 /// E_avg/E_max of the original vertices against the current nodes; the interval adapts so this
-/// takes at most ~10 % of the training thread's time.
+/// takes at most ~5 % of the training thread's time.
 fn measure_errors(t: &mut Training, events: &Sender<Event>) {
     let (Some(engine), Some(source)) = (t.engine.as_ref(), t.source.as_ref()) else {
         return;
@@ -450,7 +450,7 @@ fn measure_errors(t: &mut Training, events: &Sender<Event>) {
         });
     }
     let cost = started.elapsed();
-    t.error_interval = (cost * 10).max(Duration::from_millis(100));
+    t.error_interval = (cost * 20).max(Duration::from_millis(100));
     t.last_errors = Instant::now();
 }
 
