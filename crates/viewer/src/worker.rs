@@ -393,8 +393,9 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
         t.rate_window = (Instant::now(), signals);
     }
     let measure = match t.speed {
-        // Full speed: a time budget (see `measure_errors`).
-        Speed::Unlimited => t.last_errors.elapsed() >= t.error_interval,
+        // Full speed: a time budget (see `measure_errors`), and always the first batch of a run,
+        // so the curve starts where training starts.
+        Speed::Unlimited => signals <= n || t.last_errors.elapsed() >= t.error_interval,
         // Paced: a fixed signal schedule, so every run gets the same dense curve.
         Speed::Paced { .. } => signals >= t.next_error_signals,
     };
