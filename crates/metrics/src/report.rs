@@ -11,7 +11,7 @@ use crate::SurfaceDistanceIndex;
 use crate::hausdorff::{
     Hausdorff, HausdorffParams, NormalDeviation, hausdorff_full, hausdorff_pipelined,
 };
-use crate::paper::{surface_error, vertex_errors};
+use crate::paper::{SurfaceError, VertexErrors, surface_error, vertex_errors};
 use crate::quality::{TriangleQuality, triangle_quality};
 use crate::{MetricsError, validate_mesh};
 use glam::Vec3;
@@ -228,35 +228,24 @@ impl Evaluator {
         // Both point sets are non-empty, so vertex_errors returns Some.
         let vertex = vertex_errors(&self.points, &simplified_points)
             .ok_or(MetricsError::NoVertices { mesh: "simplified" })?;
-        let area = surface_error(&self.original, simplified);
-        Ok(MetricsReport {
-            e_avg: vertex.e_avg,
-            e_max: vertex.e_max,
-            e_sur_signed: area.e_sur_signed,
-            e_sur_abs: area.e_sur_abs,
-            e_sur_relative: area.e_sur_relative,
-            original_area: area.original_area,
-            simplified_area: area.simplified_area,
-            bbox_diagonal: hausdorff.bbox_diagonal,
-            hausdorff,
-            normal_deviation: NormalDeviations {
-                forward: forward_normals,
-                backward: backward_normals,
-            },
-            quality: Pair {
+        Ok(assemble(
+            (hausdorff, forward_normals, backward_normals),
+            vertex,
+            surface_error(&self.original, simplified),
+            Pair {
                 original: self.quality.clone(),
                 simplified: quality_s,
             },
-            topology: Pair {
+            Pair {
                 original: self.topology,
                 simplified: topology_s,
             },
-            meshes: Pair {
+            Pair {
                 original: self.summary,
                 simplified: summary(simplified, simplified_points.len()),
             },
-            seconds: start.elapsed().as_secs_f64(),
-        })
+            start,
+        ))
     }
 }
 
@@ -286,12 +275,42 @@ pub fn evaluate(
         hausdorff_pipelined(original, simplified, &params.hausdorff)?;
     let vertex = vertex_errors(&original_points, &simplified_points)
         .ok_or(MetricsError::NoVertices { mesh: "simplified" })?;
-    let area = surface_error(original, simplified);
     let ((quality_o, quality_s), (topology_o, topology_s)) = rayon::join(
         || (triangle_quality(original), triangle_quality(simplified)),
         || (analyze(original), analyze(simplified)),
     );
-    Ok(MetricsReport {
+    Ok(assemble(
+        (hausdorff, forward_normals, backward_normals),
+        vertex,
+        surface_error(original, simplified),
+        Pair {
+            original: quality_o,
+            simplified: quality_s,
+        },
+        Pair {
+            original: topology_o,
+            simplified: topology_s,
+        },
+        Pair {
+            original: summary(original, original_points.len()),
+            simplified: summary(simplified, simplified_points.len()),
+        },
+        start,
+    ))
+}
+
+/// The one place a [`MetricsReport`] is put together from its measured parts (both evaluation
+/// paths, [`Evaluator::evaluate`] and [`evaluate`], end here).
+fn assemble(
+    (hausdorff, forward, backward): (Hausdorff, NormalDeviation, NormalDeviation),
+    vertex: VertexErrors,
+    area: SurfaceError,
+    quality: Pair<TriangleQuality>,
+    topology: Pair<TopologyReport>,
+    meshes: Pair<MeshSummary>,
+    start: Instant,
+) -> MetricsReport {
+    MetricsReport {
         e_avg: vertex.e_avg,
         e_max: vertex.e_max,
         e_sur_signed: area.e_sur_signed,
@@ -301,24 +320,12 @@ pub fn evaluate(
         simplified_area: area.simplified_area,
         bbox_diagonal: hausdorff.bbox_diagonal,
         hausdorff,
-        normal_deviation: NormalDeviations {
-            forward: forward_normals,
-            backward: backward_normals,
-        },
-        quality: Pair {
-            original: quality_o,
-            simplified: quality_s,
-        },
-        topology: Pair {
-            original: topology_o,
-            simplified: topology_s,
-        },
-        meshes: Pair {
-            original: summary(original, original_points.len()),
-            simplified: summary(simplified, simplified_points.len()),
-        },
+        normal_deviation: NormalDeviations { forward, backward },
+        quality,
+        topology,
+        meshes,
         seconds: start.elapsed().as_secs_f64(),
-    })
+    }
 }
 
 #[cfg(test)]
