@@ -15,6 +15,9 @@ use glam::Vec3;
 /// oldest edge.
 pub(crate) const MAX_DEGREE: usize = 16;
 
+/// Slots per block of the max-error index (`Network::block_max`).
+const ERROR_BLOCK: usize = 64;
+
 /// Renormalise scaled errors once the inverse decay scale passes this value.
 const RENORMALISE_AT: f64 = 1e200;
 
@@ -41,6 +44,13 @@ pub(crate) struct Network {
     pub pos: Vec<Vec3>,
     /// Scaled local error `E / d^t` (f64); negative infinity for free slots.
     pub err: Vec<f64>,
+    /// Per block of [`ERROR_BLOCK`] slots, an upper bound of its errors, exact for the block
+    /// that [`Network::max_error_node`] returns: errors only grow at the winner (which raises
+    /// its block's bound), shrink at insertions and removals (which leave the bound stale-high
+    /// until a query corrects it) and are rescaled all together (which rebuilds the bounds).
+    /// The query then scans |A|/64 bounds and a few blocks instead of all |A| errors: with a
+    /// time limit λ gets small and the full scan was ~30 % of training (igea, 20,000 nodes).
+    block_max: Vec<f64>,
     /// Number of signals each slot has won (wrapping), used for edge ages.
     pub wins: Vec<u32>,
     /// Signal index at which each slot last won (or was created).
@@ -73,6 +83,7 @@ impl Network {
         Network {
             pos: Vec::with_capacity(capacity),
             err: Vec::with_capacity(capacity),
+            block_max: Vec::new(),
             wins: Vec::with_capacity(capacity),
             last_win: Vec::with_capacity(capacity),
             degree: Vec::with_capacity(capacity),
@@ -94,6 +105,7 @@ impl Network {
             let i = s as usize;
             self.pos[i] = p;
             self.err[i] = scaled_error;
+            self.note_error(i);
             self.wins[i] = 0;
             self.last_win[i] = now;
             self.degree[i] = 0;
@@ -102,6 +114,7 @@ impl Network {
         } else {
             self.pos.push(p);
             self.err.push(scaled_error);
+            self.note_error(self.err.len() - 1);
             self.wins.push(0);
             self.last_win.push(now);
             self.degree.push(0);
@@ -289,28 +302,64 @@ impl Network {
                 }
             }
             self.inv_scale = 1.0;
+            self.rebuild_block_max();
         }
     }
 
-    /// Live slot with the largest error (free slots hold negative infinity).
-    pub fn max_error_node(&self) -> Option<u32> {
-        // Four independent running maxima compile to packed max instructions.
-        let mut acc = [f64::NEG_INFINITY; 4];
-        let chunks = self.err.chunks_exact(4);
-        let tail = chunks.remainder();
-        for c in chunks {
-            for j in 0..4 {
-                acc[j] = if c[j] > acc[j] { c[j] } else { acc[j] };
+    /// Record that the error of slot `i` may have grown (keeps [`Network::block_max`] an upper
+    /// bound).
+    #[inline(always)]
+    pub fn note_error(&mut self, i: usize) {
+        let b = i / ERROR_BLOCK;
+        if b >= self.block_max.len() {
+            self.block_max.resize(b + 1, f64::NEG_INFINITY);
+        }
+        if self.err[i] > self.block_max[b] {
+            self.block_max[b] = self.err[i];
+        }
+    }
+
+    /// Exact bounds from the errors (after a rescale or a renumbering).
+    fn rebuild_block_max(&mut self) {
+        self.block_max.clear();
+        self.block_max.extend(self.err.chunks(ERROR_BLOCK).map(|c| {
+            c.iter()
+                .fold(f64::NEG_INFINITY, |m, &e| if e > m { e } else { m })
+        }));
+    }
+
+    /// Live slot with the largest error (free slots hold negative infinity); on ties the
+    /// lowest slot, as a full scan would give.
+    pub fn max_error_node(&mut self) -> Option<u32> {
+        loop {
+            // The lowest block with the largest bound.
+            let mut best = f64::NEG_INFINITY;
+            let mut block = usize::MAX;
+            for (b, &m) in self.block_max.iter().enumerate() {
+                if m > best {
+                    best = m;
+                    block = b;
+                }
             }
+            if block == usize::MAX {
+                return None;
+            }
+            let start = block * ERROR_BLOCK;
+            let end = (start + ERROR_BLOCK).min(self.err.len());
+            let errors = &self.err[start..end];
+            let exact = errors
+                .iter()
+                .fold(f64::NEG_INFINITY, |m, &e| if e > m { e } else { m });
+            if exact == best {
+                // Lower blocks have bounds below `best`, so the first slot with it is global.
+                return errors
+                    .iter()
+                    .position(|&e| e == best)
+                    .map(|i| (start + i) as u32);
+            }
+            // A stale bound: correct it and look again.
+            self.block_max[block] = exact;
         }
-        let mut m = acc[0].max(acc[1]).max(acc[2].max(acc[3]));
-        for &e in tail {
-            m = m.max(e);
-        }
-        if m == f64::NEG_INFINITY {
-            return None;
-        }
-        self.err.iter().position(|&e| e == m).map(|i| i as u32)
     }
 
     /// Renumber live nodes in grid-cell order so nodes near each other in space are near each
@@ -354,6 +403,7 @@ impl Network {
         self.adj = adj;
         self.alive = vec![true; n];
         self.free.clear();
+        self.rebuild_block_max();
         if let Some(g) = &mut self.grid {
             g.clear(n);
             for i in 0..n {
@@ -380,5 +430,66 @@ impl Network {
                 .filter(move |&&b| a < b)
                 .map(move |&b| (a, b))
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The block bounds give the same slot as a plain scan (largest error, lowest slot on
+    /// ties) through growth, error increases, α shrinks, removals, slot reuse, rescales and
+    /// renumbering.
+    #[test]
+    fn max_error_node_matches_a_full_scan() {
+        let scan = |net: &Network| {
+            let m = net.err.iter().fold(f64::NEG_INFINITY, |m, &e| m.max(e));
+            (m > f64::NEG_INFINITY)
+                .then(|| net.err.iter().position(|&e| e == m).unwrap_or(0) as u32)
+        };
+        let grid = Grid::new(Vec3::ZERO, Vec3::ONE, 64);
+        let mut net = Network::new(Some(grid), 16);
+        let mut state = 12345u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as usize
+        };
+        for step in 0..5_000 {
+            match next() % 7 {
+                0 | 1 => {
+                    let p = Vec3::new(0.3, 0.5, 0.7) * ((step % 97) as f32 / 97.0);
+                    // Integer errors make exact ties common.
+                    net.add_node(p, (next() % 50) as f64, step);
+                }
+                2 | 3 if net.live > 0 => {
+                    let s = net.live_slots().nth(next() % net.live).unwrap_or(0) as usize;
+                    net.err[s] += (next() % 20) as f64;
+                    net.note_error(s);
+                }
+                4 if net.live > 0 => {
+                    let s = net.live_slots().nth(next() % net.live).unwrap_or(0) as usize;
+                    net.err[s] *= 0.5;
+                }
+                5 if net.live > 2 => {
+                    let s = net.live_slots().nth(next() % net.live).unwrap_or(0);
+                    net.remove_node(s);
+                }
+                6 if step % 50 == 0 => net.renumber_by_cell(),
+                6 if step % 31 == 0 => {
+                    net.inv_scale = RENORMALISE_AT * 2.0;
+                    net.decay(1.0);
+                }
+                _ => {}
+            }
+            let want = scan(&net);
+            assert_eq!(net.max_error_node(), want, "step {step}");
+        }
+        assert!(
+            net.live > 100,
+            "the test grew a real network ({} nodes)",
+            net.live
+        );
     }
 }

@@ -353,6 +353,7 @@ impl Part {
                 net.wins[i1] = net.wins[i1].wrapping_add(1);
                 net.last_win[i1] = self.signals;
                 net.err[i1] += nn.first_d2 as f64 * net.inv_scale;
+                net.note_error(i1);
                 net.pull(s1, x, s.eps_b);
                 let d = net.degree[i1] as usize;
                 for k in 0..d {
