@@ -126,10 +126,7 @@ pub(super) fn attach_unreferenced(
                 continue;
             };
             let at = split_for(faces, &mut vf, nodes, f, m, q);
-            let p: DVec3 = (0..3)
-                .map(|i| nodes[at.corners[i] as usize].as_dvec3() * at.weights[i])
-                .sum();
-            nodes[m as usize] = p.as_vec3();
+            nodes[m as usize] = at.point(nodes).as_vec3();
             attached.push(at);
         }
         pending = next;
@@ -146,13 +143,22 @@ pub(super) fn attach_unreferenced(
 /// Where an attached node sits: `weights` (summing to 1) of the `corners` of the triangle or
 /// edge it split, at the time of the split.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Attachment {
+pub(crate) struct Attachment {
     /// The attached node.
     pub node: u32,
     /// Nodes of the split triangle (an edge split repeats no corner: its third weight is 0).
     pub corners: [u32; 3],
     /// Barycentric weights of `corners`.
     pub weights: [f64; 3],
+}
+
+impl Attachment {
+    /// The point of the split triangle the node sits on, with the corners at `positions`.
+    pub(crate) fn point(&self, positions: &[Vec3]) -> DVec3 {
+        (0..3)
+            .map(|i| positions[self.corners[i] as usize].as_dvec3() * self.weights[i])
+            .sum()
+    }
 }
 
 /// Insert node `m` (nearest point `q` on face `f`) by an edge split when `q` is near an edge

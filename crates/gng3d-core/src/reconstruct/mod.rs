@@ -22,6 +22,7 @@ use std::time::Instant;
 mod attach;
 mod cleanup;
 
+pub(crate) use attach::Attachment;
 use attach::attach_unreferenced;
 use cleanup::{fill_holes, remove_fins};
 
@@ -481,7 +482,16 @@ pub fn reconstruct(
         .map(|c| c.tri.map(|v| remap[v as usize]))
         .collect();
 
-    // GNG3D-Q: placement (c) and flips (d).
+    // GNG3D-Q: placement (c) and flips (d). Attached nodes, in output indices, follow their
+    // split triangles.
+    let attachments: Vec<Attachment> = attachments
+        .iter()
+        .map(|a| Attachment {
+            node: remap[a.node as usize],
+            corners: a.corners.map(|c| remap[c as usize]),
+            weights: a.weights,
+        })
+        .collect();
     report.placed_vertices = crate::placement::place(
         original,
         &original_edges,
@@ -489,31 +499,9 @@ pub fn reconstruct(
         &node_of_vertex,
         nodes.len(),
         params.placement,
+        &attachments,
         &mut positions,
     );
-    // Attached nodes have no cell to place them by: they follow their split triangle, in the
-    // order they were attached (a later one may sit on an earlier one's triangle), and are
-    // projected onto the surface of its corners' cells.
-    if params.placement != crate::params::Placement::Node {
-        let attached: Vec<(u32, [u32; 3], [f64; 3])> = attachments
-            .iter()
-            .map(|a| {
-                (
-                    remap[a.node as usize],
-                    a.corners.map(|c| remap[c as usize]),
-                    a.weights,
-                )
-            })
-            .collect();
-        crate::placement::place_attached(
-            original,
-            &labels,
-            &node_of_vertex,
-            nodes.len(),
-            &attached,
-            &mut positions,
-        );
-    }
     let mut triangles = triangles;
     if params.flip_edges {
         let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
