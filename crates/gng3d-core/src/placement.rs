@@ -111,17 +111,15 @@ pub(crate) fn cell_faces(original: &TriMesh, owner: &[u32], outputs: usize) -> C
     CellFaces { start, faces }
 }
 
-/// Move the output vertices (`positions`, one per entry of `node_of_vertex`, initially the node
-/// positions) according to `placement`; `edges` is the original's edge table (for its
-/// boundary planes). `labels` gives each original vertex's node; the `attached` vertices (in
-/// output indices) have no cell and follow their split triangles ([`place_attached`]). Returns
-/// the number of vertices moved.
+/// Move the output vertices (`positions`, initially the node positions) according to
+/// `placement`; `edges` is the original's edge table (for its boundary planes), `owner` the
+/// output vertex of each original vertex ([`owners`]); the `attached` vertices (in output
+/// indices) have no cell and follow their split triangles ([`place_attached`]). Returns the
+/// number of vertices moved.
 pub(crate) fn place(
     original: &TriMesh,
     edges: &EdgeTable,
-    labels: &[u32],
-    node_of_vertex: &[u32],
-    node_count: usize,
+    owner: &[u32],
     placement: Placement,
     attached: &[Attachment],
     positions: &mut [Vec3],
@@ -129,8 +127,7 @@ pub(crate) fn place(
     if placement == Placement::Node || positions.is_empty() {
         return 0;
     }
-    let owner = owners(labels, node_of_vertex, node_count);
-    let cells = cell_faces(original, &owner, positions.len());
+    let cells = cell_faces(original, owner, positions.len());
     let pos = |v: u32| original.positions[v as usize].as_dvec3();
 
     // Step 2: p0, the closest point on the cell's faces. The search starts from the nearest

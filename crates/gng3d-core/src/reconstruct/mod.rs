@@ -492,19 +492,17 @@ pub fn reconstruct(
             weights: a.weights,
         })
         .collect();
+    let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
     report.placed_vertices = crate::placement::place(
         original,
         &original_edges,
-        &labels,
-        &node_of_vertex,
-        nodes.len(),
+        &owner,
         params.placement,
         &attachments,
         &mut positions,
     );
     let mut triangles = triangles;
     if params.flip_edges {
-        let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
         let flips =
             crate::flip::flip_edges(&positions, &mut triangles, &original.positions, &owner);
         report.flipped_edges = flips.flips;
