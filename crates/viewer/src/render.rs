@@ -279,7 +279,6 @@ pub enum Shading {
 }
 
 /// One thing to draw into a viewport.
-#[derive(Clone)]
 pub enum DrawItem<'a> {
     /// An opaque lit surface.
     Surface {
@@ -693,8 +692,7 @@ impl SceneRenderer {
             self.draw(&mut pass, target, drawn, &slot_of, &statics);
             return true;
         }
-        let static_items: Vec<DrawItem<'_>> = statics.iter().map(|&i| drawn[i].clone()).collect();
-        let layer_content = fingerprint(camera, target.size, &static_items);
+        let layer_content = fingerprint(camera, target.size, statics.iter().map(|&i| &drawn[i]));
         if target.layer_content != Some(layer_content) {
             target.layer_content = Some(layer_content);
             let mut pass = begin_pass(encoder, &target.layer_view, &target.depth_view, clear, true);
@@ -846,7 +844,11 @@ pub fn node_markers_visible(nodes: u32, point_px: f32, size: [u32; 2]) -> bool {
 }
 
 /// A hash of everything that determines a viewport's image.
-fn fingerprint(camera: &OrbitCamera, size: [u32; 2], items: &[DrawItem<'_>]) -> u64 {
+fn fingerprint<'i, 'a: 'i>(
+    camera: &OrbitCamera,
+    size: [u32; 2],
+    items: impl IntoIterator<Item = &'i DrawItem<'a>>,
+) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     let floats = |h: &mut std::collections::hash_map::DefaultHasher, values: &[f32]| {
         for v in values {

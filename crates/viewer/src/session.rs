@@ -218,10 +218,9 @@ pub struct Session {
     pub history: History,
     reconstruction: Option<Arc<TriMesh>>,
     evaluating: Option<(PendingEvaluation, Job<EvaluationResult>)>,
-    /// Seconds the last evaluation took (its own work, without its cool-down wait).
-    last_evaluation_seconds: f64,
-    /// When the last evaluation finished.
-    last_evaluation_end: Option<std::time::Instant>,
+    /// When the last evaluation finished, and the seconds its own work took (without its
+    /// cool-down wait).
+    last_evaluation: Option<(std::time::Instant, f64)>,
     evaluation_queue: VecDeque<PendingEvaluation>,
     qem: QemState,
     /// Recent messages (newest last).
@@ -252,8 +251,7 @@ impl Session {
             history: History::default(),
             reconstruction: None,
             evaluating: None,
-            last_evaluation_seconds: 0.0,
-            last_evaluation_end: None,
+            last_evaluation: None,
             evaluation_queue: VecDeque::new(),
             qem: QemState::default(),
             messages: Vec::new(),
@@ -565,8 +563,7 @@ impl Session {
         if let Some((result, seconds)) = finished
             && let Some((pending, _)) = self.evaluating.take()
         {
-            self.last_evaluation_seconds = seconds;
-            self.last_evaluation_end = Some(std::time::Instant::now());
+            self.last_evaluation = Some((std::time::Instant::now(), seconds));
             match result {
                 Ok(e) if pending.session == self.live.session => {
                     let row = checkpoint("GNG3D", pending.signals, &e, pending.train_seconds);
@@ -587,9 +584,9 @@ impl Session {
             && let Some(next) = self.evaluation_queue.pop_front()
         {
             // As fast as possible: a cool-down keeps evaluations within EVALUATION_TIME_SHARE.
-            let wait = match (self.speed, self.last_evaluation_end) {
-                (Speed::Unlimited, Some(end)) => {
-                    let cool = self.last_evaluation_seconds * (1.0 / EVALUATION_TIME_SHARE - 1.0);
+            let wait = match (self.speed, self.last_evaluation) {
+                (Speed::Unlimited, Some((end, seconds))) => {
+                    let cool = seconds * (1.0 / EVALUATION_TIME_SHARE - 1.0);
                     std::time::Duration::from_secs_f64(cool).saturating_sub(end.elapsed())
                 }
                 _ => std::time::Duration::ZERO,
