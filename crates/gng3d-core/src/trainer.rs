@@ -16,7 +16,7 @@ use crate::error::GngError;
 use crate::grid::{Grid, NONE, Nearest2};
 use crate::network::Network;
 use crate::params::{
-    DEFAULT_SIGNALS_PER_NODE, GngParams, PAPER_EPOCHS, SearchStrategy, SignalSource,
+    DEFAULT_SIGNALS_PER_NODE, GngParams, SearchStrategy, SignalSource,
 };
 use crate::reconstruct::{Reconstruction, reconstruct};
 use crate::report::GngWarning;
@@ -794,14 +794,14 @@ impl Trainer {
 }
 
 /// Total signal budget: `max_signals`, else `epochs` × distinct vertices, else
-/// [`DEFAULT_SIGNALS_PER_NODE`] × target capped at the paper's [`PAPER_EPOCHS`].
+/// [`DEFAULT_SIGNALS_PER_NODE`] × target.
 pub(crate) fn signal_budget(params: &GngParams, distinct: usize) -> u64 {
     let n = params.target_vertices as f64;
     let v = distinct as f64;
     let b = match (params.max_signals, params.epochs) {
         (Some(m), _) => m as f64,
         (None, Some(e)) => e * v,
-        (None, None) => (DEFAULT_SIGNALS_PER_NODE * n).min(PAPER_EPOCHS * v),
+        (None, None) => DEFAULT_SIGNALS_PER_NODE * n,
     };
     (b.round() as u64).max(1)
 }

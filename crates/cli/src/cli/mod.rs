@@ -64,7 +64,7 @@ pub(crate) struct GngVariantArgs {
     #[arg(long)]
     pub no_flips: bool,
     /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30), instead of the
-    /// default budget min(150 × N, 30 × |V|) for N output vertices.
+    /// default budget 150 × N for N output vertices.
     #[arg(long)]
     pub epochs: Option<f64>,
 }
