@@ -67,8 +67,11 @@ pub(crate) struct Piece {
     pub frame: Frame,
     /// Distinct non-stray points, local coordinates.
     pub points: Vec<Vec3>,
-    /// Faces with only non-stray corners, local coordinates (for surface signals).
+    /// Faces with only non-stray corners, local coordinates (for surface signals; empty for
+    /// vertex signals, which need no faces).
     pub surface: TriMesh,
+    /// Area of those faces, local units² (sizes the search grid).
+    pub area: f64,
     /// Nodes allotted to this piece.
     pub target: usize,
 }
@@ -82,6 +85,35 @@ pub(crate) struct Domain {
     pub distinct: usize,
     /// What was dropped or cannot be held.
     pub warnings: Vec<GngWarning>,
+}
+
+/// The distinct points of an input mesh and their face-connected components (steps 1 and 2):
+/// computed once per input and shared by training ([`Domain::build`]) and reconstruction
+/// (component-aware labels), which used to compute both again (igea: ~30 ms of phase 2).
+#[derive(Debug, Clone)]
+pub(crate) struct Pieces {
+    /// Distinct id of each mesh vertex (`u32::MAX`: unreferenced).
+    pub ids: Vec<u32>,
+    /// Position of each distinct id, world coordinates.
+    pub distinct: Vec<Vec3>,
+    /// Component of each distinct id (dense, first-seen order).
+    pub comp: Vec<u32>,
+    /// Number of components.
+    pub count: usize,
+}
+
+impl Pieces {
+    /// Distinct points and components of `mesh`.
+    pub fn of(mesh: &TriMesh) -> Pieces {
+        let (ids, distinct) = distinct_ids(mesh);
+        let (comp, count) = components(mesh, &ids, distinct.len());
+        Pieces {
+            ids,
+            distinct,
+            comp,
+            count,
+        }
+    }
 }
 
 /// Distinct position id of each vertex (`u32::MAX` when unreferenced) and the positions.
@@ -224,10 +256,11 @@ pub(crate) fn allot(target: usize, mass: &[f64], capacity: &[usize]) -> Vec<usiz
 }
 
 impl Domain {
-    /// Build the domain of `mesh` for `params` (see the module docs for the steps).
-    pub fn build(mesh: &TriMesh, params: &GngParams) -> Result<Domain, GngError> {
+    /// Build the domain of `mesh` (with its distinct points and components, `input`) for
+    /// `params` (see the module docs for the steps).
+    pub fn build(mesh: &TriMesh, input: &Pieces, params: &GngParams) -> Result<Domain, GngError> {
         // 1. Distinct points.
-        let (ids, distinct) = distinct_ids(mesh);
+        let (ids, distinct) = (&input.ids, &input.distinct);
         if distinct.len() < 3 {
             return Err(GngError::TooFewVertices {
                 vertices: distinct.len(),
@@ -242,7 +275,7 @@ impl Domain {
             });
         }
         // 2. Components.
-        let (comp, count) = components(mesh, &ids, distinct.len());
+        let (comp, count) = (&input.comp, input.count);
         let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
         for (i, &c) in comp.iter().enumerate() {
             members[c as usize].push(i as u32);
@@ -280,12 +313,23 @@ impl Domain {
                 .map(|t| t.map(|i| local_of[i as usize]))
                 .filter(|t| !t.contains(&u32::MAX))
                 .collect();
-            let surface = TriMesh::new(points.clone(), triangles);
+            let area: f64 = triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|v| points[v as usize].as_dvec3());
+                    0.5 * (b - a).cross(c - a).length()
+                })
+                .sum();
+            let surface = match params.signal_source {
+                // Vertex signals need no faces: skip the copy (igea: 134k points, 269k faces).
+                SignalSource::Vertices => TriMesh::default(),
+                SignalSource::Surface | SignalSource::Curvature => {
+                    TriMesh::new(points.clone(), triangles)
+                }
+            };
             let m = match params.signal_source {
                 SignalSource::Vertices => points.len() as f64,
-                SignalSource::Surface | SignalSource::Curvature => {
-                    surface.area() * frame.scale * frame.scale
-                }
+                SignalSource::Surface | SignalSource::Curvature => area * frame.scale * frame.scale,
             };
             mass.push(if m.is_finite() { m } else { 0.0 });
             capacity.push(if vertex_bound {
@@ -297,6 +341,7 @@ impl Domain {
                 frame,
                 points,
                 surface,
+                area,
                 target: 0,
             });
         }
@@ -350,7 +395,19 @@ impl Domain {
         let mut chosen = Vec::with_capacity(keep.len());
         for (k, &c) in keep.iter().enumerate() {
             if alloc[k] >= 2 {
-                let mut p = pieces[c].clone();
+                let mut p = std::mem::replace(
+                    &mut pieces[c],
+                    Piece {
+                        frame: Frame {
+                            center: DVec3::ZERO,
+                            scale: 1.0,
+                        },
+                        points: Vec::new(),
+                        surface: TriMesh::default(),
+                        area: 0.0,
+                        target: 0,
+                    },
+                );
                 p.target = alloc[k];
                 chosen.push(p);
             }

@@ -115,12 +115,7 @@ pub fn finish(trainer: &Trainer, start: Instant) -> Result<GngResult, GngError> 
         });
     }
     let params = trainer.params();
-    let rec = reconstruct(
-        trainer.original(),
-        &snap.positions,
-        &snap.edges,
-        &params.reconstruction,
-    );
+    let rec = trainer.reconstruct_snapshot(&snap, &params.reconstruction);
     if rec.mesh.face_count() == 0 {
         return Err(GngError::EmptyMesh {
             nodes: snap.positions.len(),

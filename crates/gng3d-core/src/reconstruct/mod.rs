@@ -9,7 +9,12 @@
 //! piece), make cells connected, map faces, resolve orientation, GNG-edge filter, cleanup,
 //! attach every node that no triangle references (so `N` nodes give `N` vertices), compact,
 //! place, flip.
+//!
+//! The original's edge table and vertex adjacency depend on the original alone and are built on
+//! a second thread while the vertices are labelled; a [`crate::Trainer`] hands its distinct
+//! points and components over instead of having them computed again.
 
+use crate::domain::Pieces;
 use crate::params::{OppositeFaces, ReconstructionParams};
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -117,27 +122,27 @@ pub fn label_vertices_by_component(
     nodes: &[Vec3],
     edges: &[[u32; 2]],
 ) -> Vec<u32> {
-    labels_and_node_components(original, nodes, edges).0
+    labels_and_node_components(original, &Pieces::of(original), nodes, edges).0
 }
 
 /// [`label_vertices_by_component`] plus the piece of each node.
 fn labels_and_node_components(
     original: &TriMesh,
+    input: &Pieces,
     nodes: &[Vec3],
     edges: &[[u32; 2]],
 ) -> (Vec<u32>, Vec<u32>) {
-    let (ids, distinct) = crate::domain::distinct_ids(original);
-    let (comp, count) = crate::domain::components(original, &ids, distinct.len());
+    let (ids, distinct, comp, count) = (&input.ids, &input.distinct, &input.comp, input.count);
     if count <= 1 || nodes.is_empty() {
         let mut labels = label_vertices(&original.positions, nodes);
-        for (l, &i) in labels.iter_mut().zip(&ids) {
+        for (l, &i) in labels.iter_mut().zip(ids) {
             if i == u32::MAX {
                 *l = u32::MAX;
             }
         }
         return (labels, vec![0; nodes.len()]);
     }
-    let Some(points) = kd_tree(&distinct) else {
+    let Some(points) = kd_tree(distinct) else {
         return (
             vec![u32::MAX; original.positions.len()],
             vec![0; nodes.len()],
@@ -191,7 +196,7 @@ fn labels_and_node_components(
     let labels = original
         .positions
         .iter()
-        .zip(&ids)
+        .zip(ids)
         .map(|(&p, &i)| {
             if i == u32::MAX {
                 return u32::MAX;
@@ -206,37 +211,55 @@ fn labels_and_node_components(
     (labels, node_comp)
 }
 
+/// Vertex adjacency of a mesh (CSR) from its triangle edges; duplicates are harmless.
+struct VertexAdjacency {
+    offset: Vec<usize>,
+    nbrs: Vec<u32>,
+}
+
+impl VertexAdjacency {
+    fn of(original: &TriMesh) -> VertexAdjacency {
+        let n = original.positions.len();
+        let mut degree = vec![0u32; n + 1];
+        for t in &original.triangles {
+            for &v in t {
+                degree[v as usize] += 2;
+            }
+        }
+        let mut offset = vec![0usize; n + 1];
+        for v in 0..n {
+            offset[v + 1] = offset[v] + degree[v] as usize;
+        }
+        let mut fill = offset.clone();
+        let mut nbrs = vec![0u32; offset[n]];
+        for t in &original.triangles {
+            for k in 0..3 {
+                let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+                for w in [b, c] {
+                    nbrs[fill[a as usize]] = w;
+                    fill[a as usize] += 1;
+                }
+            }
+        }
+        VertexAdjacency { offset, nbrs }
+    }
+}
+
 /// Make every node's cell (the original vertices labelled with it) edge-connected on the
 /// original mesh: keep the component holding the vertex closest to the node and give the other
 /// vertices, by breadth-first growth, the label of an adjacent vertex whose node is closest.
 /// Returns the number of vertices relabelled.
-pub fn make_cells_connected(original: &TriMesh, nodes: &[Vec3], labels: &mut [u32]) -> usize {
+fn make_cells_connected(
+    original: &TriMesh,
+    adjacency: &VertexAdjacency,
+    nodes: &[Vec3],
+    labels: &mut [u32],
+) -> usize {
     let n = original.positions.len();
     if nodes.is_empty() || n == 0 {
         return 0;
     }
-    // Vertex adjacency (CSR) from triangle edges; duplicates are harmless.
-    let mut degree = vec![0u32; n + 1];
-    for t in &original.triangles {
-        for &v in t {
-            degree[v as usize] += 2;
-        }
-    }
-    let mut offset = vec![0usize; n + 1];
-    for v in 0..n {
-        offset[v + 1] = offset[v] + degree[v] as usize;
-    }
-    let mut fill = offset.clone();
-    let mut nbrs = vec![0u32; offset[n]];
-    for t in &original.triangles {
-        for k in 0..3 {
-            let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-            for w in [b, c] {
-                nbrs[fill[a as usize]] = w;
-                fill[a as usize] += 1;
-            }
-        }
-    }
+    let (offset, nbrs) = (&adjacency.offset, &adjacency.nbrs);
     let neighbours = |v: usize| &nbrs[offset[v]..offset[v + 1]];
     // Anchor of each node: its labelled vertex nearest to it.
     let mut anchor = vec![(f32::INFINITY, u32::MAX); nodes.len()];
@@ -329,7 +352,66 @@ pub fn reconstruct(
     edges: &[[u32; 2]],
     params: &ReconstructionParams,
 ) -> Reconstruction {
+    reconstruct_with(original, &Pieces::of(original), nodes, edges, params)
+}
+
+/// [`reconstruct`] with the distinct points and components of `original` already known
+/// (`input`, from training).
+pub(crate) fn reconstruct_with(
+    original: &TriMesh,
+    input: &Pieces,
+    nodes: &[Vec3],
+    edges: &[[u32; 2]],
+    params: &ReconstructionParams,
+) -> Reconstruction {
     let start = Instant::now();
+    // What depends on the original alone (its edge table, for borders and boundary quadrics,
+    // and its vertex adjacency, for connected cells) is built on a second thread while this
+    // one labels the vertices: igea, 134k vertices, ~45 ms of work off the critical path.
+    std::thread::scope(|scope| {
+        let tables = scope.spawn(|| {
+            (
+                mesh::topology::EdgeTable::new(original),
+                params
+                    .connected_cells
+                    .then(|| VertexAdjacency::of(original)),
+            )
+        });
+        let (labels, node_comp) = labels_and_node_components(original, input, nodes, edges);
+        // A panic on the table thread is a bug; rebuilding here keeps phase 2 alive anyway.
+        let (original_edges, adjacency) = tables.join().unwrap_or_else(|_| {
+            (
+                mesh::topology::EdgeTable::new(original),
+                params
+                    .connected_cells
+                    .then(|| VertexAdjacency::of(original)),
+            )
+        });
+        reconstruct_labelled(
+            original,
+            &original_edges,
+            adjacency.as_ref(),
+            (labels, node_comp),
+            nodes,
+            edges,
+            params,
+            start,
+        )
+    })
+}
+
+/// The steps after labelling (see the module docs).
+#[allow(clippy::too_many_arguments)]
+fn reconstruct_labelled(
+    original: &TriMesh,
+    original_edges: &mesh::topology::EdgeTable,
+    adjacency: Option<&VertexAdjacency>,
+    (mut labels, node_comp): (Vec<u32>, Vec<u32>),
+    nodes: &[Vec3],
+    edges: &[[u32; 2]],
+    params: &ReconstructionParams,
+    start: Instant,
+) -> Reconstruction {
     let mut report = ReconstructionReport {
         original_faces: original.triangles.len(),
         relabelled_vertices: 0,
@@ -349,9 +431,8 @@ pub fn reconstruct(
         topology: mesh::topology::analyze(&TriMesh::default()),
         seconds: 0.0,
     };
-    let (mut labels, node_comp) = labels_and_node_components(original, nodes, edges);
-    if params.connected_cells {
-        report.relabelled_vertices = make_cells_connected(original, nodes, &mut labels);
+    if let Some(adjacency) = adjacency {
+        report.relabelled_vertices = make_cells_connected(original, adjacency, nodes, &mut labels);
     }
 
     // Map faces to triples, merge duplicates by sorted key with per-orientation votes.
@@ -425,7 +506,6 @@ pub fn reconstruct(
 
     // Nodes whose cell holds a vertex of an original border: a hole of the output along them
     // is a hole of the input, and is kept open.
-    let original_edges = mesh::topology::EdgeTable::new(original);
     let mut on_border = vec![false; nodes.len()];
     for e in 0..original_edges.len() {
         if original_edges.is_boundary(e) {
@@ -495,7 +575,7 @@ pub fn reconstruct(
     let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
     report.placed_vertices = crate::placement::place(
         original,
-        &original_edges,
+        original_edges,
         &owner,
         params.placement,
         &attachments,
