@@ -4,7 +4,8 @@
 //!
 //! ```text
 //! GNG3D_MESHES=/work/shared/meshes cargo run --release --example gngq_measure -- \
-//!     [--meshes a.obj,b.ply] [--ratios 0.1,0.25,0.5] [--samples 200000] [--curvature] [--json out.jsonl]
+//!     [--meshes a.obj,b.ply] [--ratios 0.1,0.25,0.5] [--samples 200000] [--curvature] [--surface]
+//!     [--default-only] [--json out.jsonl]
 //! ```
 //!
 //! Mean surface distance and Hausdorff come from the metrics crate (symmetric, Metro-style
@@ -89,6 +90,7 @@ fn main() -> anyhow::Result<()> {
         .collect();
     let samples: usize = get("--samples").map_or(200_000, |s| s.parse().expect("samples"));
     let curvature = args.iter().any(|a| a == "--curvature");
+    let surface = args.iter().any(|a| a == "--surface");
     let only_default = args.iter().any(|a| a == "--default-only");
     let mut rows: Vec<Row> = Vec::new();
     println!(
@@ -144,6 +146,9 @@ fn main() -> anyhow::Result<()> {
             if curvature {
                 sources.push(SignalSource::Curvature);
             }
+            if surface {
+                sources.push(SignalSource::Surface);
+            }
             let mut qem_vertices = 0;
             for source in sources {
                 let mut params = GngParams::for_target(target);
@@ -154,10 +159,10 @@ fn main() -> anyhow::Result<()> {
                     trainer.step(u64::MAX);
                 }
                 let train_s = t.elapsed().as_secs_f64();
-                let tag = if source == SignalSource::Curvature {
-                    "curv "
-                } else {
-                    ""
+                let tag = match source {
+                    SignalSource::Curvature => "curv ",
+                    SignalSource::Surface => "surf ",
+                    SignalSource::Vertices => "",
                 };
                 let mut variants = vec![
                     ("node", Placement::Node, false),
@@ -166,7 +171,7 @@ fn main() -> anyhow::Result<()> {
                     ("project+flip", Placement::Project, true),
                     ("quadric+flip", Placement::Quadric, true),
                 ];
-                if only_default || source == SignalSource::Curvature {
+                if only_default || source != SignalSource::Vertices {
                     variants.retain(|v| v.0 == "quadric+flip" || v.0 == "node");
                 }
                 for (label, placement, flip) in variants {

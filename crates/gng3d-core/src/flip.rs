@@ -68,6 +68,9 @@ pub const SHAPE_MAX_BEND: f64 = 0.01;
 /// deterministic.
 pub const MAX_POINTS_PER_FACE: usize = 8;
 
+/// Below this many sampled points per thread the assignment stays on one thread.
+const MIN_POINTS_PER_THREAD: usize = 8_192;
+
 /// What the flip pass did.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct FlipStats {
@@ -140,17 +143,31 @@ pub fn flip_edges(
         .len()
         .div_ceil(MAX_POINTS_PER_FACE * triangles.len().max(1))
         .max(1);
-    for (i, &o) in owner.iter().enumerate().step_by(stride) {
-        if o == NONE || o as usize >= n {
-            continue;
-        }
-        let mut best = (f64::INFINITY, NONE);
-        for &f in &fan[o as usize] {
-            let d = dist2(pts[i], triangles[f as usize], &pos);
-            if d < best.0 {
-                best = (d, f);
-            }
-        }
+    // The closest fan face of each sampled point, independent per point: on all cores (same
+    // result for any count), then linked in point order.
+    let closest = {
+        let triangles = &*triangles;
+        crate::parallel::map_indexed(
+            owner.len().div_ceil(stride),
+            crate::parallel::threads(),
+            MIN_POINTS_PER_THREAD,
+            |k| {
+                let (i, o) = (k * stride, owner[k * stride]);
+                let mut best = (f64::INFINITY, NONE);
+                if o != NONE && (o as usize) < n {
+                    for &f in &fan[o as usize] {
+                        let d = dist2(pts[i], triangles[f as usize], &pos);
+                        if d < best.0 {
+                            best = (d, f);
+                        }
+                    }
+                }
+                best
+            },
+        )
+    };
+    for (k, &best) in closest.iter().enumerate() {
+        let i = k * stride;
         if best.1 != NONE {
             point_err[i] = best.0;
             face_err[best.1 as usize] += best.0;

@@ -49,6 +49,7 @@ pub mod flip;
 mod grid;
 mod network;
 mod options;
+mod parallel;
 mod params;
 pub mod placement;
 mod reconstruct;

@@ -41,6 +41,9 @@ pub const MAX_JUMP_CELL_RADII: f64 = 2.0;
 /// distance elsewhere: the good solutions do sit off the surface, by the sagitta.
 pub const MAX_OFF_SURFACE_CELL_RADII: f64 = 0.5;
 
+/// Below this many output vertices per thread the per-vertex steps stay on one thread.
+const MIN_VERTICES_PER_THREAD: usize = 512;
+
 /// Boundary constraint weight, qem's default (`QemParams::boundary_weight`), so that open
 /// borders stay where the original's are.
 pub const BOUNDARY_WEIGHT: f64 = 1000.0;
@@ -148,14 +151,16 @@ pub(crate) fn place(
             }
         }
     }
-    let mut projected: Vec<Option<DVec3>> = vec![None; positions.len()];
-    for (o, p0) in projected.iter_mut().enumerate() {
-        let node = positions[o].as_dvec3();
-        let (best_d, best_q) = closest_on_faces(original, cells.of(o), node, best[o]);
-        if best_d.is_finite() {
-            *p0 = Some(best_q);
-        }
-    }
+    // Per output vertex and independent: on all cores (same result for any count).
+    let threads = crate::parallel::threads();
+    let projected: Vec<Option<DVec3>> = {
+        let positions = &*positions;
+        crate::parallel::map_indexed(positions.len(), threads, MIN_VERTICES_PER_THREAD, |o| {
+            let node = positions[o].as_dvec3();
+            let (best_d, best_q) = closest_on_faces(original, cells.of(o), node, best[o]);
+            best_d.is_finite().then_some(best_q)
+        })
+    };
     if placement == Placement::Project {
         let mut moved = 0;
         for (p, p0) in positions.iter_mut().zip(&projected) {
@@ -207,23 +212,26 @@ pub(crate) fn place(
             radius2[o as usize] = radius2[o as usize].max(d);
         }
     }
+    let placed: Vec<Option<DVec3>> = {
+        let positions = &*positions;
+        crate::parallel::map_indexed(positions.len(), threads, MIN_VERTICES_PER_THREAD, |o| {
+            let p0 = projected[o]?;
+            let node = positions[o].as_dvec3();
+            let x = quadrics[o].minimizer_near(p0, EIGEN_REL_TOL);
+            let limit2 = MAX_JUMP_CELL_RADII * MAX_JUMP_CELL_RADII * radius2[o];
+            let off2 = MAX_OFF_SURFACE_CELL_RADII * MAX_OFF_SURFACE_CELL_RADII * radius2[o];
+            let fits = x.is_finite()
+                && (x - node).length_squared() <= limit2
+                && closest_on_faces(original, cells.of(o), x, (f64::INFINITY, x)).0 <= off2;
+            Some(if fits { x } else { p0 })
+        })
+    };
     let mut moved = 0;
-    for o in 0..positions.len() {
-        let Some(p0) = projected[o] else { continue };
-        let node = positions[o].as_dvec3();
-        let x = quadrics[o].minimizer_near(p0, EIGEN_REL_TOL);
-        let limit2 = MAX_JUMP_CELL_RADII * MAX_JUMP_CELL_RADII * radius2[o];
-        let off2 = MAX_OFF_SURFACE_CELL_RADII * MAX_OFF_SURFACE_CELL_RADII * radius2[o];
-        let x = if x.is_finite()
-            && (x - node).length_squared() <= limit2
-            && closest_on_faces(original, cells.of(o), x, (f64::INFINITY, x)).0 <= off2
-        {
-            x
-        } else {
-            p0
-        };
-        positions[o] = x.as_vec3();
-        moved += 1;
+    for (p, x) in positions.iter_mut().zip(&placed) {
+        if let Some(x) = x {
+            *p = x.as_vec3();
+            moved += 1;
+        }
     }
     place_attached(original, &cells, attached, positions);
     moved

@@ -16,7 +16,7 @@ use crate::error::GngError;
 use crate::grid::{Grid, NONE, Nearest2};
 use crate::network::Network;
 use crate::params::{DEFAULT_SIGNALS_PER_NODE, GngParams, SearchStrategy, SignalSource};
-use crate::reconstruct::Reconstruction;
+use crate::reconstruct::{OriginalTables, Reconstruction};
 use crate::report::GngWarning;
 use glam::Vec3;
 use mesh::TriMesh;
@@ -26,8 +26,9 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// Grid resolution: rebuild once the node count has grown by this factor since the last build.
@@ -470,9 +471,11 @@ impl Part {
 /// not spoil the grid or f32 precision. The parts are interleaved by budget fraction.
 #[derive(Debug, Clone)]
 pub struct Trainer {
-    original: TriMesh,
+    original: Arc<TriMesh>,
     /// Distinct points and components of `original`, shared with phase 2.
     input: Pieces,
+    /// Phase 2's tables of `original`, built on a helper thread while training runs.
+    tables: Arc<BackgroundTables>,
     params: GngParams,
     parts: Vec<Part>,
     /// Warnings of the domain set-up (dropped components, stray vertices, capacity).
@@ -506,6 +509,7 @@ impl Trainer {
         if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
             return Err(GngError::NonFinite { vertex: v });
         }
+        let original = Arc::new(mesh.clone());
         let input = Pieces::of(mesh);
         let domain = Domain::build(mesh, &input, &params)?;
         let n = params.target_vertices;
@@ -530,7 +534,8 @@ impl Trainer {
             )?);
         }
         Ok(Trainer {
-            original: mesh.clone(),
+            tables: Arc::new(BackgroundTables::start(&original)),
+            original,
             input,
             inv_decay: 1.0 / params.error_decay,
             params,
@@ -824,10 +829,54 @@ impl Trainer {
         crate::reconstruct::reconstruct_with(
             &self.original,
             &self.input,
+            self.tables.get(),
             &snap.positions,
             &snap.edges,
             params,
         )
+    }
+}
+
+/// Phase 2's tables of the original ([`OriginalTables`]: edge table, vertex adjacency), built
+/// on a helper thread started with the trainer, so that they are ready when training ends
+/// (igea: ~45 ms of work that phase 2 no longer waits for, and both cores label). Shared by
+/// clones of the trainer; every reconstruction (the viewer's checkpoints too) reuses them.
+struct BackgroundTables {
+    handle: Mutex<Option<JoinHandle<OriginalTables>>>,
+    tables: OnceLock<Option<OriginalTables>>,
+}
+
+impl BackgroundTables {
+    /// Start building the tables of `original` (nothing when no thread can be started: phase 2
+    /// then builds them itself).
+    fn start(original: &Arc<TriMesh>) -> BackgroundTables {
+        let mesh = Arc::clone(original);
+        let handle = std::thread::Builder::new()
+            .name("gng3d-tables".into())
+            .spawn(move || OriginalTables::of(&mesh))
+            .ok();
+        BackgroundTables {
+            handle: Mutex::new(handle),
+            tables: OnceLock::new(),
+        }
+    }
+
+    /// The tables, waiting for the helper thread if needed; `None` when it could not run.
+    fn get(&self) -> Option<&OriginalTables> {
+        self.tables
+            .get_or_init(|| {
+                let handle = self.handle.lock().ok()?.take()?;
+                handle.join().ok()
+            })
+            .as_ref()
+    }
+}
+
+impl std::fmt::Debug for BackgroundTables {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BackgroundTables")
+            .field("ready", &self.tables.get().is_some())
+            .finish()
     }
 }
 
