@@ -155,3 +155,51 @@ fn compare_rejects_impossible_targets() {
     assert!(compare(&sphere, &CompareParams::new(2)).is_err());
     assert!(compare(&sphere, &CompareParams::new(sphere.vertex_count() + 1)).is_err());
 }
+
+/// A shared mesh, prepared (welded, cleaned) as every front end does; `None` (skip) without
+/// `GNG3D_MESHES`, a failure when `CI` is set.
+fn shared(name: &str) -> Option<gng3d::mesh::TriMesh> {
+    let path = mesh::fixtures::shared_meshes_dir("README.md")?.join(name);
+    let raw = gng3d::mesh::io::load(&path)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .mesh;
+    Some(gng3d::mesh::clean::prepare(&raw).0)
+}
+
+#[test]
+fn gngq_at_half_the_vertices_keeps_its_triangle_and_e_avg_wins() {
+    // Issue 11's "≥ 90 % of runs" rule at the ratio where GNG3D-Q used to lose it: at 50 % the
+    // budget capped at 30 epochs left 60 signals per node (cow: median smallest angle 30.3° vs
+    // QEM's 31.6°, 28 % of triangles under 20° vs 17 %, E_avg 1.6× QEM's). Measured now (survey):
+    // cow 36.0° / 8.8 %, spot 40.4° / 2.6 %, E_avg 0.8× and 0.7× QEM's.
+    for name in ["cow.obj", "spot.obj"] {
+        let Some(m) = shared(name) else {
+            return;
+        };
+        let n = (m.vertex_count() as f64 * 0.5).round() as usize;
+        let mut params = CompareParams::new(n);
+        params.metrics.hausdorff = HausdorffParams::with_samples(20_000);
+        let r = compare(&m, &params).unwrap().report;
+        assert_eq!(r.gng.vertices, n, "{name}: exact vertex count");
+        let (g, q) = (&r.gng.metrics, &r.qem.metrics);
+        let (gq, qq) = (&g.quality.simplified, &q.quality.simplified);
+        assert!(
+            gq.median_min_angle_degrees > qq.median_min_angle_degrees + 1.0,
+            "{name}: median min angle {} vs QEM {}",
+            gq.median_min_angle_degrees,
+            qq.median_min_angle_degrees
+        );
+        assert!(
+            gq.below_20_degrees < 0.75 * qq.below_20_degrees,
+            "{name}: under 20° {} vs QEM {}",
+            gq.below_20_degrees,
+            qq.below_20_degrees
+        );
+        assert!(
+            g.e_avg < q.e_avg,
+            "{name}: E_avg {} vs QEM {}",
+            g.e_avg,
+            q.e_avg
+        );
+    }
+}
