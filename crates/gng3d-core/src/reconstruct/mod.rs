@@ -458,8 +458,13 @@ fn reconstruct_labelled(
 
     // Map faces to triples, merge duplicates by sorted key with per-orientation votes.
     // Orientation sign: +1 when the triple rotated to start at its smallest label is ascending.
-    let mut index: HashMap<[u32; 3], usize> =
-        HashMap::with_capacity_and_hasher(original.triangles.len(), Default::default());
+    // Sized for the output (a closed mesh of N vertices has ~2N faces), not the input: at 1 %
+    // almost every original face is degenerate, and a table for all 269k of igea's was ~5 MB
+    // allocated and faulted in for ~5k entries.
+    let mut index: HashMap<[u32; 3], usize> = HashMap::with_capacity_and_hasher(
+        (2 * nodes.len() + 16).min(original.triangles.len()),
+        Default::default(),
+    );
     let mut triples: Vec<([u32; 3], [u32; 2])> = Vec::new(); // (first seen triple, votes [+, -])
     for t in &original.triangles {
         let l = t.map(|v| labels[v as usize]);
