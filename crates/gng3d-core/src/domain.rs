@@ -142,7 +142,6 @@ pub(crate) fn distinct_ids(mesh: &TriMesh) -> (Vec<u32>, Vec<Vec3>) {
     let mut order: Vec<(u32, u32, u32, u32)> = (0..first.len() as u32).map(key).collect();
     order.sort_unstable();
     let mut rep = vec![0u32; first.len()];
-    let mut is_rep = vec![false; first.len()];
     let mut run_start = 0;
     for i in 0..order.len() {
         let (x, y, z, k) = order[i];
@@ -150,15 +149,14 @@ pub(crate) fn distinct_ids(mesh: &TriMesh) -> (Vec<u32>, Vec<Vec3>) {
         if (s.0, s.1, s.2) != (x, y, z) {
             run_start = i;
         }
-        let r = order[run_start].3;
-        rep[k as usize] = r;
-        is_rep[r as usize] = true;
+        rep[k as usize] = order[run_start].3;
     }
-    // 3. Dense ids in first-seen order of the representatives.
+    // 3. Dense ids in first-seen order of the representatives (the vertices that represent
+    //    themselves).
     let mut dense = vec![u32::MAX; first.len()];
     let mut out = Vec::new();
     for k in 0..first.len() {
-        if is_rep[k] {
+        if rep[k] == k as u32 {
             dense[k] = out.len() as u32;
             out.push(mesh.positions[first[k] as usize]);
         }
@@ -424,22 +422,13 @@ impl Domain {
                 capacity: held,
             });
         }
+        // Kept pieces move out (no copy of their points and faces).
+        let mut pieces: Vec<Option<Piece>> = pieces.into_iter().map(Some).collect();
         let mut chosen = Vec::with_capacity(keep.len());
         for (k, &c) in keep.iter().enumerate() {
-            if alloc[k] >= 2 {
-                let mut p = std::mem::replace(
-                    &mut pieces[c],
-                    Piece {
-                        frame: Frame {
-                            center: DVec3::ZERO,
-                            scale: 1.0,
-                        },
-                        points: Vec::new(),
-                        surface: TriMesh::default(),
-                        area: 0.0,
-                        target: 0,
-                    },
-                );
+            if alloc[k] >= 2
+                && let Some(mut p) = pieces[c].take()
+            {
                 p.target = alloc[k];
                 chosen.push(p);
             }

@@ -253,13 +253,16 @@ pub fn flip_edges(
                     // can undo the other: a shape flip never raises the error, and undoing it
                     // would not lower the error by GAIN.
                     let for_error = e_old > 0.0 && new_angle >= old_angle.min(keep_sin2);
-                    // Bend of the quad: the flip moves the surface across the tetrahedron a b c
-                    // d, whose height between the diagonals is 6·volume / (|ab|·|cd|).
-                    let (ab, cd) = (pb - pa, pd - pc);
-                    let bend = ab.cross(cd).dot(pc - pa).abs() / (ab.length() * cd.length());
-                    let for_shape = new_angle > SHAPE_GAIN * old_angle
-                        && n1.dot(n2) >= o1.dot(o2)
-                        && bend <= SHAPE_MAX_BEND * cd.length();
+                    let for_shape =
+                        new_angle > SHAPE_GAIN * old_angle && n1.dot(n2) >= o1.dot(o2) && {
+                            // Bend of the quad: the flip moves the surface across the
+                            // tetrahedron a b c d, whose height between the diagonals is
+                            // 6·volume / (|ab|·|cd|).
+                            let (ab, cd) = (pb - pa, pd - pc);
+                            let bend =
+                                ab.cross(cd).dot(pc - pa).abs() / (ab.length() * cd.length());
+                            bend <= SHAPE_MAX_BEND * cd.length()
+                        };
                     if !for_error && !for_shape {
                         continue;
                     }
@@ -391,8 +394,9 @@ mod tests {
         assert_eq!(tris, vec![[2, 0, 3], [3, 1, 2]]);
         assert!(s.error_after <= s.error_before + 1e-12);
         // The same slivers folded into a valley along a-b (c and d raised), with the points on
-        // the valley's faces: the c-d diagonal is still better shaped, but its faces leave the
-        // points (error 0 → > 0), so the shape rule must not take it.
+        // the valley's faces: the c-d diagonal is still better shaped, but the quad is far from
+        // flat and the new faces leave the points (error 0 → > 0), so the shape rule must not
+        // take it.
         let mut valley = positions.clone();
         valley[2].z = 0.5;
         valley[3].z = 0.5;

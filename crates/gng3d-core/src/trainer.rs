@@ -235,20 +235,6 @@ impl Part {
         rng: &mut Pcg64Mcg,
     ) -> Result<Part, GngError> {
         let bbox = mesh::Aabb::from_points(&piece.points);
-        let signals_src = match source {
-            SignalSource::Vertices => Signals::Points(Vec::new()),
-            SignalSource::Surface => {
-                Signals::Surface(AreaSampler::new(&piece.surface).map_err(|_| GngError::ZeroArea)?)
-            }
-            // GNG3D-Q: curvature-weighted areas (crate::features), bounded to 1-4x the area.
-            SignalSource::Curvature => {
-                let weights = crate::features::curvature_face_weights(&piece.surface, piece.target);
-                Signals::Surface(
-                    AreaSampler::weighted(&piece.surface, |f, _| weights[f])
-                        .map_err(|_| GngError::ZeroArea)?,
-                )
-            }
-        };
         let grid = match search {
             SearchStrategy::Grid => Some(Grid::new(bbox.min, bbox.max, 1)),
             SearchStrategy::LinearScan => None,
@@ -271,10 +257,20 @@ impl Part {
             net.add_node(pts[a], 0.0, 0);
             net.add_node(pts[b], 0.0, 0);
         }
-        let signals_src = match signals_src {
+        let signals_src = match source {
             // The points move into the sampler (no copy of the input's distinct points).
-            Signals::Points(_) => Signals::Points(piece.points),
-            other => other,
+            SignalSource::Vertices => Signals::Points(piece.points),
+            SignalSource::Surface => {
+                Signals::Surface(AreaSampler::new(&piece.surface).map_err(|_| GngError::ZeroArea)?)
+            }
+            // GNG3D-Q: curvature-weighted areas (crate::features), bounded to 1-4x the area.
+            SignalSource::Curvature => {
+                let weights = crate::features::curvature_face_weights(&piece.surface, piece.target);
+                Signals::Surface(
+                    AreaSampler::weighted(&piece.surface, |f, _| weights[f])
+                        .map_err(|_| GngError::ZeroArea)?,
+                )
+            }
         };
         Ok(Part {
             frame: piece.frame,
@@ -509,7 +505,6 @@ impl Trainer {
         if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
             return Err(GngError::NonFinite { vertex: v });
         }
-        let original = Arc::new(mesh.clone());
         let input = Pieces::of(mesh);
         let domain = Domain::build(mesh, &input, &params)?;
         let n = params.target_vertices;
@@ -533,6 +528,7 @@ impl Trainer {
                 &mut rng,
             )?);
         }
+        let original = Arc::new(mesh.clone());
         Ok(Trainer {
             tables: Arc::new(BackgroundTables::start(&original)),
             original,
