@@ -19,7 +19,7 @@ struct Args {
     /// Seed of the training signals.
     #[arg(long)]
     seed: Option<u64>,
-    /// GNG3D signal budget (default: 30 epochs of the vertex count).
+    /// GNG3D signal budget (default: 150 signals per target vertex, spread over the watched run).
     #[arg(long)]
     max_signals: Option<u64>,
     /// λ: signals between node insertions (default: automatic).

@@ -169,6 +169,14 @@ fn decade_marks(input: GridInput) -> Vec<GridMark> {
     // Only marks inside the shown range: egui_plot draws the labels of the others outside the
     // plot, over the neighbouring widgets.
     marks.retain(|m| m.value >= lo && m.value <= hi);
+    // A curve that stays within one decade (a Hausdorff distance between 0.015 and 0.04, say)
+    // would show no number at all: then the 2× and 5× marks are labelled too. There are at most
+    // five of them in such a range (< 2 decades), 0.3 decades apart, so the labels do not crowd.
+    if marks.iter().filter(|m| m.step_size >= 1.0).count() < 2 {
+        for m in &mut marks {
+            m.step_size = 1.0;
+        }
+    }
     marks
 }
 
@@ -200,10 +208,12 @@ fn count_marks(input: GridInput) -> Vec<GridMark> {
 
 fn format_log_tick(mark: GridMark) -> String {
     // Decades only: the 2× and 5× marks of a zoomed-in axis stay unlabelled grid lines, so
-    // labels never crowd (issue 13: "1.0e-3 twice over a dense band").
+    // labels never crowd (issue 13: "1.0e-3 twice over a dense band"), unless `decade_marks`
+    // promoted them because fewer than two decades are in view.
     if mark.step_size < 1.0 {
         return String::new();
     }
+    // Rounded to one significant digit: 10^(log10 2 - 2) prints as 2e-2, not 1.99…e-2.
     format!("{:.0e}", 10f64.powf(mark.value))
 }
 
@@ -291,16 +301,25 @@ pub fn legend_row(ui: &mut egui::Ui, entries: &[LegendEntry]) {
     ui.horizontal_wrapped(|ui| {
         ui.spacing_mut().item_spacing.x = 4.0;
         for &(label, color, dashed) in entries {
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
-            let (a, b) = (rect.left_center(), rect.right_center());
-            let stroke = Stroke::new(2.0, color);
-            if dashed {
-                ui.painter()
-                    .extend(egui::Shape::dashed_line(&[a, b], stroke, 4.0, 3.0));
-            } else {
-                ui.painter().line_segment([a, b], stroke);
-            }
-            ui.label(egui::RichText::new(label).small());
+            // Sample and label wrap as one unit and the label never breaks inside (in a narrow
+            // plot column, "GNG3D E_max" split over two rows, away from its line sample).
+            ui.horizontal(|ui| {
+                ui.spacing_mut().item_spacing.x = 4.0;
+                let (rect, _) =
+                    ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
+                let (a, b) = (rect.left_center(), rect.right_center());
+                let stroke = Stroke::new(2.0, color);
+                if dashed {
+                    ui.painter()
+                        .extend(egui::Shape::dashed_line(&[a, b], stroke, 4.0, 3.0));
+                } else {
+                    ui.painter().line_segment([a, b], stroke);
+                }
+                ui.add(
+                    egui::Label::new(egui::RichText::new(label).small())
+                        .wrap_mode(egui::TextWrapMode::Extend),
+                );
+            });
             ui.add_space(6.0);
         }
     });
@@ -639,6 +658,39 @@ mod tests {
             }),
             "1e-3"
         );
+    }
+
+    #[test]
+    fn a_range_inside_one_decade_still_gets_labelled_ticks() {
+        // Hausdorff between 0.015 and 0.04: no decade inside, 2e-2 must be labelled.
+        let marks = decade_marks(GridInput {
+            bounds: (0.015f64.log10(), 0.04f64.log10()),
+            base_step_size: 0.01,
+        });
+        let labels: Vec<String> = marks
+            .iter()
+            .map(|m| format_log_tick(*m))
+            .filter(|l| !l.is_empty())
+            .collect();
+        assert_eq!(labels, vec!["2e-2".to_string()]);
+        // One decade inside (0.08 … 0.3): 1e-1 and 2e-1 labelled.
+        let marks = decade_marks(GridInput {
+            bounds: (0.08f64.log10(), 0.3f64.log10()),
+            base_step_size: 0.01,
+        });
+        let labels: Vec<String> = marks
+            .iter()
+            .map(|m| format_log_tick(*m))
+            .filter(|l| !l.is_empty())
+            .collect();
+        assert_eq!(labels, vec!["1e-1".to_string(), "2e-1".to_string()]);
+        // Two decades or more: only decades labelled.
+        let marks = decade_marks(GridInput {
+            bounds: (-3.2, -0.9),
+            base_step_size: 0.01,
+        });
+        let labelled = marks.iter().filter(|m| !format_log_tick(**m).is_empty());
+        assert_eq!(labelled.count(), 3);
     }
 
     #[test]
