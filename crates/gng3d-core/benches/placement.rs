@@ -1,5 +1,6 @@
 //! GNG3D-Q phase-2 passes on trained networks: reconstruction with the paper's node placement
-//! (baseline), with quadric placement, and with quadric placement plus edge flips, on
+//! (baseline), with quadric placement, with quadric placement plus edge flips, and with all
+//! three plus the surface refit (the default), on
 //! armadillo at 10 % and igea at 1 % (the speed target). Divide the difference to the
 //! baseline by the output size for "ms per 10k output vertices".
 //! Meshes come from `GNG3D_MESHES`; without it the bench is skipped (fails when `CI` is set).
@@ -31,14 +32,16 @@ fn bench(c: &mut Criterion) {
         group.sample_size(10);
         group.warm_up_time(Duration::from_millis(500));
         group.measurement_time(Duration::from_secs(4));
-        for (label, placement, flip_edges) in [
-            ("node", Placement::Node, false),
-            ("quadric", Placement::Quadric, false),
-            ("quadric_flip", Placement::Quadric, true),
+        for (label, placement, flip_edges, refit) in [
+            ("node", Placement::Node, false, false),
+            ("quadric", Placement::Quadric, false, false),
+            ("quadric_flip", Placement::Quadric, true, false),
+            ("quadric_flip_refit", Placement::Quadric, true, true),
         ] {
             let rp = ReconstructionParams {
                 placement,
                 flip_edges,
+                refit,
                 ..ReconstructionParams::default()
             };
             let out = trainer.reconstruct(&rp).mesh.vertex_count();

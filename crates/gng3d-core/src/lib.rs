@@ -53,6 +53,7 @@ mod parallel;
 mod params;
 pub mod placement;
 mod reconstruct;
+pub mod refit;
 mod report;
 mod trainer;
 

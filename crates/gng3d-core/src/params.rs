@@ -81,6 +81,10 @@ pub struct ReconstructionParams {
     /// two new triangles are clearly closer to the original vertices, keeping orientation,
     /// manifoldness and triangle shape. Default `true`.
     pub flip_edges: bool,
+    /// (e) Surface refit after the flips (GNG3D-Q, [`Placement::Quadric`] only): move the output
+    /// vertices so that the triangles, not only their corners, fit sampled points of the
+    /// original (point-to-plane, kept near each vertex's cell quadric). Default `true`.
+    pub refit: bool,
 }
 
 // --- GNG3D-Q (placement + flips) -------------------------------------------------------------
@@ -107,6 +111,7 @@ impl ReconstructionParams {
         ReconstructionParams {
             placement: Placement::Node,
             flip_edges: false,
+            refit: false,
             ..ReconstructionParams::default()
         }
     }
@@ -122,6 +127,7 @@ impl Default for ReconstructionParams {
             max_hole_edges: 8,
             placement: Placement::Quadric,
             flip_edges: true,
+            refit: true,
         }
     }
 }

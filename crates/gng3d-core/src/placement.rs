@@ -114,11 +114,20 @@ pub(crate) fn cell_faces(original: &TriMesh, owner: &[u32], outputs: usize) -> C
     CellFaces { start, faces }
 }
 
+/// What [`place`] did.
+pub(crate) struct Placed {
+    /// Vertices moved.
+    pub moved: usize,
+    /// Each output vertex's cell quadric of face planes, without the boundary planes (Quadric
+    /// placement only; zero for attached vertices, which have no cell; empty for the other
+    /// placements). The refit keeps vertices near it.
+    pub quadrics: Vec<Quadric>,
+}
+
 /// Move the output vertices (`positions`, initially the node positions) according to
 /// `placement`; `edges` is the original's edge table (for its boundary planes), `owner` the
 /// output vertex of each original vertex ([`owners`]); the `attached` vertices (in output
-/// indices) have no cell and follow their split triangles ([`place_attached`]). Returns the
-/// number of vertices moved.
+/// indices) have no cell and follow their split triangles ([`place_attached`]).
 pub(crate) fn place(
     original: &TriMesh,
     edges: &EdgeTable,
@@ -126,9 +135,13 @@ pub(crate) fn place(
     placement: Placement,
     attached: &[Attachment],
     positions: &mut [Vec3],
-) -> usize {
+) -> Placed {
+    let mut placed = Placed {
+        moved: 0,
+        quadrics: Vec::new(),
+    };
     if placement == Placement::Node || positions.is_empty() {
-        return 0;
+        return placed;
     }
     let cells = cell_faces(original, owner, positions.len());
     let pos = |v: u32| original.positions[v as usize].as_dvec3();
@@ -162,15 +175,14 @@ pub(crate) fn place(
         })
     };
     if placement == Placement::Project {
-        let mut moved = 0;
         for (p, p0) in positions.iter_mut().zip(&projected) {
             if let Some(q) = p0 {
                 *p = q.as_vec3();
-                moved += 1;
+                placed.moved += 1;
             }
         }
         place_attached(original, &cells, attached, positions);
-        return moved;
+        return placed;
     }
 
     // Step 3: cell quadrics. Summing the vertex quadrics of the cell adds every face plane once
@@ -188,6 +200,10 @@ pub(crate) fn place(
             }
         }
     }
+    // The refit's anchor: face planes only (it holds open borders with its own boundary
+    // samples; with these 1000-weight planes in its anchor the bunny's rim vertices at 10 % rose
+    // off the base, Hausdorff 1.7 → 7.3× QEM).
+    placed.quadrics = quadrics.clone();
     for e in 0..edges.len() {
         if !edges.is_boundary(e) {
             continue;
@@ -212,7 +228,7 @@ pub(crate) fn place(
             radius2[o as usize] = radius2[o as usize].max(d);
         }
     }
-    let placed: Vec<Option<DVec3>> = {
+    let solved: Vec<Option<DVec3>> = {
         let positions = &*positions;
         crate::parallel::map_indexed(positions.len(), threads, MIN_VERTICES_PER_THREAD, |o| {
             let p0 = projected[o]?;
@@ -226,15 +242,14 @@ pub(crate) fn place(
             Some(if fits { x } else { p0 })
         })
     };
-    let mut moved = 0;
-    for (p, x) in positions.iter_mut().zip(&placed) {
+    for (p, x) in positions.iter_mut().zip(&solved) {
         if let Some(x) = x {
             *p = x.as_vec3();
-            moved += 1;
+            placed.moved += 1;
         }
     }
     place_attached(original, &cells, attached, positions);
-    moved
+    placed
 }
 
 /// The closest point to `p` on the original `faces`, starting from the bound `best` (squared

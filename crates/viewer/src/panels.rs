@@ -382,6 +382,13 @@ impl ViewerApp {
             ui.label("edge flips");
             ui.checkbox(&mut rec.flip_edges, "toward the surface (GNG3D-Q)");
             ui.end_row();
+            ui.label("surface refit");
+            ui.add_enabled(
+                rec.placement == gng3d_core::Placement::Quadric,
+                egui::Checkbox::new(&mut rec.refit, "triangles onto the surface (GNG3D-Q)"),
+            )
+            .on_disabled_hover_text("needs quadric placement");
+            ui.end_row();
         });
         ui.separator();
         ui.heading("Display");

@@ -53,7 +53,8 @@ impl From<PlacementArg> for gng3d_core::Placement {
 
 /// GNG3D / GNG3D-Q options shared by `simplify --method gng` and `compare`. The defaults are
 /// GNG3D-Q (quadric placement, edge flips, a signal budget that follows the output size);
-/// `--placement node --no-flips --epochs 30` is the paper's method and protocol.
+/// `--placement node --no-flips --epochs 30` is the paper's method and protocol (node placement
+/// has no refit).
 #[derive(Debug, Clone, clap::Args)]
 pub(crate) struct GngVariantArgs {
     /// GNG3D vertex placement: node (the paper), project (onto the surface) or quadric
@@ -63,6 +64,10 @@ pub(crate) struct GngVariantArgs {
     /// GNG3D: skip the error-driven edge-flip pass after reconstruction (the paper has none).
     #[arg(long)]
     pub no_flips: bool,
+    /// GNG3D: skip the surface refit after the flips (GNG3D-Q with quadric placement only: the
+    /// vertices are moved so that the triangles fit the original).
+    #[arg(long)]
+    pub no_refit: bool,
     /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30), instead of the
     /// default budget 150 × N for N output vertices.
     #[arg(long)]
@@ -72,7 +77,7 @@ pub(crate) struct GngVariantArgs {
 impl GngVariantArgs {
     /// Whether any of these flags was given (they apply to GNG3D only).
     pub fn any(&self) -> bool {
-        self.placement.is_some() || self.no_flips || self.epochs.is_some()
+        self.placement.is_some() || self.no_flips || self.no_refit || self.epochs.is_some()
     }
 
     /// Writes the flags into `options` (validated later by `GngOptions::validate`/`resolve`).
@@ -82,6 +87,9 @@ impl GngVariantArgs {
         }
         if self.no_flips {
             options.reconstruction.flip_edges = false;
+        }
+        if self.no_refit {
+            options.reconstruction.refit = false;
         }
         if self.epochs.is_some() {
             options.epochs = self.epochs;

@@ -17,7 +17,7 @@
 //! run on all cores ([`crate::parallel`]); every result is the same for any thread count.
 
 use crate::domain::{Pieces, find};
-use crate::params::{OppositeFaces, ReconstructionParams};
+use crate::params::{OppositeFaces, Placement, ReconstructionParams};
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
@@ -77,6 +77,8 @@ pub struct ReconstructionReport {
     pub placed_vertices: usize,
     /// Edges flipped by option (d).
     pub flipped_edges: usize,
+    /// Vertex moves of the surface refit, option (e), summed over its iterations.
+    pub refit_moves: usize,
     /// Output vertex count.
     pub vertices: usize,
     /// Output face count.
@@ -445,6 +447,7 @@ fn reconstruct_labelled(
         unreferenced_nodes: 0,
         placed_vertices: 0,
         flipped_edges: 0,
+        refit_moves: 0,
         vertices: 0,
         faces: 0,
         topology: mesh::topology::analyze(&TriMesh::default()),
@@ -598,7 +601,7 @@ fn reconstruct_labelled(
         })
         .collect();
     let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
-    report.placed_vertices = crate::placement::place(
+    let placed = crate::placement::place(
         original,
         original_edges,
         &owner,
@@ -606,11 +609,25 @@ fn reconstruct_labelled(
         &attachments,
         &mut positions,
     );
+    report.placed_vertices = placed.moved;
     let mut triangles = triangles;
     if params.flip_edges {
         let flips =
             crate::flip::flip_edges(&positions, &mut triangles, &original.positions, &owner);
         report.flipped_edges = flips.flips;
+    }
+    // (e) Refit after the flips: it fits the final triangles (before them, measured on four
+    // meshes at 10 % and 50 %: 2-5 % more mean distance and a higher Hausdorff max in 6 of 8).
+    if params.refit && params.placement == Placement::Quadric {
+        let refit = crate::refit::refit(
+            &mut positions,
+            &triangles,
+            original,
+            original_edges,
+            &owner,
+            &placed.quadrics,
+        );
+        report.refit_moves = refit.moves;
     }
 
     let mesh = TriMesh::new(positions, triangles);

@@ -27,6 +27,8 @@ struct Summary {
     placement: gng3d_core::Placement,
     /// Whether the edge-flip pass ran.
     flips: bool,
+    /// Whether the surface refit ran (quadric placement with refit on).
+    refit: bool,
     /// Machine-readable reasons why the output differs from the request (empty when exact).
     warnings: Vec<GngWarning>,
     closed: bool,
@@ -106,6 +108,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         nodes: trainer.node_count(),
         placement: params.reconstruction.placement,
         flips: params.reconstruction.flip_edges,
+        refit: params.reconstruction.refit
+            && params.reconstruction.placement == gng3d_core::Placement::Quadric,
         warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,

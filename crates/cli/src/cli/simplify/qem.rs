@@ -21,7 +21,9 @@ struct Summary {
 /// Simplify with QEM.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     if args.time_limit.is_some() || args.gng.any() {
-        bail!("--time-limit, --epochs, --placement and --no-flips apply to --method gng only");
+        bail!(
+            "--time-limit, --epochs, --placement, --no-flips and --no-refit apply to --method gng only"
+        );
     }
     let target = match (args.vertices, args.faces, args.ratio) {
         (Some(n), _, _) => Target::Vertices(n),
