@@ -1,5 +1,5 @@
 //! GNG3D-Q measurement harness: one GNG3D training per (mesh, ratio), reconstructed with every
-//! placement / flip combination, plus optional curvature-weighted training, against QEM at the
+//! placement / flip / refit combination, plus optional curvature-weighted training, against QEM at the
 //! same output vertex count. Prints one Markdown row per variant and a summary of ratios to QEM.
 //!
 //! ```text
@@ -164,27 +164,30 @@ fn main() -> anyhow::Result<()> {
                     SignalSource::Surface => "surf ",
                     SignalSource::Vertices => "",
                 };
+                // (label, placement, flips, refit); the last is the library default.
                 let mut variants = vec![
-                    ("node", Placement::Node, false),
-                    ("project", Placement::Project, false),
-                    ("quadric", Placement::Quadric, false),
-                    ("project+flip", Placement::Project, true),
-                    ("quadric+flip", Placement::Quadric, true),
+                    ("node", Placement::Node, false, false),
+                    ("project", Placement::Project, false, false),
+                    ("quadric", Placement::Quadric, false, false),
+                    ("project+flip", Placement::Project, true, false),
+                    ("quadric+flip", Placement::Quadric, true, false),
+                    ("quadric+flip+refit", Placement::Quadric, true, true),
                 ];
                 if only_default || source != SignalSource::Vertices {
-                    variants.retain(|v| v.0 == "quadric+flip" || v.0 == "node");
+                    variants.retain(|v| v.0 == "quadric+flip+refit" || v.0 == "node");
                 }
-                for (label, placement, flip) in variants {
+                for (label, placement, flip, refit) in variants {
                     let rp = ReconstructionParams {
                         placement,
                         flip_edges: flip,
+                        refit,
                         ..ReconstructionParams::default()
                     };
                     let t = Instant::now();
                     let rec = trainer.reconstruct(&rp);
                     let rec_s = t.elapsed().as_secs_f64();
                     let v = emit(&format!("{tag}{label}"), &rec.mesh, train_s + rec_s)?;
-                    if label == "quadric+flip" && tag.is_empty() {
+                    if label == "quadric+flip+refit" && tag.is_empty() {
                         qem_vertices = v;
                     }
                     eprintln!(
