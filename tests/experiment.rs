@@ -203,3 +203,40 @@ fn gngq_at_half_the_vertices_keeps_its_triangle_and_e_avg_wins() {
         );
     }
 }
+
+#[test]
+fn surface_refit_lowers_the_distance_without_adding_slivers() {
+    // GNG3D-Q's last step (gng3d_core::refit) moves vertices so the triangles fit the original.
+    // The same trained network reconstructed with and without it: the symmetric mean surface
+    // distance must fall clearly (measured: cow 10 % −19 %, spot 10 % −23 %) and, thanks to the
+    // refit's shape rule, the share of triangles under 20° must not grow (measured: cow 9.9 →
+    // 7.3 %, spot 6.2 → 3.8 %; without the rule cow went to 13.9 %).
+    use gng3d::gng3d_core::{GngParams, ReconstructionParams, Trainer};
+    for name in ["cow.obj", "spot.obj"] {
+        let Some(m) = shared(name) else {
+            return;
+        };
+        let n = (m.vertex_count() as f64 * 0.1).round() as usize;
+        let mut trainer = Trainer::new(&m, GngParams::for_target(n)).unwrap();
+        while !trainer.is_finished() {
+            trainer.step(u64::MAX);
+        }
+        let with = trainer.reconstruct(&ReconstructionParams::default());
+        let without = trainer.reconstruct(&ReconstructionParams {
+            refit: false,
+            ..ReconstructionParams::default()
+        });
+        assert!(with.report.refit_moves > 0 && without.report.refit_moves == 0);
+        assert_eq!(
+            with.mesh.triangles, without.mesh.triangles,
+            "{name}: same faces"
+        );
+        let hp = HausdorffParams::with_samples(50_000);
+        let mean = |s: &gng3d::mesh::TriMesh| gng3d::metrics::hausdorff(&m, s, &hp).unwrap().mean;
+        let (dw, dn) = (mean(&with.mesh), mean(&without.mesh));
+        assert!(dw < 0.9 * dn, "{name}: mean distance {dn:.3e} -> {dw:.3e}");
+        let share = |s: &gng3d::mesh::TriMesh| gng3d::metrics::triangle_quality(s).below_20_degrees;
+        let (qw, qn) = (share(&with.mesh), share(&without.mesh));
+        assert!(qw <= qn, "{name}: share under 20° {qn:.4} -> {qw:.4}");
+    }
+}

@@ -89,7 +89,7 @@ pub struct FlipStats {
 /// smallest angle (≤ 60°) sits between the two longest edges, so
 /// `sin² = |cross|² / (|e₁|²·|e₂|²)` over those two; monotone in the angle, no trigonometry.
 #[inline]
-fn min_angle_sin2(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+pub(crate) fn min_angle_sin2(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     let cross = (b - a).cross(c - a).length_squared();
     let (x, y, z) = (
         (b - a).length_squared(),

@@ -29,7 +29,10 @@
 //! 4. **Move** (Jacobi: every vertex from the previous positions): each vertex minimises its
 //!    quadric from its current position along the well-conditioned directions
 //!    ([`Quadric::minimizer_near`]); the move is clamped to [`MAX_STEP`] × its shortest incident
-//!    edge and dropped when an incident face would turn by more than `acos(`[`MAX_TURN_COS`]`)`.
+//!    edge. It is taken when no incident face turns by more than `acos(`[`MAX_TURN_COS`]`)` and,
+//!    for interior vertices, every incident face keeps its smallest angle above
+//!    [`KEEP_ANGLE_DEGREES`] (or above its old one); otherwise its component along the vertex
+//!    normal is tried under the same rules, otherwise the vertex stays.
 //!
 //! Deterministic: the sample assignment runs on all cores but gives the same result for any
 //! thread count, and the quadrics are summed in sample order.
@@ -63,6 +66,17 @@ pub const MAX_STEP: f64 = 0.25;
 /// An incident face's normal must keep at least this cosine with its normal before the move
 /// (~45°; not swept).
 pub const MAX_TURN_COS: f64 = 0.7;
+
+/// An interior vertex's move must leave each of its faces with a smallest angle of at least
+/// this, or at least the face's angle before the move when that was smaller; otherwise only the
+/// move's component along the vertex normal is tried. Over the survey (45 runs) the refit
+/// without this rule won triangle quality (median smallest angle and share under 20°) against
+/// QEM in 40 runs instead of 41, share under 20° 42 instead of 44 (cow at 10 %: 9.9 → 13.9 %
+/// of triangles under 20°), E_avg 41 instead of 43; with it the median mean-distance ratio is
+/// 1.53 instead of 1.49. 25° (the flips' bound) cost more distance (gargoyle-10k 10 %: 1.23 vs
+/// 1.19× QEM); holding border vertices to it too raised the survey's median Hausdorff ratio
+/// from 2.75 to 2.82 (the bunny's rim at 10 %: 1.77 → 2.62× QEM).
+pub const KEEP_ANGLE_DEGREES: f64 = 20.0;
 
 /// A sample only counts when its normal and its output face's have at least this cosine (60°;
 /// added together with the boundary samples, see [`BOUNDARY_WEIGHT`]).
@@ -131,6 +145,7 @@ pub fn refit(
     };
     let anchor: Vec<Quadric> = anchor.iter().map(|q| scaled(*q, ANCHOR_WEIGHT)).collect();
 
+    let keep_sin2 = KEEP_ANGLE_DEGREES.to_radians().sin().powi(2);
     let mut pos: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
     let threads = crate::parallel::threads();
     let mut on_faces: Vec<Option<(u32, DVec3)>> = Vec::new();
@@ -175,7 +190,7 @@ pub fn refit(
                 continue;
             }
             let start = old[v];
-            let mut p = quadric[v].minimizer_near(start, EIGEN_REL_TOL);
+            let p = quadric[v].minimizer_near(start, EIGEN_REL_TOL);
             if !p.is_finite() {
                 continue;
             }
@@ -185,17 +200,44 @@ pub fn refit(
                 .filter(|&u| u as usize != v)
                 .map(|u| (old[u as usize] - start).length())
                 .fold(f64::INFINITY, f64::min);
-            let step = p - start;
+            let mut step = p - start;
             let limit = MAX_STEP * shortest;
             if step.length() > limit {
-                p = start + step * (limit / step.length());
+                step *= limit / step.length();
             }
-            pos[v] = p;
-            let keeps_orientation = fan[v].iter().all(|&f| {
-                let t = triangles[f as usize];
-                normal(t, &old).dot(normal(t, &pos)) >= MAX_TURN_COS
-            });
-            if keeps_orientation {
+            // The full move, else its part along the vertex normal (the fan keeps its shape in
+            // the tangent plane), else none. Interior vertices must keep their faces' shape
+            // (KEEP_ANGLE_DEGREES); border vertices only their orientation, so that they can
+            // follow the original's rim.
+            let normal_dir: DVec3 = fan[v]
+                .iter()
+                .map(|&f| {
+                    let [a, b, c] = triangles[f as usize].map(|u| old[u as usize]);
+                    (b - a).cross(c - a)
+                })
+                .sum::<DVec3>()
+                .normalize_or_zero();
+            let on_border = !out_boundary[v].is_empty();
+            let mut taken = false;
+            for candidate in [start + step, start + normal_dir * normal_dir.dot(step)] {
+                pos[v] = candidate;
+                let fits = fan[v].iter().all(|&f| {
+                    let t = triangles[f as usize];
+                    let turns_little = normal(t, &old).dot(normal(t, &pos)) >= MAX_TURN_COS;
+                    let keeps_shape = on_border || {
+                        let [a0, b0, c0] = t.map(|u| old[u as usize]);
+                        let [a1, b1, c1] = t.map(|u| pos[u as usize]);
+                        crate::flip::min_angle_sin2(a1, b1, c1)
+                            >= crate::flip::min_angle_sin2(a0, b0, c0).min(keep_sin2)
+                    };
+                    turns_little && keeps_shape
+                });
+                if fits {
+                    taken = true;
+                    break;
+                }
+            }
+            if taken {
                 stats.moves += 1;
             } else {
                 pos[v] = start;
@@ -496,6 +538,18 @@ mod tests {
         let anchor = anchors(&original, &owner, positions.len());
         let edges = EdgeTable::new(&original);
         let before = mean_distance(&original, &positions, &coarse.triangles);
+        let angle = |pos: &[Vec3], t: &[u32; 3]| {
+            let [a, b, c] = t.map(|v| pos[v as usize].as_dvec3());
+            crate::flip::min_angle_sin2(a, b, c)
+                .sqrt()
+                .asin()
+                .to_degrees()
+        };
+        let angles_before: Vec<f64> = coarse
+            .triangles
+            .iter()
+            .map(|t| angle(&positions, t))
+            .collect();
         let stats = refit(
             &mut positions,
             &coarse.triangles,
@@ -515,10 +569,15 @@ mod tests {
             let r = p.length();
             assert!(r > 1.0 && r < 1.1, "radius {r}");
         }
-        // Every face still faces outward.
-        for t in &coarse.triangles {
+        // Every face still faces outward and keeps its shape (no vertex is on a border).
+        for (t, before) in coarse.triangles.iter().zip(&angles_before) {
             let [a, b, c] = t.map(|v| positions[v as usize]);
             assert!((b - a).cross(c - a).dot(a + b + c) > 0.0);
+            let after = angle(&positions, t);
+            assert!(
+                after >= before.min(KEEP_ANGLE_DEGREES) - 1e-6,
+                "{before}° -> {after}°"
+            );
         }
     }
 
