@@ -61,13 +61,15 @@ pub struct CompareReport {
     pub qem: MethodRun,
     /// GNG3D's run.
     pub gng: MethodRun,
-    /// Which GNG3D ran, in words (placement, flips, signal budget), e.g. "GNG3D-Q (quadric
-    /// placement, edge flips, default budget)".
+    /// Which GNG3D ran, in words (placement, flips, refit, signal budget), e.g. "GNG3D-Q:
+    /// quadric placement, edge flips, surface refit, default signal budget".
     pub gng_variant: String,
     /// GNG3D's vertex placement.
     pub gng_placement: gng3d_core::Placement,
     /// Whether GNG3D's edge-flip pass ran.
     pub gng_flips: bool,
+    /// Whether GNG3D's surface refit ran (quadric placement with the refit on).
+    pub gng_refit: bool,
 }
 
 /// `options`' variant in words: "GNG3D (paper: ...)" for node placement without flips,
@@ -90,12 +92,17 @@ pub fn variant_label(options: &GngOptions) -> String {
         (None, Some(s)) => format!("{s} signals"),
         (None, None) => "default signal budget".to_string(),
     };
+    let refit = if r.refit && r.placement == Placement::Quadric {
+        ", surface refit"
+    } else {
+        ""
+    };
     let name = if r.placement == Placement::Node && !r.flip_edges {
         "GNG3D (paper)"
     } else {
         "GNG3D-Q"
     };
-    format!("{name}: {placement}, {flips}, {budget}")
+    format!("{name}: {placement}, {flips}{refit}, {budget}")
 }
 
 /// The report plus both simplified meshes.
@@ -165,6 +172,8 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
             gng_variant: variant_label(&params.gng),
             gng_placement: params.gng.reconstruction.placement,
             gng_flips: params.gng.reconstruction.flip_edges,
+            gng_refit: params.gng.reconstruction.refit
+                && params.gng.reconstruction.placement == gng3d_core::Placement::Quadric,
         },
         qem_mesh,
         gng_mesh: gng.mesh,

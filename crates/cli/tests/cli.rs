@@ -193,10 +193,22 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     assert_eq!(paper["vertices"], 160);
     // --epochs 10: 10 × |V| signals, not the default min(400 N, 30 |V|) = 30 × 642.
     assert_eq!(paper["iterations"], 10 * 642);
-    let (q, _) = run("q.obj", &[]);
+    let (q, r_refit) = run("q.obj", &[]);
     assert_eq!(q["placement"], "Quadric");
     assert_eq!(q["flips"], true);
+    assert_eq!(q["refit"], true);
     assert_eq!(q["vertices"], 160);
+    let (nr, r_no_refit) = run("nr.obj", &["--no-refit"]);
+    assert_eq!(nr["refit"], false);
+    assert_eq!(nr["vertices"], 160);
+    // The refit lifts the chords of the convex sphere outward: vertices end up outside the
+    // radius-1 sphere on average, the quadric vertices without it near or inside it.
+    assert!(
+        r_refit > r_no_refit,
+        "refit {r_refit} vs no refit {r_no_refit}"
+    );
+    assert!(r_refit > 1.0 && r_refit < 1.05, "{r_refit}");
+    assert_eq!(paper["refit"], false);
     let (p, r_project) = run("p.obj", &["--placement", "project", "--epochs", "30"]);
     assert_eq!(p["placement"], "Project");
     // Nodes are signal centroids, inside the convex sphere; projected vertices lie on the
@@ -233,6 +245,14 @@ fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
     fails(
         &["simplify", i, o, "--vertices", "100", "--no-flips"],
         "--method gng only",
+    );
+    fails(
+        &["simplify", i, o, "--vertices", "100", "--no-refit"],
+        "--method gng only",
+    );
+    fails(
+        &["compare", i, "--vertices", "100", "--paper", "--no-refit"],
+        "cannot be used with",
     );
     fails(
         &[
@@ -279,6 +299,10 @@ fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
     let d = report(&[]);
     assert_eq!(d["gng_placement"], "Quadric");
     assert_eq!(d["gng_flips"], true);
+    assert_eq!(d["gng_refit"], true);
+    assert!(d["gng_variant"].as_str().unwrap().contains("surface refit"));
+    assert_eq!(report(&["--no-refit"])["gng_refit"], false);
+    assert_eq!(paper["gng_refit"], false);
     // Both variants hold the vertex count exactly on the closed sphere.
     for r in [&paper, &q, &d] {
         assert_eq!(r["gng"]["vertices"], 100);

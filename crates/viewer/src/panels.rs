@@ -385,7 +385,7 @@ impl ViewerApp {
             ui.label("surface refit");
             ui.add_enabled(
                 rec.placement == gng3d_core::Placement::Quadric,
-                egui::Checkbox::new(&mut rec.refit, "triangles onto the surface (GNG3D-Q)"),
+                egui::Checkbox::new(&mut rec.refit, "fit the triangles (GNG3D-Q)"),
             )
             .on_disabled_hover_text("needs quadric placement");
             ui.end_row();
