@@ -177,6 +177,14 @@ fn decade_marks(input: GridInput) -> Vec<GridMark> {
             m.step_size = 1.0;
         }
     }
+    // A constant curve (QEM's line alone, before the first reconstruction) gets a range too
+    // narrow for any 1-2-5 mark: one labelled mark in its middle.
+    if marks.is_empty() {
+        marks.push(GridMark {
+            value: 0.5 * (lo + hi),
+            step_size: 1.0,
+        });
+    }
     marks
 }
 
@@ -213,8 +221,14 @@ fn format_log_tick(mark: GridMark) -> String {
     if mark.step_size < 1.0 {
         return String::new();
     }
-    // Rounded to one significant digit: 10^(log10 2 - 2) prints as 2e-2, not 1.99…e-2.
-    format!("{:.0e}", 10f64.powf(mark.value))
+    // 1-2-5 marks with one significant digit (10^(log10 2 - 2) prints as 2e-2, not 1.99…e-2),
+    // any other value (the middle mark of a narrow range) with two.
+    let v = 10f64.powf(mark.value);
+    let one = format!("{v:.0e}");
+    match one.parse::<f64>() {
+        Ok(r) if ((r - v) / v).abs() < 1e-6 => one,
+        _ => format!("{v:.1e}"),
+    }
 }
 
 /// Compact signal counts for the x axis: 0, 500, 12k, 1.5M.
@@ -469,8 +483,12 @@ pub fn hausdorff_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: 
         .collect();
     let qem = history.qem.as_ref().and_then(|q| q.evaluation.hausdorff);
     let mut plot = log_plot("hausdorff", height, x_max, "model units").y_axis_label("model units");
-    if hd.is_empty() && qem.is_none() {
-        plot = plot.include_y(-3.0).include_y(0.0);
+    match (hd.is_empty(), qem) {
+        (true, None) => plot = plot.include_y(-3.0).include_y(0.0),
+        // QEM's line alone (before the first reconstruction): half a decade either side, so
+        // the axis has labelled marks around it.
+        (true, Some(h)) => plot = plot.include_y(log10(h) - 0.5).include_y(log10(h) + 0.5),
+        _ => {}
     }
     plot.show(ui, move |plot| {
         plot.line(
@@ -691,6 +709,14 @@ mod tests {
         });
         let labelled = marks.iter().filter(|m| !format_log_tick(**m).is_empty());
         assert_eq!(labelled.count(), 3);
+        // A range too narrow for any 1-2-5 mark (a constant line at 2.7e-3): one mark in the
+        // middle, labelled with two digits.
+        let marks = decade_marks(GridInput {
+            bounds: (0.0026f64.log10(), 0.0028f64.log10()),
+            base_step_size: 0.001,
+        });
+        assert_eq!(marks.len(), 1);
+        assert_eq!(format_log_tick(marks[0]), "2.7e-3");
     }
 
     #[test]
