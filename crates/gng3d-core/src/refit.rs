@@ -508,6 +508,23 @@ mod tests {
         q
     }
 
+    /// `coarse`'s vertices refitted to `original` (owners: nearest coarse vertex), and the stats.
+    fn refitted(original: &TriMesh, coarse: &TriMesh) -> (Vec<Vec3>, RefitStats) {
+        let mut positions = coarse.positions.clone();
+        let owner = nearest_owner(original, &positions);
+        let anchor = anchors(original, &owner, positions.len());
+        let edges = EdgeTable::new(original);
+        let stats = refit(
+            &mut positions,
+            &coarse.triangles,
+            original,
+            &edges,
+            &owner,
+            &anchor,
+        );
+        (positions, stats)
+    }
+
     /// Mean distance of the original's vertices to the closest output face (brute force).
     fn mean_distance(original: &TriMesh, positions: &[Vec3], triangles: &[[u32; 3]]) -> f64 {
         let sum: f64 = original
@@ -533,11 +550,7 @@ mod tests {
         // inside it; the fine one is the "original".
         let original = mesh::procedural::icosphere(4);
         let coarse = mesh::procedural::icosphere(1);
-        let mut positions = coarse.positions.clone();
-        let owner = nearest_owner(&original, &positions);
-        let anchor = anchors(&original, &owner, positions.len());
-        let edges = EdgeTable::new(&original);
-        let before = mean_distance(&original, &positions, &coarse.triangles);
+        let before = mean_distance(&original, &coarse.positions, &coarse.triangles);
         let angle = |pos: &[Vec3], t: &[u32; 3]| {
             let [a, b, c] = t.map(|v| pos[v as usize].as_dvec3());
             crate::flip::min_angle_sin2(a, b, c)
@@ -548,16 +561,9 @@ mod tests {
         let angles_before: Vec<f64> = coarse
             .triangles
             .iter()
-            .map(|t| angle(&positions, t))
+            .map(|t| angle(&coarse.positions, t))
             .collect();
-        let stats = refit(
-            &mut positions,
-            &coarse.triangles,
-            &original,
-            &edges,
-            &owner,
-            &anchor,
-        );
+        let (positions, stats) = refitted(&original, &coarse);
         let after = mean_distance(&original, &positions, &coarse.triangles);
         assert!(stats.moves > 0 && stats.samples > 0);
         assert!(
@@ -603,18 +609,7 @@ mod tests {
         }
         let original = grid(16);
         let coarse = grid(4);
-        let mut positions = coarse.positions.clone();
-        let owner = nearest_owner(&original, &positions);
-        let anchor = anchors(&original, &owner, positions.len());
-        let edges = EdgeTable::new(&original);
-        refit(
-            &mut positions,
-            &coarse.triangles,
-            &original,
-            &edges,
-            &owner,
-            &anchor,
-        );
+        let (positions, _) = refitted(&original, &coarse);
         for (p, q) in positions.iter().zip(&coarse.positions) {
             assert!(p.z.abs() < 1e-6, "left the plane: {p:?}");
             // Border vertices stay on their border line.

@@ -678,37 +678,29 @@ mod tests {
         );
     }
 
+    /// The non-empty tick labels of a log axis from `lo` to `hi` (values, not logs).
+    fn log_labels(lo: f64, hi: f64) -> Vec<String> {
+        decade_marks(GridInput {
+            bounds: (lo.log10(), hi.log10()),
+            base_step_size: 0.01,
+        })
+        .into_iter()
+        .map(format_log_tick)
+        .filter(|l| !l.is_empty())
+        .collect()
+    }
+
     #[test]
     fn a_range_inside_one_decade_still_gets_labelled_ticks() {
         // Hausdorff between 0.015 and 0.04: no decade inside, 2e-2 must be labelled.
-        let marks = decade_marks(GridInput {
-            bounds: (0.015f64.log10(), 0.04f64.log10()),
-            base_step_size: 0.01,
-        });
-        let labels: Vec<String> = marks
-            .iter()
-            .map(|m| format_log_tick(*m))
-            .filter(|l| !l.is_empty())
-            .collect();
-        assert_eq!(labels, vec!["2e-2".to_string()]);
+        assert_eq!(log_labels(0.015, 0.04), vec!["2e-2".to_string()]);
         // One decade inside (0.08 … 0.3): 1e-1 and 2e-1 labelled.
-        let marks = decade_marks(GridInput {
-            bounds: (0.08f64.log10(), 0.3f64.log10()),
-            base_step_size: 0.01,
-        });
-        let labels: Vec<String> = marks
-            .iter()
-            .map(|m| format_log_tick(*m))
-            .filter(|l| !l.is_empty())
-            .collect();
-        assert_eq!(labels, vec!["1e-1".to_string(), "2e-1".to_string()]);
+        assert_eq!(
+            log_labels(0.08, 0.3),
+            vec!["1e-1".to_string(), "2e-1".to_string()]
+        );
         // Two decades or more: only decades labelled.
-        let marks = decade_marks(GridInput {
-            bounds: (-3.2, -0.9),
-            base_step_size: 0.01,
-        });
-        let labelled = marks.iter().filter(|m| !format_log_tick(**m).is_empty());
-        assert_eq!(labelled.count(), 3);
+        assert_eq!(log_labels(6.3e-4, 0.126).len(), 3);
         // A range too narrow for any 1-2-5 mark (a constant line at 2.7e-3): one mark in the
         // middle, labelled with two digits.
         let marks = decade_marks(GridInput {
