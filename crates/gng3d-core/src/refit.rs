@@ -379,9 +379,14 @@ fn closest_face(
     pos: &[DVec3],
 ) -> Option<(u32, DVec3)> {
     let mut best = (f64::INFINITY, NONE, DVec3::ZERO);
-    for &o in s.owners.iter().filter(|&&o| o != NONE) {
+    for (k, &o) in s.owners.iter().enumerate().filter(|&(_, &o)| o != NONE) {
         for &f in &fan[o as usize] {
-            let [a, b, c] = triangles[f as usize].map(|v| pos[v as usize]);
+            let t = triangles[f as usize];
+            // A face around an earlier owner was tested with that owner's fan.
+            if s.owners[..k].iter().any(|&e| e != NONE && t.contains(&e)) {
+                continue;
+            }
+            let [a, b, c] = t.map(|v| pos[v as usize]);
             // A face whose bounding box is no nearer than the best so far cannot win (skips
             // most of the exact tests: a sample sees up to three fans of ~6 faces).
             let nearest_box = s.point.clamp(a.min(b).min(c), a.max(b).max(c));
