@@ -105,6 +105,17 @@ pub(crate) fn min_angle_sin2(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     }
 }
 
+/// The faces around each of `n` vertices, in face order (shared with [`crate::refit`]).
+pub(crate) fn fans(triangles: &[[u32; 3]], n: usize) -> Vec<Vec<u32>> {
+    let mut fan: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for (f, t) in triangles.iter().enumerate() {
+        for &v in t {
+            fan[v as usize].push(f as u32);
+        }
+    }
+    fan
+}
+
 /// Squared distance from `p` to triangle `t` of `pos`.
 #[inline]
 fn dist2(p: DVec3, t: [u32; 3], pos: &[DVec3]) -> f64 {
@@ -125,12 +136,7 @@ pub fn flip_edges(
     let n = positions.len();
     let pos: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
     // Vertex -> faces (dynamic: a flip moves one face from a to c and one from b to d).
-    let mut fan: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for (f, t) in triangles.iter().enumerate() {
-        for &v in t {
-            fan[v as usize].push(f as u32);
-        }
-    }
+    let mut fan = fans(triangles, n);
 
     // Step 1: assign points to the closest face of their owner's fan.
     const NONE: u32 = u32::MAX;

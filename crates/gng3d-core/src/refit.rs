@@ -135,7 +135,7 @@ pub fn refit(
     if n == 0 || triangles.is_empty() {
         return RefitStats::default();
     }
-    let fan = fans(triangles, n);
+    let fan = crate::flip::fans(triangles, n);
     let surface = surface_samples(original, owner, triangles.len());
     let boundary = boundary_samples(original, edges, owner);
     let out_boundary = output_boundary(triangles, n);
@@ -248,17 +248,6 @@ pub fn refit(
         *p = q.as_vec3();
     }
     stats
-}
-
-/// Faces around each output vertex.
-fn fans(triangles: &[[u32; 3]], n: usize) -> Vec<Vec<u32>> {
-    let mut fan: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for (f, t) in triangles.iter().enumerate() {
-        for &v in t {
-            fan[v as usize].push(f as u32);
-        }
-    }
-    fan
 }
 
 /// Step 1, surface samples: face centroids and vertices of the original, strided.
