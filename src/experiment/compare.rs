@@ -92,11 +92,7 @@ pub fn variant_label(options: &GngOptions) -> String {
         (None, Some(s)) => format!("{s} signals"),
         (None, None) => "default signal budget".to_string(),
     };
-    let refit = if r.refit && r.placement == Placement::Quadric {
-        ", surface refit"
-    } else {
-        ""
-    };
+    let refit = if r.refits() { ", surface refit" } else { "" };
     let name = if r.placement == Placement::Node && !r.flip_edges {
         "GNG3D (paper)"
     } else {
@@ -172,8 +168,7 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
             gng_variant: variant_label(&params.gng),
             gng_placement: params.gng.reconstruction.placement,
             gng_flips: params.gng.reconstruction.flip_edges,
-            gng_refit: params.gng.reconstruction.refit
-                && params.gng.reconstruction.placement == gng3d_core::Placement::Quadric,
+            gng_refit: params.gng.reconstruction.refits(),
         },
         qem_mesh,
         gng_mesh: gng.mesh,

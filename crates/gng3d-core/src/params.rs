@@ -105,6 +105,12 @@ pub enum Placement {
 }
 
 impl ReconstructionParams {
+    /// Whether the surface refit runs: it is asked for and the placement is
+    /// [`Placement::Quadric`] (it needs the cells' quadrics; the other placements skip it).
+    pub fn refits(&self) -> bool {
+        self.refit && self.placement == Placement::Quadric
+    }
+
     /// The paper's reconstruction: defaults with node placement and no flips (what
     /// `reproduce` uses for the paper's columns).
     pub fn paper() -> ReconstructionParams {

@@ -177,8 +177,8 @@ fn decade_marks(input: GridInput) -> Vec<GridMark> {
             m.step_size = 1.0;
         }
     }
-    // A constant curve (QEM's line alone, before the first reconstruction) gets a range too
-    // narrow for any 1-2-5 mark: one labelled mark in its middle.
+    // A range too narrow for any 1-2-5 mark (a nearly constant curve) gets one labelled mark
+    // in its middle.
     if marks.is_empty() {
         marks.push(GridMark {
             value: 0.5 * (lo + hi),
@@ -318,7 +318,6 @@ pub fn legend_row(ui: &mut egui::Ui, entries: &[LegendEntry]) {
             // Sample and label wrap as one unit and the label never breaks inside (in a narrow
             // plot column, "GNG3D E_max" split over two rows, away from its line sample).
             ui.horizontal(|ui| {
-                ui.spacing_mut().item_spacing.x = 4.0;
                 let (rect, _) =
                     ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
                 let (a, b) = (rect.left_center(), rect.right_center());

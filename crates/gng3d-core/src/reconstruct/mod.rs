@@ -17,7 +17,7 @@
 //! run on all cores ([`crate::parallel`]); every result is the same for any thread count.
 
 use crate::domain::{Pieces, find};
-use crate::params::{OppositeFaces, Placement, ReconstructionParams};
+use crate::params::{OppositeFaces, ReconstructionParams};
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
@@ -618,7 +618,7 @@ fn reconstruct_labelled(
     }
     // (e) Refit after the flips: it fits the final triangles (before them, measured on four
     // meshes at 10 % and 50 %: 4-6 % more mean distance and a higher Hausdorff max in 7 of 8).
-    if params.refit && params.placement == Placement::Quadric {
+    if params.refits() {
         let refit = crate::refit::refit(
             &mut positions,
             &triangles,

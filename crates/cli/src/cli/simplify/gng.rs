@@ -108,8 +108,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         nodes: trainer.node_count(),
         placement: params.reconstruction.placement,
         flips: params.reconstruction.flip_edges,
-        refit: params.reconstruction.refit
-            && params.reconstruction.placement == gng3d_core::Placement::Quadric,
+        refit: params.reconstruction.refits(),
         warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,
