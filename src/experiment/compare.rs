@@ -93,12 +93,17 @@ pub fn variant_label(options: &GngOptions) -> String {
         (None, None) => "default signal budget".to_string(),
     };
     let refit = if r.refits() { ", surface refit" } else { "" };
+    let signals = match options.signal_source {
+        gng3d_core::SignalSource::Vertices => "",
+        gng3d_core::SignalSource::Surface => ", surface signals",
+        gng3d_core::SignalSource::Curvature => ", curvature-weighted signals",
+    };
     let name = if r.placement == Placement::Node && !r.flip_edges {
         "GNG3D (paper)"
     } else {
         "GNG3D-Q"
     };
-    format!("{name}: {placement}, {flips}{refit}, {budget}")
+    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}")
 }
 
 /// The report plus both simplified meshes.

@@ -218,6 +218,75 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
 }
 
 #[test]
+fn simplify_gng_signals_flag_chooses_where_the_nodes_go() {
+    use gng3d::mesh;
+    let dir = tempfile::tempdir().unwrap();
+    // A flat 41 x 41 grid on [0, 1]^2 whose columns crowd towards x = 0 (x_i = (i / 40)^2):
+    // half of the vertices have x < 0.25, a quarter of the area does.
+    let n = 41u32;
+    let mut positions = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let x = (i as f32 / (n - 1) as f32).powi(2);
+            positions.push(glam::Vec3::new(x, j as f32 / (n - 1) as f32, 0.0));
+        }
+    }
+    let mut triangles = Vec::new();
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let v = j * n + i;
+            triangles.push([v, v + 1, v + n + 1]);
+            triangles.push([v, v + n + 1, v + n]);
+        }
+    }
+    let input = dir.path().join("grid.obj");
+    mesh::io::save(&mesh::TriMesh::new(positions, triangles), &input).unwrap();
+    let left_share = |signals: &str| {
+        let out = dir.path().join(format!("{signals}.obj"));
+        let o = gng3d(&[
+            "simplify",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--method",
+            "gng",
+            "--vertices",
+            "200",
+            "--signals",
+            signals,
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["vertices"], 200, "{signals}");
+        let m = mesh::io::load(&out).unwrap().mesh;
+        let left = m.positions.iter().filter(|p| p.x < 0.25).count();
+        (v["signals"].clone(), left as f64 / m.positions.len() as f64)
+    };
+    let (kind, vertices) = left_share("vertices");
+    assert_eq!(kind, "Vertices");
+    let (kind, surface) = left_share("surface");
+    assert_eq!(kind, "Surface");
+    // GNG's node density on a surface goes as the square root of the signal density. Vertex
+    // signals have density ~ x^(-1/2) here, so nodes ~ x^(-1/4) and the share left of 0.25 is
+    // 0.25^(3/4) = 0.354; surface signals are uniform: 0.25.
+    assert!(
+        (0.31..0.40).contains(&vertices),
+        "vertex signals: {vertices}"
+    );
+    assert!(
+        (0.20..0.29).contains(&surface),
+        "surface signals: {surface}"
+    );
+    // The flat grid has no curvature: curvature weights are plain area weights.
+    let (kind, curvature) = left_share("curvature");
+    assert_eq!(kind, "Curvature");
+    assert!(
+        (0.20..0.29).contains(&curvature),
+        "curvature signals: {curvature}"
+    );
+}
+
+#[test]
 fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
     use gng3d::mesh;
     let dir = tempfile::tempdir().unwrap();
@@ -250,6 +319,19 @@ fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
         &["simplify", i, o, "--vertices", "100", "--no-refit"],
         "--method gng only",
     );
+    fails(
+        &[
+            "simplify",
+            i,
+            o,
+            "--vertices",
+            "100",
+            "--signals",
+            "surface",
+        ],
+        "--method gng only",
+    );
+    fails(&[&gng[..], &["--signals", "normals"]].concat(), "signals");
     fails(
         &["compare", i, "--vertices", "100", "--paper", "--no-refit"],
         "cannot be used with",
@@ -302,6 +384,13 @@ fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
     assert_eq!(d["gng_refit"], true);
     assert!(d["gng_variant"].as_str().unwrap().contains("surface refit"));
     assert_eq!(report(&["--no-refit"])["gng_refit"], false);
+    let curved = report(&["--signals", "curvature"]);
+    assert!(
+        curved["gng_variant"]
+            .as_str()
+            .unwrap()
+            .contains("curvature-weighted signals")
+    );
     assert_eq!(paper["gng_refit"], false);
     // Both variants hold the vertex count exactly on the closed sphere.
     for r in [&paper, &q, &d] {

@@ -51,6 +51,27 @@ impl From<PlacementArg> for gng3d_core::Placement {
     }
 }
 
+/// Where GNG3D's training signals come from (`gng3d_core::SignalSource`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum SignalsArg {
+    /// Original vertices, uniformly (the paper; the default).
+    Vertices,
+    /// Points uniform over the surface area.
+    Surface,
+    /// Surface points, faces weighted up (1-4x) by the curvature across their edges.
+    Curvature,
+}
+
+impl From<SignalsArg> for gng3d_core::SignalSource {
+    fn from(s: SignalsArg) -> Self {
+        match s {
+            SignalsArg::Vertices => gng3d_core::SignalSource::Vertices,
+            SignalsArg::Surface => gng3d_core::SignalSource::Surface,
+            SignalsArg::Curvature => gng3d_core::SignalSource::Curvature,
+        }
+    }
+}
+
 /// GNG3D / GNG3D-Q options shared by `simplify --method gng` and `compare`. The defaults are
 /// GNG3D-Q (quadric placement, edge flips, a signal budget that follows the output size);
 /// `--placement node --no-flips --epochs 30` is the paper's method and protocol (node placement
@@ -72,12 +93,20 @@ pub(crate) struct GngVariantArgs {
     /// default budget 150 × N for N output vertices.
     #[arg(long)]
     pub epochs: Option<f64>,
+    /// GNG3D training signals: vertices (the paper, default), surface (uniform over the area) or
+    /// curvature (surface, weighted towards creases and curved parts).
+    #[arg(long, value_enum)]
+    pub signals: Option<SignalsArg>,
 }
 
 impl GngVariantArgs {
     /// Whether any of these flags was given (they apply to GNG3D only).
     pub fn any(&self) -> bool {
-        self.placement.is_some() || self.no_flips || self.no_refit || self.epochs.is_some()
+        self.placement.is_some()
+            || self.no_flips
+            || self.no_refit
+            || self.epochs.is_some()
+            || self.signals.is_some()
     }
 
     /// Writes the flags into `options` (validated later by `GngOptions::validate`/`resolve`).
@@ -90,6 +119,9 @@ impl GngVariantArgs {
         }
         if self.no_refit {
             options.reconstruction.refit = false;
+        }
+        if let Some(s) = self.signals {
+            options.signal_source = s.into();
         }
         if self.epochs.is_some() {
             options.epochs = self.epochs;

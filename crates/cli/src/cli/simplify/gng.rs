@@ -25,6 +25,8 @@ struct Summary {
     nodes: usize,
     /// Vertex placement used ("Node": the paper, "Project", "Quadric": GNG3D-Q).
     placement: gng3d_core::Placement,
+    /// Where the training signals came from ("Vertices": the paper, "Surface", "Curvature").
+    signals: gng3d_core::SignalSource,
     /// Whether the edge-flip pass ran.
     flips: bool,
     /// Whether the surface refit ran (quadric placement with refit on).
@@ -107,6 +109,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         target_vertices: target,
         nodes: trainer.node_count(),
         placement: params.reconstruction.placement,
+        signals: params.signal_source,
         flips: params.reconstruction.flip_edges,
         refit: params.reconstruction.refits(),
         warnings: result.report.warnings.clone(),
