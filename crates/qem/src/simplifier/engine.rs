@@ -3,7 +3,7 @@
 //! pair costing and placement, the topology / normal checks and the collapse itself. What to
 //! contract, and when, is decided by the pass loop in the parent module.
 
-use super::candidates::{Cand, cost_key};
+use super::candidates::{Cand, key_of};
 use super::prefetch;
 use super::prepare::Frame;
 use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
@@ -52,9 +52,11 @@ const _: () = assert!(std::mem::size_of::<Vertex>() == 128);
 pub(super) struct Engine {
     /// Geometry and bookkeeping per vertex.
     pub(super) vx: Vec<Vertex>,
-    /// Version per vertex, bumped by every contraction of the vertex (a separate compact array:
-    /// the candidate walks test it for every entry, in cost order, i.e. at random).
-    pub(super) stamps: Vec<u32>,
+    /// Generation in which each vertex was last contracted, 0 if never (a separate compact
+    /// array: the candidate walks test it for every entry, in cost order, i.e. at random).
+    pub(super) contracted: Vec<u16>,
+    /// The generation pairs are costed in now (see `candidates::is_live`).
+    pub(super) generation: u32,
     /// Faces (vertex triples; [`DEAD`] in the first slot once removed).
     pub(super) faces: Vec<[u32; 3]>,
     /// Face lists, appended to on every collapse (capacity reserved up to `refs_limit`).
@@ -109,7 +111,8 @@ impl Engine {
         let n = vx.len();
         Engine {
             vx,
-            stamps: vec![0; n],
+            contracted: vec![0; n],
+            generation: 0,
             live_faces: faces.len(),
             faces,
             refs,
@@ -183,10 +186,9 @@ impl Engine {
     fn candidate(&self, a: usize, b: usize) -> Cand {
         let (cost, _) = self.evaluate(a, b);
         Cand {
-            key: cost_key(cost),
+            key: key_of(cost, self.generation),
             a: a as u32,
             b: b as u32,
-            stamp: self.stamps[a].wrapping_add(self.stamps[b]),
         }
     }
 
@@ -366,8 +368,8 @@ impl Engine {
         self.vx[a].q += qb;
         self.vx[a].boundary |= self.vx[b].boundary;
         self.vx[b].alive = false;
-        self.stamps[a] = self.stamps[a].wrapping_add(1);
-        self.stamps[b] = self.stamps[b].wrapping_add(1);
+        self.contracted[a] = self.generation as u16;
+        self.contracted[b] = self.generation as u16;
         self.live_vertices -= 1;
         self.scratch.clear();
         for i in self.list(b) {

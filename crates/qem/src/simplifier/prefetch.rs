@@ -6,8 +6,9 @@
 
 use super::engine::Engine;
 
-/// How many list entries ahead the pass loop prefetches version stamps.
-pub(super) const STAMPS: usize = 32;
+/// How many list entries ahead the pass loop prefetches the ends' contraction generations
+/// (`Engine::contracted`).
+pub(super) const CONTRACTED: usize = 32;
 /// How many live candidates (or survivors, in the pair generation) ahead the vertex records of
 /// the endpoints are prefetched.
 pub(super) const RECORDS: usize = 16;

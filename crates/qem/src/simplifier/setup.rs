@@ -122,11 +122,7 @@ pub(super) fn vertex_setup(
                     }
                 }
                 if v > uu && !is_locked(u) && !is_locked(v as usize) {
-                    edges.push(Cand {
-                        a: uu,
-                        b: v,
-                        ..Cand::default()
-                    });
+                    edges.push(Cand::pair(uu, v));
                 }
             }
             slot.write(Vertex {
