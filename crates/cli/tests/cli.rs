@@ -9,6 +9,34 @@ fn gng3d(args: &[&str]) -> std::process::Output {
         .expect("run gng3d")
 }
 
+/// Runs `gng3d simplify INPUT OUTPUT --method gng --vertices N --json` plus `extra`.
+fn simplify_gng(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    vertices: u32,
+    extra: &[&str],
+) -> std::process::Output {
+    let n = vertices.to_string();
+    let mut a = vec![
+        "simplify",
+        input.to_str().unwrap(),
+        output.to_str().unwrap(),
+        "--method",
+        "gng",
+        "--vertices",
+        &n,
+        "--json",
+    ];
+    a.extend_from_slice(extra);
+    gng3d(&a)
+}
+
+/// The JSON a run printed on stdout; fails the test with its stderr if the run failed.
+fn json_of(o: &std::process::Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 #[test]
 fn compare_writes_json_and_meshes() {
     let Some(dir) = gng3d::mesh::fixtures::shared_meshes_dir("README.md") else {
@@ -27,8 +55,7 @@ fn compare_writes_json_and_meshes() {
         "--out",
         out.path().to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let report = json_of(&o);
     assert_eq!(report["target_vertices"], 700);
     for method in ["qem", "gng"] {
         let m = &report[method];
@@ -40,9 +67,11 @@ fn compare_writes_json_and_meshes() {
             .unwrap();
     assert_eq!(saved, report);
     for name in ["qem.obj", "gng.obj"] {
-        let info = gng3d(&["info", out.path().join(name).to_str().unwrap(), "--json"]);
-        assert!(info.status.success());
-        let v: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+        let v = json_of(&gng3d(&[
+            "info",
+            out.path().join(name).to_str().unwrap(),
+            "--json",
+        ]));
         assert_eq!(v["vertices"], report[&name[..3]]["vertices"]);
     }
 }
@@ -110,27 +139,8 @@ fn simplify_gng_json_reports_the_count_and_warnings_and_empty_results_fail() {
     let input = dir.path().join("outlier.obj");
     mesh::io::save(&m, &input).unwrap();
     let out = dir.path().join("out.obj");
-    let args = |extra: &[&str]| {
-        let mut a = vec![
-            "simplify",
-            input.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--method",
-            "gng",
-            "--vertices",
-            "200",
-            "--json",
-        ];
-        a.extend_from_slice(extra);
-        a.into_iter().map(String::from).collect::<Vec<_>>()
-    };
-    let run = |a: Vec<String>| {
-        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
-        gng3d(&refs)
-    };
-    let o = run(args(&[]));
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = simplify_gng(&input, &out, 200, &[]);
+    let v = json_of(&o);
     assert_eq!(v["target_vertices"], 200);
     assert_eq!(v["vertices"], 200);
     assert_eq!(v["warnings"][0]["kind"], "dropped_components");
@@ -139,7 +149,7 @@ fn simplify_gng_json_reports_the_count_and_warnings_and_empty_results_fail() {
     assert!(info.status.success());
     // A time limit too short for any network is an error, and no file is written.
     std::fs::remove_file(&out).unwrap();
-    let o = run(args(&["--time-limit", "1e-9"]));
+    let o = simplify_gng(&input, &out, 200, &["--time-limit", "1e-9"]);
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
@@ -168,20 +178,7 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
     let run = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
-        let mut a = vec![
-            "simplify",
-            input.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--method",
-            "gng",
-            "--vertices",
-            "160",
-            "--json",
-        ];
-        a.extend_from_slice(extra);
-        let o = gng3d(&a);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let v = json_of(&simplify_gng(&input, &out, 160, extra));
         (v, mean_radius(&out))
     };
     let (paper, r_node) = run(
@@ -243,20 +240,7 @@ fn simplify_gng_signals_flag_chooses_where_the_nodes_go() {
     mesh::io::save(&mesh::TriMesh::new(positions, triangles), &input).unwrap();
     let left_share = |signals: &str| {
         let out = dir.path().join(format!("{signals}.obj"));
-        let o = gng3d(&[
-            "simplify",
-            input.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--method",
-            "gng",
-            "--vertices",
-            "200",
-            "--signals",
-            signals,
-            "--json",
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let v = json_of(&simplify_gng(&input, &out, 200, &["--signals", signals]));
         assert_eq!(v["vertices"], 200, "{signals}");
         let m = mesh::io::load(&out).unwrap().mesh;
         let left = m.positions.iter().filter(|p| p.x < 0.25).count();
@@ -366,8 +350,7 @@ fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
             ]
             .concat(),
         );
-        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-        serde_json::from_slice::<serde_json::Value>(&r.stdout).unwrap()
+        json_of(&r)
     };
     let paper = report(&["--paper"]);
     assert_eq!(paper["gng_placement"], "Node");
