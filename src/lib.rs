@@ -30,3 +30,41 @@ pub use qem;
 
 pub mod experiment;
 pub mod report;
+
+use mesh::TriMesh;
+
+/// The decimator of oversampled GNG3D-Q runs ([`gng3d_core::Decimator`]): Garland–Heckbert QEM
+/// with its defaults (edges only, topology kept) down to `target_vertices` vertices. Quadrics
+/// come from the network's mesh, which after quadric placement and the refit lies on the
+/// original surface.
+pub fn qem_decimator(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh, String> {
+    let params = qem::QemParams::with_target(qem::Target::Vertices(target_vertices));
+    qem::simplify(mesh, &params)
+        .map(|(m, _)| m)
+        .map_err(|e| e.to_string())
+}
+
+/// GNG3D with QEM as the decimator of oversampled runs: [`gng3d_core::simplify_with`] with
+/// [`qem_decimator`]. Parameters without [`gng3d_core::GngParams::decimate_to`] give exactly
+/// what [`gng3d_core::simplify`] gives.
+///
+/// ```
+/// use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+/// let sphere = gng3d::mesh::procedural::icosphere(3); // 642 vertices
+/// let options = GngOptions {
+///     target: GngTarget::Vertices(200),
+///     oversample: DEFAULT_OVERSAMPLE,
+///     ..GngOptions::default()
+/// };
+/// let params = options.resolve(&sphere).unwrap();
+/// assert_eq!((params.target_vertices, params.decimate_to), (300, Some(200)));
+/// let result = gng3d::simplify_gng(&sphere, &params).unwrap();
+/// assert_eq!(result.mesh.vertex_count(), 200);
+/// assert_eq!(result.report.network_vertices, 300);
+/// ```
+pub fn simplify_gng(
+    mesh: &TriMesh,
+    params: &gng3d_core::GngParams,
+) -> Result<gng3d_core::GngResult, gng3d_core::GngError> {
+    gng3d_core::simplify_with(mesh, params, Some(&qem_decimator))
+}

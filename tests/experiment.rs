@@ -240,3 +240,58 @@ fn surface_refit_lowers_the_distance_without_adding_slivers() {
         assert!(qw <= qn, "{name}: share under 20° {qn:.4} -> {qw:.4}");
     }
 }
+
+#[test]
+fn oversampled_gngq_is_closer_to_the_surface_at_exactly_the_target() {
+    // GNG3D-Q's default: a network of 1.5 N nodes, reconstructed, then decimated to N by QEM
+    // (gng3d::simplify_gng). Against the same options without oversampling, on two meshes at
+    // 10 %: exactly N vertices, closed and manifold where the input is, and the symmetric mean
+    // surface distance clearly lower (measured, 50k samples: cow 10 % −19 %, spot 10 % −17 %).
+    use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+    for name in ["cow.obj", "spot.obj"] {
+        let Some(m) = shared(name) else {
+            return;
+        };
+        let n = (m.vertex_count() as f64 * 0.1).round() as usize;
+        let run = |oversample: f64| {
+            let p = GngOptions {
+                oversample,
+                ..GngOptions::for_target(GngTarget::Vertices(n))
+            }
+            .resolve(&m)
+            .unwrap();
+            gng3d::simplify_gng(&m, &p).unwrap()
+        };
+        let (plain, over) = (run(1.0), run(DEFAULT_OVERSAMPLE));
+        assert_eq!(plain.mesh.vertex_count(), n, "{name}");
+        assert_eq!(over.mesh.vertex_count(), n, "{name}: exact vertex count");
+        assert_eq!(
+            over.report.network_vertices,
+            (n as f64 * DEFAULT_OVERSAMPLE).ceil() as usize,
+            "{name}: network size"
+        );
+        assert!(
+            over.report.warnings.is_empty(),
+            "{name}: {:?}",
+            over.report.warnings
+        );
+        // Spot is closed and manifold, and so must its result be (the cow has a non-manifold
+        // vertex and comes back with a small hole at 10 % with or without oversampling).
+        let t = gng3d::mesh::topology::analyze(&over.mesh);
+        let input = gng3d::mesh::topology::analyze(&m);
+        if input.closed && input.manifold {
+            assert!(t.closed && t.manifold, "{name}: {t:?}");
+        }
+        let hp = HausdorffParams::with_samples(50_000);
+        let mean = |s: &gng3d::mesh::TriMesh| gng3d::metrics::hausdorff(&m, s, &hp).unwrap().mean;
+        let (dp, dov) = (mean(&plain.mesh), mean(&over.mesh));
+        eprintln!(
+            "{name}: mean distance {dp:.4e} -> {dov:.4e} ({:.3})",
+            dov / dp
+        );
+        assert!(
+            dov < 0.9 * dp,
+            "{name}: mean distance {dp:.3e} -> {dov:.3e}"
+        );
+    }
+}

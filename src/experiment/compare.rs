@@ -22,11 +22,15 @@ pub struct CompareParams {
 }
 
 impl CompareParams {
-    /// Defaults for both methods at `target_vertices`.
+    /// Defaults for both methods at `target_vertices` (GNG3D-Q oversampled by
+    /// [`gng3d_core::DEFAULT_OVERSAMPLE`], as `gng3d simplify --method gng`).
     pub fn new(target_vertices: usize) -> CompareParams {
         CompareParams {
             target_vertices,
-            gng: GngOptions::for_target(GngTarget::Vertices(target_vertices)),
+            gng: GngOptions {
+                oversample: gng3d_core::DEFAULT_OVERSAMPLE,
+                ..GngOptions::for_target(GngTarget::Vertices(target_vertices))
+            },
             qem: QemParams::with_target(Target::Vertices(target_vertices)),
             metrics: MetricsParams::default(),
         }
@@ -93,6 +97,11 @@ pub fn variant_label(options: &GngOptions) -> String {
         (None, None) => "default signal budget".to_string(),
     };
     let refit = if r.refits() { ", surface refit" } else { "" };
+    let oversample = if options.oversample > 1.0 {
+        format!(", {}x nodes decimated by QEM", options.oversample)
+    } else {
+        String::new()
+    };
     let signals = match options.signal_source {
         gng3d_core::SignalSource::Vertices => "",
         gng3d_core::SignalSource::Surface => ", surface signals",
@@ -103,7 +112,7 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         "GNG3D-Q"
     };
-    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}")
+    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}")
 }
 
 /// The report plus both simplified meshes.
@@ -141,7 +150,7 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
     let qem_seconds = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let gng = gng3d_core::simplify(original, &gp)?;
+    let gng = crate::simplify_gng(original, &gp)?;
     let gng_seconds = t.elapsed().as_secs_f64();
     for (method, mesh) in [("QEM", &qem_mesh), ("GNG3D", &gng.mesh)] {
         if mesh.face_count() == 0 {

@@ -42,7 +42,10 @@ impl Default for SurveyParams {
                 reconstruction: gng3d_core::ReconstructionParams::paper(),
                 ..GngOptions::default()
             },
-            gngq: GngOptions::default(),
+            gngq: GngOptions {
+                oversample: gng3d_core::DEFAULT_OVERSAMPLE,
+                ..GngOptions::default()
+            },
             qem: QemParams::default(),
             hausdorff: HausdorffParams::with_samples(200_000),
         }
@@ -128,7 +131,7 @@ pub fn survey_mesh(
         }
         .resolve(original)?;
         let t = Instant::now();
-        let gngq = gng3d_core::simplify(original, &gqp)?;
+        let gngq = crate::simplify_gng(original, &gqp)?;
         let gngq_seconds = t.elapsed().as_secs_f64();
         let qem_at_gngq = if gngq.mesh.vertex_count() == gng.mesh.vertex_count() {
             evaluator.evaluate(&qem_mesh)?

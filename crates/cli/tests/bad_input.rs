@@ -158,6 +158,43 @@ fn survey_skips_a_mesh_with_under_four_vertices_and_writes_the_summary() {
 }
 
 #[test]
+fn oversample_out_of_range_is_one_error_from_simplify_and_compare() {
+    let f = Fixture::new();
+    let a = f.sphere();
+    let out = f.path("out.obj");
+    for bad in ["0.5", "nan", "5", "-1"] {
+        let k = format!("--oversample={bad}");
+        let c = gng3d(&["compare", s(&a), "--vertices", "40", &k]);
+        assert_clean_failure(&c, &["oversample", "[1, 4]"]);
+        let g = gng3d(&[
+            "simplify",
+            s(&a),
+            s(&out),
+            "--method",
+            "gng",
+            "--vertices",
+            "40",
+            &k,
+        ]);
+        assert_clean_failure(&g, &["oversample", "[1, 4]"]);
+        assert!(!out.exists(), "{bad}");
+    }
+    // QEM has no network to oversample.
+    let q = gng3d(&[
+        "simplify",
+        s(&a),
+        s(&out),
+        "--method",
+        "qem",
+        "--vertices",
+        "40",
+        "--oversample",
+        "2",
+    ]);
+    assert_clean_failure(&q, &["oversample"]);
+}
+
+#[test]
 fn compare_time_limit_is_validated_like_simplify() {
     let f = Fixture::new();
     let a = f.sphere();

@@ -195,6 +195,30 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     assert_eq!(q["flips"], true);
     assert_eq!(q["refit"], true);
     assert_eq!(q["vertices"], 160);
+    // GNG3D-Q oversamples by default (1.5 × 160 nodes, decimated to 160); the paper's node
+    // placement does not, and --oversample sets it.
+    assert_eq!(
+        (q["oversample"].as_f64(), q["network_vertices"].as_u64()),
+        (Some(1.5), Some(240))
+    );
+    assert_eq!(q["nodes"], 240);
+    assert_eq!(
+        (
+            paper["oversample"].as_f64(),
+            paper["network_vertices"].as_u64()
+        ),
+        (Some(1.0), Some(160))
+    );
+    let (o2, _) = run("o2.obj", &["--oversample", "2"]);
+    assert_eq!(
+        (o2["vertices"].as_u64(), o2["network_vertices"].as_u64()),
+        (Some(160), Some(320))
+    );
+    let (o1, _) = run("o1.obj", &["--oversample", "1"]);
+    assert_eq!(
+        (o1["vertices"].as_u64(), o1["network_vertices"].as_u64()),
+        (Some(160), Some(160))
+    );
     let (nr, r_no_refit) = run("nr.obj", &["--no-refit"]);
     assert_eq!(nr["refit"], false);
     assert_eq!(nr["vertices"], 160);
@@ -240,7 +264,14 @@ fn simplify_gng_signals_flag_chooses_where_the_nodes_go() {
     mesh::io::save(&mesh::TriMesh::new(positions, triangles), &input).unwrap();
     let left_share = |signals: &str| {
         let out = dir.path().join(format!("{signals}.obj"));
-        let v = json_of(&simplify_gng(&input, &out, 200, &["--signals", signals]));
+        // Without oversampling: the network's own allocation (QEM's decimation of a flat grid
+        // removes vertices wherever, which blurs the signal densities).
+        let v = json_of(&simplify_gng(
+            &input,
+            &out,
+            200,
+            &["--signals", signals, "--oversample", "1"],
+        ));
         assert_eq!(v["vertices"], 200, "{signals}");
         let m = mesh::io::load(&out).unwrap().mesh;
         let left = m.positions.iter().filter(|p| p.x < 0.25).count();

@@ -65,4 +65,15 @@ pub enum GngError {
         /// Trained nodes.
         nodes: usize,
     },
+    /// Oversampled parameters (`GngParams::decimate_to`) were given without a decimator.
+    #[error(
+        "oversampling (decimate_to) needs a decimator: use simplify_with / finish_with (the gng3d facade passes QEM)"
+    )]
+    NoDecimator,
+    /// The decimator of an oversampled run failed.
+    #[error("decimating the network's mesh failed: {reason}")]
+    Decimation {
+        /// The decimator's message.
+        reason: String,
+    },
 }

@@ -59,7 +59,7 @@ mod trainer;
 
 pub use domain::{MIN_COMPONENT_NODES, STRAY_RADII};
 pub use error::GngError;
-pub use options::{GngOptions, GngTarget};
+pub use options::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
 pub use params::{
     DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, Placement,
     ReconstructionParams, SearchStrategy, SignalSource,
@@ -88,26 +88,57 @@ pub struct GngResult {
     pub report: GngReport,
 }
 
+/// A decimator for oversampled runs ([`GngParams::decimate_to`]): brings a mesh down to
+/// `target_vertices` vertices, error first, keeping its topology (the `gng3d` facade's
+/// `qem_decimator` is Garland–Heckbert QEM). The error is a sentence for the user.
+pub type Decimator<'a> = &'a dyn Fn(&TriMesh, usize) -> Result<TriMesh, String>;
+
 /// Simplify `mesh` with GNG3D: train to `params.target_vertices` nodes, then reconstruct.
 ///
 /// The input should be welded (e.g. `mesh::clean::prepare`); signals use distinct vertex
 /// positions either way. On a closed manifold input that can hold N nodes the output has
 /// exactly N vertices; otherwise [`GngReport::warnings`] says why not. Errors are returned for
 /// unusable input or parameters and for results with no mesh (fewer than three nodes, no
-/// triangle), never panics.
+/// triangle), never panics. Oversampled parameters ([`GngParams::decimate_to`]) need
+/// [`simplify_with`].
 pub fn simplify(mesh: &TriMesh, params: &GngParams) -> Result<GngResult, GngError> {
+    simplify_with(mesh, params, None)
+}
+
+/// [`simplify`] with a decimator for oversampled parameters (GNG3D-Q's last step: the
+/// network's mesh of `target_vertices` vertices is decimated to `decimate_to`).
+pub fn simplify_with(
+    mesh: &TriMesh,
+    params: &GngParams,
+    decimator: Option<Decimator<'_>>,
+) -> Result<GngResult, GngError> {
+    if params.decimate_to.is_some() && decimator.is_none() {
+        return Err(GngError::NoDecimator);
+    }
     let start = Instant::now();
     let mut trainer = Trainer::new(mesh, params.clone())?;
     while !trainer.is_finished() {
         trainer.step(u64::MAX);
     }
-    finish(&trainer, start)
+    finish_with(&trainer, start, decimator)
 }
 
 /// Phase 2 on a trained (or stopped) `trainer`, with the checks and warnings of [`simplify`];
 /// `start` is when the run began (for [`GngReport::seconds`]). Front ends that drive the
 /// trainer themselves (progress bars, viewers) call this to get the same result.
 pub fn finish(trainer: &Trainer, start: Instant) -> Result<GngResult, GngError> {
+    finish_with(trainer, start, None)
+}
+
+/// [`finish`] with a decimator for oversampled parameters ([`GngParams::decimate_to`]): the
+/// network's mesh is decimated to that many vertices when it has more. When the output then
+/// holds the requested count, warnings about the *network's* count (capacity, time limit,
+/// unattached nodes) are dropped: the user's target was met.
+pub fn finish_with(
+    trainer: &Trainer,
+    start: Instant,
+    decimator: Option<Decimator<'_>>,
+) -> Result<GngResult, GngError> {
     let stats = trainer.stats();
     let snap = trainer.snapshot();
     if snap.positions.len() < 3 {
@@ -117,7 +148,7 @@ pub fn finish(trainer: &Trainer, start: Instant) -> Result<GngResult, GngError> 
         });
     }
     let params = trainer.params();
-    let rec = trainer.reconstruct_snapshot(&snap, &params.reconstruction);
+    let mut rec = trainer.reconstruct_snapshot(&snap, &params.reconstruction);
     if rec.mesh.face_count() == 0 {
         return Err(GngError::EmptyMesh {
             nodes: snap.positions.len(),
@@ -129,9 +160,29 @@ pub fn finish(trainer: &Trainer, start: Instant) -> Result<GngResult, GngError> 
             nodes: rec.report.unreferenced_nodes,
         });
     }
+    let network_vertices = rec.mesh.vertex_count();
+    let target_vertices = params.decimate_to.unwrap_or(params.target_vertices);
+    if let Some(n) = params.decimate_to {
+        let decimate = decimator.ok_or(GngError::NoDecimator)?;
+        if network_vertices > n {
+            rec.mesh = decimate(&rec.mesh, n).map_err(|reason| GngError::Decimation { reason })?;
+            rec.report.topology = mesh::topology::analyze(&rec.mesh);
+        }
+        if rec.mesh.vertex_count() == n {
+            warnings.retain(|w| {
+                !matches!(
+                    w,
+                    GngWarning::TargetAboveCapacity { .. }
+                        | GngWarning::TimeLimitBeforeTarget { .. }
+                        | GngWarning::UnattachedNodes { .. }
+                )
+            });
+        }
+    }
     let report = GngReport {
         training: stats,
-        target_vertices: params.target_vertices,
+        target_vertices,
+        network_vertices,
         vertices: rec.mesh.vertex_count(),
         faces: rec.mesh.face_count(),
         reconstruction: rec.report,

@@ -177,6 +177,12 @@ pub struct GngParams {
     pub search: SearchStrategy,
     /// Phase-2 options.
     pub reconstruction: ReconstructionParams,
+    /// Oversampling (GNG3D-Q's last step): the network is trained to `target_vertices` nodes
+    /// and its mesh is then decimated, error first, to this many vertices (at least 3, at most
+    /// `target_vertices`). `None` (default): the network's mesh is the output. Needs a
+    /// decimator: [`crate::simplify_with`] / [`crate::finish_with`] (the `gng3d` facade passes
+    /// its QEM); [`crate::simplify`] refuses it. Set through [`crate::GngOptions::oversample`].
+    pub decimate_to: Option<usize>,
 }
 
 impl Default for GngParams {
@@ -197,6 +203,7 @@ impl Default for GngParams {
             signal_source: SignalSource::Vertices,
             search: SearchStrategy::Grid,
             reconstruction: ReconstructionParams::default(),
+            decimate_to: None,
         }
     }
 }
@@ -233,6 +240,11 @@ impl GngParams {
         }
         if self.max_edge_age == 0 {
             return bad("max_edge_age", 0.0);
+        }
+        if let Some(n) = self.decimate_to
+            && !(3..=self.target_vertices).contains(&n)
+        {
+            return bad("decimate_to (must be in 3..=target_vertices)", n as f64);
         }
         if self.max_signals == Some(0) {
             return bad("max_signals", 0.0);

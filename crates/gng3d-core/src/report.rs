@@ -97,6 +97,9 @@ pub struct GngReport {
     pub reconstruction: ReconstructionReport,
     /// Requested output vertex count N.
     pub target_vertices: usize,
+    /// Vertices of the network's mesh before decimation (equals `vertices` unless the run was
+    /// oversampled, [`crate::GngParams::decimate_to`]).
+    pub network_vertices: usize,
     /// Output vertex count (equals `target_vertices` unless `warnings` says why not).
     pub vertices: usize,
     /// Output face count.

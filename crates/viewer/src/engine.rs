@@ -54,9 +54,14 @@ pub struct Engine {
 }
 
 impl Engine {
-    /// Start training on `mesh` (already cleaned) with `params`.
+    /// Start training on `mesh` (already cleaned) with `params`, whose `target_vertices` is
+    /// the output count N: GNG3D-Q (quadric placement) trains an oversampled network and
+    /// decimates it to N, as `gng3d simplify --method gng` does (the rule is
+    /// `GngParams::oversampled` with `GngOptions::default_oversample`).
     pub fn new(mesh: &TriMesh, params: &TrainParams) -> Result<Engine> {
-        gng3d_core::Trainer::new(mesh, params.clone())
+        let factor = gng3d_core::GngOptions::default_oversample(params.reconstruction.placement);
+        let params = params.clone().oversampled(factor, mesh.vertex_count());
+        gng3d_core::Trainer::new(mesh, params)
             .map(|trainer| Engine { trainer })
             .map_err(|e| ViewerError::Gng(e.to_string()))
     }
@@ -86,21 +91,17 @@ impl Engine {
         self.trainer.snapshot()
     }
 
-    /// Build a triangle mesh from the current network.
+    /// Build a triangle mesh from the current network (decimated to the output count when
+    /// the network is oversampled and already larger; the same `gng3d_core::finish_with` as the
+    /// CLI).
     pub fn reconstruct(&mut self) -> Result<TriMesh> {
-        if self.trainer.node_count() < 3 {
-            return Err(ViewerError::Gng(
-                "the network has fewer than 3 nodes".into(),
-            ));
-        }
-        let params = self.trainer.params().reconstruction.clone();
-        let reconstruction = self.trainer.reconstruct(&params);
-        if reconstruction.mesh.face_count() == 0 {
-            return Err(ViewerError::Gng(
-                "the reconstruction has no faces yet".into(),
-            ));
-        }
-        Ok(reconstruction.mesh)
+        gng3d_core::finish_with(
+            &self.trainer,
+            std::time::Instant::now(),
+            Some(&gng3d::qem_decimator),
+        )
+        .map(|result| result.mesh)
+        .map_err(|e| ViewerError::Gng(e.to_string()))
     }
 }
 

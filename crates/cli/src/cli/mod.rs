@@ -97,6 +97,10 @@ pub(crate) struct GngVariantArgs {
     /// curvature (surface, weighted towards creases and curved parts).
     #[arg(long, value_enum)]
     pub signals: Option<SignalsArg>,
+    /// GNG3D-Q oversampling factor k in [1, 4]: train k × N nodes, then decimate the mesh to N
+    /// with QEM (error first). Default 1.5 with quadric placement, 1 (off) otherwise.
+    #[arg(long)]
+    pub oversample: Option<f64>,
 }
 
 impl GngVariantArgs {
@@ -107,6 +111,7 @@ impl GngVariantArgs {
             || self.no_refit
             || self.epochs.is_some()
             || self.signals.is_some()
+            || self.oversample.is_some()
     }
 
     /// Writes the flags into `options` (validated later by `GngOptions::validate`/`resolve`).
@@ -127,6 +132,11 @@ impl GngVariantArgs {
             options.epochs = self.epochs;
             options.max_signals = None;
         }
+        options.oversample = self
+            .oversample
+            .unwrap_or(gng3d_core::GngOptions::default_oversample(
+                options.reconstruction.placement,
+            ));
     }
 }
 

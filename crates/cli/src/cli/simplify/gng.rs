@@ -22,7 +22,12 @@ struct Summary {
     training_seconds: f64,
     /// Requested vertex count; `vertices` equals it unless `warnings` says why not.
     target_vertices: usize,
+    /// Trained nodes (k × N when oversampled).
     nodes: usize,
+    /// Oversampling factor k (1: the network's mesh is the output).
+    oversample: f64,
+    /// Vertices of the network's mesh before the QEM decimation (equals `vertices` when k = 1).
+    network_vertices: usize,
     /// Vertex placement used ("Node": the paper, "Project", "Quadric": GNG3D-Q).
     placement: gng3d_core::Placement,
     /// Where the training signals came from ("Vertices": the paper, "Surface", "Curvature").
@@ -70,7 +75,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let params = options
         .resolve(&input)
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
-    let target = params.target_vertices;
+    let target = params.decimate_to.unwrap_or(params.target_vertices);
     let start = Instant::now();
     let mut trainer = Trainer::new(&input, params.clone())
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
@@ -89,7 +94,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     });
     bar.finish_and_clear();
     // Same checks and warnings as gng3d_core::simplify: no mesh is an error, never exit 0.
-    let result = gng3d_core::finish(&trainer, start)
+    let result = gng3d_core::finish_with(&trainer, start, Some(&gng3d::qem_decimator))
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let seconds = start.elapsed().as_secs_f64();
     let stats = trainer.stats();
@@ -108,6 +113,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         training_seconds: stats.seconds,
         target_vertices: target,
         nodes: trainer.node_count(),
+        oversample: options.oversample,
+        network_vertices: result.report.network_vertices,
         placement: params.reconstruction.placement,
         signals: params.signal_source,
         flips: params.reconstruction.flip_edges,
