@@ -74,12 +74,13 @@ pub struct GngOptions {
 }
 
 /// The oversampling factor of GNG3D-Q in the front ends (`gng3d simplify --method gng`,
-/// `compare`, the survey's GNG3D-Q column, the viewer): 1.5. Measured on the 14 shared meshes at
-/// 10/25/50 % against QEM at the same vertex count (200k samples; docs/notes/gngq.md,
-/// "Oversampling"): k = 1 → 1.5 took the median mean surface distance ratio from about 1.5 to
-/// 1.1 and the Hausdorff ratio from about 2.7 to 1.7, and still won E_avg and triangle quality
-/// in most runs; k = 2 (capped at 80 % of the input) was 3-8 % closer but lost E_avg on
-/// armadillo and cow and gave 2-3 points more triangles under 20°.
+/// `compare`, the survey's GNG3D-Q column, the viewer): 1.5. Over the survey of the shared
+/// meshes at 10/25/50 % (45 runs, QEM at the same vertex count, 200k samples; docs/results.md)
+/// k = 1 → 1.5 took the median mean surface distance ratio to QEM from 1.53 to 1.14 and the
+/// Hausdorff ratio from 2.75 to 2.30, kept E_avg (41/45) and triangle quality (41/45) wins, and
+/// cost E_max wins (45 → 33 of 45: the decimation opens gaps where the surface is flat).
+/// k = 1.25 gave less (spot 10 %: 0.95 vs 0.90× QEM's mean distance); k = 2 (capped at 0.8 |V|)
+/// was 4-11 % closer at 10-25 % but lost E_avg on armadillo and cow (docs/notes/gngq.md).
 pub const DEFAULT_OVERSAMPLE: f64 = 1.5;
 
 impl Default for GngOptions {
