@@ -76,11 +76,11 @@ pub struct GngOptions {
 /// The oversampling factor of GNG3D-Q in the front ends (`gng3d simplify --method gng`,
 /// `compare`, the survey's GNG3D-Q column, the viewer): 1.5. Over the survey of the shared
 /// meshes at 10/25/50 % (45 runs, QEM at the same vertex count, 200k samples; docs/results.md)
-/// k = 1 → 1.5 took the median mean surface distance ratio to QEM from 1.53 to 1.14 and the
-/// Hausdorff ratio from 2.75 to 2.30, kept E_avg (41/45) and triangle quality (41/45) wins, and
-/// cost E_max wins (45 → 33 of 45: the decimation opens gaps where the surface is flat).
-/// k = 1.25 gave less (spot 10 %: 0.95 vs 0.90× QEM's mean distance); k = 2 (capped at 0.8 |V|)
-/// was 4-11 % closer at 10-25 % but lost E_avg on armadillo and cow (docs/notes/gngq.md).
+/// k = 1 → 1.5 (with the facade's QEM decimator and its edge-length term) took the median mean
+/// surface distance ratio to QEM from 1.53 to 1.18 and the Hausdorff ratio from 2.75 to 2.30,
+/// with E_avg, E_max and triangle quality won in 42, 43 and 42 of 45 runs. k = 1.25 gave less
+/// (spot 10 %: 0.95 vs 0.90× QEM's mean distance); k = 2 (capped at 0.8 |V|) was 4-11 % closer
+/// at 10-25 % but lost E_avg on armadillo and cow (docs/notes/gngq.md).
 pub const DEFAULT_OVERSAMPLE: f64 = 1.5;
 
 impl Default for GngOptions {

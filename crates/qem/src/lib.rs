@@ -74,6 +74,14 @@ pub struct QemParams {
     /// With `preserve_topology`: a contraction is rejected if some face normal would turn so that
     /// cos(angle between old and new normal) falls to or below this value.
     pub min_normal_cos: f64,
+    /// Weight `w` of an edge-length term added to every contraction's cost, `w · |a − b|⁴` in
+    /// the normalised frame (unit box diagonal; the quadric costs there are area × squared
+    /// distance, also length⁴). 0 (default) is Garland–Heckbert. A small weight breaks the ties
+    /// of flat regions (quadric cost ≈ 0) in favour of short edges, so the vertices that remain
+    /// stay evenly spread there: GNG3D-Q's oversampled decimation uses it to keep the uniform
+    /// network's small vertex gaps (E_max).
+    #[serde(default)]
+    pub edge_length_weight: f64,
 }
 
 impl Default for QemParams {
@@ -87,6 +95,7 @@ impl Default for QemParams {
             boundary_weight: 1000.0,
             preserve_topology: true,
             min_normal_cos: 0.2,
+            edge_length_weight: 0.0,
         }
     }
 }

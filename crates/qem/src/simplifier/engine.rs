@@ -77,6 +77,8 @@ pub(super) struct Engine {
     pub(super) live_vertices: usize,
     preserve_topology: bool,
     min_normal_cos: f64,
+    /// `QemParams::edge_length_weight` (0: none).
+    edge_length_weight: f64,
 }
 
 #[inline]
@@ -124,6 +126,7 @@ impl Engine {
             live_vertices: n,
             preserve_topology: params.preserve_topology,
             min_normal_cos: params.min_normal_cos,
+            edge_length_weight: params.edge_length_weight,
         }
     }
 
@@ -179,7 +182,12 @@ impl Engine {
         let (da, db) = (&self.vx[a], &self.vx[b]);
         let q = da.q + db.q;
         let (cost, p) = Self::place(&q, da.p, db.p);
-        (cost.max(0.0), p)
+        let mut cost = cost.max(0.0);
+        if self.edge_length_weight > 0.0 {
+            let len2 = da.p.distance_squared(db.p);
+            cost += self.edge_length_weight * len2 * len2;
+        }
+        (cost, p)
     }
 
     #[inline]

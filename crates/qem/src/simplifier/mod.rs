@@ -491,6 +491,12 @@ fn validate(p: &QemParams) -> Result<(), QemError> {
     {
         return bad("max error is NaN".into());
     }
+    if !(p.edge_length_weight >= 0.0 && p.edge_length_weight.is_finite()) {
+        return bad(format!(
+            "edge length weight {} must be finite and >= 0",
+            p.edge_length_weight
+        ));
+    }
     if !(-1.0..=1.0).contains(&p.min_normal_cos) {
         return bad(format!(
             "min_normal_cos {} is not in [-1, 1]",
