@@ -157,25 +157,31 @@ fn survey_skips_a_mesh_with_under_four_vertices_and_writes_the_summary() {
     assert!(out2.join("summary.md").is_file() && out2.join("summary.csv").is_file());
 }
 
+/// The two front ends of one GNG3D option: `compare A --vertices 40 FLAG` and
+/// `simplify A OUT --method gng --vertices 40 FLAG`.
+fn compare_and_simplify_gng(a: &Path, out: &Path, flag: &str) -> (Output, Output) {
+    let c = gng3d(&["compare", s(a), "--vertices", "40", flag]);
+    let g = gng3d(&[
+        "simplify",
+        s(a),
+        s(out),
+        "--method",
+        "gng",
+        "--vertices",
+        "40",
+        flag,
+    ]);
+    (c, g)
+}
+
 #[test]
 fn oversample_out_of_range_is_one_error_from_simplify_and_compare() {
     let f = Fixture::new();
     let a = f.sphere();
     let out = f.path("out.obj");
     for bad in ["0.5", "nan", "5", "-1"] {
-        let k = format!("--oversample={bad}");
-        let c = gng3d(&["compare", s(&a), "--vertices", "40", &k]);
+        let (c, g) = compare_and_simplify_gng(&a, &out, &format!("--oversample={bad}"));
         assert_clean_failure(&c, &["oversample", "[1, 4]"]);
-        let g = gng3d(&[
-            "simplify",
-            s(&a),
-            s(&out),
-            "--method",
-            "gng",
-            "--vertices",
-            "40",
-            &k,
-        ]);
         assert_clean_failure(&g, &["oversample", "[1, 4]"]);
         assert!(!out.exists(), "{bad}");
     }
@@ -200,19 +206,8 @@ fn compare_time_limit_is_validated_like_simplify() {
     let a = f.sphere();
     let out = f.path("out.obj");
     for bad in ["-1", "nan", "0", "inf"] {
-        let t = format!("--time-limit={bad}");
-        let c = gng3d(&["compare", s(&a), "--vertices", "40", &t]);
+        let (c, g) = compare_and_simplify_gng(&a, &out, &format!("--time-limit={bad}"));
         let ce = assert_clean_failure(&c, &["time limit"]);
-        let g = gng3d(&[
-            "simplify",
-            s(&a),
-            s(&out),
-            "--method",
-            "gng",
-            "--vertices",
-            "40",
-            &t,
-        ]);
         let ge = assert_clean_failure(&g, &["time limit"]);
         // The same message from both subcommands, said once.
         let line = |e: &str| {

@@ -262,16 +262,14 @@ impl GngParams {
         } else {
             wanted
         };
-        if network <= output_vertices {
-            return GngParams {
-                target_vertices: output_vertices,
-                decimate_to: None,
-                ..self
-            };
-        }
+        let (target_vertices, decimate_to) = if network > output_vertices {
+            (network, Some(output_vertices))
+        } else {
+            (output_vertices, None)
+        };
         GngParams {
-            target_vertices: network,
-            decimate_to: Some(output_vertices),
+            target_vertices,
+            decimate_to,
             ..self
         }
     }

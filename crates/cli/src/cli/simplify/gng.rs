@@ -75,7 +75,6 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let params = options
         .resolve(&input)
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
-    let target = params.decimate_to.unwrap_or(params.target_vertices);
     let start = Instant::now();
     let mut trainer = Trainer::new(&input, params.clone())
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
@@ -111,7 +110,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         iterations: stats.signals,
         seconds,
         training_seconds: stats.seconds,
-        target_vertices: target,
+        target_vertices: result.report.target_vertices,
         nodes: trainer.node_count(),
         oversample: options.oversample,
         network_vertices: result.report.network_vertices,
