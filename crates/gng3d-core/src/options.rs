@@ -253,7 +253,8 @@ impl GngParams {
     /// `available` with vertex signals, which cannot place more nodes than there are distinct
     /// vertices) and [`GngParams::decimate_to`] becomes N, the output count. A factor of 1, or
     /// no room above N, leaves them as they are. The one rule for every front end
-    /// ([`GngOptions::resolve`], the viewer).
+    /// ([`GngOptions::resolve`], the viewer). Oversampled parameters also turn on
+    /// [`crate::ReconstructionParams::split_bad_cells`].
     pub fn oversampled(self, factor: f64, available: usize) -> GngParams {
         let output_vertices = self.decimate_to.unwrap_or(self.target_vertices);
         let wanted = (output_vertices as f64 * factor.max(1.0)).ceil() as usize;
@@ -267,9 +268,14 @@ impl GngParams {
         } else {
             (output_vertices, None)
         };
+        // The decimation restores the count, so the reconstruction may add nodes to repair
+        // the topology (option (f)).
+        let mut reconstruction = self.reconstruction.clone();
+        reconstruction.split_bad_cells = decimate_to.is_some();
         GngParams {
             target_vertices,
             decimate_to,
+            reconstruction,
             ..self
         }
     }

@@ -85,6 +85,13 @@ pub struct ReconstructionParams {
     /// vertices so that the triangles, not only their corners, fit sampled points of the
     /// original (point-to-plane, kept near each vertex's cell quadric). Default `true`.
     pub refit: bool,
+    /// (f) Split the cells that cannot give a faithful mesh (not a topological disc, e.g. an
+    /// annulus around a thin tube; or along a hole the mapping made) and map again, for a few
+    /// rounds. It adds nodes, so the mesh has more vertices than the network: it is for
+    /// oversampled runs ([`GngParams::oversampled`] turns it on), whose decimation brings the
+    /// count back. Default `false`.
+    #[serde(default)]
+    pub split_bad_cells: bool,
 }
 
 // --- GNG3D-Q (placement + flips) -------------------------------------------------------------
@@ -134,6 +141,7 @@ impl Default for ReconstructionParams {
             placement: Placement::Quadric,
             flip_edges: true,
             refit: true,
+            split_bad_cells: false,
         }
     }
 }
