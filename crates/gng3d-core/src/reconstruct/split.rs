@@ -226,16 +226,14 @@ pub(super) fn split_cells(
                 .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
         };
         // The first seed is the vertex nearest to the node.
-        let first = cell
-            .iter()
-            .copied()
-            .min_by(|&a, &b| {
-                (positions[a as usize] - node)
-                    .length_squared()
-                    .total_cmp(&(positions[b as usize] - node).length_squared())
-                    .then(a.cmp(&b))
-            })
-            .expect("cell has vertices");
+        let Some(first) = cell.iter().copied().min_by(|&a, &b| {
+            (positions[a as usize] - node)
+                .length_squared()
+                .total_cmp(&(positions[b as usize] - node).length_squared())
+                .then(a.cmp(&b))
+        }) else {
+            continue;
+        };
         seeds.push(first);
         while seeds.len() < parts {
             match farthest(&seeds) {
