@@ -67,7 +67,7 @@ pub fn qem_decimator(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh, 
 /// let sphere = gng3d::mesh::procedural::icosphere(3); // 642 vertices
 /// let options = GngOptions {
 ///     target: GngTarget::Vertices(200),
-///     oversample: DEFAULT_OVERSAMPLE,
+///     oversample: Some(DEFAULT_OVERSAMPLE),
 ///     ..GngOptions::default()
 /// };
 /// let params = options.resolve(&sphere).unwrap();

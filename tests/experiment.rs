@@ -255,7 +255,7 @@ fn oversampled_gngq_is_closer_to_the_surface_at_exactly_the_target() {
         let n = (m.vertex_count() as f64 * 0.1).round() as usize;
         let run = |oversample: f64| {
             let p = GngOptions {
-                oversample,
+                oversample: Some(oversample),
                 ..GngOptions::for_target(GngTarget::Vertices(n))
             }
             .resolve(&m)
@@ -319,7 +319,7 @@ fn thin_parts_stay_attached_at_low_vertex_counts() {
         let input = gng3d::mesh::topology::analyze(&m);
         let n = (m.vertex_count() as f64 * ratio).round() as usize;
         let params = GngOptions {
-            oversample: DEFAULT_OVERSAMPLE,
+            oversample: Some(DEFAULT_OVERSAMPLE),
             ..GngOptions::for_target(GngTarget::Vertices(n))
         }
         .resolve(&m)
@@ -353,4 +353,28 @@ fn thin_parts_stay_attached_at_low_vertex_counts() {
         // The check can fail: without the repair the same run comes back in more pieces.
         assert!(tp.components > t.components, "{name} {ratio}: {tp:?}");
     }
+}
+
+#[test]
+fn compare_oversamples_gngq_and_not_the_papers_placement_set_afterwards() {
+    // CompareParams::new leaves the oversampling to the placement (`oversample: None`), so a
+    // caller who switches to the paper's reconstruction after `new` gets the paper's method,
+    // not 1.5 × N nodes decimated by QEM.
+    let sphere = procedural::icosphere(3); // 642 vertices
+    let mut params = CompareParams::new(120);
+    params.metrics.hausdorff = HausdorffParams::with_samples(5_000);
+    let q = compare(&sphere, &params).unwrap().report;
+    assert!(
+        q.gng_variant.contains("1.5x nodes decimated"),
+        "{}",
+        q.gng_variant
+    );
+    params.gng.reconstruction = gng3d::gng3d_core::ReconstructionParams::paper();
+    let paper = compare(&sphere, &params).unwrap().report;
+    assert!(
+        !paper.gng_variant.contains("decimated"),
+        "{}",
+        paper.gng_variant
+    );
+    assert_eq!((q.gng.vertices, paper.gng.vertices), (120, 120));
 }

@@ -22,13 +22,14 @@ pub struct CompareParams {
 }
 
 impl CompareParams {
-    /// Defaults for both methods at `target_vertices` (GNG3D-Q oversampled by
-    /// [`gng3d_core::DEFAULT_OVERSAMPLE`], as `gng3d simplify --method gng`).
+    /// Defaults for both methods at `target_vertices`; the oversampling follows the placement
+    /// (`oversample: None`: [`gng3d_core::DEFAULT_OVERSAMPLE`] for GNG3D-Q, off for the paper's
+    /// placement, as `gng3d simplify --method gng`).
     pub fn new(target_vertices: usize) -> CompareParams {
         CompareParams {
             target_vertices,
             gng: GngOptions {
-                oversample: gng3d_core::DEFAULT_OVERSAMPLE,
+                oversample: None,
                 ..GngOptions::for_target(GngTarget::Vertices(target_vertices))
             },
             qem: QemParams::with_target(Target::Vertices(target_vertices)),
@@ -97,8 +98,8 @@ pub fn variant_label(options: &GngOptions) -> String {
         (None, None) => "default signal budget".to_string(),
     };
     let refit = if r.refits() { ", surface refit" } else { "" };
-    let oversample = if options.oversample > 1.0 {
-        format!(", {}x nodes decimated by QEM", options.oversample)
+    let oversample = if options.oversample_factor() > 1.0 {
+        format!(", {}x nodes decimated by QEM", options.oversample_factor())
     } else {
         String::new()
     };

@@ -42,8 +42,9 @@ impl Default for SurveyParams {
                 reconstruction: gng3d_core::ReconstructionParams::paper(),
                 ..GngOptions::default()
             },
+            // Oversampling from the placement: 1.5 for GNG3D-Q.
             gngq: GngOptions {
-                oversample: gng3d_core::DEFAULT_OVERSAMPLE,
+                oversample: None,
                 ..GngOptions::default()
             },
             qem: QemParams::default(),

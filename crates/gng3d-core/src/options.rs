@@ -68,9 +68,13 @@ pub struct GngOptions {
     pub reconstruction: ReconstructionParams,
     /// Oversampling factor k in [1, 4]: train `ceil(k·N)` nodes (at most the input's vertices
     /// with vertex signals), reconstruct, then decimate error first to N
-    /// ([`GngParams::decimate_to`]; needs a decimator, see [`crate::simplify_with`]). 1 (the
-    /// library default) turns it off; front ends with QEM at hand use [`DEFAULT_OVERSAMPLE`].
-    pub oversample: f64,
+    /// ([`GngParams::decimate_to`]; needs a decimator, see [`crate::simplify_with`]). `Some(1.0)`
+    /// (the library default: [`crate::simplify`] has no decimator) turns it off. `None` takes
+    /// [`GngOptions::default_oversample`] of `reconstruction.placement` when the options are
+    /// resolved, so that a front end with QEM at hand (`compare`, the survey, the CLI without
+    /// `--oversample`) gets 1.5 for GNG3D-Q and 1 for the paper's placement whatever the order
+    /// in which its fields were set.
+    pub oversample: Option<f64>,
 }
 
 /// The oversampling factor of GNG3D-Q in the front ends (`gng3d simplify --method gng`,
@@ -97,7 +101,7 @@ impl Default for GngOptions {
             eps_neighbour: None,
             signal_source: p.signal_source,
             reconstruction: p.reconstruction,
-            oversample: 1.0,
+            oversample: Some(1.0),
         }
     }
 }
@@ -138,6 +142,13 @@ impl GngOptions {
         }
     }
 
+    /// The oversampling factor these options resolve to: `oversample`, or when it is `None`
+    /// [`GngOptions::default_oversample`] of the placement.
+    pub fn oversample_factor(&self) -> f64 {
+        self.oversample
+            .unwrap_or_else(|| Self::default_oversample(self.reconstruction.placement))
+    }
+
     /// Checks every option without a mesh (what can be checked before loading the input).
     pub fn validate(&self) -> Result<(), GngError> {
         if let GngTarget::Ratio(r) = self.target
@@ -173,8 +184,10 @@ impl GngOptions {
                 0.0,
             ));
         }
-        if !(1.0..=4.0).contains(&self.oversample) {
-            return Err(bad("oversample (must be in [1, 4])", self.oversample));
+        if let Some(k) = self.oversample
+            && !(1.0..=4.0).contains(&k)
+        {
+            return Err(bad("oversample (must be in [1, 4])", k));
         }
         for (name, eps) in [
             ("eps_winner (must be in [0, 1])", self.eps_winner),
@@ -243,7 +256,7 @@ impl GngOptions {
             reconstruction: self.reconstruction.clone(),
             ..defaults
         }
-        .oversampled(self.oversample, available))
+        .oversampled(self.oversample_factor(), available))
     }
 }
 
@@ -411,7 +424,7 @@ mod tests {
         let m = sphere(); // 162 vertices
         let at = |n: usize, k: f64| {
             let p = GngOptions {
-                oversample: k,
+                oversample: Some(k),
                 ..GngOptions::for_target(GngTarget::Vertices(n))
             }
             .resolve(&m)
@@ -426,7 +439,7 @@ mod tests {
         assert_eq!(at(162, 2.0), (162, None));
         // Surface signals can.
         let surface = GngOptions {
-            oversample: 1.5,
+            oversample: Some(1.5),
             signal_source: SignalSource::Surface,
             ..GngOptions::for_target(GngTarget::Vertices(150))
         };
@@ -436,7 +449,7 @@ mod tests {
         assert_eq!(p.clone().oversampled(1.5, 162), p);
         for k in [0.5, 4.5, f64::NAN, f64::INFINITY] {
             let e = GngOptions {
-                oversample: k,
+                oversample: Some(k),
                 ..GngOptions::default()
             }
             .validate()
@@ -451,11 +464,32 @@ mod tests {
         assert_eq!(GngOptions::default_oversample(crate::Placement::Node), 1.0);
     }
 
+    /// `oversample: None` follows the placement at resolve time, whichever field was set last:
+    /// GNG3D-Q is oversampled, the paper's placement is not.
+    #[test]
+    fn unset_oversampling_follows_the_placement() {
+        let m = sphere(); // 162 vertices
+        let mut opts = GngOptions {
+            oversample: None,
+            ..GngOptions::for_target(GngTarget::Vertices(50))
+        };
+        let p = opts.resolve(&m).unwrap();
+        assert_eq!((p.target_vertices, p.decimate_to), (75, Some(50)));
+        assert!(p.reconstruction.split_bad_cells);
+        opts.reconstruction = ReconstructionParams::paper();
+        let p = opts.resolve(&m).unwrap();
+        assert_eq!((p.target_vertices, p.decimate_to), (50, None));
+        assert!(!p.reconstruction.split_bad_cells);
+        assert_eq!(opts.oversample_factor(), 1.0);
+        // The library default is off, so that `simplify` (no decimator) works with it.
+        assert_eq!(GngOptions::default().oversample_factor(), 1.0);
+    }
+
     #[test]
     fn oversampled_params_need_a_decimator_and_get_exactly_the_target() {
         let m = mesh::procedural::icosphere(3); // 642 vertices
         let p = GngOptions {
-            oversample: 1.5,
+            oversample: Some(1.5),
             ..GngOptions::for_target(GngTarget::Vertices(200))
         }
         .resolve(&m)

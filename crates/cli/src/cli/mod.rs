@@ -132,11 +132,8 @@ impl GngVariantArgs {
             options.epochs = self.epochs;
             options.max_signals = None;
         }
-        options.oversample = self
-            .oversample
-            .unwrap_or(gng3d_core::GngOptions::default_oversample(
-                options.reconstruction.placement,
-            ));
+        // Without --oversample: from the placement (1.5 for GNG3D-Q, off for the paper's).
+        options.oversample = self.oversample;
     }
 }
 

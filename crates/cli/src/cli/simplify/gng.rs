@@ -112,7 +112,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         training_seconds: stats.seconds,
         target_vertices: result.report.target_vertices,
         nodes: trainer.node_count(),
-        oversample: options.oversample,
+        oversample: options.oversample_factor(),
         network_vertices: result.report.network_vertices,
         placement: params.reconstruction.placement,
         signals: params.signal_source,
