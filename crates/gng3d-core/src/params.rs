@@ -88,8 +88,9 @@ pub struct ReconstructionParams {
     /// (f) Split the cells that cannot give a faithful mesh (not a topological disc, e.g. an
     /// annulus around a thin tube; or along a hole the mapping made) and map again, for a few
     /// rounds. It adds nodes, so the mesh has more vertices than the network: it is for
-    /// oversampled runs ([`GngParams::oversampled`] turns it on), whose decimation brings the
-    /// count back. Default `false`.
+    /// oversampled runs, whose decimation brings the count back: [`GngParams::oversampled`]
+    /// sets it, on when it oversamples and off otherwise (so that un-decimated runs keep the
+    /// exact count). Default `false`.
     #[serde(default)]
     pub split_bad_cells: bool,
 }

@@ -516,19 +516,17 @@ fn reconstruct_labelled(
         report.split_cells += added;
         report.split_rounds += 1;
     };
-    let nodes = &nodes_split[..];
-
-    let mut nodes_after_attach = nodes.to_vec();
+    // The attach step moves attached nodes onto their triangles, in the same owned copy.
     let attachments = attach_unreferenced(
         &mut faces,
-        &mut nodes_after_attach,
+        &mut nodes_split,
         edges,
         original,
         &labels,
         &node_comp,
     );
     report.attached_nodes = attachments.len();
-    let nodes = &nodes_after_attach[..];
+    let nodes = &nodes_split[..];
 
     // Compact: keep referenced nodes only, in node order.
     let mut remap = vec![u32::MAX; nodes.len()];
