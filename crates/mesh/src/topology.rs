@@ -220,20 +220,21 @@ pub fn analyze(mesh: &TriMesh) -> TopologyReport {
     analyze_with(mesh, &EdgeTable::new(mesh))
 }
 
-/// [`analyze`] with a prebuilt [`EdgeTable`] of the same mesh.
-pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
+/// Number of edge-connected fans of faces around each vertex of `mesh` (0 for a vertex no
+/// face uses, 1 for a manifold vertex, more at a pinch where sheets meet at a point). `table`
+/// is the mesh's [`EdgeTable`]. A corner repeating its face's vertex (degenerate face) forms a
+/// fan of its own.
+pub fn vertex_fan_counts(mesh: &TriMesh, table: &EdgeTable) -> Vec<u32> {
     let v = mesh.positions.len();
     let f = mesh.triangles.len();
     // For each vertex, the corners at it (counting sort, ascending corner id), each stored as
-    // the two edges meeting there: side `i` and side `i - 1` of its face. A corner repeating
-    // its face's vertex (degenerate face) gets no edges and so forms a fan of its own.
+    // the two edges meeting there: side `i` and side `i - 1` of its face.
     let mut corner_start = vec![0u32; v + 1];
     for t in &mesh.triangles {
         for &i in t {
             corner_start[i as usize + 1] += 1;
         }
     }
-    let referenced_vertices = corner_start[1..].iter().filter(|&&n| n > 0).count();
     for i in 0..v {
         corner_start[i + 1] += corner_start[i];
     }
@@ -253,11 +254,10 @@ pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
     // Fans: around each vertex, its corners joined through the edges they share, found with a
     // pairwise scan with fan labels (up to 32 corners), or a sorted union-find local to the
     // vertex beyond that.
-    let mut fans_total = 0i64;
-    let mut non_manifold_vertices = 0;
+    let mut counts = vec![0u32; v];
     let mut local = UnionFind::new(0);
     let mut edge_and_corner: Vec<u64> = Vec::new();
-    for vertex in 0..v {
+    for (vertex, count) in counts.iter_mut().enumerate() {
         let corners =
             &corner_edges[corner_start[vertex] as usize..corner_start[vertex + 1] as usize];
         let k = corners.len();
@@ -300,9 +300,19 @@ pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
                 }
             }
         }
-        fans_total += fans as i64;
-        non_manifold_vertices += usize::from(fans > 1);
+        *count = fans as u32;
     }
+    counts
+}
+
+/// [`analyze`] with a prebuilt [`EdgeTable`] of the same mesh.
+pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
+    let v = mesh.positions.len();
+    let f = mesh.triangles.len();
+    let fan_counts = vertex_fan_counts(mesh, table);
+    let referenced_vertices = fan_counts.iter().filter(|&&n| n > 0).count();
+    let fans_total: i64 = fan_counts.iter().map(|&n| n as i64).sum();
+    let non_manifold_vertices = fan_counts.iter().filter(|&&n| n > 1).count();
     let mut boundary_edges = 0;
     let mut non_manifold_edges = 0;
     let mut boundary_graph = UnionFind::new(v);
@@ -340,9 +350,7 @@ pub fn analyze_with(mesh: &TriMesh, table: &EdgeTable) -> TopologyReport {
         .count();
     let components = if join_vertices {
         (0..v as u32)
-            .filter(|&i| {
-                corner_start[i as usize + 1] > corner_start[i as usize] && joined.find(i) == i
-            })
+            .filter(|&i| fan_counts[i as usize] > 0 && joined.find(i) == i)
             .count()
     } else {
         (0..f as u32).filter(|&i| joined.find(i) == i).count()

@@ -22,9 +22,10 @@
 //! It adds nodes, so the output has more vertices than the network: it is for oversampled runs,
 //! whose decimation brings the count back to the target while keeping the repaired topology.
 
-use super::{Candidate, OriginalTables, edge_key, half_edges};
+use super::{Candidate, OriginalTables};
 use glam::Vec3;
 use mesh::TriMesh;
+use mesh::topology::EdgeTable;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -69,24 +70,17 @@ pub(super) fn bad_cells(
     }
     // Holes of the mapping: boundary edges of the candidates away from the original's borders,
     // and the faces the cleanup put over such holes (support 0).
-    let mut half: Vec<(u32, u32)> = faces
-        .iter()
-        .flat_map(|c| half_edges(c.tri))
-        .map(|(a, b)| edge_key(a, b))
-        .collect();
-    half.sort_unstable();
-    let mut i = 0;
-    while i < half.len() {
-        let mut j = i + 1;
-        while j < half.len() && half[j] == half[i] {
-            j += 1;
-        }
-        let (a, b) = half[i];
-        if j - i == 1 && !(on_border[a as usize] && on_border[b as usize]) {
+    let candidates = TriMesh::new(
+        vec![Vec3::ZERO; node_count],
+        faces.iter().map(|c| c.tri).collect(),
+    );
+    let table = EdgeTable::new(&candidates);
+    for e in 0..table.len() {
+        let [a, b] = table.edges[e];
+        if table.is_boundary(e) && !(on_border[a as usize] && on_border[b as usize]) {
             bad[a as usize] = true;
             bad[b as usize] = true;
         }
-        i = j;
     }
     for c in faces.iter().filter(|c| c.support == 0) {
         for &v in &c.tri {
@@ -95,67 +89,18 @@ pub(super) fn bad_cells(
     }
     // Pinches: a node whose faces form more than one fan joins two sheets at a point (the
     // cow's tail at 10 % hung from the body by one vertex, every cell a disc, no hole).
-    for v in pinched_vertices(faces, node_count) {
-        bad[v as usize] = true;
+    for (v, &fans) in mesh::topology::vertex_fan_counts(&candidates, &table)
+        .iter()
+        .enumerate()
+    {
+        if fans > 1 {
+            bad[v] = true;
+        }
     }
     (0..node_count as u32)
         .filter(|&c| bad[c as usize] && size[c as usize] >= 2)
         .map(|c| (c, if euler[c as usize] == 1 { 2 } else { 3 }))
         .collect()
-}
-
-/// Vertices of `faces` whose incident faces form more than one edge-connected fan: the
-/// components of each vertex's link (the opposite edges of its faces), by union-find.
-fn pinched_vertices(faces: &[Candidate], node_count: usize) -> Vec<u32> {
-    let mut start = vec![0usize; node_count + 1];
-    for c in faces {
-        for &v in &c.tri {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for v in 0..node_count {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut link = vec![[0u32; 2]; start[node_count]];
-    for c in faces {
-        let [a, b, d] = c.tri;
-        for (v, e) in [(a, [b, d]), (b, [d, a]), (d, [a, b])] {
-            link[fill[v as usize]] = e;
-            fill[v as usize] += 1;
-        }
-    }
-    let mut pinched = Vec::new();
-    let mut ends: Vec<u32> = Vec::new();
-    let mut parent: Vec<u32> = Vec::new();
-    for v in 0..node_count {
-        let edges = &link[start[v]..start[v + 1]];
-        if edges.len() < 2 {
-            continue;
-        }
-        ends.clear();
-        ends.extend(edges.iter().flatten());
-        ends.sort_unstable();
-        ends.dedup();
-        parent.clear();
-        parent.extend(0..ends.len() as u32);
-        let slot = |x: u32| ends.binary_search(&x).unwrap_or(0) as u32;
-        let mut groups = ends.len();
-        for e in edges {
-            let (a, b) = (
-                crate::domain::find(&mut parent, slot(e[0])),
-                crate::domain::find(&mut parent, slot(e[1])),
-            );
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-                groups -= 1;
-            }
-        }
-        if groups > 1 {
-            pinched.push(v as u32);
-        }
-    }
-    pinched
 }
 
 /// Step 2: split each cell of `bad` in two (see the module docs), appending the new nodes to
