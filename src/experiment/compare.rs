@@ -103,6 +103,11 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         String::new()
     };
+    let detail = match options.detail_rounds {
+        Some(0) => ", no detail nodes".to_string(),
+        Some(r) if options.oversample_factor() > 1.0 => format!(", {r} rounds of detail nodes"),
+        _ => String::new(),
+    };
     let signals = match options.signal_source {
         gng3d_core::SignalSource::Vertices => "",
         gng3d_core::SignalSource::Surface => ", surface signals",
@@ -113,7 +118,7 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         "GNG3D-Q"
     };
-    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}")
+    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}{detail}")
 }
 
 /// The report plus both simplified meshes.

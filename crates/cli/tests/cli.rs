@@ -169,6 +169,74 @@ fn mean_radius(path: &std::path::Path) -> f64 {
         / m.positions.len() as f64
 }
 
+/// Distance from `p` to the nearest triangle of the mesh in `path` (brute force).
+fn distance_to_mesh(path: &std::path::Path, p: glam::Vec3) -> f64 {
+    let m = gng3d::mesh::io::load(path).unwrap().mesh;
+    let q = p.as_dvec3();
+    (0..m.face_count())
+        .map(|f| {
+            let [a, b, c] = m.triangle_f64(f);
+            (gng3d::mesh::geometry::closest_point_triangle(q, a, b, c) - q).length()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn simplify_gng_detail_rounds_reach_a_spike_and_the_flag_is_checked() {
+    use gng3d::mesh;
+    let dir = tempfile::tempdir().unwrap();
+    // A unit sphere (2,562 vertices) with one vertex pulled out to radius 1.3: a scan's spike.
+    let mut m = mesh::procedural::icosphere(4);
+    m.positions[100] *= 1.3;
+    let tip = m.positions[100];
+    let input = dir.path().join("spike.obj");
+    mesh::io::save(&m, &input).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let v = json_of(&simplify_gng(&input, &out, 300, extra));
+        assert_eq!(v["vertices"], 300);
+        (v, distance_to_mesh(&out, tip))
+    };
+    // 300 of 2,562 vertices (≥ 5 %): three rounds by default.
+    let (with, reached) = run("detail.obj", &[]);
+    assert_eq!(with["detail_rounds"], 3);
+    assert!(with["detail_nodes"].as_u64().unwrap() > 0, "{with}");
+    let (without, missed) = run("plain.obj", &["--detail-rounds", "0"]);
+    assert_eq!(
+        (
+            without["detail_rounds"].as_u64(),
+            without["detail_nodes"].as_u64()
+        ),
+        (Some(0), Some(0))
+    );
+    assert!(
+        reached < 0.25 * missed,
+        "tip {reached} from the mesh vs {missed} without"
+    );
+    // Out of range, and QEM has no such option: errors naming the flag, exit 1.
+    let o = simplify_gng(
+        &input,
+        &dir.path().join("x.obj"),
+        300,
+        &["--detail-rounds", "9"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("detail rounds"));
+    let o = gng3d(&[
+        "simplify",
+        input.to_str().unwrap(),
+        dir.path().join("q.obj").to_str().unwrap(),
+        "--method",
+        "qem",
+        "--vertices",
+        "300",
+        "--detail-rounds",
+        "1",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--detail-rounds"));
+}
+
 #[test]
 fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() {
     use gng3d::mesh;
@@ -195,13 +263,17 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     assert_eq!(q["flips"], true);
     assert_eq!(q["refit"], true);
     assert_eq!(q["vertices"], 160);
-    // GNG3D-Q oversamples by default (1.5 × 160 nodes, decimated to 160); the paper's node
-    // placement does not, and --oversample sets it.
+    // GNG3D-Q oversamples by default (1.5 × 160 nodes, plus the detail nodes of its three
+    // rounds, decimated to 160); the paper's node placement does not, and --oversample sets it.
+    let detail = |v: &serde_json::Value| v["detail_nodes"].as_u64().unwrap();
     assert_eq!(
         (q["oversample"].as_f64(), q["network_vertices"].as_u64()),
-        (Some(1.5), Some(240))
+        (Some(1.5), Some(240 + detail(&q)))
     );
-    assert_eq!(q["nodes"], 240);
+    assert_eq!(
+        (q["nodes"].as_u64(), q["detail_rounds"].as_u64()),
+        (Some(240), Some(3))
+    );
     assert_eq!(
         (
             paper["oversample"].as_f64(),
@@ -212,13 +284,15 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     let (o2, _) = run("o2.obj", &["--oversample", "2"]);
     assert_eq!(
         (o2["vertices"].as_u64(), o2["network_vertices"].as_u64()),
-        (Some(160), Some(320))
+        (Some(160), Some(320 + detail(&o2)))
     );
     let (o1, _) = run("o1.obj", &["--oversample", "1"]);
     assert_eq!(
         (o1["vertices"].as_u64(), o1["network_vertices"].as_u64()),
         (Some(160), Some(160))
     );
+    // No oversampling, no detail nodes (they would break the exact count).
+    assert_eq!((o1["detail_rounds"].as_u64(), detail(&o1)), (Some(0), 0));
     let (nr, r_no_refit) = run("nr.obj", &["--no-refit"]);
     assert_eq!(nr["refit"], false);
     assert_eq!(nr["vertices"], 160);

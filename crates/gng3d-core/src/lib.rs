@@ -59,7 +59,10 @@ mod trainer;
 
 pub use domain::{MIN_COMPONENT_NODES, STRAY_RADII};
 pub use error::GngError;
-pub use options::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+pub use options::{
+    DEFAULT_DETAIL_ROUNDS, DEFAULT_OVERSAMPLE, DETAIL_MIN_RATIO, GngOptions, GngTarget,
+    MAX_DETAIL_ROUNDS,
+};
 pub use params::{
     DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, Placement,
     ReconstructionParams, SearchStrategy, SignalSource,

@@ -93,6 +93,13 @@ pub struct ReconstructionParams {
     /// exact count). Default `false`.
     #[serde(default)]
     pub split_bad_cells: bool,
+    /// (g) Rounds of detail nodes: build the mesh, add a node at the original vertex farthest
+    /// from it in each of the worst cells (at most 5 % of the mesh's vertices a round), build
+    /// again. It adds nodes like (f), so it is for oversampled runs: [`GngParams::oversampled`]
+    /// sets it ([`crate::DEFAULT_DETAIL_ROUNDS`] when it oversamples for an output of at least
+    /// [`crate::DETAIL_MIN_RATIO`] of the input's vertices, 0 otherwise). Default 0 (off).
+    #[serde(default)]
+    pub detail_rounds: usize,
 }
 
 // --- GNG3D-Q (placement + flips) -------------------------------------------------------------
@@ -143,6 +150,7 @@ impl Default for ReconstructionParams {
             flip_edges: true,
             refit: true,
             split_bad_cells: false,
+            detail_rounds: 0,
         }
     }
 }

@@ -101,6 +101,11 @@ pub(crate) struct GngVariantArgs {
     /// with QEM (error first). Default 1.5 with quadric placement, 1 (off) otherwise.
     #[arg(long)]
     pub oversample: Option<f64>,
+    /// GNG3D-Q rounds of detail nodes (0-8) in oversampled runs: nodes added where the mesh
+    /// stays farthest from the original, then the mesh rebuilt. Default 3 for outputs of at
+    /// least 5 % of the input's vertices, 0 below.
+    #[arg(long)]
+    pub detail_rounds: Option<usize>,
 }
 
 impl GngVariantArgs {
@@ -112,6 +117,7 @@ impl GngVariantArgs {
             || self.epochs.is_some()
             || self.signals.is_some()
             || self.oversample.is_some()
+            || self.detail_rounds.is_some()
     }
 
     /// Writes the flags into `options` (validated later by `GngOptions::validate`/`resolve`).
@@ -134,6 +140,8 @@ impl GngVariantArgs {
         }
         // Without --oversample: from the placement (1.5 for GNG3D-Q, off for the paper's).
         options.oversample = self.oversample;
+        // Without --detail-rounds: GngParams::oversampled's rule.
+        options.detail_rounds = self.detail_rounds;
     }
 }
 

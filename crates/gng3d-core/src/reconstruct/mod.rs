@@ -9,7 +9,9 @@
 //! piece), make cells connected, map faces, resolve orientation, GNG-edge filter, cleanup,
 //! optionally split the cells that broke the topology and map again ([`split`], option (f),
 //! for oversampled runs), attach every node that no triangle references (so `N` nodes give `N`
-//! vertices), compact, place, flip, refit.
+//! vertices), compact, place, flip, refit. With option (g) ([`detail`], oversampled runs) that
+//! build is done `detail_rounds` times first, each followed by new nodes where the mesh stayed
+//! farthest from the original, and the last build is the output.
 //!
 //! The original's edge table and vertex adjacency depend on the original alone: a
 //! [`crate::Trainer`] builds them on a helper thread while it trains and hands them over with its
@@ -29,6 +31,7 @@ use std::time::Instant;
 
 mod attach;
 mod cleanup;
+mod detail;
 mod split;
 
 /// Most rounds of option (f) (map, split the bad cells, map again). The cow at 10 % needs 7, the
@@ -82,6 +85,9 @@ pub struct ReconstructionReport {
     pub split_cells: usize,
     /// Rounds of option (f) that split at least one cell.
     pub split_rounds: usize,
+    /// Nodes added by option (g) where the mesh stayed farthest from the original (0 unless
+    /// [`ReconstructionParams::detail_rounds`]).
+    pub detail_nodes: usize,
     /// Nodes that no mapped triangle referenced and that were inserted into the nearest
     /// output triangle (edge or face split) so that every node is an output vertex.
     pub attached_nodes: usize,
@@ -460,6 +466,7 @@ fn reconstruct_labelled(
         fill_faces: 0,
         split_cells: 0,
         split_rounds: 0,
+        detail_nodes: 0,
         attached_nodes: 0,
         unreferenced_nodes: 0,
         placed_vertices: 0,
@@ -470,63 +477,145 @@ fn reconstruct_labelled(
         topology: mesh::topology::analyze(&TriMesh::default()),
         seconds: 0.0,
     };
-    let original_edges = &tables.edges;
     if params.connected_cells {
         report.relabelled_vertices = make_cells_connected(original, tables, nodes, &mut labels);
     }
 
-    // Map, and with option (f) split the cells that broke the topology and map again.
-    let mut nodes_split = nodes.to_vec();
+    // Map, split, attach, place, flip, refit; with option (g), rounds of detail nodes first.
+    let mut nodes = nodes.to_vec();
     let mut node_comp = node_comp;
-    let split_budget =
-        (original.positions.len().saturating_sub(nodes.len()) as f64 * SPLIT_BUDGET) as usize;
-    let mut faces = loop {
-        let (faces, on_border) = map_faces(
+    let mut round = 0;
+    let built = loop {
+        let built = build_mesh(
             original,
-            original_edges,
-            &labels,
-            &nodes_split,
+            tables,
+            &mut labels,
+            &mut nodes,
+            &mut node_comp,
             edges,
             params,
             &mut report,
         );
-        if !params.split_bad_cells || report.split_rounds == SPLIT_ROUNDS {
-            break faces;
+        if round == params.detail_rounds {
+            break built;
         }
-        let bad = split::bad_cells(
+        round += 1;
+        let budget = (detail::NODES_PER_ROUND * built.positions.len() as f64).ceil() as usize;
+        let chosen = detail::farthest_vertices(
             original,
             tables,
-            &labels,
-            nodes_split.len(),
-            &faces,
-            &on_border,
+            &built.owner,
+            &built.positions,
+            &built.triangles,
+            budget,
         );
+        if chosen.is_empty() {
+            break built;
+        }
+        detail::insert_nodes(
+            original,
+            tables,
+            &chosen,
+            &mut labels,
+            &mut nodes,
+            &mut node_comp,
+        );
+        if params.connected_cells {
+            report.relabelled_vertices +=
+                make_cells_connected(original, tables, &nodes, &mut labels);
+        }
+        report.detail_nodes += chosen.len();
+    };
+    let Built {
+        positions,
+        triangles,
+        node_of_vertex,
+        ..
+    } = built;
+
+    let mesh = TriMesh::new(positions, triangles);
+    report.vertices = mesh.vertex_count();
+    report.faces = mesh.face_count();
+    report.topology = mesh::topology::analyze(&mesh);
+    report.seconds = start.elapsed().as_secs_f64();
+    Reconstruction {
+        mesh,
+        node_of_vertex,
+        report,
+    }
+}
+
+/// An output mesh before it becomes a [`TriMesh`], with what option (g) needs to measure it.
+struct Built {
+    positions: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    node_of_vertex: Vec<u32>,
+    /// Output vertex of each original vertex (`u32::MAX`: none).
+    owner: Vec<u32>,
+}
+
+/// Map (with option (f): split the bad cells and map again), attach, compact, place, flip and
+/// refit for the current `labels` of `nodes`; `nodes` and `node_comp` gain the split cells'
+/// nodes and the attach step's moves.
+#[allow(clippy::too_many_arguments)]
+fn build_mesh(
+    original: &TriMesh,
+    tables: &OriginalTables,
+    labels: &mut [u32],
+    nodes: &mut Vec<Vec3>,
+    node_comp: &mut Vec<u32>,
+    edges: &[[u32; 2]],
+    params: &ReconstructionParams,
+    report: &mut ReconstructionReport,
+) -> Built {
+    let original_edges = &tables.edges;
+    // Map, and with option (f) split the cells that broke the topology and map again.
+    let split_budget =
+        (original.positions.len().saturating_sub(nodes.len()) as f64 * SPLIT_BUDGET) as usize;
+    let mut rounds = 0;
+    let mut faces = loop {
+        let (faces, on_border) = map_faces(
+            original,
+            original_edges,
+            labels,
+            nodes,
+            edges,
+            params,
+            report,
+        );
+        if !params.split_bad_cells || rounds == SPLIT_ROUNDS {
+            break faces;
+        }
+        let bad = split::bad_cells(original, tables, labels, nodes.len(), &faces, &on_border);
         let added = split::split_cells(
             original,
             tables,
-            &mut labels,
-            &mut nodes_split,
-            &mut node_comp,
+            labels,
+            nodes,
+            node_comp,
             &bad,
-            split_budget - report.split_cells,
+            split_budget.saturating_sub(report.split_cells),
         );
         if added == 0 {
             break faces;
         }
         report.split_cells += added;
         report.split_rounds += 1;
+        rounds += 1;
     };
-    // The attach step moves attached nodes onto their triangles, in the same owned copy.
+    // The attach step moves attached nodes onto their triangles, in a copy: `nodes` stay where
+    // training left them for option (g)'s labels.
+    let mut nodes_attached = nodes.clone();
     let attachments = attach_unreferenced(
         &mut faces,
-        &mut nodes_split,
+        &mut nodes_attached,
         edges,
         original,
-        &labels,
-        &node_comp,
+        labels,
+        node_comp,
     );
     report.attached_nodes = attachments.len();
-    let nodes = &nodes_split[..];
+    let nodes = &nodes_attached[..];
 
     // Compact: keep referenced nodes only, in node order.
     let mut remap = vec![u32::MAX; nodes.len()];
@@ -560,7 +649,7 @@ fn reconstruct_labelled(
             weights: a.weights,
         })
         .collect();
-    let owner = crate::placement::owners(&labels, &node_of_vertex, nodes.len());
+    let owner = crate::placement::owners(labels, &node_of_vertex, nodes.len());
     let placed = crate::placement::place(
         original,
         original_edges,
@@ -590,15 +679,11 @@ fn reconstruct_labelled(
         report.refit_moves = refit.moves;
     }
 
-    let mesh = TriMesh::new(positions, triangles);
-    report.vertices = mesh.vertex_count();
-    report.faces = mesh.face_count();
-    report.topology = mesh::topology::analyze(&mesh);
-    report.seconds = start.elapsed().as_secs_f64();
-    Reconstruction {
-        mesh,
+    Built {
+        positions,
+        triangles,
         node_of_vertex,
-        report,
+        owner,
     }
 }
 
@@ -789,6 +874,49 @@ mod tests {
     /// the tube (an annulus), so every face maps to a degenerate triple and the plain mapping
     /// loses the surface; splitting the non-disc cells, and then the cells along the holes the
     /// mapping made, gives back a closed manifold of genus 1 in one piece.
+    /// Distance from `p` to the nearest triangle of `m` (brute force).
+    fn distance_to_mesh(m: &TriMesh, p: Vec3) -> f64 {
+        (0..m.face_count())
+            .map(|f| {
+                let [a, b, c] = m.triangle_f64(f);
+                let q = p.as_dvec3();
+                (mesh::geometry::closest_point_triangle(q, a, b, c) - q).length()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn detail_nodes_reach_a_spike_the_network_missed() {
+        // A unit sphere with one vertex pulled out to radius 1.4 (a scan's spike), and nodes
+        // at the vertices of a coarser sphere, none at the spike: its cell's node sits on the
+        // sphere and the plain mesh passes ~0.4 below the tip.
+        let mut m = mesh::procedural::icosphere(4);
+        let nodes = mesh::procedural::icosphere(2).positions;
+        let spike = (0..m.vertex_count())
+            .find(|&v| nodes.iter().all(|n| n.distance(m.positions[v]) > 0.05))
+            .unwrap();
+        m.positions[spike] *= 1.4;
+        let tip = m.positions[spike];
+        let plain = reconstruct(&m, &nodes, &[], &ReconstructionParams::default());
+        assert_eq!(plain.report.detail_nodes, 0);
+        let missed = distance_to_mesh(&plain.mesh, tip);
+        assert!(missed > 0.25, "plain mesh {missed} from the tip");
+        let params = ReconstructionParams {
+            detail_rounds: 2,
+            ..ReconstructionParams::default()
+        };
+        let r = reconstruct(&m, &nodes, &[], &params);
+        let reached = distance_to_mesh(&r.mesh, tip);
+        assert!(reached < 0.1 * missed, "{reached} vs {missed}");
+        // Few nodes (the spike, not the smooth sphere), each one a vertex, topology kept.
+        assert!((1..=10).contains(&r.report.detail_nodes), "{:?}", r.report);
+        assert_eq!(r.mesh.vertex_count(), nodes.len() + r.report.detail_nodes);
+        let t = &r.report.topology;
+        assert!(t.closed && t.manifold && t.genus == Some(0), "{t:?}");
+        // Deterministic.
+        assert_eq!(reconstruct(&m, &nodes, &[], &params).mesh, r.mesh);
+    }
+
     #[test]
     fn splitting_bad_cells_rebuilds_a_thin_tube() {
         let m = mesh::procedural::torus(1.0, 0.06, 64, 8);

@@ -36,6 +36,10 @@ struct Summary {
     flips: bool,
     /// Whether the surface refit ran (quadric placement with refit on).
     refit: bool,
+    /// Rounds of detail nodes (oversampled runs; 0: none).
+    detail_rounds: usize,
+    /// Nodes those rounds added where the mesh stayed farthest from the original.
+    detail_nodes: usize,
     /// Machine-readable reasons why the output differs from the request (empty when exact).
     warnings: Vec<GngWarning>,
     closed: bool,
@@ -118,6 +122,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         signals: params.signal_source,
         flips: params.reconstruction.flip_edges,
         refit: params.reconstruction.refits(),
+        detail_rounds: params.reconstruction.detail_rounds,
+        detail_nodes: result.report.reconstruction.detail_nodes,
         warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,
