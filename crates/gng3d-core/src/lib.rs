@@ -142,6 +142,18 @@ pub fn finish_with(
     start: Instant,
     decimator: Option<Decimator<'_>>,
 ) -> Result<GngResult, GngError> {
+    finish_with_reconstruction(trainer, start, decimator, &trainer.params().reconstruction)
+}
+
+/// [`finish_with`] with other phase-2 options than the trainer's, e.g. a viewer's quick
+/// preview of a network still in training (no detail rounds). Options that add nodes
+/// (`split_bad_cells`, `detail_rounds`) are for oversampled runs only.
+pub fn finish_with_reconstruction(
+    trainer: &Trainer,
+    start: Instant,
+    decimator: Option<Decimator<'_>>,
+    reconstruction: &ReconstructionParams,
+) -> Result<GngResult, GngError> {
     let stats = trainer.stats();
     let snap = trainer.snapshot();
     if snap.positions.len() < 3 {
@@ -151,7 +163,7 @@ pub fn finish_with(
         });
     }
     let params = trainer.params();
-    let mut rec = trainer.reconstruct_snapshot(&snap, &params.reconstruction);
+    let mut rec = trainer.reconstruct_snapshot(&snap, reconstruction);
     if rec.mesh.face_count() == 0 {
         return Err(GngError::EmptyMesh {
             nodes: snap.positions.len(),
