@@ -169,16 +169,13 @@ fn mean_radius(path: &std::path::Path) -> f64 {
         / m.positions.len() as f64
 }
 
-/// Distance from `p` to the nearest triangle of the mesh in `path` (brute force).
+/// Distance from `p` to the mesh in `path` (the metrics crate's exact closest-point index).
 fn distance_to_mesh(path: &std::path::Path, p: glam::Vec3) -> f64 {
     let m = gng3d::mesh::io::load(path).unwrap().mesh;
-    let q = p.as_dvec3();
-    (0..m.face_count())
-        .map(|f| {
-            let [a, b, c] = m.triangle_f64(f);
-            (gng3d::mesh::geometry::closest_point_triangle(q, a, b, c) - q).length()
-        })
-        .fold(f64::INFINITY, f64::min)
+    gng3d::metrics::SurfaceDistanceIndex::new(&m)
+        .unwrap()
+        .closest(p)
+        .distance
 }
 
 #[test]

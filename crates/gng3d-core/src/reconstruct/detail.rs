@@ -109,12 +109,15 @@ pub(super) fn farthest_vertices(
     // point `k < V` is vertex `k`, point `V + e` the midpoint of edge `e`, counted at both ends.
     let vertex_count = original.positions.len();
     let edges = &tables.edges.edges;
-    let point = |k: usize| -> Option<(DVec3, [u32; 2])> {
-        let ends = if k < vertex_count {
+    let ends_of = |k: usize| -> [u32; 2] {
+        if k < vertex_count {
             [k as u32; 2]
         } else {
             edges[k - vertex_count]
-        };
+        }
+    };
+    let point = |k: usize| -> Option<(DVec3, [u32; 2])> {
+        let ends = ends_of(k);
         if owner[ends[0] as usize] == u32::MAX || owner[ends[1] as usize] == u32::MAX {
             return None;
         }
@@ -154,12 +157,11 @@ pub(super) fn farthest_vertices(
             if d.is_finite() { d } else { 0.0 }
         })
     };
-    let share = MIN_DEVIATION_SHARE;
     let Some(top) = (0..points).max_by(|&a, &b| upper[a].total_cmp(&upper[b]).then(b.cmp(&a)))
     else {
         return Vec::new();
     };
-    let floor_at_least = refine(top) * share * share;
+    let floor_at_least = refine(top) * MIN_DEVIATION_SHARE * MIN_DEVIATION_SHARE;
     let candidates: Vec<usize> = (0..points)
         .filter(|&k| upper[k] > 0.0 && upper[k] >= floor_at_least)
         .collect();
@@ -169,13 +171,7 @@ pub(super) fn farthest_vertices(
         });
     let mut deviation = vec![0.0f64; vertex_count];
     for (&k, &d) in candidates.iter().zip(&refined) {
-        let k = k * stride;
-        let ends = if k < vertex_count {
-            [k as u32; 2]
-        } else {
-            edges[k - vertex_count]
-        };
-        for v in ends {
+        for v in ends_of(k * stride) {
             deviation[v as usize] = deviation[v as usize].max(d);
         }
     }
@@ -191,7 +187,7 @@ pub(super) fn farthest_vertices(
     let Some(&(largest, _)) = cells.first() else {
         return Vec::new();
     };
-    let floor = largest * share * share; // squared distances
+    let floor = largest * MIN_DEVIATION_SHARE * MIN_DEVIATION_SHARE; // squared distances
     cells
         .into_iter()
         .take_while(|c| c.0 >= floor)

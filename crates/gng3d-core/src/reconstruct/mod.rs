@@ -870,10 +870,6 @@ mod tests {
         }
     }
 
-    /// Option (f) on a thin tube: nodes on the core circle of a thin torus each win a ring of
-    /// the tube (an annulus), so every face maps to a degenerate triple and the plain mapping
-    /// loses the surface; splitting the non-disc cells, and then the cells along the holes the
-    /// mapping made, gives back a closed manifold of genus 1 in one piece.
     /// Distance from `p` to the nearest triangle of `m` (brute force).
     fn distance_to_mesh(m: &TriMesh, p: Vec3) -> f64 {
         (0..m.face_count())
@@ -917,6 +913,10 @@ mod tests {
         assert_eq!(reconstruct(&m, &nodes, &[], &params).mesh, r.mesh);
     }
 
+    /// Option (f) on a thin tube: nodes on the core circle of a thin torus each win a ring of
+    /// the tube (an annulus), so every face maps to a degenerate triple and the plain mapping
+    /// loses the surface; splitting the non-disc cells, and then the cells along the holes the
+    /// mapping made, gives back a closed manifold of genus 1 in one piece.
     #[test]
     fn splitting_bad_cells_rebuilds_a_thin_tube() {
         let m = mesh::procedural::torus(1.0, 0.06, 64, 8);
