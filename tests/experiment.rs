@@ -242,6 +242,52 @@ fn surface_refit_lowers_the_distance_without_adding_slivers() {
 }
 
 #[test]
+fn relaxation_after_the_decimation_wins_e_avg_back_at_a_small_cost_in_distance() {
+    // Option (h) (gng3d_core::relax): the decimated vertices move half-way toward the centroid
+    // of the original vertices nearest to them. Survey runs where GNG3D-Q lost E_avg to QEM
+    // without it: cow and armadillo at 10 % (1.034 / 1.023× QEM's); with it 0.995 / 0.978×.
+    // Same trained network and decimation with and without the step (seeded), so the faces
+    // are the same and only the positions differ.
+    use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+    let Some(m) = shared("cow.obj") else {
+        return;
+    };
+    let n = (m.vertex_count() as f64 * 0.1).round() as usize;
+    let run = |relax: bool| {
+        let mut options = GngOptions::for_target(GngTarget::Vertices(n));
+        options.reconstruction.relax = relax;
+        options.oversample = Some(DEFAULT_OVERSAMPLE);
+        gng3d::simplify_gng(&m, &options.resolve(&m).unwrap()).unwrap()
+    };
+    let (with, without) = (run(true), run(false));
+    let (rw, rn) = (&with.report.reconstruction, &without.report.reconstruction);
+    assert!(
+        rw.relaxed_vertices > n / 2 && rn.relaxed_vertices == 0,
+        "{rw:?}"
+    );
+    assert_eq!(with.mesh.triangles, without.mesh.triangles);
+    assert_eq!(with.mesh.vertex_count(), n);
+    let e_avg = |s: &gng3d::mesh::TriMesh| {
+        gng3d::metrics::vertex_errors(&m.positions, &s.positions)
+            .unwrap()
+            .e_avg
+    };
+    let (ew, en) = (e_avg(&with.mesh), e_avg(&without.mesh));
+    assert!(ew < 0.97 * en, "E_avg {en:.4e} -> {ew:.4e}");
+    // Measured: mean distance +2 %, share of triangles under 20° not up.
+    let hp = HausdorffParams::with_samples(50_000);
+    let mean = |s: &gng3d::mesh::TriMesh| gng3d::metrics::hausdorff(&m, s, &hp).unwrap().mean;
+    let (dw, dn) = (mean(&with.mesh), mean(&without.mesh));
+    assert!(dw < 1.06 * dn, "mean distance {dn:.4e} -> {dw:.4e}");
+    let share = |s: &gng3d::mesh::TriMesh| gng3d::metrics::triangle_quality(s).below_20_degrees;
+    let (qw, qn) = (share(&with.mesh), share(&without.mesh));
+    eprintln!(
+        "E_avg {en:.4e} -> {ew:.4e}, mean {dn:.4e} -> {dw:.4e}, under 20° {qn:.4} -> {qw:.4}"
+    );
+    assert!(qw <= qn + 0.005, "share under 20° {qn:.4} -> {qw:.4}");
+}
+
+#[test]
 fn oversampled_gngq_is_closer_to_the_surface_at_exactly_the_target() {
     // GNG3D-Q's default: a network of 1.5 N nodes, reconstructed, then decimated to N by QEM
     // (gng3d::simplify_gng). Against the same options without oversampling, on two meshes at
@@ -305,8 +351,8 @@ fn thin_parts_stay_attached_at_low_vertex_counts() {
     // are tubes a few vertices round; a node on such a tube's axis wins a ring of it and the
     // mapping loses the tube (cow at 10 % came back in 8 pieces with 11 boundary edges). The
     // topology repair of oversampled runs (ReconstructionParams::split_bad_cells) splits those
-    // cells. Measured (gng3d simplify, then gng3d info): cow 5 / 10 / 25 % 4 / 8 / 3 pieces ->
-    // 1 / 1 / 1; knight 5 / 10 / 25 % 4 / 2 / 3 -> 1 / 1 / 1.
+    // cells. Measured (this test, without -> with the repair): cow 5 / 10 / 25 % 4 / 9 / 1
+    // pieces -> 1 / 1 / 1; knight 10 % 5 -> 1.
     use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
     for (name, ratio) in [
         ("cow.obj", 0.05),
@@ -351,13 +397,17 @@ fn thin_parts_stay_attached_at_low_vertex_counts() {
             repaired.report.reconstruction.split_cells > 0,
             "{name} {ratio}"
         );
-        // The check can fail: without the repair the same run comes back in more pieces or
-        // with holes (the cow at 25 %: one piece, thanks to the detail nodes, but 4 boundary
-        // edges).
-        assert!(
-            tp.components > t.components || tp.boundary_edges > t.boundary_edges,
-            "{name} {ratio}: {tp:?}"
-        );
+        // The check can fail: at 10 % and below, without the repair the same run comes back in
+        // more pieces or with holes (measured: cow 5 % 4 pieces, 10 % 9 pieces and 39 boundary
+        // edges). At 25 % the network is dense enough that the plain run is whole too (one
+        // piece, no hole, with 150 signals per output vertex), so there only the result is
+        // checked.
+        if ratio <= 0.1 {
+            assert!(
+                tp.components > t.components || tp.boundary_edges > t.boundary_edges,
+                "{name} {ratio}: {tp:?}"
+            );
+        }
     }
 }
 

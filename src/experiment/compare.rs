@@ -108,6 +108,11 @@ pub fn variant_label(options: &GngOptions) -> String {
         Some(r) if options.oversample_factor() > 1.0 => format!(", {r} rounds of detail nodes"),
         _ => String::new(),
     };
+    let relax = if options.oversample_factor() > 1.0 && !r.relax {
+        ", no relaxation"
+    } else {
+        ""
+    };
     let signals = match options.signal_source {
         gng3d_core::SignalSource::Vertices => "",
         gng3d_core::SignalSource::Surface => ", surface signals",
@@ -118,7 +123,7 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         "GNG3D-Q"
     };
-    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}{detail}")
+    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}{detail}{relax}")
 }
 
 /// The report plus both simplified meshes.

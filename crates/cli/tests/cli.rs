@@ -271,6 +271,18 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
         (q["nodes"].as_u64(), q["detail_rounds"].as_u64()),
         (Some(240), Some(3))
     );
+    // The decimated vertices are relaxed toward their original vertices (option (h)); not
+    // with --no-relax, and not without a decimation (--oversample 1, below).
+    let relaxed = |v: &serde_json::Value| v["relaxed_vertices"].as_u64().unwrap();
+    assert!(q["relax"] == true && relaxed(&q) > 80, "{q}");
+    let (nx, r_no_relax) = run("nx.obj", &["--no-relax"]);
+    assert_eq!((nx["relax"].as_bool(), relaxed(&nx)), (Some(false), 0));
+    assert_eq!(nx["vertices"], 160);
+    // Tangential: the mean radius hardly changes (the refit's lift stays).
+    assert!(
+        (r_refit - r_no_relax).abs() < 2e-3,
+        "{r_refit} vs {r_no_relax}"
+    );
     assert_eq!(
         (
             paper["oversample"].as_f64(),
@@ -290,6 +302,7 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     );
     // No oversampling, no detail nodes (they would break the exact count).
     assert_eq!((o1["detail_rounds"].as_u64(), detail(&o1)), (Some(0), 0));
+    assert_eq!(relaxed(&o1), 0);
     let (nr, r_no_refit) = run("nr.obj", &["--no-refit"]);
     assert_eq!(nr["refit"], false);
     assert_eq!(nr["vertices"], 160);

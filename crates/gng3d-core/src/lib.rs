@@ -54,6 +54,7 @@ mod params;
 pub mod placement;
 mod reconstruct;
 pub mod refit;
+pub mod relax;
 mod report;
 mod trainer;
 
@@ -61,7 +62,7 @@ pub use domain::{MIN_COMPONENT_NODES, STRAY_RADII};
 pub use error::GngError;
 pub use options::{
     DEFAULT_DETAIL_ROUNDS, DEFAULT_OVERSAMPLE, DETAIL_MIN_RATIO, GngOptions, GngTarget,
-    MAX_DETAIL_ROUNDS,
+    MAX_DETAIL_ROUNDS, RELAX_MAX_RATIO,
 };
 pub use params::{
     DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, Placement,
@@ -181,6 +182,16 @@ pub fn finish_with_reconstruction(
         let decimate = decimator.ok_or(GngError::NoDecimator)?;
         if network_vertices > n {
             rec.mesh = decimate(&rec.mesh, n).map_err(|reason| GngError::Decimation { reason })?;
+            // (h) The decimation placed its vertices for the surface; relax them toward the
+            // original vertices they stand for.
+            if reconstruction.relax {
+                let TriMesh {
+                    positions,
+                    triangles,
+                } = &mut rec.mesh;
+                let relaxed = relax::relax(positions, triangles, trainer.original());
+                rec.report.relaxed_vertices = relaxed.moves;
+            }
             rec.report.topology = mesh::topology::analyze(&rec.mesh);
         }
         if rec.mesh.vertex_count() == n {

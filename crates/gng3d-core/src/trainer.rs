@@ -877,9 +877,10 @@ impl std::fmt::Debug for BackgroundTables {
 }
 
 /// Total signal budget: `max_signals`, else `epochs` × distinct vertices, else
-/// [`DEFAULT_SIGNALS_PER_NODE`] × target.
+/// [`DEFAULT_SIGNALS_PER_NODE`] × the output's vertex count (the decimation's target in
+/// oversampled runs, whose extra nodes share that budget).
 pub(crate) fn signal_budget(params: &GngParams, distinct: usize) -> u64 {
-    let n = params.target_vertices as f64;
+    let n = params.decimate_to.unwrap_or(params.target_vertices) as f64;
     let v = distinct as f64;
     let b = match (params.max_signals, params.epochs) {
         (Some(m), _) => m as f64,

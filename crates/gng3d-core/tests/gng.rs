@@ -554,6 +554,14 @@ fn default_budget_follows_the_target_and_paper_budget_the_input() {
         t.stats().max_signals,
         (gng3d_core::DEFAULT_SIGNALS_PER_NODE * 9000.0) as u64
     );
+    // Oversampled: the output's count sets it, the extra nodes share it.
+    let mut p = GngParams::for_target(150);
+    p.decimate_to = Some(100);
+    let t = Trainer::new(&sphere, p).unwrap();
+    assert_eq!(
+        t.stats().max_signals,
+        (gng3d_core::DEFAULT_SIGNALS_PER_NODE * 100.0) as u64
+    );
 }
 
 #[test]

@@ -69,6 +69,33 @@ pub fn icosphere(subdivisions: u32) -> TriMesh {
     TriMesh::new(positions, triangles)
 }
 
+/// The unit square `[0, 1]²` in the plane z = 0 as an `n × n` grid of squares, each split
+/// along its diagonal from `(i, j)` to `(i + 1, j + 1)` into two counter-clockwise triangles
+/// (`(n + 1)²` vertices, row by row; `n` at least 1). An open, flat test surface.
+///
+/// ```
+/// let g = mesh::procedural::unit_square_grid(4);
+/// assert_eq!((g.vertex_count(), g.face_count()), (25, 32));
+/// ```
+pub fn unit_square_grid(n: u32) -> TriMesh {
+    let n = n.max(1);
+    let mut positions = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
+    for j in 0..=n {
+        for i in 0..=n {
+            positions.push(Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.0));
+        }
+    }
+    let id = |i: u32, j: u32| j * (n + 1) + i;
+    let mut triangles = Vec::with_capacity((2 * n * n) as usize);
+    for j in 0..n {
+        for i in 0..n {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    TriMesh::new(positions, triangles)
+}
+
 /// A torus (genus 1) around the z axis with major radius `major`, tube radius `minor`,
 /// `rings` segments around the axis and `sides` segments around the tube (each at least 3).
 pub fn torus(major: f32, minor: f32, rings: u32, sides: u32) -> TriMesh {

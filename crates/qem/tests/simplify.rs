@@ -181,25 +181,11 @@ fn exact_targets_are_hit_down_to_one_percent() {
 
 /// `n × n` grid of squares split into triangles on the plane z = 0.5, side 2.
 fn grid(n: u32) -> TriMesh {
-    let mut positions = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            positions.push(Vec3::new(
-                2.0 * i as f32 / n as f32 - 1.0,
-                2.0 * j as f32 / n as f32 - 1.0,
-                0.5,
-            ));
-        }
+    let mut g = mesh::procedural::unit_square_grid(n);
+    for p in &mut g.positions {
+        *p = Vec3::new(2.0 * p.x - 1.0, 2.0 * p.y - 1.0, 0.5);
     }
-    let mut triangles = Vec::new();
-    let id = |i: u32, j: u32| j * (n + 1) + i;
-    for j in 0..n {
-        for i in 0..n {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    TriMesh::new(positions, triangles)
+    g
 }
 
 #[test]

@@ -389,6 +389,14 @@ impl ViewerApp {
             )
             .on_disabled_hover_text("needs quadric placement");
             ui.end_row();
+            ui.label("relaxation");
+            ui.checkbox(&mut rec.relax, "to centroids (GNG3D-Q)")
+                .on_hover_text(
+                    "after the decimation of an oversampled run, for outputs of at most 30 % of \
+                     the input's vertices: each vertex moves half-way toward the centroid of the \
+                     original vertices nearest to it (E_avg)",
+                );
+            ui.end_row();
         });
         ui.separator();
         ui.heading("Display");

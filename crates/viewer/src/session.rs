@@ -47,7 +47,7 @@ pub struct ViewerOptions {
     pub time_limit: Option<f64>,
     /// Seed of the training signals.
     pub seed: Option<u64>,
-    /// GNG3D signal budget (`None`: the crate's default, `DEFAULT_SIGNALS_PER_NODE` × target).
+    /// GNG3D signal budget (`None`: the crate's default, `DEFAULT_SIGNALS_PER_NODE` × output vertices).
     pub max_signals: Option<u64>,
     /// λ, signals between insertions (`None`: the crate's automatic choice).
     pub lambda: Option<u32>,

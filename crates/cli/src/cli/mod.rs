@@ -89,6 +89,11 @@ pub(crate) struct GngVariantArgs {
     /// vertices are moved so that the triangles fit the original).
     #[arg(long)]
     pub no_refit: bool,
+    /// GNG3D-Q: skip the tangential relaxation after the decimation of oversampled runs (each
+    /// vertex moved half-way toward the centroid of the original vertices it stands for; on by
+    /// default for outputs of at most 30 % of the input's vertices).
+    #[arg(long)]
+    pub no_relax: bool,
     /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30), instead of the
     /// default budget 150 × N for N output vertices.
     #[arg(long)]
@@ -114,6 +119,7 @@ impl GngVariantArgs {
         self.placement.is_some()
             || self.no_flips
             || self.no_refit
+            || self.no_relax
             || self.epochs.is_some()
             || self.signals.is_some()
             || self.oversample.is_some()
@@ -130,6 +136,9 @@ impl GngVariantArgs {
         }
         if self.no_refit {
             options.reconstruction.refit = false;
+        }
+        if self.no_relax {
+            options.reconstruction.relax = false;
         }
         if let Some(s) = self.signals {
             options.signal_source = s.into();

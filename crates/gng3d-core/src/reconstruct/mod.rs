@@ -100,6 +100,9 @@ pub struct ReconstructionReport {
     pub flipped_edges: usize,
     /// Vertex moves of the surface refit, option (e), summed over its iterations.
     pub refit_moves: usize,
+    /// Vertices moved by the tangential relaxation of the decimated mesh, option (h) (0 without
+    /// a decimation).
+    pub relaxed_vertices: usize,
     /// Output vertex count.
     pub vertices: usize,
     /// Output face count.
@@ -139,7 +142,7 @@ pub fn label_vertices(original: &[Vec3], nodes: &[Vec3]) -> Vec<u32> {
 const MIN_VERTICES_PER_LABEL_THREAD: usize = 16_384;
 
 /// [`label_vertices`] on up to `threads` threads (same labels for any count).
-fn label_with_threads(original: &[Vec3], nodes: &[Vec3], threads: usize) -> Vec<u32> {
+pub(crate) fn label_with_threads(original: &[Vec3], nodes: &[Vec3], threads: usize) -> Vec<u32> {
     let Some(tree) = kd_tree(nodes) else {
         return vec![u32::MAX; original.len()];
     };
@@ -472,6 +475,7 @@ fn reconstruct_labelled(
         placed_vertices: 0,
         flipped_edges: 0,
         refit_moves: 0,
+        relaxed_vertices: 0,
         vertices: 0,
         faces: 0,
         topology: mesh::topology::analyze(&TriMesh::default()),

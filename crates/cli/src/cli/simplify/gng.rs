@@ -40,6 +40,11 @@ struct Summary {
     detail_rounds: usize,
     /// Nodes those rounds added where the mesh stayed farthest from the original.
     detail_nodes: usize,
+    /// Whether the tangential relaxation after the decimation is on (it runs only when the
+    /// network's mesh was decimated).
+    relax: bool,
+    /// Vertices it moved toward the original vertices they stand for.
+    relaxed_vertices: usize,
     /// Machine-readable reasons why the output differs from the request (empty when exact).
     warnings: Vec<GngWarning>,
     closed: bool,
@@ -124,6 +129,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         refit: params.reconstruction.refits(),
         detail_rounds: params.reconstruction.detail_rounds,
         detail_nodes: result.report.reconstruction.detail_nodes,
+        relax: params.reconstruction.relax,
+        relaxed_vertices: result.report.reconstruction.relaxed_vertices,
         warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,
