@@ -1,12 +1,14 @@
 //! Tangential relaxation, option (h): GNG3D-Q's last step, on the mesh that the decimation of
-//! an oversampled run returns.
+//! an oversampled run returns (for outputs of at most [`crate::RELAX_MAX_RATIO`] of the input's
+//! vertices, the rule of [`crate::GngParams::oversampled`]).
 //!
 //! Why: the decimation puts each merged vertex at the minimum of its quadric on the network's
 //! mesh, which is right for the surface but not for the paper's E_avg (squared distance from
 //! each original vertex to its nearest output vertex), whose optimum is the centroid of the
 //! original vertices a vertex stands for. Before this step GNG3D-Q lost E_avg to QEM in 5 of
-//! the survey's 45 runs (the 251-vertex knight at 10/25/50 %, the cow and the armadillo at
-//! 10 %, by 1-6 %), while the paper's GNG3D, whose nodes sit at those centroids, won 43.
+//! the survey's 45 runs (the 502-vertex knight at 10/25/50 %, the cow and the armadillo at
+//! 10 %, by 1-6 %), while the paper's GNG3D, whose nodes sit at those centroids, won 43. With
+//! it: 42 of 45 (docs/notes/gngq.md, "Relaxation after the decimation").
 //!
 //! Steps:
 //! 1. **Labels**: every original vertex's nearest output vertex (kd-tree, all cores); at a
@@ -20,7 +22,8 @@
 //!    across its normal or a crease. Vertices of the output's open borders stay (they would
 //!    leave the border). A move is taken under the refit's rules ([`crate::refit`]: no face
 //!    turns by more than 45°, every face keeps its smallest angle above 20° or its old one),
-//!    else the vertex stays. Jacobi: every move starts from the decimated positions.
+//!    else the vertex stays. Every move is computed from the decimated positions; the rules are
+//!    checked against the moves taken so far.
 //!
 //! Deterministic: the labels are per vertex and the sums run in vertex and face order.
 
@@ -41,8 +44,8 @@ pub const STEP: f64 = 0.5;
 pub const TANGENT_WEIGHT: f64 = 0.02;
 
 /// At most about this many original vertices per output vertex are labelled (at a fixed
-/// stride): at 1 % of igea a cell holds ~50, and their centroid is as well estimated from a
-/// third of them, for a third of the labelling (which is most of the step's time). The
+/// stride): at 1 % of igea a cell holds ~50, and their centroid is estimated from a third of
+/// them, for a third of the labelling (most of the step's time: 15-20 → 8-12 ms). The
 /// survey's ratios (≥ 10 %) have fewer per cell, so there every vertex takes part.
 pub const MAX_VERTICES_PER_CELL: usize = 16;
 
