@@ -204,6 +204,20 @@ fn gngq_at_half_the_vertices_keeps_its_triangle_and_e_avg_wins() {
     }
 }
 
+/// Symmetric mean surface distance between `original` and `simplified` (50k samples a
+/// direction), as the GNG3D-Q with/without comparisons below measure it.
+fn mean_distance(original: &gng3d::mesh::TriMesh, simplified: &gng3d::mesh::TriMesh) -> f64 {
+    let hp = HausdorffParams::with_samples(50_000);
+    gng3d::metrics::hausdorff(original, simplified, &hp)
+        .unwrap()
+        .mean
+}
+
+/// Share of `mesh`'s triangles whose smallest angle is under 20°.
+fn share_under_20(mesh: &gng3d::mesh::TriMesh) -> f64 {
+    gng3d::metrics::triangle_quality(mesh).below_20_degrees
+}
+
 #[test]
 fn surface_refit_lowers_the_distance_without_adding_slivers() {
     // GNG3D-Q's last step (gng3d_core::refit) moves vertices so the triangles fit the original.
@@ -231,12 +245,12 @@ fn surface_refit_lowers_the_distance_without_adding_slivers() {
             with.mesh.triangles, without.mesh.triangles,
             "{name}: same faces"
         );
-        let hp = HausdorffParams::with_samples(50_000);
-        let mean = |s: &gng3d::mesh::TriMesh| gng3d::metrics::hausdorff(&m, s, &hp).unwrap().mean;
-        let (dw, dn) = (mean(&with.mesh), mean(&without.mesh));
+        let (dw, dn) = (
+            mean_distance(&m, &with.mesh),
+            mean_distance(&m, &without.mesh),
+        );
         assert!(dw < 0.9 * dn, "{name}: mean distance {dn:.3e} -> {dw:.3e}");
-        let share = |s: &gng3d::mesh::TriMesh| gng3d::metrics::triangle_quality(s).below_20_degrees;
-        let (qw, qn) = (share(&with.mesh), share(&without.mesh));
+        let (qw, qn) = (share_under_20(&with.mesh), share_under_20(&without.mesh));
         assert!(qw <= qn, "{name}: share under 20° {qn:.4} -> {qw:.4}");
     }
 }
@@ -275,12 +289,12 @@ fn relaxation_after_the_decimation_wins_e_avg_back_at_a_small_cost_in_distance()
     let (ew, en) = (e_avg(&with.mesh), e_avg(&without.mesh));
     assert!(ew < 0.97 * en, "E_avg {en:.4e} -> {ew:.4e}");
     // Measured: mean distance +2 %, share of triangles under 20° not up.
-    let hp = HausdorffParams::with_samples(50_000);
-    let mean = |s: &gng3d::mesh::TriMesh| gng3d::metrics::hausdorff(&m, s, &hp).unwrap().mean;
-    let (dw, dn) = (mean(&with.mesh), mean(&without.mesh));
+    let (dw, dn) = (
+        mean_distance(&m, &with.mesh),
+        mean_distance(&m, &without.mesh),
+    );
     assert!(dw < 1.06 * dn, "mean distance {dn:.4e} -> {dw:.4e}");
-    let share = |s: &gng3d::mesh::TriMesh| gng3d::metrics::triangle_quality(s).below_20_degrees;
-    let (qw, qn) = (share(&with.mesh), share(&without.mesh));
+    let (qw, qn) = (share_under_20(&with.mesh), share_under_20(&without.mesh));
     eprintln!(
         "E_avg {en:.4e} -> {ew:.4e}, mean {dn:.4e} -> {dw:.4e}, under 20° {qn:.4} -> {qw:.4}"
     );
@@ -331,9 +345,10 @@ fn oversampled_gngq_is_closer_to_the_surface_at_exactly_the_target() {
         if input.closed && input.manifold {
             assert!(t.closed && t.manifold, "{name}: {t:?}");
         }
-        let hp = HausdorffParams::with_samples(50_000);
-        let mean = |s: &gng3d::mesh::TriMesh| gng3d::metrics::hausdorff(&m, s, &hp).unwrap().mean;
-        let (dp, dov) = (mean(&plain.mesh), mean(&over.mesh));
+        let (dp, dov) = (
+            mean_distance(&m, &plain.mesh),
+            mean_distance(&m, &over.mesh),
+        );
         eprintln!(
             "{name}: mean distance {dp:.4e} -> {dov:.4e} ({:.3})",
             dov / dp
