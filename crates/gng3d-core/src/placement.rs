@@ -20,7 +20,7 @@ use crate::params::Placement;
 use crate::reconstruct::Attachment;
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
-use mesh::geometry::closest_point_triangle;
+use mesh::geometry::{box_distance2, closest_point_triangle};
 use mesh::quadric::Quadric;
 use mesh::topology::EdgeTable;
 
@@ -264,9 +264,7 @@ fn closest_on_faces(
     for &f in faces {
         let [a, b, c] =
             original.triangles[f as usize].map(|v| original.positions[v as usize].as_dvec3());
-        let lo = a.min(b).min(c);
-        let hi = a.max(b).max(c);
-        if (p.clamp(lo, hi) - p).length_squared() >= best.0 {
+        if box_distance2(p, a, b, c) >= best.0 {
             continue;
         }
         let q = closest_point_triangle(p, a, b, c);
@@ -285,7 +283,7 @@ fn any_face_within(original: &TriMesh, faces: &[u32], p: DVec3, limit2: f64) -> 
     faces.iter().any(|&f| {
         let [a, b, c] =
             original.triangles[f as usize].map(|v| original.positions[v as usize].as_dvec3());
-        (p.clamp(a.min(b).min(c), a.max(b).max(c)) - p).length_squared() <= limit2
+        box_distance2(p, a, b, c) <= limit2
             && (closest_point_triangle(p, a, b, c) - p).length_squared() <= limit2
     })
 }

@@ -89,6 +89,11 @@ pub fn relax(positions: &mut [Vec3], triangles: &[[u32; 3]], original: &TriMesh)
     let mut tensor = vec![DMat3::ZERO; n];
     let mut weight = vec![0.0f64; n];
     for (f, t) in original.triangles.iter().enumerate() {
+        // A face with no labelled corner adds nothing (about 40 % of them at igea's 1 %, where
+        // every fourth vertex is labelled): skip it before its geometry.
+        if t.iter().all(|&v| label[v as usize] == u32::MAX) {
+            continue;
+        }
         let [a, b, c] = original.triangle_f64(f);
         let cross = (b - a).cross(c - a);
         let w = cross.length();

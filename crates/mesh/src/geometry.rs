@@ -1,6 +1,7 @@
 //! f64 geometric primitives shared by every crate: the closest point on a segment and on a
 //! triangle (Ericson, "Real-Time Collision Detection", 5.1.5: the Voronoi region of the query
-//! point, 3 vertices, 3 edges or the interior, decides the answer) and the degeneracy test.
+//! point, 3 vertices, 3 edges or the interior, decides the answer), the bounding-box lower bound
+//! that closest-face searches cull with, and the degeneracy test.
 //! Degenerate triangles (collinear or coincident corners) fall back to the three segments.
 
 use glam::DVec3;
@@ -24,6 +25,24 @@ pub fn is_degenerate(a: DVec3, b: DVec3, c: DVec3) -> bool {
     // Written so that NaN inputs count as degenerate.
     let threshold = 1e-14 * ab.length_squared() * ac.length_squared();
     cross.partial_cmp(&threshold) != Some(std::cmp::Ordering::Greater)
+}
+
+/// Squared distance from `p` to the axis-aligned bounding box of triangle `abc`: a lower bound
+/// of its squared distance to the triangle, so a search for the closest of many triangles can
+/// skip the exact [`closest_point_triangle`] of every triangle whose box is no nearer than the
+/// best so far (same answer, most tests skipped).
+///
+/// ```
+/// use glam::DVec3;
+/// use mesh::geometry::{box_distance2, closest_point_triangle};
+/// let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+/// let p = DVec3::new(2.0, 0.5, 1.0);
+/// assert_eq!(box_distance2(p, a, b, c), 2.0); // 1 in x, 1 in z
+/// assert!(box_distance2(p, a, b, c) <= (closest_point_triangle(p, a, b, c) - p).length_squared());
+/// ```
+#[inline]
+pub fn box_distance2(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    (p.clamp(a.min(b).min(c), a.max(b).max(c)) - p).length_squared()
 }
 
 /// Closest point to `p` on triangle `abc` (f64, exact up to rounding, any triangle shape).
