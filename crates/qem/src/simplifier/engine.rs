@@ -81,21 +81,23 @@ pub(super) struct Engine {
     edge_length_weight: f64,
 }
 
+/// Whether face `t` has corner `v`. Non-short-circuit: which corner matches is data, and as a
+/// chain of branches it mispredicted 0.7 M times in 20 runs of fandisk at 10 % (cachegrind).
 #[inline]
 fn contains(t: &[u32; 3], v: u32) -> bool {
-    t[0] == v || t[1] == v || t[2] == v
+    (t[0] == v) | (t[1] == v) | (t[2] == v)
 }
 
-/// The corner that follows `u` in face `t` (around a closed fan of `u`, every neighbour once).
+/// The corner that follows `u` in face `t` (around a closed fan of `u`, every neighbour once;
+/// `t[0]` when `u` is not a corner). Without branches: as an `if` chain it was the simplifier's
+/// most mispredicted line (2.2 M of 12.4 M mispredictions in 20 runs of fandisk at 10 %,
+/// cachegrind). With `contains` above: 12.4 → 10.6 M mispredictions for 4 % more instructions,
+/// 4-12 % less time on the small meshes (fandisk, spot, gargoyle-10k at 10 %).
 #[inline]
 pub(super) fn corner_after(t: &[u32; 3], u: u32) -> u32 {
-    if t[0] == u {
-        t[1]
-    } else if t[1] == u {
-        t[2]
-    } else {
-        t[0]
-    }
+    let not0 = t[0] != u;
+    let k = usize::from(not0) + usize::from(not0 & (t[1] != u));
+    t[[1, 2, 0][k]]
 }
 
 impl Engine {
