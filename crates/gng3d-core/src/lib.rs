@@ -193,6 +193,12 @@ pub fn finish_with_reconstruction(
                 rec.report.relaxed_vertices = relaxed.moves;
             }
             rec.report.topology = mesh::topology::analyze(&rec.mesh);
+            if rec.mesh.vertex_count() > n {
+                warnings.push(GngWarning::DecimationStopped {
+                    vertices: rec.mesh.vertex_count(),
+                    target: n,
+                });
+            }
         }
         if rec.mesh.vertex_count() == n {
             warnings.retain(|w| {

@@ -50,6 +50,15 @@ pub enum GngWarning {
         /// Nodes left out of the mesh.
         nodes: usize,
     },
+    /// The decimation of an oversampled run's network mesh stopped above the target: no
+    /// further contraction keeps the mesh's topology (every hole and every piece keeps at
+    /// least three vertices; a scan with many small holes can need more than the target).
+    DecimationStopped {
+        /// Vertices when the decimation stopped (the output's count).
+        vertices: usize,
+        /// Requested vertex count.
+        target: usize,
+    },
 }
 
 impl fmt::Display for GngWarning {
@@ -84,6 +93,10 @@ impl fmt::Display for GngWarning {
             GngWarning::UnattachedNodes { nodes } => {
                 write!(f, "{nodes} nodes could not be attached to the mesh")
             }
+            GngWarning::DecimationStopped { vertices, target } => write!(
+                f,
+                "the decimation to {target} vertices stopped at {vertices}: no further contraction keeps the mesh's topology (holes and pieces keep three vertices each)"
+            ),
         }
     }
 }

@@ -585,3 +585,50 @@ fn trainer_reconstruction_equals_the_free_function() {
     assert_eq!(via_trainer.mesh.triangles, free.mesh.triangles);
     assert_eq!(via_trainer.node_of_vertex, free.node_of_vertex);
 }
+
+#[test]
+fn a_decimation_that_stops_above_the_target_is_reported() {
+    // The decimator decides whether an oversampled run reaches N; when it cannot (a scan with
+    // more holes than N / 3 vertices can close), the result must say so instead of quietly
+    // returning more vertices than asked for. Two stand-in decimators: one that cannot remove
+    // anything, one that removes vertices down to the target by dropping the faces of the last
+    // ones (not a real decimation, only a count the check can see).
+    let sphere = icosphere(4); // 2562 vertices
+    let mut params = GngParams::for_target(300);
+    params.decimate_to = Some(200);
+    params.seed = 5;
+    let stuck = |m: &TriMesh, _n: usize| Ok(m.clone());
+    let result = gng3d_core::simplify_with(&sphere, &params, Some(&stuck)).unwrap();
+    let network = result.report.network_vertices;
+    assert!(network > 200, "network mesh of {network} vertices");
+    assert_eq!(result.mesh.vertex_count(), network);
+    assert_eq!(
+        result.report.warnings,
+        vec![gng3d_core::GngWarning::DecimationStopped {
+            vertices: network,
+            target: 200
+        }]
+    );
+    assert!(
+        result.report.warnings[0]
+            .to_string()
+            .contains(&format!("stopped at {network}"))
+    );
+
+    let to_target = |m: &TriMesh, n: usize| {
+        let triangles: Vec<[u32; 3]> = m
+            .triangles
+            .iter()
+            .copied()
+            .filter(|t| t.iter().all(|&v| (v as usize) < n))
+            .collect();
+        Ok(TriMesh::new(m.positions[..n].to_vec(), triangles))
+    };
+    let result = gng3d_core::simplify_with(&sphere, &params, Some(&to_target)).unwrap();
+    assert_eq!(result.mesh.vertex_count(), 200);
+    assert!(
+        result.report.warnings.is_empty(),
+        "{:?}",
+        result.report.warnings
+    );
+}
