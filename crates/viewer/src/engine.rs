@@ -96,8 +96,9 @@ impl Engine {
     /// CLI). While training runs, a checkpoint's preview skips the detail rounds: each costs
     /// about one more phase 2, and with three of them the default watched run of gargoyle-10k
     /// at 25 % (12 s asked) was at 68 % of its signals after 20 s. The finished network gets
-    /// the CLI's full reconstruction.
-    pub fn reconstruct(&mut self) -> Result<TriMesh> {
+    /// the CLI's full reconstruction. Also returns the run's warnings (why the mesh has another
+    /// vertex count than the target, what was dropped), as the CLI prints them.
+    pub fn reconstruct(&mut self) -> Result<(TriMesh, Vec<String>)> {
         let mut reconstruction = self.trainer.params().reconstruction.clone();
         if !self.trainer.is_finished() {
             reconstruction.detail_rounds = 0;
@@ -108,17 +109,32 @@ impl Engine {
             Some(&gng3d::qem_decimator),
             &reconstruction,
         )
-        .map(|result| result.mesh)
+        .map(|result| {
+            let warnings = result
+                .report
+                .warnings
+                .iter()
+                .map(|w| w.to_string())
+                .collect();
+            (result.mesh, warnings)
+        })
         .map_err(|e| ViewerError::Gng(e.to_string()))
     }
 }
 
-/// QEM simplification of `mesh` to `target_vertices` vertices.
-pub fn qem_simplify(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh> {
+/// QEM simplification of `mesh` to `target_vertices` vertices, with a note when it stopped
+/// above the target (no contraction left that keeps the topology: holes, small pieces).
+pub fn qem_simplify(mesh: &TriMesh, target_vertices: usize) -> Result<(TriMesh, Option<String>)> {
     let params = qem::QemParams::with_target(qem::Target::Vertices(target_vertices));
-    qem::simplify(mesh, &params)
-        .map(|(mesh, _report)| mesh)
-        .map_err(|e| ViewerError::Qem(e.to_string()))
+    let (out, _report) =
+        qem::simplify(mesh, &params).map_err(|e| ViewerError::Qem(e.to_string()))?;
+    let note = (out.vertex_count() > target_vertices).then(|| {
+        format!(
+            "QEM stopped at {} of {target_vertices} vertices: no further contraction keeps the mesh's topology",
+            out.vertex_count()
+        )
+    });
+    Ok((out, note))
 }
 
 /// Surface samples per direction for the Hausdorff distance (keeps one evaluation to about a

@@ -151,8 +151,9 @@ pub struct Message {
     pub is_error: bool,
 }
 
-/// What QEM computed: the mesh, its evaluation and the seconds it took.
-type QemResult = Result<(Arc<TriMesh>, Evaluation, f64)>;
+/// What QEM computed: the mesh, its evaluation, the seconds it took and a note when it stopped
+/// above the target.
+type QemResult = Result<(Arc<TriMesh>, Evaluation, f64, Option<String>)>;
 
 /// The QEM side.
 #[derive(Default)]
@@ -443,10 +444,10 @@ impl Session {
             self.repaint.clone(),
             move || {
                 let started = std::time::Instant::now();
-                let mesh = engine::qem_simplify(&original, target)?;
+                let (mesh, note) = engine::qem_simplify(&original, target)?;
                 let seconds = started.elapsed().as_secs_f64();
                 let evaluation = engine::evaluate(&original, &mesh)?;
-                Ok((Arc::new(mesh), evaluation, seconds))
+                Ok((Arc::new(mesh), evaluation, seconds, note))
             },
         ));
     }
@@ -530,7 +531,11 @@ impl Session {
                     signals,
                     mesh,
                     train_seconds,
+                    warnings,
                 } if s == session => {
+                    for w in warnings {
+                        self.info(format!("GNG3D warning: {w}"));
+                    }
                     self.evaluation_queue.push_back(PendingEvaluation {
                         session: s,
                         signals,
@@ -608,9 +613,12 @@ impl Session {
         };
         self.qem.pending = None;
         match result.and_then(|r| r) {
-            Ok((mesh, e, seconds)) => {
+            Ok((mesh, e, seconds, note)) => {
                 self.history.qem = Some(checkpoint("QEM", 0, &e, seconds));
                 self.qem.mesh = Some(mesh);
+                if let Some(note) = note {
+                    self.info(note);
+                }
             }
             Err(e) => {
                 self.qem.mesh = None;

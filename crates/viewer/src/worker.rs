@@ -91,6 +91,9 @@ pub enum Event {
         mesh: Arc<TriMesh>,
         /// Training time so far (seconds, pauses excluded).
         train_seconds: f64,
+        /// The run's warnings, for the finished network's mesh only (a checkpoint of a network
+        /// still growing is short of the target by design).
+        warnings: Vec<String>,
     },
     /// Something failed (shown in the UI).
     Failed {
@@ -460,12 +463,14 @@ fn reconstruct(t: &mut Training, events: &Sender<Event>) {
         return;
     };
     let signals = engine.signals();
+    let finished = engine.is_finished();
     let event = match engine.reconstruct() {
-        Ok(mesh) => Event::Reconstructed {
+        Ok((mesh, warnings)) => Event::Reconstructed {
             session: t.session,
             signals,
             mesh: Arc::new(mesh),
             train_seconds: t.train_time.as_secs_f64(),
+            warnings: if finished { warnings } else { Vec::new() },
         },
         Err(error) => Event::Failed {
             session: t.session,
