@@ -541,6 +541,30 @@ fn a_scan_with_many_holes_gets_its_target_or_the_reason() {
     }
     // At 2 % the holes need more vertices than the target.
     assert!(stopped >= 1);
+    // QEM on the original stops above 40 too, and says so in the same words as the viewer.
+    let o = gng3d(&[
+        "simplify",
+        input.to_str().unwrap(),
+        out.path().join("q.ply").to_str().unwrap(),
+        "--method",
+        "qem",
+        "--vertices",
+        "40",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let qem = json_of(&gng3d(&[
+        "info",
+        out.path().join("q.ply").to_str().unwrap(),
+        "--json",
+    ]))["vertices"]
+        .as_u64()
+        .unwrap();
+    assert!(qem > 40);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains(&format!("warning: QEM stopped at {qem} of 40 vertices")),
+        "{stderr}"
+    );
 }
 
 #[test]

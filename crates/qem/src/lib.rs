@@ -151,6 +151,46 @@ pub struct QemReport {
     pub passes: usize,
 }
 
+impl QemReport {
+    /// The sentence front ends show when the run stopped before `target` (the target it was
+    /// given), `None` when it reached it, e.g. "QEM stopped at 118 of 40 vertices: no further
+    /// contraction keeps the mesh's topology or passes the normal check".
+    ///
+    /// ```
+    /// use qem::{QemParams, Target};
+    /// let ico = mesh::procedural::icosphere(0); // 12 vertices, closed: 4 at best (a tetrahedron)
+    /// let target = Target::Vertices(3);
+    /// let (out, report) = qem::simplify(&ico, &QemParams::with_target(target)).unwrap();
+    /// let note = report.shortfall(target).unwrap();
+    /// assert!(note.starts_with(&format!("QEM stopped at {} of 3 vertices", out.vertex_count())));
+    /// let (_, reached) = qem::simplify(&ico, &QemParams::with_target(Target::Vertices(6))).unwrap();
+    /// assert_eq!(reached.shortfall(Target::Vertices(6)), None);
+    /// ```
+    pub fn shortfall(&self, target: Target) -> Option<String> {
+        if self.target_reached {
+            return None;
+        }
+        let at = match target {
+            Target::Vertices(n) => format!("{} of {n} vertices", self.vertices),
+            Target::Faces(n) => format!("{} of {n} faces", self.faces),
+            Target::Ratio(r) => format!(
+                "{} faces, {:.4} of the input's {} (target {r})",
+                self.faces,
+                self.faces as f64 / self.input_faces.max(1) as f64,
+                self.input_faces
+            ),
+        };
+        let why = match self.stop_reason {
+            StopReason::TargetReached => "target reached",
+            StopReason::MaxError => "the next contraction would exceed max_error",
+            StopReason::NoValidPairs => {
+                "no further contraction keeps the mesh's topology or passes the normal check"
+            }
+        };
+        Some(format!("QEM stopped at {at}: {why}"))
+    }
+}
+
 /// Errors of [`simplify`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum QemError {

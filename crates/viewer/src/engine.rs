@@ -96,11 +96,13 @@ impl Engine {
     /// CLI). While training runs, a checkpoint's preview skips the detail rounds: each costs
     /// about one more phase 2, and with three of them the default watched run of gargoyle-10k
     /// at 25 % (12 s asked) was at 68 % of its signals after 20 s. The finished network gets
-    /// the CLI's full reconstruction. Also returns the run's warnings (why the mesh has another
-    /// vertex count than the target, what was dropped), as the CLI prints them.
+    /// the CLI's full reconstruction, and with it the run's warnings (why the mesh has another
+    /// vertex count than the target, what was dropped), as the CLI prints them; a preview has
+    /// none (a network still growing is short of the target by design).
     pub fn reconstruct(&mut self) -> Result<(TriMesh, Vec<String>)> {
+        let finished = self.trainer.is_finished();
         let mut reconstruction = self.trainer.params().reconstruction.clone();
-        if !self.trainer.is_finished() {
+        if !finished {
             reconstruction.detail_rounds = 0;
         }
         gng3d_core::finish_with_reconstruction(
@@ -110,31 +112,20 @@ impl Engine {
             &reconstruction,
         )
         .map(|result| {
-            let warnings = result
-                .report
-                .warnings
-                .iter()
-                .map(|w| w.to_string())
-                .collect();
-            (result.mesh, warnings)
+            let warnings = result.report.warnings.iter().filter(|_| finished);
+            (result.mesh, warnings.map(|w| w.to_string()).collect())
         })
         .map_err(|e| ViewerError::Gng(e.to_string()))
     }
 }
 
-/// QEM simplification of `mesh` to `target_vertices` vertices, with a note when it stopped
-/// above the target (no contraction left that keeps the topology: holes, small pieces).
+/// QEM simplification of `mesh` to `target_vertices` vertices, with the CLI's note when it
+/// stopped above the target ([`qem::QemReport::shortfall`]: holes, small pieces).
 pub fn qem_simplify(mesh: &TriMesh, target_vertices: usize) -> Result<(TriMesh, Option<String>)> {
-    let params = qem::QemParams::with_target(qem::Target::Vertices(target_vertices));
-    let (out, _report) =
-        qem::simplify(mesh, &params).map_err(|e| ViewerError::Qem(e.to_string()))?;
-    let note = (out.vertex_count() > target_vertices).then(|| {
-        format!(
-            "QEM stopped at {} of {target_vertices} vertices: no further contraction keeps the mesh's topology",
-            out.vertex_count()
-        )
-    });
-    Ok((out, note))
+    let target = qem::Target::Vertices(target_vertices);
+    let (out, report) = qem::simplify(mesh, &qem::QemParams::with_target(target))
+        .map_err(|e| ViewerError::Qem(e.to_string()))?;
+    Ok((out, report.shortfall(target)))
 }
 
 /// Surface samples per direction for the Hausdorff distance (keeps one evaluation to about a

@@ -91,8 +91,7 @@ pub enum Event {
         mesh: Arc<TriMesh>,
         /// Training time so far (seconds, pauses excluded).
         train_seconds: f64,
-        /// The run's warnings, for the finished network's mesh only (a checkpoint of a network
-        /// still growing is short of the target by design).
+        /// The run's warnings (finished network only, see `Engine::reconstruct`).
         warnings: Vec<String>,
     },
     /// Something failed (shown in the UI).
@@ -463,14 +462,13 @@ fn reconstruct(t: &mut Training, events: &Sender<Event>) {
         return;
     };
     let signals = engine.signals();
-    let finished = engine.is_finished();
     let event = match engine.reconstruct() {
         Ok((mesh, warnings)) => Event::Reconstructed {
             session: t.session,
             signals,
             mesh: Arc::new(mesh),
             train_seconds: t.train_time.as_secs_f64(),
-            warnings: if finished { warnings } else { Vec::new() },
+            warnings,
         },
         Err(error) => Event::Failed {
             session: t.session,

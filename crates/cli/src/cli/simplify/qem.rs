@@ -61,11 +61,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             report,
         })?;
     } else {
-        if !report.target_reached {
-            eprintln!(
-                "warning: target not reached ({:?}); stopped at best effort",
-                report.stop_reason
-            );
+        if let Some(shortfall) = report.shortfall(target) {
+            eprintln!("warning: {shortfall}");
         }
         println!(
             "qem: {} -> {} vertices, {} -> {} faces, {} collapses in {:.3} s -> {}",
