@@ -192,18 +192,14 @@ pub fn flip_edges(
             },
         )
     };
-    for &(d, f) in &closest {
-        if f != NONE {
-            face_err[f as usize] += d;
-        }
-    }
     // The assigned points, stored face by face in list order (latest point first), so that a
     // candidate flip reads its quad's points from two runs of memory instead of chasing them
     // through an array of every original vertex (igea at 1 %: 67k points among 134k).
     let mut head = vec![NONE; triangles.len()];
     let mut start = vec![0u32; triangles.len() + 1];
-    for &(_, f) in &closest {
+    for &(d, f) in &closest {
         if f != NONE {
+            face_err[f as usize] += d;
             start[f as usize + 1] += 1;
         }
     }
