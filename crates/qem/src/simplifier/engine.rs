@@ -79,6 +79,8 @@ pub(super) struct Engine {
     min_normal_cos: f64,
     /// `QemParams::edge_length_weight` (0: none).
     edge_length_weight: f64,
+    /// Whether the walks in cost order prefetch ([`prefetch::worth_it`]).
+    pub(super) prefetching: bool,
 }
 
 /// Whether face `t` has corner `v`. Non-short-circuit: which corner matches is data, and as a
@@ -129,6 +131,7 @@ impl Engine {
             preserve_topology: params.preserve_topology,
             min_normal_cos: params.min_normal_cos,
             edge_length_weight: params.edge_length_weight,
+            prefetching: prefetch::worth_it(n),
         }
     }
 
@@ -207,7 +210,9 @@ impl Engine {
     pub(super) fn cost_all(&self, list: &mut [Cand]) {
         let cost = |chunk: &mut [Cand]| {
             for i in 0..chunk.len() {
-                if let Some(ahead) = chunk.get(i + prefetch::RECORDS) {
+                if self.prefetching
+                    && let Some(ahead) = chunk.get(i + prefetch::RECORDS)
+                {
                     self.prefetch_record(ahead.b as usize);
                 }
                 let c = &mut chunk[i];
@@ -225,7 +230,9 @@ impl Engine {
     /// survivors ahead (sequential: on two shared cores a parallel split measured no faster).
     pub(super) fn fresh_pairs(&mut self, survivors: &[u32], pass: u32, fresh: &mut Vec<Cand>) {
         for (i, &a) in survivors.iter().enumerate() {
-            self.prefetch_survivors(survivors, i);
+            if self.prefetching {
+                self.prefetch_survivors(survivors, i);
+            }
             self.pairs_of(a as usize, pass, fresh);
         }
     }

@@ -337,6 +337,8 @@ impl Schedule {
 
     /// One pass: walk the list in cost order and contract every live pair up to `cap` (at least
     /// one) that passes the checks, until the goal is reached or a cost exceeds `max_error`.
+    /// Meshes whose engine data stays in cache skip the prefetch pipeline
+    /// ([`prefetch::worth_it`]); both walks visit the same entries in the same order.
     fn one_pass(
         &mut self,
         e: &mut Engine,
@@ -345,17 +347,53 @@ impl Schedule {
         max_error: f64,
         goal: &Goal,
     ) -> PassOutcome {
+        let mut out = PassOutcome {
+            consumed: self.list.len(),
+            ..PassOutcome::default()
+        };
+        self.survivors.clear();
+        if e.prefetching {
+            self.walk_prefetched(e, pass, cap, max_error, goal, &mut out);
+        } else {
+            for i in 0..self.list.len() {
+                let c = self.list[i];
+                if is_live(&c, &e.contracted)
+                    && visit(
+                        e,
+                        c,
+                        i,
+                        pass,
+                        cap,
+                        max_error,
+                        goal,
+                        &mut self.survivors,
+                        &mut out,
+                    )
+                    .is_break()
+                {
+                    break;
+                }
+            }
+        }
+        out
+    }
+
+    /// [`Schedule::one_pass`]'s walk with the staged prefetch pipeline: the stages run over the
+    /// upcoming *live* entries (most entries of a pass go stale before they are reached):
+    /// `queue[qh..qt]` (modulo its length) holds the list indices of the next live entries found
+    /// by the look-ahead `la`.
+    fn walk_prefetched(
+        &mut self,
+        e: &mut Engine,
+        pass: u32,
+        cap: f32,
+        max_error: f64,
+        goal: &Goal,
+        out: &mut PassOutcome,
+    ) {
         let Schedule {
             list, survivors, ..
         } = self;
-        let mut out = PassOutcome {
-            consumed: list.len(),
-            ..PassOutcome::default()
-        };
-        survivors.clear();
-        // The prefetch stages run over the upcoming *live* entries (most entries of a pass go
-        // stale before they are reached): `queue[qh..qt]` (modulo its length) holds the list
-        // indices of the next live entries found by the look-ahead `la`.
         const QUEUE: usize = prefetch::RECORDS;
         let mut queue = [0u32; QUEUE];
         let (mut qh, mut qt, mut la) = (0usize, 0usize, 0usize);
@@ -392,44 +430,14 @@ impl Schedule {
             if let Some(ahead) = upcoming(prefetch::RING - 1) {
                 e.prefetch_ring(ahead.a as usize, ahead.b as usize);
             }
-            let c = &list[i];
-            if !is_live(c, &e.contracted) {
-                continue;
-            }
-            let (a, b) = (c.a as usize, c.b as usize);
-            if out.done > 0 && key_cost(c.key) > cap {
-                out.consumed = i;
-                break;
-            }
-            let (cost, p) = e.evaluate(a, b);
-            if cost > max_error {
-                out.stop = Some(StopReason::MaxError);
-                break;
-            }
-            // Keep the vertex with the longer face list (less relinking).
-            let (a, b) = if e.vx[b].len > e.vx[a].len {
-                (b, a)
-            } else {
-                (a, b)
-            };
-            if !e.allowed(a, b, p) {
-                // Dropped; the pair comes back when a neighbouring contraction touches an
-                // endpoint, or in a full rebuild.
-                out.rejected += 1;
-                continue;
-            }
-            e.collapse(a, b, p);
-            e.vx[a].touched = pass;
-            e.vx[b].touched = pass;
-            survivors.push(a as u32);
-            out.done += 1;
-            out.worst = out.worst.max(cost);
-            if goal.reached(e) {
-                out.consumed = i + 1;
+            let c = list[i];
+            // An entry can go stale between its look-ahead and its turn.
+            if is_live(&c, &e.contracted)
+                && visit(e, c, i, pass, cap, max_error, goal, survivors, out).is_break()
+            {
                 break;
             }
         }
-        out
     }
 
     /// After a pass without progress: a fresh list of every current pair (each produced once,
@@ -465,6 +473,58 @@ impl Schedule {
         );
         std::mem::swap(&mut self.list, &mut self.sort_tmp);
     }
+}
+
+/// The pass's step for the live entry `c` at list index `i`: stop at the cost cap (after at least
+/// one contraction) or at `max_error`; otherwise evaluate, check and contract, keeping the vertex
+/// with the longer face list. Breaks when the pass ends here.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn visit(
+    e: &mut Engine,
+    c: Cand,
+    i: usize,
+    pass: u32,
+    cap: f32,
+    max_error: f64,
+    goal: &Goal,
+    survivors: &mut Vec<u32>,
+    out: &mut PassOutcome,
+) -> std::ops::ControlFlow<()> {
+    use std::ops::ControlFlow::{Break, Continue};
+    let (a, b) = (c.a as usize, c.b as usize);
+    if out.done > 0 && key_cost(c.key) > cap {
+        out.consumed = i;
+        return Break(());
+    }
+    let (cost, p) = e.evaluate(a, b);
+    if cost > max_error {
+        out.stop = Some(StopReason::MaxError);
+        return Break(());
+    }
+    // Keep the vertex with the longer face list (less relinking).
+    let (a, b) = if e.vx[b].len > e.vx[a].len {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    if !e.allowed(a, b, p) {
+        // Dropped; the pair comes back when a neighbouring contraction touches an endpoint, or
+        // in a full rebuild.
+        out.rejected += 1;
+        return Continue(());
+    }
+    e.collapse(a, b, p);
+    e.vx[a].touched = pass;
+    e.vx[b].touched = pass;
+    survivors.push(a as u32);
+    out.done += 1;
+    out.worst = out.worst.max(cost);
+    if goal.reached(e) {
+        out.consumed = i + 1;
+        return Break(());
+    }
+    Continue(())
 }
 
 fn validate(p: &QemParams) -> Result<(), QemError> {
