@@ -15,6 +15,11 @@
 //!    each component's capacity (its point count for vertex signals). Components whose share
 //!    is below [`MIN_COMPONENT_NODES`] nodes are dropped, smallest first, and their share goes
 //!    to the others (reported as a warning).
+//! 5. **Halves** (with [`GngParams::split_training`]): a piece allotted at least
+//!    [`SPLIT_MIN_NODES`] nodes is trained as two networks, one per half of its points cut at
+//!    the median of its longest axis, so that the two can train on two threads. Training only:
+//!    the reconstruction labels across the cut (the halves are one component there), so the
+//!    output has no seam.
 
 use crate::error::GngError;
 use crate::params::{GngParams, SignalSource};
@@ -32,6 +37,11 @@ pub const MIN_COMPONENT_NODES: usize = 3;
 /// keeps legitimate long, thin parts (a rod 100× longer than wide is ~2 radii long at its
 /// tips) and catches the 1e8-away points of the scans.
 pub const STRAY_RADII: f64 = 1000.0;
+
+/// A piece is trained as two halves ([`GngParams::split_training`]) from this many nodes on,
+/// i.e. at least 256 a half: smaller networks train in a few milliseconds, and their halves'
+/// cells along the cut would be a sizeable share of all cells.
+pub const SPLIT_MIN_NODES: usize = 512;
 
 /// Percentile of the distances from the median that defines the robust radius.
 const RADIUS_PERCENTILE: f64 = 0.9;
@@ -73,6 +83,8 @@ pub(crate) struct Piece {
     pub area: f64,
     /// Nodes allotted to this piece.
     pub target: usize,
+    /// Connected component of the input this piece belongs to (two halves share one).
+    pub component: usize,
 }
 
 /// The pieces to train and what was left out.
@@ -344,6 +356,7 @@ impl Domain {
                 surface: TriMesh::default(),
                 area: 0.0,
                 target: 0,
+                component: pieces.len(),
             });
         }
         // Faces with only non-stray corners, in local coordinates, in one pass over the input:
@@ -430,7 +443,11 @@ impl Domain {
                 && let Some(mut p) = pieces[c].take()
             {
                 p.target = alloc[k];
-                chosen.push(p);
+                if params.split_training && p.target >= SPLIT_MIN_NODES {
+                    chosen.extend(p.halves(vertex_bound));
+                } else {
+                    chosen.push(p);
+                }
             }
         }
         Ok(Domain {
@@ -441,9 +458,150 @@ impl Domain {
     }
 }
 
+impl Piece {
+    /// Step 5: this piece as two pieces, its points cut at the median of the longest axis of
+    /// their box (points on the median go to the first), its target split by signal mass (the
+    /// point count for vertex signals, the area for surface signals) capped by the point count
+    /// when `vertex_bound`. Surface signals: each face goes to the half of its centroid, and
+    /// each half keeps the points its faces use. The area (which sizes the search grid) is
+    /// split by point share for vertex signals, which keep no faces.
+    fn halves(self, vertex_bound: bool) -> [Piece; 2] {
+        let bbox = mesh::Aabb::from_points(&self.points);
+        let extent = bbox.max - bbox.min;
+        let axis = if extent.x >= extent.y && extent.x >= extent.z {
+            0
+        } else if extent.y >= extent.z {
+            1
+        } else {
+            2
+        };
+        let mut coords: Vec<f32> = self.points.iter().map(|p| p[axis]).collect();
+        let mid = coords.len() / 2;
+        let (_, median, _) = coords.select_nth_unstable_by(mid, f32::total_cmp);
+        let median = *median;
+        let first_half = |p: Vec3| p[axis] <= median;
+        let surface_signals = !self.surface.triangles.is_empty();
+        let mut halves: [(Vec<Vec3>, Vec<[u32; 3]>, f64); 2] = Default::default();
+        if surface_signals {
+            let mut index = [
+                vec![u32::MAX; self.points.len()],
+                vec![u32::MAX; self.points.len()],
+            ];
+            for t in &self.surface.triangles {
+                let [a, b, c] = t.map(|v| self.points[v as usize]);
+                let h = usize::from(!first_half((a + b + c) / 3.0));
+                let (points, faces, area) = &mut halves[h];
+                let local = t.map(|v| {
+                    let slot = &mut index[h][v as usize];
+                    if *slot == u32::MAX {
+                        *slot = points.len() as u32;
+                        points.push(self.points[v as usize]);
+                    }
+                    *slot
+                });
+                faces.push(local);
+                *area += 0.5 * (b - a).as_dvec3().cross((c - a).as_dvec3()).length();
+            }
+        } else {
+            for &p in &self.points {
+                halves[usize::from(!first_half(p))].0.push(p);
+            }
+            let total = self.points.len().max(1) as f64;
+            for half in &mut halves {
+                half.2 = self.area * half.0.len() as f64 / total;
+            }
+        }
+        let mass: Vec<f64> = halves
+            .iter()
+            .map(|(points, _, area)| {
+                if surface_signals {
+                    *area
+                } else {
+                    points.len() as f64
+                }
+            })
+            .collect();
+        let capacity: Vec<usize> = halves
+            .iter()
+            .map(|(points, ..)| {
+                if vertex_bound {
+                    points.len()
+                } else {
+                    usize::MAX / 4
+                }
+            })
+            .collect();
+        let target = allot(self.target, &mass, &capacity);
+        let [(p0, f0, a0), (p1, f1, a1)] = halves;
+        let half = |points: Vec<Vec3>, faces: Vec<[u32; 3]>, area: f64, target: usize| Piece {
+            frame: self.frame,
+            surface: if surface_signals {
+                TriMesh::new(points.clone(), faces)
+            } else {
+                TriMesh::default()
+            },
+            points,
+            area,
+            target,
+            component: self.component,
+        };
+        [half(p0, f0, a0, target[0]), half(p1, f1, a1, target[1])]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn halves_split_points_faces_area_and_target() {
+        let sphere = mesh::procedural::icosphere(4);
+        let area: f64 = (0..sphere.face_count())
+            .map(|f| {
+                let [a, b, c] = sphere.triangle_f64(f);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        for source in [SignalSource::Vertices, SignalSource::Surface] {
+            let mut params = GngParams::for_target(1001);
+            params.signal_source = source;
+            params.split_training = true;
+            let d = Domain::build(&sphere, &Pieces::of(&sphere), &params).unwrap();
+            assert_eq!(d.pieces.len(), 2, "{source:?}");
+            let [h0, h1] = [&d.pieces[0], &d.pieces[1]];
+            assert_eq!(h0.target + h1.target, 1001);
+            assert!(
+                h0.target.abs_diff(h1.target) <= 60,
+                "{} {}",
+                h0.target,
+                h1.target
+            );
+            assert_eq!((h0.component, h1.component), (0, 0));
+            let scale2 = h0.frame.scale * h0.frame.scale;
+            assert!(
+                ((h0.area + h1.area) * scale2 - area).abs() < 1e-3 * area,
+                "{source:?}"
+            );
+            match source {
+                // Vertex signals: the points are split between the halves, no face kept.
+                SignalSource::Vertices => {
+                    assert_eq!(h0.points.len() + h1.points.len(), sphere.vertex_count());
+                    assert!(h0.surface.triangles.is_empty());
+                }
+                // Surface signals: every face goes to one half, with the points it uses.
+                _ => {
+                    let faces = h0.surface.face_count() + h1.surface.face_count();
+                    assert_eq!(faces, sphere.face_count());
+                    for h in [h0, h1] {
+                        assert_eq!(h.surface.positions.len(), h.points.len());
+                        let used: std::collections::HashSet<u32> =
+                            h.surface.triangles.iter().flatten().copied().collect();
+                        assert_eq!(used.len(), h.points.len());
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn allotment_is_proportional_capped_and_exact() {

@@ -58,7 +58,7 @@ pub mod relax;
 mod report;
 mod trainer;
 
-pub use domain::{MIN_COMPONENT_NODES, STRAY_RADII};
+pub use domain::{MIN_COMPONENT_NODES, SPLIT_MIN_NODES, STRAY_RADII};
 pub use error::GngError;
 pub use options::{
     DEFAULT_DETAIL_ROUNDS, DEFAULT_OVERSAMPLE, DETAIL_MIN_RATIO, GngOptions, GngTarget,

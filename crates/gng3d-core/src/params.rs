@@ -223,6 +223,12 @@ pub struct GngParams {
     /// decimator: [`crate::simplify_with`] / [`crate::finish_with`] (the `gng3d` facade passes
     /// its QEM); [`crate::simplify`] refuses it. Set through [`crate::GngOptions::oversample`].
     pub decimate_to: Option<usize>,
+    /// Train each piece of at least [`crate::SPLIT_MIN_NODES`] nodes as two networks, one per
+    /// half of its points (cut at the median of its longest axis), on two threads where the
+    /// machine has them; the result is the same for any thread count. The reconstruction
+    /// labels across the cut, so the output has no seam. Default `false` (one network per
+    /// piece, as published); [`GngParams::oversampled`] (GNG3D-Q) turns it on.
+    pub split_training: bool,
 }
 
 impl Default for GngParams {
@@ -244,6 +250,7 @@ impl Default for GngParams {
             search: SearchStrategy::Grid,
             reconstruction: ReconstructionParams::default(),
             decimate_to: None,
+            split_training: false,
         }
     }
 }

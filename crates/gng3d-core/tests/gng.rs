@@ -182,6 +182,39 @@ fn reconstruction_of_sphere_and_torus_is_closed_with_the_right_genus() {
 }
 
 #[test]
+fn halves_reconstruct_without_a_seam() {
+    // Trained as two halves (vertex and surface signals); the reconstruction labels across
+    // the cut, so the result is one closed, oriented manifold of the right genus with every
+    // node a vertex.
+    for (model, target, genus, source) in [
+        (
+            icosphere(4),
+            900usize,
+            0i64,
+            gng3d_core::SignalSource::Vertices,
+        ),
+        (
+            torus(1.0, 0.35, 96, 48),
+            1200,
+            1,
+            gng3d_core::SignalSource::Vertices,
+        ),
+        (icosphere(4), 1200, 0, gng3d_core::SignalSource::Surface),
+    ] {
+        let mut params = GngParams::for_target(target);
+        params.split_training = true;
+        params.signal_source = source;
+        let r = simplify(&model, &params).unwrap();
+        assert_eq!(r.report.training.components, 1);
+        let chi = closed_oriented_euler(&r.mesh).expect("closed, consistently oriented manifold");
+        assert_eq!(chi, 2 - 2 * genus, "{source:?}");
+        assert_eq!(r.mesh.vertex_count(), target, "{source:?}");
+        let (v0, v1) = (model.signed_volume(), r.mesh.signed_volume());
+        assert!((v1 - v0).abs() < 0.05 * v0, "volume {v0} -> {v1}");
+    }
+}
+
+#[test]
 fn projection_puts_vertices_on_the_surface() {
     let sphere = icosphere(3);
     let mut params = GngParams::for_target(150);
