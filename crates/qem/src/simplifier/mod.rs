@@ -171,7 +171,13 @@ fn simplify_prepared(
         }
         e.generation = pass - generation_base;
         let cap = schedule.cost_cap(&e, goal.contractions_needed(&e));
-        let outcome = schedule.one_pass(&mut e, pass, cap, max_error, &goal);
+        let rule = PassRule {
+            pass,
+            cap,
+            max_error,
+            goal: &goal,
+        };
+        let outcome = schedule.one_pass(&mut e, &rule);
         totals.done += outcome.done;
         totals.rejected += outcome.rejected;
         totals.worst = totals.worst.max(outcome.worst);
@@ -270,6 +276,15 @@ impl Goal {
     }
 }
 
+/// What a pass may do: its number (the `touched` stamp of the vertices it merges), the cost cap
+/// past which it stops (after at least one contraction), the run's error bound and its goal.
+struct PassRule<'a> {
+    pass: u32,
+    cap: f32,
+    max_error: f64,
+    goal: &'a Goal,
+}
+
 /// What a pass did (and, summed, the whole run).
 #[derive(Debug, Default)]
 struct PassOutcome {
@@ -339,37 +354,19 @@ impl Schedule {
     /// one) that passes the checks, until the goal is reached or a cost exceeds `max_error`.
     /// Meshes whose engine data stays in cache skip the prefetch pipeline
     /// ([`prefetch::worth_it`]); both walks visit the same entries in the same order.
-    fn one_pass(
-        &mut self,
-        e: &mut Engine,
-        pass: u32,
-        cap: f32,
-        max_error: f64,
-        goal: &Goal,
-    ) -> PassOutcome {
+    fn one_pass(&mut self, e: &mut Engine, rule: &PassRule) -> PassOutcome {
         let mut out = PassOutcome {
             consumed: self.list.len(),
             ..PassOutcome::default()
         };
         self.survivors.clear();
         if e.prefetching {
-            self.walk_prefetched(e, pass, cap, max_error, goal, &mut out);
+            self.walk_prefetched(e, rule, &mut out);
         } else {
             for i in 0..self.list.len() {
                 let c = self.list[i];
                 if is_live(&c, &e.contracted)
-                    && visit(
-                        e,
-                        c,
-                        i,
-                        pass,
-                        cap,
-                        max_error,
-                        goal,
-                        &mut self.survivors,
-                        &mut out,
-                    )
-                    .is_break()
+                    && visit(e, c, i, rule, &mut self.survivors, &mut out).is_break()
                 {
                     break;
                 }
@@ -382,15 +379,7 @@ impl Schedule {
     /// upcoming *live* entries (most entries of a pass go stale before they are reached):
     /// `queue[qh..qt]` (modulo its length) holds the list indices of the next live entries found
     /// by the look-ahead `la`.
-    fn walk_prefetched(
-        &mut self,
-        e: &mut Engine,
-        pass: u32,
-        cap: f32,
-        max_error: f64,
-        goal: &Goal,
-        out: &mut PassOutcome,
-    ) {
+    fn walk_prefetched(&mut self, e: &mut Engine, rule: &PassRule, out: &mut PassOutcome) {
         let Schedule {
             list, survivors, ..
         } = self;
@@ -432,9 +421,7 @@ impl Schedule {
             }
             let c = list[i];
             // An entry can go stale between its look-ahead and its turn.
-            if is_live(&c, &e.contracted)
-                && visit(e, c, i, pass, cap, max_error, goal, survivors, out).is_break()
-            {
+            if is_live(&c, &e.contracted) && visit(e, c, i, rule, survivors, out).is_break() {
                 break;
             }
         }
@@ -478,20 +465,22 @@ impl Schedule {
 /// The pass's step for the live entry `c` at list index `i`: stop at the cost cap (after at least
 /// one contraction) or at `max_error`; otherwise evaluate, check and contract, keeping the vertex
 /// with the longer face list. Breaks when the pass ends here.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn visit(
     e: &mut Engine,
     c: Cand,
     i: usize,
-    pass: u32,
-    cap: f32,
-    max_error: f64,
-    goal: &Goal,
+    rule: &PassRule,
     survivors: &mut Vec<u32>,
     out: &mut PassOutcome,
 ) -> std::ops::ControlFlow<()> {
     use std::ops::ControlFlow::{Break, Continue};
+    let PassRule {
+        pass,
+        cap,
+        max_error,
+        goal,
+    } = *rule;
     let (a, b) = (c.a as usize, c.b as usize);
     if out.done > 0 && key_cost(c.key) > cap {
         out.consumed = i;
