@@ -135,7 +135,8 @@ pub struct TrainingStats {
     pub removed_inactive: u64,
     /// Nodes removed because they lost their last edge.
     pub removed_isolated: u64,
-    /// Connected input components trained, each by its own network.
+    /// Connected input components trained, each by its own network (or two, one a half, with
+    /// [`GngParams::split_training`]).
     pub components: usize,
     /// Training time, seconds.
     pub seconds: f64,
