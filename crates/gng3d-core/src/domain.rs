@@ -464,8 +464,10 @@ impl Piece {
     /// point count for vertex signals, the area for surface signals) capped by the point count
     /// when `vertex_bound`. Surface signals: each face goes to the half of its centroid, and
     /// each half keeps the points its faces use. The area (which sizes the search grid) is
-    /// split by point share for vertex signals, which keep no faces.
-    fn halves(self, vertex_bound: bool) -> [Piece; 2] {
+    /// split by point share for vertex signals, which keep no faces. A cut that would leave
+    /// either half with less than a quarter of the target (many points on the median plane,
+    /// e.g. a fan whose rim is the far end of the box) keeps the piece whole.
+    fn halves(self, vertex_bound: bool) -> Vec<Piece> {
         let bbox = mesh::Aabb::from_points(&self.points);
         let extent = bbox.max - bbox.min;
         let axis = if extent.x >= extent.y && extent.x >= extent.z {
@@ -532,6 +534,9 @@ impl Piece {
             })
             .collect();
         let target = allot(self.target, &mass, &capacity);
+        if target.iter().any(|&t| t < self.target / 4) {
+            return vec![self];
+        }
         let [(p0, f0, a0), (p1, f1, a1)] = halves;
         let half = |points: Vec<Vec3>, faces: Vec<[u32; 3]>, area: f64, target: usize| Piece {
             frame: self.frame,
@@ -545,7 +550,7 @@ impl Piece {
             target,
             component: self.component,
         };
-        [half(p0, f0, a0, target[0]), half(p1, f1, a1, target[1])]
+        vec![half(p0, f0, a0, target[0]), half(p1, f1, a1, target[1])]
     }
 }
 
@@ -600,6 +605,25 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn a_cut_that_leaves_a_half_nearly_empty_keeps_the_piece_whole() {
+        // A fan from the origin to 1,000 rim points at x = 1 (the box's longest side is x): the
+        // median x is the rim itself, so every point is on the first side of the cut.
+        let mut positions = vec![Vec3::ZERO];
+        positions.extend((0..1000).map(|i| Vec3::new(1.0, i as f32 * 5e-4, 0.0)));
+        let triangles = (1..1000u32).map(|i| [0, i, i + 1]).collect();
+        let fan = TriMesh::new(positions, triangles);
+        for source in [SignalSource::Vertices, SignalSource::Surface] {
+            let mut params = GngParams::for_target(600);
+            params.signal_source = source;
+            params.split_training = true;
+            let d = Domain::build(&fan, &Pieces::of(&fan), &params).unwrap();
+            assert_eq!(d.pieces.len(), 1, "{source:?}");
+            assert_eq!(d.pieces[0].target, 600);
+            assert!(crate::Trainer::new(&fan, params).is_ok());
         }
     }
 
