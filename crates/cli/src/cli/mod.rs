@@ -104,6 +104,8 @@ pub(crate) struct GngVariantArgs {
     pub signals: Option<SignalsArg>,
     /// GNG3D-Q oversampling factor k in [1, 4]: train k × N nodes, then decimate the mesh to N
     /// with QEM (error first). Default 1.5 with quadric placement, 1 (off) otherwise.
+    /// Oversampled runs train each piece of at least 512 nodes as two halves on two threads
+    /// (the same result on any number of cores).
     #[arg(long)]
     pub oversample: Option<f64>,
     /// GNG3D-Q rounds of detail nodes (0-8) in oversampled runs: nodes added where the mesh
