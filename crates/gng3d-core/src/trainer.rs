@@ -565,6 +565,10 @@ impl Trainer {
         if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
             return Err(GngError::NonFinite { vertex: v });
         }
+        // Phase 2's tables start now, on the core that the set-up below leaves idle, rather
+        // than during training, whose two halves keep both cores busy.
+        let original = Arc::new(mesh.clone());
+        let tables = Arc::new(BackgroundTables::start(&original));
         let input = Pieces::of(mesh);
         let domain = Domain::build(mesh, &input, &params)?;
         let n = params.target_vertices;
@@ -592,9 +596,8 @@ impl Trainer {
                 Pcg64Mcg::seed_from_u64(seed),
             )?);
         }
-        let original = Arc::new(mesh.clone());
         Ok(Trainer {
-            tables: Arc::new(BackgroundTables::start(&original)),
+            tables,
             original,
             input,
             inv_decay: 1.0 / params.error_decay,
