@@ -250,6 +250,12 @@ fn frame_of(points: &[DVec3]) -> (Frame, f64) {
     (Frame { center, scale }, radius)
 }
 
+/// Nodes a piece of `points` distinct points can hold: one per point with vertex signals
+/// (`vertex_bound`), which cannot place two nodes on one point; unbounded with surface signals.
+fn capacity_of(points: usize, vertex_bound: bool) -> usize {
+    if vertex_bound { points } else { usize::MAX / 4 }
+}
+
 /// Split `target` over `mass` by largest remainder with per-entry `capacity`; returns the
 /// allotment (sum = min(target, total capacity)).
 pub(crate) fn allot(target: usize, mass: &[f64], capacity: &[usize]) -> Vec<usize> {
@@ -346,11 +352,7 @@ impl Domain {
                     stray_total += 1;
                 }
             }
-            capacity.push(if vertex_bound {
-                points.len()
-            } else {
-                usize::MAX / 4
-            });
+            capacity.push(capacity_of(points.len(), vertex_bound));
             pieces.push(Piece {
                 frame,
                 points,
@@ -526,13 +528,7 @@ impl Piece {
             .collect();
         let capacity: Vec<usize> = halves
             .iter()
-            .map(|(points, ..)| {
-                if vertex_bound {
-                    points.len()
-                } else {
-                    usize::MAX / 4
-                }
-            })
+            .map(|(points, ..)| capacity_of(points.len(), vertex_bound))
             .collect();
         let target = allot(self.target, &mass, &capacity);
         if target.iter().any(|&t| t < self.target / 4) {

@@ -1,7 +1,8 @@
-//! Deterministic fork-join for phase 2: an index range split into contiguous chunks, one scoped
-//! thread per chunk, results concatenated in index order, so the output is the same for any
-//! thread count. No pool and no dependency: phase 2 forks a handful of times per run, and a
-//! scoped thread start (~20 µs) is noise next to the chunks it is used for.
+//! Deterministic fork-join: work split into contiguous chunks, one scoped thread per chunk,
+//! results combined in order, so the output is the same for any thread count. Phase 2 maps
+//! index ranges ([`map_indexed`]); training runs the parts of a round side by side
+//! ([`sum_over_groups`]). No pool and no dependency: a scoped thread start (~20-50 µs) is noise
+//! next to the chunks it is used for.
 
 /// Threads phase 2 forks into: the machine's parallelism, at most four (the chunks are memory
 /// bound beyond that).
@@ -38,6 +39,39 @@ where
     })
 }
 
+/// `f` applied to every item of `items` (each item once, in order within its group), the
+/// items dealt to up to `threads` scoped threads in contiguous groups; returns the sum of
+/// `f`'s results. Items must not depend on one another: then the result is the same for any
+/// thread count.
+pub(crate) fn sum_over_groups<T, F>(items: &mut [T], threads: usize, f: F) -> u64
+where
+    T: Send,
+    F: Fn(&mut T) -> u64 + Sync,
+{
+    let threads = threads.min(items.len());
+    if threads <= 1 {
+        return items.iter_mut().map(&f).sum();
+    }
+    let per_thread = items.len().div_ceil(threads);
+    let f = &f;
+    std::thread::scope(|scope| {
+        let mut groups = items.chunks_mut(per_thread);
+        let first = groups.next();
+        let handles: Vec<_> = groups
+            .map(|g| scope.spawn(move || g.iter_mut().map(f).sum::<u64>()))
+            .collect();
+        let mut total: u64 = first.map_or(0, |g| g.iter_mut().map(f).sum());
+        for h in handles {
+            match h.join() {
+                Ok(n) => total += n,
+                // A panic in `f` is a bug; re-raise it on the caller's thread.
+                Err(e) => std::panic::resume_unwind(e),
+            }
+        }
+        total
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -50,5 +84,19 @@ mod tests {
             assert_eq!(got, want, "{threads} threads");
         }
         assert!(map_indexed(0, 4, 1, |i| i).is_empty());
+    }
+
+    #[test]
+    fn groups_see_every_item_once_on_any_thread_count() {
+        for threads in [1, 2, 3, 4, 9] {
+            let mut items: Vec<u64> = (0..7).collect();
+            let sum = sum_over_groups(&mut items, threads, |x| {
+                *x *= 10;
+                *x
+            });
+            assert_eq!(sum, 210, "{threads} threads");
+            assert_eq!(items, (0..7).map(|x| 10 * x).collect::<Vec<u64>>());
+        }
+        assert_eq!(sum_over_groups(&mut Vec::<u64>::new(), 2, |x| *x), 0);
     }
 }

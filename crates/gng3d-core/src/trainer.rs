@@ -769,10 +769,13 @@ impl Trainer {
                 self.stop = Some(StopReason::TimeLimit);
                 break;
             }
-            let open: Vec<usize> = (0..self.parts.len())
-                .filter(|&i| !self.parts[i].done)
+            let budgets: Vec<u64> = self
+                .parts
+                .iter()
+                .filter(|p| !p.done)
+                .map(|p| p.budget)
                 .collect();
-            if open.is_empty() {
+            if budgets.is_empty() {
                 let capped = self.parts.iter().any(|p| p.capped);
                 self.stop = Some(if capped {
                     StopReason::SignalCap
@@ -791,23 +794,25 @@ impl Trainer {
                 removal_window: self.params.removal_window,
                 lambda: self.lambda,
             };
-            let round = (n - done).min(ROUND_SIGNALS_PER_PART * open.len() as u64);
-            let quotas = round_quotas(round, open.iter().map(|&i| self.parts[i].budget));
+            // One round: the unfinished parts side by side, each with its share.
+            let round = (n - done).min(ROUND_SIGNALS_PER_PART * budgets.len() as u64);
+            let quotas = round_quotas(round, &budgets);
             let deadline = self
                 .params
                 .time_limit
                 .map(|limit| start + limit.saturating_sub(self.elapsed));
+            let (search, cancel) = (self.params.search, &self.cancel);
+            let mut work: Vec<(&mut Part, u64)> = self
+                .parts
+                .iter_mut()
+                .filter(|p| !p.done)
+                .zip(quotas)
+                .collect();
             let round_start = Instant::now();
-            let processed = run_round(
-                &mut self.parts,
-                &open,
-                &quotas,
-                self.threads,
-                self.params.search,
-                settings,
-                deadline,
-                &self.cancel,
-            );
+            let processed = crate::parallel::sum_over_groups(&mut work, self.threads, |work| {
+                let (part, quota) = work;
+                part.advance(*quota, search, settings, deadline, cancel)
+            });
             if self.params.time_limit.is_some() && processed >= CHECK_EVERY / 2 {
                 let dt = round_start.elapsed().as_secs_f64();
                 if dt > 0.0 {
@@ -899,14 +904,9 @@ impl Trainer {
     }
 }
 
-/// Phase 2's tables of the original ([`OriginalTables`]: edge table, vertex adjacency), built
-/// on a helper thread started with the trainer, so that they are ready when training ends
-/// (igea: ~45 ms of work that phase 2 no longer waits for, and both cores label). Shared by
-/// clones of the trainer; every reconstruction (the viewer's checkpoints too) reuses them.
 /// `round` signals shared by parts with these budgets, in proportion (largest part first for
 /// the remainder, so the shares sum to `round`).
-fn round_quotas(round: u64, budgets: impl Iterator<Item = u64>) -> Vec<u64> {
-    let budgets: Vec<u64> = budgets.collect();
+fn round_quotas(round: u64, budgets: &[u64]) -> Vec<u64> {
     let total: u128 = budgets.iter().map(|&b| u128::from(b.max(1))).sum();
     let mut quotas: Vec<u64> = budgets
         .iter()
@@ -919,59 +919,10 @@ fn round_quotas(round: u64, budgets: impl Iterator<Item = u64>) -> Vec<u64> {
     quotas
 }
 
-/// One round of [`Trainer::step`]: part `open[k]` advances by up to `quotas[k]` signals; the
-/// parts are dealt to up to `threads` threads in contiguous groups. Returns the signals
-/// processed.
-#[allow(clippy::too_many_arguments)]
-fn run_round(
-    parts: &mut [Part],
-    open: &[usize],
-    quotas: &[u64],
-    threads: usize,
-    search: SearchStrategy,
-    settings: LoopSettings,
-    deadline: Option<Instant>,
-    cancel: &CancelToken,
-) -> u64 {
-    let mut work: Vec<(&mut Part, u64)> = Vec::with_capacity(open.len());
-    let mut open_iter = open.iter().zip(quotas).peekable();
-    for (i, part) in parts.iter_mut().enumerate() {
-        if let Some(&(&k, &q)) = open_iter.peek()
-            && k == i
-        {
-            open_iter.next();
-            if q > 0 {
-                work.push((part, q));
-            }
-        }
-    }
-    let run = |group: &mut [(&mut Part, u64)]| -> u64 {
-        group
-            .iter_mut()
-            .map(|(part, quota)| part.advance(*quota, search, settings, deadline, cancel))
-            .sum()
-    };
-    let threads = threads.min(work.len());
-    if threads <= 1 {
-        return run(&mut work);
-    }
-    let per_thread = work.len().div_ceil(threads);
-    std::thread::scope(|scope| {
-        let mut groups = work.chunks_mut(per_thread);
-        let first = groups.next();
-        let handles: Vec<_> = groups.map(|g| scope.spawn(|| run(g))).collect();
-        let mut total = first.map_or(0, run);
-        for h in handles {
-            match h.join() {
-                Ok(n) => total += n,
-                // A panic in a part is a bug; re-raise it on the caller's thread.
-                Err(e) => std::panic::resume_unwind(e),
-            }
-        }
-        total
-    })
-}
-
+/// Phase 2's tables of the original ([`OriginalTables`]: edge table, vertex adjacency), built
+/// on a helper thread started with the trainer, so that they are ready when training ends
+/// (igea: ~45 ms of work that phase 2 no longer waits for, and both cores label). Shared by
+/// clones of the trainer; every reconstruction (the viewer's checkpoints too) reuses them.
 struct BackgroundTables {
     handle: Mutex<Option<JoinHandle<OriginalTables>>>,
     tables: OnceLock<Option<OriginalTables>>,
