@@ -747,10 +747,11 @@ impl Trainer {
 
     /// Process up to `n` signals (fewer when training ends); returns how many were processed.
     ///
-    /// In rounds: each unfinished part takes a share of the round in proportion to its budget,
-    /// and the parts of a round run side by side, one thread each (up to the machine's
-    /// parallelism). A part's result depends only on its own stream and signal count, not on
-    /// the rounds or the threads.
+    /// In rounds: the unfinished parts' signal counts after a round are shares of their total
+    /// in proportion to the budgets ([`round_quotas`]), and the parts of a round run side by
+    /// side, one thread each (up to the machine's parallelism). A part's result depends only on
+    /// its own stream and signal count, and the counts only on the total, so the network after
+    /// S signals is the same whatever the rounds, the threads or the `step` calls before.
     pub fn step(&mut self, n: u64) -> u64 {
         if self.stop.is_some() {
             return 0;
@@ -769,12 +770,12 @@ impl Trainer {
                 self.stop = Some(StopReason::TimeLimit);
                 break;
             }
-            let budgets: Vec<u64> = self
+            let (budgets, counts): (Vec<u64>, Vec<u64>) = self
                 .parts
                 .iter()
                 .filter(|p| !p.done)
-                .map(|p| p.budget)
-                .collect();
+                .map(|p| (p.budget, p.signals))
+                .unzip();
             if budgets.is_empty() {
                 let capped = self.parts.iter().any(|p| p.capped);
                 self.stop = Some(if capped {
@@ -796,7 +797,7 @@ impl Trainer {
             };
             // One round: the unfinished parts side by side, each with its share.
             let round = (n - done).min(ROUND_SIGNALS_PER_PART * budgets.len() as u64);
-            let quotas = round_quotas(round, &budgets);
+            let quotas = round_quotas(round, &budgets, &counts);
             let deadline = self
                 .params
                 .time_limit
@@ -904,17 +905,35 @@ impl Trainer {
     }
 }
 
-/// `round` signals shared by parts with these budgets, in proportion (largest part first for
-/// the remainder, so the shares sum to `round`).
-fn round_quotas(round: u64, budgets: &[u64]) -> Vec<u64> {
-    let total: u128 = budgets.iter().map(|&b| u128::from(b.max(1))).sum();
-    let mut quotas: Vec<u64> = budgets
+/// `round` more signals for the open parts with these budgets and signal counts, so that each
+/// part's count after the round is its share of the open parts' total *after* the round, in
+/// proportion to the budgets (largest part first for the remainder). The counts are then a
+/// function of that total alone, not of how earlier calls divided it: two calls of 3,331 and
+/// 6,669 signals leave every part where one call of 10,000 does (a viewer's checkpoint shows
+/// the same network). Parts already past their share (possible with three or more parts,
+/// where rounding is not monotone) get none, and the others' shares shrink to keep the sum.
+fn round_quotas(round: u64, budgets: &[u64], counts: &[u64]) -> Vec<u64> {
+    let total = round + counts.iter().sum::<u64>();
+    let weight: u128 = budgets.iter().map(|&b| u128::from(b.max(1))).sum();
+    let mut share: Vec<u64> = budgets
         .iter()
-        .map(|&b| (u128::from(round) * u128::from(b.max(1)) / total.max(1)) as u64)
+        .map(|&b| (u128::from(total) * u128::from(b.max(1)) / weight.max(1)) as u64)
         .collect();
-    let given: u64 = quotas.iter().sum();
+    let given: u64 = share.iter().sum();
     if let Some(k) = (0..budgets.len()).max_by_key(|&k| (budgets[k], std::cmp::Reverse(k))) {
-        quotas[k] += round - given;
+        share[k] += total - given;
+    }
+    let mut quotas: Vec<u64> = share
+        .iter()
+        .zip(counts)
+        .map(|(&s, &c)| s.saturating_sub(c))
+        .collect();
+    let mut excess = quotas.iter().sum::<u64>() - round;
+    while excess > 0 {
+        let k = (0..quotas.len()).max_by_key(|&k| quotas[k]).unwrap_or(0);
+        let cut = excess.min(quotas[k]);
+        quotas[k] -= cut;
+        excess -= cut;
     }
     quotas
 }
@@ -1035,6 +1054,54 @@ mod tests {
             per_part,
             one.parts.iter().map(|p| p.target).collect::<Vec<_>>()
         );
+    }
+
+    #[test]
+    fn halves_pass_through_the_same_states_whatever_the_step_sizes() {
+        // What a viewer's checkpoint shows after S signals must not depend on how the calls
+        // before it divided those S signals between them.
+        let sphere = mesh::procedural::icosphere(5);
+        let mut even = trainer(&sphere, 800, true, 2);
+        let mut odd = trainer(&sphere, 800, true, 2);
+        let mut checked = 0;
+        while !even.is_finished() {
+            even.step(10_000);
+            odd.step(3_331);
+            odd.step(6_669);
+            assert_eq!(even.signals(), odd.signals());
+            let (a, b) = (even.snapshot(), odd.snapshot());
+            assert_eq!(a.positions, b.positions, "after {} signals", even.signals());
+            checked += 1;
+        }
+        assert!(checked > 5);
+    }
+
+    #[test]
+    fn round_quotas_follow_the_total_and_sum_to_the_round() {
+        // Two parts: each count is a function of the total only.
+        let b = [300, 100];
+        let once = round_quotas(1000, &b, &[0, 0]);
+        assert_eq!(once, vec![750, 250]);
+        let first = round_quotas(333, &b, &[0, 0]);
+        let second = round_quotas(667, &b, &[first[0], first[1]]);
+        assert_eq!([first[0] + second[0], first[1] + second[1]], [750, 250]);
+        // Any parts and counts: the quotas sum to the round.
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        for _ in 0..500 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let n = 1 + (x % 5) as usize;
+            let budgets: Vec<u64> = (0..n).map(|i| 1 + (x >> (8 * i)) % 1000).collect();
+            let counts: Vec<u64> = (0..n).map(|i| (x >> (7 * i + 3)) % 5000).collect();
+            let round = x % 7000;
+            let q = round_quotas(round, &budgets, &counts);
+            assert_eq!(
+                q.iter().sum::<u64>(),
+                round,
+                "{budgets:?} {counts:?} {round}"
+            );
+        }
     }
 
     #[test]
