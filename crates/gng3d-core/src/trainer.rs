@@ -748,7 +748,7 @@ impl Trainer {
     /// Process up to `n` signals (fewer when training ends); returns how many were processed.
     ///
     /// In rounds: the unfinished parts' signal counts after a round are shares of their total
-    /// in proportion to the budgets ([`round_quotas`]), and the parts of a round run side by
+    /// in proportion to the budgets (`round_quotas`), and the parts of a round run side by
     /// side, one thread each (up to the machine's parallelism). A part's result depends only on
     /// its own stream and signal count, and the counts only on the total, so the network after
     /// S signals is the same whatever the rounds, the threads or the `step` calls before.
