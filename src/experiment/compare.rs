@@ -113,6 +113,11 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         ""
     };
+    let repair = if options.oversample_factor() > 1.0 && !r.repair_deviations {
+        ", no deviation repair"
+    } else {
+        ""
+    };
     let signals = match options.signal_source {
         gng3d_core::SignalSource::Vertices => "",
         gng3d_core::SignalSource::Surface => ", surface signals",
@@ -123,7 +128,9 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         "GNG3D-Q"
     };
-    format!("{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}{detail}{relax}")
+    format!(
+        "{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}{detail}{relax}{repair}"
+    )
 }
 
 /// The report plus both simplified meshes.

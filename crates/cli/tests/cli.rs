@@ -277,6 +277,20 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     assert!(q["relax"] == true && relaxed(&q) > 80, "{q}");
     let (nx, r_no_relax) = run("nx.obj", &["--no-relax"]);
     assert_eq!((nx["relax"].as_bool(), relaxed(&nx)), (Some(false), 0));
+    // The deviation repair (option (i)) is on after a decimation of at least 5 % of the input
+    // (160 of 642 vertices) and reports what it did; --no-deviation-repair turns it off.
+    let repaired = |v: &serde_json::Value| {
+        v["deviation_moves"].as_u64().unwrap() + v["deviation_flips"].as_u64().unwrap()
+    };
+    assert_eq!(q["repair_deviations"], true);
+    let (nd, _) = run("nd.obj", &["--no-deviation-repair"]);
+    assert_eq!(
+        (nd["repair_deviations"].as_bool(), repaired(&nd)),
+        (Some(false), 0)
+    );
+    assert_eq!(nd["vertices"], 160);
+    // Node placement does not oversample: no decimation, nothing repaired.
+    assert_eq!(repaired(&paper), 0);
     assert_eq!(nx["vertices"], 160);
     // Tangential: the mean radius hardly changes (the refit's lift stays).
     assert!(
@@ -302,7 +316,7 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     );
     // No oversampling, no detail nodes (they would break the exact count).
     assert_eq!((o1["detail_rounds"].as_u64(), detail(&o1)), (Some(0), 0));
-    assert_eq!(relaxed(&o1), 0);
+    assert_eq!((relaxed(&o1), repaired(&o1)), (0, 0));
     let (nr, r_no_refit) = run("nr.obj", &["--no-refit"]);
     assert_eq!(nr["refit"], false);
     assert_eq!(nr["vertices"], 160);

@@ -42,6 +42,7 @@
 //! assert!(rec.mesh.face_count() > 0);
 //! ```
 
+pub mod deviation;
 mod domain;
 mod error;
 pub mod features;
@@ -191,6 +192,16 @@ pub fn finish_with_reconstruction(
                 } = &mut rec.mesh;
                 let relaxed = relax::relax(positions, triangles, trainer.original());
                 rec.report.relaxed_vertices = relaxed.moves;
+            }
+            // (i) Then bring back what stands farthest off the original.
+            if reconstruction.repair_deviations {
+                let TriMesh {
+                    positions,
+                    triangles,
+                } = &mut rec.mesh;
+                let repaired = deviation::repair(positions, triangles, trainer.original());
+                rec.report.deviation_moves = repaired.moves;
+                rec.report.deviation_flips = repaired.flips;
             }
             rec.report.topology = mesh::topology::analyze(&rec.mesh);
             if rec.mesh.vertex_count() > n {

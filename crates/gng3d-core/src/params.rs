@@ -115,6 +115,14 @@ pub struct ReconstructionParams {
     /// more than [`crate::RELAX_MAX_RATIO`] of the input's vertices.
     #[serde(default = "default_true")]
     pub relax: bool,
+    /// (i) Deviation repair of the decimated mesh (oversampled runs only, after the decimation
+    /// and the relaxation; [`crate::deviation`]): vertices standing off the original surface
+    /// move back onto it and edges spanning a groove of it flip, where the output is farthest
+    /// from the original. Default `true`; it does nothing without a decimation, and
+    /// [`GngParams::oversampled`] turns it off for outputs of less than
+    /// [`crate::DETAIL_MIN_RATIO`] of the input's vertices (like the detail rounds).
+    #[serde(default = "default_true")]
+    pub repair_deviations: bool,
 }
 
 /// Serde default of fields added after `true`-defaulted files were written.
@@ -154,6 +162,7 @@ impl ReconstructionParams {
             flip_edges: false,
             refit: false,
             relax: false,
+            repair_deviations: false,
             ..ReconstructionParams::default()
         }
     }
@@ -173,6 +182,7 @@ impl Default for ReconstructionParams {
             split_bad_cells: false,
             detail_rounds: 0,
             relax: true,
+            repair_deviations: true,
         }
     }
 }

@@ -397,6 +397,14 @@ impl ViewerApp {
                      original vertices nearest to it (E_avg)",
                 );
             ui.end_row();
+            ui.label("deviation repair");
+            ui.checkbox(&mut rec.repair_deviations, "spikes and bridges (GNG3D-Q)")
+                .on_hover_text(
+                    "after the decimation of an oversampled run, for outputs of at least 5 % of \
+                     the input's vertices: vertices standing off the original move back onto it \
+                     and edges spanning a groove of it flip (Hausdorff)",
+                );
+            ui.end_row();
         });
         ui.separator();
         ui.heading("Display");

@@ -34,7 +34,10 @@ pub struct CompareArgs {
     pub json: bool,
     /// Run GNG3D as published (node placement, no flips, 30 epochs of |V| signals) instead of
     /// GNG3D-Q; `--epochs K` still overrides the 30.
-    #[arg(long, conflicts_with_all = ["placement", "no_flips", "no_refit", "no_relax"])]
+    #[arg(
+        long,
+        conflicts_with_all = ["placement", "no_flips", "no_refit", "no_relax", "no_deviation_repair"]
+    )]
     pub paper: bool,
     /// GNG3D variant: placement, flips, paper protocol.
     #[command(flatten)]

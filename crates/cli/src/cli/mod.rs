@@ -94,6 +94,12 @@ pub(crate) struct GngVariantArgs {
     /// default for outputs of at most 30 % of the input's vertices).
     #[arg(long)]
     pub no_relax: bool,
+    /// GNG3D-Q: skip the deviation repair after the decimation of oversampled runs (vertices
+    /// standing off the original moved back onto it, edges spanning a groove of it flipped,
+    /// where the output is farthest from it; on by default for outputs of at least 5 % of the
+    /// input's vertices).
+    #[arg(long)]
+    pub no_deviation_repair: bool,
     /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30), instead of the
     /// default budget 150 × N for N output vertices.
     #[arg(long)]
@@ -122,6 +128,7 @@ impl GngVariantArgs {
             || self.no_flips
             || self.no_refit
             || self.no_relax
+            || self.no_deviation_repair
             || self.epochs.is_some()
             || self.signals.is_some()
             || self.oversample.is_some()
@@ -141,6 +148,9 @@ impl GngVariantArgs {
         }
         if self.no_relax {
             options.reconstruction.relax = false;
+        }
+        if self.no_deviation_repair {
+            options.reconstruction.repair_deviations = false;
         }
         if let Some(s) = self.signals {
             options.signal_source = s.into();

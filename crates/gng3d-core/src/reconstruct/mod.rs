@@ -103,6 +103,11 @@ pub struct ReconstructionReport {
     /// Vertices moved by the tangential relaxation of the decimated mesh, option (h) (0 without
     /// a decimation).
     pub relaxed_vertices: usize,
+    /// Vertices moved back onto the original by the deviation repair of the decimated mesh,
+    /// option (i) (0 without a decimation).
+    pub deviation_moves: usize,
+    /// Edges flipped by the deviation repair, option (i).
+    pub deviation_flips: usize,
     /// Output vertex count.
     pub vertices: usize,
     /// Output face count.
@@ -476,6 +481,8 @@ fn reconstruct_labelled(
         flipped_edges: 0,
         refit_moves: 0,
         relaxed_vertices: 0,
+        deviation_moves: 0,
+        deviation_flips: 0,
         vertices: 0,
         faces: 0,
         topology: mesh::topology::analyze(&TriMesh::default()),

@@ -45,6 +45,13 @@ struct Summary {
     relax: bool,
     /// Vertices it moved toward the original vertices they stand for.
     relaxed_vertices: usize,
+    /// Whether the deviation repair after the decimation is on (it runs only when the
+    /// network's mesh was decimated).
+    repair_deviations: bool,
+    /// Vertices it moved back onto the original.
+    deviation_moves: usize,
+    /// Edges it flipped.
+    deviation_flips: usize,
     /// Machine-readable reasons why the output differs from the request (empty when exact).
     warnings: Vec<GngWarning>,
     closed: bool,
@@ -134,6 +141,9 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         detail_nodes: result.report.reconstruction.detail_nodes,
         relax: params.reconstruction.relax,
         relaxed_vertices: result.report.reconstruction.relaxed_vertices,
+        repair_deviations: params.reconstruction.repair_deviations,
+        deviation_moves: result.report.reconstruction.deviation_moves,
+        deviation_flips: result.report.reconstruction.deviation_flips,
         warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,

@@ -22,7 +22,7 @@ struct Summary {
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     if args.time_limit.is_some() || args.gng.any() {
         bail!(
-            "--time-limit, --epochs, --signals, --placement, --no-flips, --no-refit, --no-relax, --oversample and --detail-rounds apply to --method gng only"
+            "--time-limit, --epochs, --signals, --placement, --no-flips, --no-refit, --no-relax, --no-deviation-repair, --oversample and --detail-rounds apply to --method gng only"
         );
     }
     let target = match (args.vertices, args.faces, args.ratio) {
