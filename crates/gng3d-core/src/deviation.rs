@@ -25,7 +25,11 @@
 //!    Hausdorff distance; repairing lower down moved vertices that the refit had lifted on
 //!    purpose and cost mean distance).
 //! 3. **Repair**, each candidate in turn, measured afresh (earlier repairs change it):
-//!    - a vertex moves to its closest point on the original, or half-way there;
+//!    - a vertex moves to its closest point on the original, onto the surface below the centre
+//!      of its ring, or ¾, ½ or ¼ of the way to the closest point (the best that passes); a
+//!      vertex of valence 3 that cannot (it would flatten into thin faces inside its base
+//!      triangle: most spikes are such vertices) first gets a fourth neighbour by a flip of one
+//!      of its base edges, undone when the move still fails;
 //!    - an interior edge `a b` with faces `(a b c)` and `(b a d)` flips to `c d`;
 //!
 //!    either is taken when the largest distance of the points it changes (the vertex, its
@@ -47,8 +51,9 @@ use rustc_hash::FxHashMap as HashMap;
 use std::num::NonZeroUsize;
 
 /// Rounds of measure, choose and repair. Over the survey's 42 runs below igea-1m (GNG3D-Q / QEM
-/// Hausdorff, geometric mean of the paired ratios to no repair): 2 rounds × 0.820, 3 × 0.810,
-/// 5 × 0.810 at a third more time again.
+/// Hausdorff, geometric mean of the paired ratios to no repair; these constants were chosen
+/// before the valence-3 opening flip, which took 3 rounds to × 0.797): 2 rounds × 0.820, 3 ×
+/// 0.810, 5 × 0.810 at a third more time again.
 pub const ROUNDS: usize = 3;
 
 /// Original vertices whose faces a distance query searches (their faces hold the closest
@@ -203,6 +208,8 @@ struct Work<'a> {
     /// Faces of each edge (key: smaller index first); [`NO_FACE`] in the second slot for a
     /// border edge, `[NO_FACE, CROWDED]` for an edge with more than two faces (never repaired).
     edges: EdgeFaces,
+    /// Base edges flipped to give a valence-3 vertex a fourth neighbour (counted as flips).
+    opening_flips: usize,
 }
 
 /// The two faces of each edge, by its ends (smaller index first).
@@ -289,14 +296,80 @@ impl Work<'_> {
         worst
     }
 
-    /// Tries to move vertex `v` onto the original (or half-way): true when a move was taken.
+    /// Tries to move vertex `v` onto the original (or part of the way): true when a move was
+    /// taken. A vertex of valence 3 that cannot move (its faces would flatten into thin ones
+    /// inside its base triangle) first gains a neighbour by a flip of one base edge, undone when
+    /// the move still fails.
     fn repair_vertex(&mut self, surface: &Surface, v: usize, fixed: &[bool]) -> bool {
         if fixed[v] || self.fan[v].is_empty() {
             return false;
         }
         let before = self.vertex_deviation(surface, v);
-        let old_pos = self.pos[v];
         let old: Vec<[DVec3; 3]> = self.fan[v].iter().map(|&f| self.corners(f)).collect();
+        if let Some(to) = self.best_move(surface, v, &old, before.max, before.sum) {
+            self.pos[v] = to;
+            return true;
+        }
+        if self.fan[v].len() != 3 {
+            return false;
+        }
+        // The base edges a b, each with v's face running v → a → b (an undone flip leaves the
+        // faces in swapped slots, so they are looked up afresh).
+        let bases: Vec<(u32, u32)> = self.fan[v]
+            .iter()
+            .map(|&f| {
+                let t = self.triangles[f as usize];
+                let i = (0..3)
+                    .find(|&i| t[i] as usize == v)
+                    .expect("v is in its fan");
+                (t[(i + 1) % 3], t[(i + 2) % 3])
+            })
+            .collect();
+        for (a, b) in bases {
+            let Some(&[g1, g2]) = self.edges.get(&key(a, b)) else {
+                continue;
+            };
+            if g1 == NO_FACE || g2 == NO_FACE {
+                continue;
+            }
+            let (f, g) = if self.triangles[g1 as usize].contains(&(v as u32)) {
+                (g1, g2)
+            } else {
+                (g2, g1)
+            };
+            let Some((_, _, w)) = oriented(self.triangles[g as usize], b, a) else {
+                continue;
+            };
+            if w as usize == v || self.edges.contains_key(&key(v as u32, w)) {
+                continue;
+            }
+            let mut old_all = old.clone();
+            old_all.push(self.corners(g));
+            self.flip(f, g, a, b, v as u32, w);
+            let flipped = self.vertex_deviation(surface, v);
+            if let Some(to) = self.best_move(surface, v, &old_all, before.max, flipped.sum) {
+                self.pos[v] = to;
+                self.opening_flips += 1;
+                return true;
+            }
+            // Undo: flipping the new edge v w brings back the two faces (in swapped slots).
+            self.flip(g, f, v as u32, w, b, a);
+        }
+        false
+    }
+
+    /// The best of the candidate positions for vertex `v` whose faces stay sound against `old`,
+    /// whose points' largest distance falls below [`GAIN`] × `max` and whose summed distance
+    /// stays at most `sum` (`v` is left where it was).
+    fn best_move(
+        &mut self,
+        surface: &Surface,
+        v: usize,
+        old: &[[DVec3; 3]],
+        max: f64,
+        sum: f64,
+    ) -> Option<DVec3> {
+        let old_pos = self.pos[v];
         let (_, target) = surface.closest(old_pos);
         let ring: DVec3 = self.fan[v]
             .iter()
@@ -320,19 +393,16 @@ impl Work<'_> {
             self.pos[v] = to;
             let new: Vec<[DVec3; 3]> = self.fan[v].iter().map(|&f| self.corners(f)).collect();
             let after = self.vertex_deviation(surface, v);
-            if faces_sound(&old, &new)
-                && after.improves_on(&before)
+            if faces_sound(old, &new)
+                && after.max < GAIN * max
+                && after.sum <= sum
                 && best.is_none_or(|(m, _)| after.max < m)
             {
                 best = Some((after.max, to));
             }
         }
-        if let Some((_, to)) = best {
-            self.pos[v] = to;
-            return true;
-        }
         self.pos[v] = old_pos;
-        false
+        best.map(|(_, to)| to)
     }
 
     /// Tries to flip edge `a b`: true when the flip was taken.
@@ -378,9 +448,16 @@ impl Work<'_> {
         if !after.improves_on(&before) {
             return false;
         }
-        // Take it: faces, fans, edges.
-        self.triangles[f1 as usize] = n1;
-        self.triangles[f2 as usize] = n2;
+        self.flip(f1, f2, a, b, c, d);
+        true
+    }
+}
+
+impl Work<'_> {
+    /// Flips edge `a b` of faces `f1 = (a b c)` and `f2 = (b a d)` to `c d`: faces, fans, edges.
+    fn flip(&mut self, f1: u32, f2: u32, a: u32, b: u32, c: u32, d: u32) {
+        self.triangles[f1 as usize] = [c, a, d];
+        self.triangles[f2 as usize] = [d, b, c];
         self.fan[a as usize].retain(|&f| f != f2);
         self.fan[b as usize].retain(|&f| f != f1);
         self.fan[c as usize].push(f2);
@@ -396,7 +473,6 @@ impl Work<'_> {
                 }
             }
         }
-        true
     }
 }
 
@@ -436,6 +512,7 @@ pub fn repair(
         triangles,
         fan,
         edges,
+        opening_flips: 0,
     };
     let threads = crate::parallel::threads();
     for _ in 0..ROUNDS {
@@ -477,6 +554,7 @@ pub fn repair(
             break;
         }
     }
+    stats.flips += work.opening_flips;
     for (p, q) in positions.iter_mut().zip(&work.pos) {
         *p = q.as_vec3();
     }
@@ -565,6 +643,48 @@ mod tests {
                 let x = p + (q - p) * u + (r - p) * w * (1.0 - u);
                 assert!(distance_to(&original, x) < 1e-6, "{x:?}");
             }
+        }
+    }
+
+    #[test]
+    fn a_valence_3_spike_over_a_thin_base_gets_a_fourth_neighbour_and_moves() {
+        let original = valley(24, 0.0);
+        // A thin base triangle a b c split at v, lifted 0.05 off the plane: on the plane v's
+        // faces would be thinner than they are (6.4° at b), at any height below it too; and
+        // the three faces across the base edges (their far corners w on the border).
+        let positions = vec![
+            Vec3::new(-1.0, 0.0, 0.0),  // a
+            Vec3::new(1.0, 0.0, 0.0),   // b
+            Vec3::new(0.0, 0.15, 0.0),  // c
+            Vec3::new(0.0, 0.05, 0.05), // v
+            Vec3::new(0.0, -1.0, 0.0),  // across a b
+            Vec3::new(1.0, 0.5, 0.0),   // across b c
+            Vec3::new(-1.0, 0.5, 0.0),  // across c a
+        ];
+        let (a, b, c, v) = (0, 1, 2, 3);
+        let mut triangles = vec![
+            [a, b, v],
+            [b, c, v],
+            [c, a, v],
+            [b, a, 4],
+            [c, b, 5],
+            [a, c, 6],
+        ];
+        let mut moved = positions.clone();
+        let stats = repair(&mut moved, &mut triangles, &original);
+        assert_eq!(stats, DeviationStats { moves: 1, flips: 1 });
+        assert!(moved[v as usize].z.abs() < 1e-6, "{:?}", moved[v as usize]);
+        let valence = triangles.iter().filter(|t| t.contains(&v)).count();
+        assert_eq!(valence, 4, "{triangles:?}");
+        // Every face is still sound: counter-clockwise seen from above, no sliver.
+        for t in &triangles {
+            let [p, q, r] = t.map(|u| moved[u as usize].as_dvec3());
+            assert!((q - p).cross(r - p).z > 0.0, "{t:?}");
+            let degrees = crate::flip::min_angle_sin2(p, q, r)
+                .sqrt()
+                .asin()
+                .to_degrees();
+            assert!(degrees > 6.0, "{t:?}: {degrees:.1}°");
         }
     }
 
