@@ -43,10 +43,11 @@
 //! Deterministic: the measuring runs on all cores, one result per point; the repairs run in a
 //! fixed order on one thread.
 
+use crate::placement::{CellFaces, cell_faces, closest_on_faces};
 use glam::{DVec3, Vec3};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
-use mesh::geometry::{box_distance2, closest_point_triangle, is_degenerate};
+use mesh::geometry::is_degenerate;
 use rustc_hash::FxHashMap as HashMap;
 use std::num::NonZeroUsize;
 
@@ -101,12 +102,11 @@ pub struct DeviationStats {
 }
 
 /// Closest-point queries against the original surface: a kd-tree over its vertices and the
-/// faces around each vertex (CSR).
+/// faces around each vertex (the placement's cell lists with every vertex its own cell).
 struct Surface<'a> {
     original: &'a TriMesh,
     tree: ImmutableKdTree<f64, 3>,
-    face_start: Vec<u32>,
-    face_list: Vec<u32>,
+    faces: CellFaces,
 }
 
 impl<'a> Surface<'a> {
@@ -118,28 +118,11 @@ impl<'a> Surface<'a> {
             .collect();
         let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&points).ok()?;
         let n = original.positions.len();
-        let mut face_start = vec![0u32; n + 1];
-        for t in &original.triangles {
-            for &v in t {
-                face_start[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..n {
-            face_start[v + 1] += face_start[v];
-        }
-        let mut fill = face_start.clone();
-        let mut face_list = vec![0u32; face_start[n] as usize];
-        for (f, t) in original.triangles.iter().enumerate() {
-            for &v in t {
-                face_list[fill[v as usize] as usize] = f as u32;
-                fill[v as usize] += 1;
-            }
-        }
+        let itself: Vec<u32> = (0..n as u32).collect();
         Some(Surface {
             original,
             tree,
-            face_start,
-            face_list,
+            faces: cell_faces(original, &itself, n),
         })
     }
 
@@ -154,23 +137,11 @@ impl<'a> Surface<'a> {
         let mut best = (f64::INFINITY, p);
         for hit in hits {
             let v = hit.item as usize;
-            let faces =
-                &self.face_list[self.face_start[v] as usize..self.face_start[v + 1] as usize];
-            for &f in faces {
-                let [a, b, c] = self.original.triangle_f64(f as usize);
-                if box_distance2(p, a, b, c) >= best.0 {
-                    continue;
-                }
-                let q = closest_point_triangle(p, a, b, c);
-                let d2 = (q - p).length_squared();
-                if d2 < best.0 {
-                    best = (d2, q);
-                }
-            }
             // A vertex without faces still bounds the distance.
-            if faces.is_empty() && hit.distance < best.0 {
+            if hit.distance < best.0 {
                 best = (hit.distance, self.original.positions[v].as_dvec3());
             }
+            best = closest_on_faces(self.original, self.faces.of(v), p, best);
         }
         (best.0.sqrt(), best.1)
     }
@@ -564,6 +535,7 @@ pub fn repair(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mesh::geometry::closest_point_triangle;
 
     /// A `(n + 1)²`-vertex grid over [-1.5, 1.5]² in the plane z = `valley` · |x| (a V-shaped
     /// valley along the y axis when `valley` > 0; `n` even puts a row of vertices on x = 0).

@@ -255,7 +255,7 @@ pub(crate) fn place(
 /// The closest point to `p` on the original `faces`, starting from the bound `best` (squared
 /// distance, point); faces whose bounding box is no nearer than the best so far are skipped
 /// (on igea at 1 % a cell has ~300 faces and nearly all are culled by the box test).
-fn closest_on_faces(
+pub(crate) fn closest_on_faces(
     original: &TriMesh,
     faces: &[u32],
     p: DVec3,
