@@ -43,12 +43,12 @@
 //! Deterministic: the measuring runs on all cores, one result per point; the repairs run in a
 //! fixed order on one thread.
 
+use crate::flip::{apply_flip, faces_on_edge, has_edge};
 use crate::placement::{CellFaces, cell_faces, closest_on_faces};
 use glam::{DVec3, Vec3};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
 use mesh::geometry::is_degenerate;
-use rustc_hash::FxHashMap as HashMap;
 use std::num::NonZeroUsize;
 
 /// Rounds of measure, choose and repair. Over the survey's 42 runs below igea-1m (GNG3D-Q / QEM
@@ -171,57 +171,40 @@ impl Deviation {
     }
 }
 
-/// One output mesh under repair: positions, faces, fans and the interior edges' faces.
+/// One output mesh under repair: positions, faces and fans (edges are found in the fans, as
+/// the flip pass finds them).
 struct Work<'a> {
     pos: Vec<DVec3>,
     triangles: &'a mut [[u32; 3]],
     fan: Vec<Vec<u32>>,
-    /// Faces of each edge (key: smaller index first); [`NO_FACE`] in the second slot for a
-    /// border edge, `[NO_FACE, CROWDED]` for an edge with more than two faces (never repaired).
-    edges: EdgeFaces,
     /// Base edges flipped to give a valence-3 vertex a fourth neighbour (counted as flips).
     opening_flips: usize,
 }
 
-/// The two faces of each edge, by its ends (smaller index first).
-type EdgeFaces = HashMap<(u32, u32), [u32; 2]>;
-
-/// No face (see [`Work::edges`]).
+/// No face to leave out (see [`faces_on_edge`]).
 const NO_FACE: u32 = u32::MAX;
 
-/// Second slot of an edge with more than two faces (the first holds [`NO_FACE`]).
-const CROWDED: u32 = u32::MAX - 1;
-
-/// The faces of every edge of `triangles` ([`Work::edges`]) and the vertices that must stay:
-/// those on open borders and on edges with more than two faces.
-fn edge_faces(triangles: &[[u32; 3]], n: usize) -> (EdgeFaces, Vec<bool>) {
-    let mut edges = EdgeFaces::default();
-    for (f, t) in triangles.iter().enumerate() {
+/// The edges with exactly two faces, each once by its ends (smaller first), sorted; `other`
+/// sees both ends of every side on an edge with one face (an open border) or more than two.
+fn two_face_edges(
+    triangles: &[[u32; 3]],
+    fan: &[Vec<u32>],
+    mut other: impl FnMut(u32, u32),
+) -> Vec<(u32, u32)> {
+    let mut edges = Vec::with_capacity(3 * triangles.len() / 2);
+    for t in triangles {
         for i in 0..3 {
-            let faces = edges
-                .entry(key(t[i], t[(i + 1) % 3]))
-                .or_insert([f as u32, NO_FACE]);
-            if faces[0] == f as u32 || faces[0] == NO_FACE {
-                // First face (just inserted), or already crowded.
-            } else if faces[1] == NO_FACE {
-                faces[1] = f as u32;
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            if faces_on_edge(fan, triangles, a, b, NO_FACE).0 == 2 {
+                edges.push((a.min(b), a.max(b)));
             } else {
-                *faces = [NO_FACE, CROWDED];
+                other(a, b);
             }
         }
     }
-    let mut fixed = vec![false; n];
-    for (&(a, b), faces) in &edges {
-        if faces[0] == NO_FACE || faces[1] == NO_FACE {
-            fixed[a as usize] = true;
-            fixed[b as usize] = true;
-        }
-    }
-    (edges, fixed)
-}
-
-fn key(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
+    edges.sort_unstable();
+    edges.dedup();
+    edges
 }
 
 fn centroid(t: [u32; 3], pos: &[DVec3]) -> DVec3 {
@@ -277,7 +260,7 @@ impl Work<'_> {
         }
         let before = self.vertex_deviation(surface, v);
         let old: Vec<[DVec3; 3]> = self.fan[v].iter().map(|&f| self.corners(f)).collect();
-        if let Some(to) = self.best_move(surface, v, &old, before.max, before.sum) {
+        if let Some(to) = self.best_move(surface, v, &old, &before) {
             self.pos[v] = to;
             return true;
         }
@@ -297,48 +280,51 @@ impl Work<'_> {
             })
             .collect();
         for (a, b) in bases {
-            let Some(&[g1, g2]) = self.edges.get(&key(a, b)) else {
+            // v's face f runs a → b; g is the face across, the only other one on the edge.
+            let f = self.fan[v]
+                .iter()
+                .copied()
+                .find(|&f| oriented(self.triangles[f as usize], a, b).is_some())
+                .expect("the base edge's face is in v's fan");
+            let (on_edge, across) = faces_on_edge(&self.fan, self.triangles, a, b, f);
+            let (2, Some(g)) = (on_edge, across) else {
                 continue;
-            };
-            if g1 == NO_FACE || g2 == NO_FACE {
-                continue;
-            }
-            let (f, g) = if self.triangles[g1 as usize].contains(&(v as u32)) {
-                (g1, g2)
-            } else {
-                (g2, g1)
             };
             let Some((_, _, w)) = oriented(self.triangles[g as usize], b, a) else {
                 continue;
             };
-            if w as usize == v || self.edges.contains_key(&key(v as u32, w)) {
+            if w as usize == v || has_edge(&self.fan, self.triangles, v as u32, w) {
                 continue;
             }
             let mut old_all = old.clone();
             old_all.push(self.corners(g));
-            self.flip(f, g, a, b, v as u32, w);
-            let flipped = self.vertex_deviation(surface, v);
-            if let Some(to) = self.best_move(surface, v, &old_all, before.max, flipped.sum) {
+            apply_flip(self.triangles, &mut self.fan, [f, g], [a, b, v as u32, w]);
+            // The move must lower the largest distance below what it was before the flip, and
+            // not raise the sum over the points it now changes (the flipped fan's).
+            let bound = Deviation {
+                max: before.max,
+                sum: self.vertex_deviation(surface, v).sum,
+            };
+            if let Some(to) = self.best_move(surface, v, &old_all, &bound) {
                 self.pos[v] = to;
                 self.opening_flips += 1;
                 return true;
             }
             // Undo: flipping the new edge v w brings back the two faces (in swapped slots).
-            self.flip(g, f, v as u32, w, b, a);
+            apply_flip(self.triangles, &mut self.fan, [g, f], [v as u32, w, b, a]);
         }
         false
     }
 
-    /// The best of the candidate positions for vertex `v` whose faces stay sound against `old`,
-    /// whose points' largest distance falls below [`GAIN`] × `max` and whose summed distance
-    /// stays at most `sum` (`v` is left where it was).
+    /// The best of the candidate positions for vertex `v` whose faces stay sound against `old`
+    /// and whose points' deviation [`Deviation::improves_on`] `bound` (`v` is left where it
+    /// was).
     fn best_move(
         &mut self,
         surface: &Surface,
         v: usize,
         old: &[[DVec3; 3]],
-        max: f64,
-        sum: f64,
+        bound: &Deviation,
     ) -> Option<DVec3> {
         let old_pos = self.pos[v];
         let (_, target) = surface.closest(old_pos);
@@ -365,8 +351,7 @@ impl Work<'_> {
             let new: Vec<[DVec3; 3]> = self.fan[v].iter().map(|&f| self.corners(f)).collect();
             let after = self.vertex_deviation(surface, v);
             if faces_sound(old, &new)
-                && after.max < GAIN * max
-                && after.sum <= sum
+                && after.improves_on(bound)
                 && best.is_none_or(|(m, _)| after.max < m)
             {
                 best = Some((after.max, to));
@@ -378,25 +363,33 @@ impl Work<'_> {
 
     /// Tries to flip edge `a b`: true when the flip was taken.
     fn repair_edge(&mut self, surface: &Surface, a: u32, b: u32) -> bool {
-        let Some(&[f1, f2]) = self.edges.get(&key(a, b)) else {
-            return false;
-        };
-        if f1 == NO_FACE || f2 == NO_FACE {
-            // A border or crowded edge.
+        let (on_edge, _) = faces_on_edge(&self.fan, self.triangles, a, b, NO_FACE);
+        if on_edge != 2 {
+            // A border edge or one with more than two faces.
             return false;
         }
-        // Orient: f1 = (a b c), f2 = (b a d); a pair that disagrees on the edge's direction
-        // (inconsistent orientation) is left alone.
-        let (t1, t2) = (self.triangles[f1 as usize], self.triangles[f2 as usize]);
+        // Orient along the lower-numbered face: f1 = (a b c), f2 = (b a d); a pair that
+        // disagrees on the edge's direction (inconsistent orientation) is left alone.
+        let f1 = self.fan[a as usize]
+            .iter()
+            .copied()
+            .filter(|&g| self.triangles[g as usize].contains(&b))
+            .min()
+            .expect("two faces on the edge");
+        let t1 = self.triangles[f1 as usize];
         let (a, b) = if oriented(t1, a, b).is_some() {
             (a, b)
         } else {
             (b, a)
         };
+        let (_, Some(f2)) = faces_on_edge(&self.fan, self.triangles, a, b, f1) else {
+            return false;
+        };
+        let t2 = self.triangles[f2 as usize];
         let (Some((_, _, c)), Some((_, _, d))) = (oriented(t1, a, b), oriented(t2, b, a)) else {
             return false;
         };
-        if c == d || self.edges.contains_key(&key(c, d)) {
+        if c == d || has_edge(&self.fan, self.triangles, c, d) {
             return false;
         }
         let (n1, n2) = ([c, a, d], [d, b, c]);
@@ -419,31 +412,8 @@ impl Work<'_> {
         if !after.improves_on(&before) {
             return false;
         }
-        self.flip(f1, f2, a, b, c, d);
+        apply_flip(self.triangles, &mut self.fan, [f1, f2], [a, b, c, d]);
         true
-    }
-}
-
-impl Work<'_> {
-    /// Flips edge `a b` of faces `f1 = (a b c)` and `f2 = (b a d)` to `c d`: faces, fans, edges.
-    fn flip(&mut self, f1: u32, f2: u32, a: u32, b: u32, c: u32, d: u32) {
-        self.triangles[f1 as usize] = [c, a, d];
-        self.triangles[f2 as usize] = [d, b, c];
-        self.fan[a as usize].retain(|&f| f != f2);
-        self.fan[b as usize].retain(|&f| f != f1);
-        self.fan[c as usize].push(f2);
-        self.fan[d as usize].push(f1);
-        self.edges.remove(&key(a, b));
-        self.edges.insert(key(c, d), [f1, f2]);
-        for (edge, from, to) in [(key(a, d), f2, f1), (key(b, c), f1, f2)] {
-            if let Some(faces) = self.edges.get_mut(&edge) {
-                for f in faces.iter_mut() {
-                    if *f == from {
-                        *f = to;
-                    }
-                }
-            }
-        }
     }
 }
 
@@ -476,27 +446,26 @@ pub fn repair(
     let Some(surface) = Surface::new(original) else {
         return stats;
     };
-    let (edges, fixed) = edge_faces(triangles, n);
     let fan = crate::flip::fans(triangles, n);
+    // Vertices on open borders and on edges with more than two faces stay (no repair adds
+    // or removes either kind of edge).
+    let mut fixed = vec![false; n];
+    two_face_edges(triangles, &fan, |a, b| {
+        fixed[a as usize] = true;
+        fixed[b as usize] = true;
+    });
     let mut work = Work {
         pos: positions.iter().map(|p| p.as_dvec3()).collect(),
         triangles,
         fan,
-        edges,
         opening_flips: 0,
     };
     let threads = crate::parallel::threads();
     for _ in 0..ROUNDS {
         // Step 1: measure.
         let mut items: Vec<Item> = (0..n as u32).map(Item::Vertex).collect();
-        let mut edge_list: Vec<(u32, u32)> = work
-            .edges
-            .iter()
-            .filter(|(_, f)| f[0] != NO_FACE && f[1] != NO_FACE)
-            .map(|(&e, _)| e)
-            .collect();
-        edge_list.sort_unstable();
-        items.extend(edge_list.into_iter().map(|(a, b)| Item::Edge(a, b)));
+        let edges = two_face_edges(work.triangles, &work.fan, |_, _| {});
+        items.extend(edges.into_iter().map(|(a, b)| Item::Edge(a, b)));
         let pos = &work.pos;
         let distance =
             crate::parallel::map_indexed(items.len(), threads, 4096, |i| match items[i] {
@@ -675,10 +644,14 @@ mod tests {
     #[test]
     fn edges_with_three_faces_and_their_vertices_are_fixed() {
         let triangles = [[0, 1, 2], [1, 0, 3], [0, 1, 4], [2, 1, 5]];
-        let (edges, fixed) = edge_faces(&triangles, 6);
-        assert_eq!(edges[&(0, 1)], [NO_FACE, CROWDED]);
-        assert_eq!(edges[&(1, 2)], [0, 3]);
-        assert_eq!(edges[&(0, 2)], [0, NO_FACE]);
+        let fan = crate::flip::fans(&triangles, 6);
+        let mut fixed = [false; 6];
+        let edges = two_face_edges(&triangles, &fan, |a, b| {
+            fixed[a as usize] = true;
+            fixed[b as usize] = true;
+        });
+        // Edge 0 1 has three faces and edge 0 2 one: neither is a two-face edge; 1 2 is.
+        assert_eq!(edges, vec![(1, 2)]);
         // Every vertex touches a border or the crowded edge here.
         assert!(fixed.iter().all(|&f| f));
     }

@@ -119,6 +119,53 @@ pub(crate) fn fans(triangles: &[[u32; 3]], n: usize) -> Vec<Vec<u32>> {
     fan
 }
 
+/// The faces on edge `a b`, found in `a`'s fan: how many there are, and the last of them other
+/// than `not` that runs `b → a` (the face across the edge from one running `a → b`).
+pub(crate) fn faces_on_edge(
+    fan: &[Vec<u32>],
+    triangles: &[[u32; 3]],
+    a: u32,
+    b: u32,
+    not: u32,
+) -> (usize, Option<u32>) {
+    let mut across = None;
+    let mut on_edge = 0;
+    for &g in &fan[a as usize] {
+        let t = triangles[g as usize];
+        if t.contains(&b) {
+            on_edge += 1;
+            if g != not && (0..3).any(|i| t[i] == b && t[(i + 1) % 3] == a) {
+                across = Some(g);
+            }
+        }
+    }
+    (on_edge, across)
+}
+
+/// Whether some face has the edge `c d` (a flip to `c d` would then duplicate it).
+pub(crate) fn has_edge(fan: &[Vec<u32>], triangles: &[[u32; 3]], c: u32, d: u32) -> bool {
+    fan[c as usize]
+        .iter()
+        .any(|&g| triangles[g as usize].contains(&d))
+}
+
+/// Flips edge `a b` of faces `f1 = (a b c)` and `f2 = (b a d)` to `c d`: `f1` becomes
+/// `(c a d)` and `f2` `(d b c)`; in the fans `a` leaves `f2`, `b` leaves `f1`, `c` joins `f2`
+/// and `d` joins `f1`.
+pub(crate) fn apply_flip(
+    triangles: &mut [[u32; 3]],
+    fan: &mut [Vec<u32>],
+    [f1, f2]: [u32; 2],
+    [a, b, c, d]: [u32; 4],
+) {
+    triangles[f1 as usize] = [c, a, d];
+    triangles[f2 as usize] = [d, b, c];
+    fan[a as usize].retain(|&g| g != f2);
+    fan[b as usize].retain(|&g| g != f1);
+    fan[c as usize].push(f2);
+    fan[d as usize].push(f1);
+}
+
 /// Squared distance from `p` to triangle `t` of `pos`.
 #[inline]
 fn dist2(p: DVec3, t: [u32; 3], pos: &[DVec3]) -> f64 {
@@ -239,17 +286,8 @@ pub fn flip_edges(
                 let t1 = triangles[f1];
                 let (a, b, c) = (t1[k], t1[(k + 1) % 3], t1[(k + 2) % 3]);
                 // The face across a -> b, and no third face on the edge.
-                let mut f2 = NONE;
-                let mut on_edge = 0;
-                for &g in &fan[a as usize] {
-                    let t = triangles[g as usize];
-                    if t.contains(&b) {
-                        on_edge += 1;
-                        if g as usize != f1 && (0..3).any(|i| t[i] == b && t[(i + 1) % 3] == a) {
-                            f2 = g;
-                        }
-                    }
-                }
+                let (on_edge, across) = faces_on_edge(&fan, triangles, a, b, f1 as u32);
+                let f2 = across.unwrap_or(NONE);
                 if on_edge != 2 || f2 == NONE || (f2 as usize) < f1 {
                     continue;
                 }
@@ -265,10 +303,7 @@ pub fn flip_edges(
                 if d == NONE || d == c {
                     continue;
                 }
-                if fan[c as usize]
-                    .iter()
-                    .any(|&g| triangles[g as usize].contains(&d))
-                {
+                if has_edge(&fan, triangles, c, d) {
                     continue;
                 }
                 let (e_old, accepted) = {
@@ -336,16 +371,9 @@ pub fn flip_edges(
                 if !accepted {
                     continue;
                 }
-                // Apply: f1 = (c a d), f2 = (d b c); a leaves f2, b leaves f1, c joins f2,
-                // d joins f1.
+                // Apply: f1 = (c a d), f2 = (d b c).
                 let f2u = f2 as usize;
-                triangles[f1] = [c, a, d];
-                triangles[f2u] = [d, b, c];
-                let replace = |list: &mut Vec<u32>, from: u32| list.retain(|&g| g != from);
-                replace(&mut fan[a as usize], f2);
-                replace(&mut fan[b as usize], f1 as u32);
-                fan[c as usize].push(f2);
-                fan[d as usize].push(f1 as u32);
+                apply_flip(triangles, &mut fan, [f1 as u32, f2], [a, b, c, d]);
                 // Redistribute the quad's points.
                 let mut p = head[f1];
                 let mut tail = p;
