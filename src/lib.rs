@@ -82,9 +82,10 @@ pub fn qem_decimator(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh, 
 /// The normal checks ([`qem::QemParams::min_normal_cos`], default 0.2), in turn, of the
 /// contractions that [`qem_decimator`] still needs after QEM stopped above its target: a face
 /// may turn by up to 90°, then up to 120° (short of a fold), for those few. Measured on
-/// casting at 1 % (282 → 51 vertices): the default stops at 52, 0 reaches 51. A sweep of `simplify --method gng` over 13 shared meshes at 1-95 %, two
-/// seeds (234 runs), stopped early only there and where holes or a tiny target block
-/// (many_small_holes at 1 %, the 502-vertex knight at 1 %, i.e. 5 vertices).
+/// casting at 1 % (282 → 51 vertices): the default stops at 52, 0 reaches 51. A sweep of
+/// `simplify --method gng` over 13 shared meshes at 1-95 %, two seeds (234 runs), stopped
+/// early only there and where holes or a tiny target block (many_small_holes at 1 %, the
+/// 502-vertex knight at 1 %, i.e. 5 vertices).
 pub const DECIMATION_RELAXED_NORMAL_COS: [f64; 2] = [0.0, -0.5];
 
 /// GNG3D with QEM as the decimator of oversampled runs: [`gng3d_core::simplify_with`] with

@@ -558,12 +558,7 @@ mod tests {
     #[test]
     fn halves_split_points_faces_area_and_target() {
         let sphere = mesh::procedural::icosphere(4);
-        let area: f64 = (0..sphere.face_count())
-            .map(|f| {
-                let [a, b, c] = sphere.triangle_f64(f);
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .sum();
+        let area = sphere.area();
         for source in [SignalSource::Vertices, SignalSource::Surface] {
             let mut params = GngParams::for_target(1001);
             params.signal_source = source;

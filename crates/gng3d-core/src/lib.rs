@@ -183,22 +183,18 @@ pub fn finish_with_reconstruction(
         let decimate = decimator.ok_or(GngError::NoDecimator)?;
         if network_vertices > n {
             rec.mesh = decimate(&rec.mesh, n).map_err(|reason| GngError::Decimation { reason })?;
+            let TriMesh {
+                positions,
+                triangles,
+            } = &mut rec.mesh;
             // (h) The decimation placed its vertices for the surface; relax them toward the
             // original vertices they stand for.
             if reconstruction.relax {
-                let TriMesh {
-                    positions,
-                    triangles,
-                } = &mut rec.mesh;
                 let relaxed = relax::relax(positions, triangles, trainer.original());
                 rec.report.relaxed_vertices = relaxed.moves;
             }
             // (i) Then bring back what stands farthest off the original.
             if reconstruction.repair_deviations {
-                let TriMesh {
-                    positions,
-                    triangles,
-                } = &mut rec.mesh;
                 let repaired = deviation::repair(positions, triangles, trainer.original());
                 rec.report.deviation_moves = repaired.moves;
                 rec.report.deviation_flips = repaired.flips;
