@@ -85,32 +85,45 @@ pub(super) fn is_live(c: &Cand, contracted: &[u16]) -> bool {
     contracted[c.a as usize] <= g && contracted[c.b as usize] <= g
 }
 
-/// Write into `out` the merge of the sorted unvisited rest `list[consumed..]` of the candidate
-/// list (dropping stale entries, so that later passes neither copy nor walk them) with the sorted
-/// fresh list `fresh` (all live); on equal sort keys carried entries come first. One sequential
-/// read and write; the caller swaps `out` and `list` (both buffers are kept for the whole run).
+/// Merge, in `list` itself, its sorted unvisited rest `list[consumed..]` (stale entries dropped,
+/// so that later passes neither copy nor walk them) with the sorted fresh list `fresh` (all
+/// live); on equal sort keys carried entries come first.
+///
+/// Two sequential steps in one buffer: the live rest moves to the front, then the two sorted runs
+/// merge from the back (the write position never overtakes the carried entry it reads). Until
+/// 2026-12-03 the merge wrote into a second buffer the size of the list, kept for the whole run:
+/// 12 bytes per candidate, ~19 MB of the peak on igea-1m (docs/notes/qem.md, round 7).
 pub(super) fn merge_live(
-    list: &[Cand],
+    list: &mut Vec<Cand>,
     consumed: usize,
     fresh: &[Cand],
     contracted: &[u16],
-    out: &mut Vec<Cand>,
 ) {
-    out.clear();
-    out.reserve(list.len() - consumed + fresh.len());
-    let mut j = 0;
-    for c in &list[consumed..] {
-        if !is_live(c, contracted) {
-            continue;
+    // Step 1: the live rest, in order, to the front.
+    let mut carried = 0;
+    for i in consumed..list.len() {
+        let c = list[i];
+        if is_live(&c, contracted) {
+            list[carried] = c;
+            carried += 1;
         }
-        let k = sort_key(c.key);
-        while j < fresh.len() && sort_key(fresh[j].key) < k {
-            out.push(fresh[j]);
-            j += 1;
-        }
-        out.push(*c);
     }
-    out.extend_from_slice(&fresh[j..]);
+    list.truncate(carried);
+    // Exactly the room needed: growing by doubling would reserve (and later touch) far more.
+    list.reserve_exact(fresh.len());
+    list.resize(carried + fresh.len(), Cand::default());
+    // Step 2: merge from the back; fresh entries go after carried ones of equal key.
+    let (mut i, mut j) = (carried, fresh.len());
+    while j > 0 {
+        let k = i + j - 1;
+        if i > 0 && sort_key(list[i - 1].key) > sort_key(fresh[j - 1].key) {
+            list[k] = list[i - 1];
+            i -= 1;
+        } else {
+            list[k] = fresh[j - 1];
+            j -= 1;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -129,9 +142,51 @@ mod tests {
         // Entry 0 is consumed; (1, 2) was costed in generation 0, before vertex 1 changed: stale.
         let list = [c(0, 0, 2, 0), c(5, 1, 2, 0), c(7, 2, 3, 0)];
         let fresh = [c(7, 0, 1, 1), c(9, 1, 3, 1)];
-        let mut out = Vec::new();
-        merge_live(&list, 1, &fresh, &contracted, &mut out);
-        assert_eq!(out, vec![list[2], fresh[0], fresh[1]]);
+        let mut merged = list.to_vec();
+        merge_live(&mut merged, 1, &fresh, &contracted);
+        assert_eq!(merged, vec![list[2], fresh[0], fresh[1]]);
+    }
+
+    #[test]
+    fn merge_in_place_matches_a_stable_sort_of_the_live_rest_and_the_fresh_pairs() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = move |m: u64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x % m
+        };
+        const VERTICES: u64 = 64;
+        for round in 0..200 {
+            let contracted: Vec<u16> = (0..VERTICES).map(|_| next(4) as u16).collect();
+            // Few distinct keys, so that ties between carried and fresh entries are common.
+            let cand = |generation: u64, next: &mut dyn FnMut(u64) -> u64| Cand {
+                key: ((next(40) as u32) << GENERATION_BITS) | generation as u32,
+                a: next(VERTICES) as u32,
+                b: next(VERTICES) as u32,
+            };
+            let carried = next(300);
+            let mut list: Vec<Cand> = (0..carried)
+                .map(|_| {
+                    let generation = next(4);
+                    cand(generation, &mut next)
+                })
+                .collect();
+            let fresh_len = next(if round % 2 == 0 { 20 } else { 400 });
+            let mut fresh: Vec<Cand> = (0..fresh_len).map(|_| cand(3, &mut next)).collect();
+            list.sort_by_key(|c| sort_key(c.key));
+            fresh.sort_by_key(|c| sort_key(c.key));
+            let consumed = next(list.len() as u64 + 1) as usize;
+            let mut want: Vec<Cand> = list[consumed..]
+                .iter()
+                .filter(|c| is_live(c, &contracted))
+                .chain(fresh.iter())
+                .copied()
+                .collect();
+            want.sort_by_key(|c| sort_key(c.key)); // stable: carried before fresh on ties
+            merge_live(&mut list, consumed, &fresh, &contracted);
+            assert_eq!(list, want, "round {round}");
+        }
     }
 
     #[test]

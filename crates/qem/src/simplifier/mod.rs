@@ -305,7 +305,8 @@ struct PassOutcome {
 struct Schedule {
     /// Candidates in increasing cost (stale entries are skipped when visited).
     list: Vec<Cand>,
-    /// Scratch of the radix sorts, and the other buffer of the merge.
+    /// Scratch of the radix sorts (released after each sort of the whole list, which needs it
+    /// as large as the list; the fresh lists need far less).
     sort_tmp: Vec<Cand>,
     /// Pairs of the vertices merged in the last pass.
     fresh: Vec<Cand>,
@@ -329,6 +330,7 @@ impl Schedule {
     /// Sort the whole list by cost.
     fn sort(&mut self) {
         sort_by_u32_key(&mut self.list, &mut self.sort_tmp, |c| sort_key(c.key));
+        self.sort_tmp = Vec::new();
     }
 
     /// Cost cap of a pass that needs `goal` contractions: 1.5 × the cost of the (goal/2)-th live
@@ -451,14 +453,7 @@ impl Schedule {
         sort_by_u32_key(&mut self.survivors, &mut self.survivors_tmp, |&v| v);
         e.fresh_pairs(&self.survivors, pass, &mut self.fresh);
         sort_by_u32_key(&mut self.fresh, &mut self.sort_tmp, |c| sort_key(c.key));
-        merge_live(
-            &self.list,
-            consumed,
-            &self.fresh,
-            &e.contracted,
-            &mut self.sort_tmp,
-        );
-        std::mem::swap(&mut self.list, &mut self.sort_tmp);
+        merge_live(&mut self.list, consumed, &self.fresh, &e.contracted);
     }
 }
 
