@@ -30,8 +30,8 @@ pub(super) fn worth_it(prepared: &Prepared, params: &QemParams) -> bool {
         && rayon::current_num_threads() > 1
 }
 
-/// One part: its vertices (global indices, increasing) and their positions, its faces over local indices, and which
-/// of its vertices are shared with another part.
+/// One part: its vertices (global indices, increasing) and their positions, its faces over local
+/// indices, and which of its vertices are shared with another part.
 struct Part {
     globals: Vec<u32>,
     /// Positions of `globals` (normalised frame).
