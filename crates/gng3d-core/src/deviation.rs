@@ -43,7 +43,7 @@
 //! Deterministic: the measuring runs on all cores, one result per point; the repairs run in a
 //! fixed order on one thread.
 
-use crate::flip::{apply_flip, faces_on_edge, has_edge};
+use crate::flip::{apply_flip, faces_on_edge, has_edge, oriented};
 use crate::placement::{CellFaces, cell_faces, closest_on_faces};
 use glam::{DVec3, Vec3};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -417,13 +417,6 @@ impl Work<'_> {
     }
 }
 
-/// `(a, b, c)` when face `t` runs `a → b` (its third corner `c`).
-fn oriented(t: [u32; 3], a: u32, b: u32) -> Option<(u32, u32, u32)> {
-    (0..3)
-        .find(|&i| t[i] == a && t[(i + 1) % 3] == b)
-        .map(|i| (a, b, t[(i + 2) % 3]))
-}
-
 /// A point to measure: an output vertex or the midpoint of an output edge.
 #[derive(Clone, Copy)]
 enum Item {
@@ -474,9 +467,9 @@ pub fn repair(
             });
         // Step 2: candidates.
         let mut vertex_distance = distance[..n].to_vec();
-        vertex_distance.sort_unstable_by(f64::total_cmp);
+        let (_, &mut median, _) = vertex_distance.select_nth_unstable_by(n / 2, f64::total_cmp);
         let farthest = distance.iter().copied().fold(0.0, f64::max);
-        let floor = (OUTLIER_FACTOR * vertex_distance[n / 2]).max(NEAR_WORST * farthest);
+        let floor = (OUTLIER_FACTOR * median).max(NEAR_WORST * farthest);
         let mut order: Vec<usize> = (0..items.len()).filter(|&i| distance[i] > floor).collect();
         order.sort_unstable_by(|&i, &j| distance[j].total_cmp(&distance[i]).then(i.cmp(&j)));
         order.truncate(((MAX_CANDIDATE_SHARE * n as f64).ceil() as usize).max(1));

@@ -134,12 +134,19 @@ pub(crate) fn faces_on_edge(
         let t = triangles[g as usize];
         if t.contains(&b) {
             on_edge += 1;
-            if g != not && (0..3).any(|i| t[i] == b && t[(i + 1) % 3] == a) {
+            if g != not && oriented(t, b, a).is_some() {
                 across = Some(g);
             }
         }
     }
     (on_edge, across)
+}
+
+/// `(a, b, c)` when face `t` runs `a → b` (its third corner `c`).
+pub(crate) fn oriented(t: [u32; 3], a: u32, b: u32) -> Option<(u32, u32, u32)> {
+    (0..3)
+        .find(|&i| t[i] == a && t[(i + 1) % 3] == b)
+        .map(|i| (a, b, t[(i + 2) % 3]))
 }
 
 /// Whether some face has the edge `c d` (a flip to `c d` would then duplicate it).
