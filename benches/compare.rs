@@ -16,7 +16,6 @@ fn bench(c: &mut Criterion) {
     let Some(mesh) = gargoyle() else { return };
     let target = mesh.vertex_count() / 2;
     let params = CompareParams::new(target);
-    let gng_params = params.gng.resolve(&mesh).expect("GNG3D options");
     let mut group = c.benchmark_group("compare_gargoyle10k");
     group
         .sample_size(10)
@@ -28,7 +27,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| gng3d::qem::simplify(&mesh, &params.qem).expect("qem"))
     });
     group.bench_function("gng_only", |b| {
-        b.iter(|| gng3d::gng3d_core::simplify(&mesh, &gng_params).expect("gng"))
+        b.iter(|| gng3d::gng3d_core::simplify(&mesh, &params.gng).expect("gng"))
     });
     group.finish();
 }

@@ -3,7 +3,7 @@
 //! per mesh and budget the symmetric Hausdorff distance and mean surface distance (percent of
 //! the bounding-box diagonal, 100k samples per direction) and the paper's E_avg.
 
-use gng3d_core::{GngParams, simplify};
+use gng3d_core::{GngOptions, GngTarget, simplify};
 use metrics::{HausdorffParams, hausdorff};
 use std::path::Path;
 
@@ -21,7 +21,11 @@ fn main() {
         let target = ((m.vertex_count() as f64) * ratio).round() as usize;
         let name = Path::new(file).file_name().unwrap().to_string_lossy();
         for b in &budgets {
-            let mut p = GngParams::for_target(target);
+            // The network's mesh itself (no oversampling).
+            let mut p = GngOptions {
+                oversample: Some(1.0),
+                ..GngOptions::for_target(GngTarget::Vertices(target))
+            };
             if b == "paper" {
                 p.epochs = Some(gng3d_core::PAPER_EPOCHS);
             } else {

@@ -1,7 +1,7 @@
 //! Measure GNG3D on mesh files: `cargo run --release --example gng_probe -- RATIO FILE...`
 //! prints phase timings, signals/s, vertex errors and output topology per file.
 
-use gng3d_core::{GngParams, simplify};
+use gng3d_core::{GngOptions, GngTarget, simplify};
 use std::path::Path;
 
 fn main() {
@@ -18,11 +18,15 @@ fn main() {
         let (m, _) = mesh::clean::prepare(&loaded.mesh);
         let input = mesh::topology::analyze(&m);
         let target = ((m.vertex_count() as f64) * ratio).round() as usize;
-        let mut params = GngParams::for_target(target);
+        // The network's mesh itself (no oversampling), as the probe has always measured it.
+        let mut options = GngOptions {
+            oversample: Some(1.0),
+            ..GngOptions::for_target(GngTarget::Vertices(target))
+        };
         if let Ok(s) = std::env::var("GNG_SEED") {
-            params.seed = s.parse().unwrap_or(1);
+            options.seed = s.parse().unwrap_or(1);
         }
-        match simplify(&m, &params) {
+        match simplify(&m, &options) {
             Ok(r) => {
                 let t = &r.report.reconstruction.topology;
                 let e = metrics::vertex_errors(&m.positions, &r.mesh.positions).unwrap();

@@ -273,7 +273,7 @@ fn relaxation_after_the_decimation_wins_e_avg_back_at_a_small_cost_in_distance()
         // The deviation repair after it would flip different edges in the two runs.
         options.reconstruction.repair_deviations = false;
         options.oversample = Some(DEFAULT_OVERSAMPLE);
-        gng3d::simplify_gng(&m, &options.resolve(&m).unwrap()).unwrap()
+        gng3d::gng3d_core::simplify(&m, &options).unwrap()
     };
     let (with, without) = (run(true), run(false));
     let (rw, rn) = (&with.report.reconstruction, &without.report.reconstruction);
@@ -320,7 +320,7 @@ fn deviation_repair_lowers_the_output_to_original_maximum_at_no_cost_in_mean_dis
         let mut options = GngOptions::for_target(GngTarget::Vertices(n));
         options.reconstruction.repair_deviations = repair;
         options.oversample = Some(DEFAULT_OVERSAMPLE);
-        gng3d::simplify_gng(&m, &options.resolve(&m).unwrap()).unwrap()
+        gng3d::gng3d_core::simplify(&m, &options).unwrap()
     };
     let (with, without) = (run(true), run(false));
     let (rw, rn) = (&with.report.reconstruction, &without.report.reconstruction);
@@ -364,7 +364,7 @@ fn deviation_repair_lowers_the_output_to_original_maximum_at_no_cost_in_mean_dis
 #[test]
 fn oversampled_gngq_is_closer_to_the_surface_at_exactly_the_target() {
     // GNG3D-Q's default: a network of 1.5 N nodes, reconstructed, then decimated to N by QEM
-    // (gng3d::simplify_gng). Against the same options without oversampling, on two meshes at
+    // (gng3d_core::simplify). Against the same options without oversampling, on two meshes at
     // 10 %: exactly N vertices, closed and manifold where the input is, and the symmetric mean
     // surface distance clearly lower (measured, 50k samples: cow 10 % −19 %, spot 10 % −17 %).
     use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
@@ -380,7 +380,7 @@ fn oversampled_gngq_is_closer_to_the_surface_at_exactly_the_target() {
             }
             .resolve(&m)
             .unwrap();
-            gng3d::simplify_gng(&m, &p).unwrap()
+            run_params(&m, &p)
         };
         let (plain, over) = (run(1.0), run(DEFAULT_OVERSAMPLE));
         assert_eq!(plain.mesh.vertex_count(), n, "{name}");
@@ -447,10 +447,10 @@ fn thin_parts_stay_attached_at_low_vertex_counts() {
         .resolve(&m)
         .unwrap();
         assert!(params.reconstruction.split_bad_cells, "on when oversampled");
-        let repaired = gng3d::simplify_gng(&m, &params).unwrap();
+        let repaired = run_params(&m, &params);
         let mut without = params.clone();
         without.reconstruction.split_bad_cells = false;
-        let plain = gng3d::simplify_gng(&m, &without).unwrap();
+        let plain = run_params(&m, &without);
         let (t, tp) = (
             gng3d::mesh::topology::analyze(&repaired.mesh),
             gng3d::mesh::topology::analyze(&plain.mesh),
@@ -508,4 +508,16 @@ fn compare_oversamples_gngq_and_not_the_papers_placement_set_afterwards() {
         paper.gng_variant
     );
     assert_eq!((q.gng.vertices, paper.gng.vertices), (120, 120));
+}
+
+/// A GNG3D run with these exact parameters: train, then `gng3d_core::finish`.
+fn run_params(
+    m: &gng3d::mesh::TriMesh,
+    params: &gng3d::gng3d_core::GngParams,
+) -> gng3d::gng3d_core::GngResult {
+    let mut trainer = gng3d::gng3d_core::Trainer::new(m, params.clone()).unwrap();
+    while !trainer.is_finished() {
+        trainer.step(u64::MAX);
+    }
+    gng3d::gng3d_core::finish(&trainer, |_| {}).unwrap()
 }

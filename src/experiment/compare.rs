@@ -158,8 +158,8 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
     let gp = GngOptions {
         target: GngTarget::Vertices(n),
         ..params.gng.clone()
-    }
-    .resolve(original)?;
+    };
+    gp.resolve(original)?;
     params.metrics.hausdorff.validate()?;
     let mut qp = params.qem.clone();
     qp.target = Target::Vertices(n);
@@ -168,7 +168,7 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
     let qem_seconds = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let gng = crate::simplify_gng(original, &gp)?;
+    let gng = gng3d_core::simplify(original, &gp)?;
     let gng_seconds = t.elapsed().as_secs_f64();
     for (method, mesh) in [("QEM", &qem_mesh), ("GNG3D", &gng.mesh)] {
         if mesh.face_count() == 0 {

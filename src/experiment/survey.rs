@@ -114,8 +114,7 @@ pub fn survey_mesh(
             max_signals: Some(params.epochs.max(1) * n as u64),
             epochs: None,
             ..params.gng.clone()
-        }
-        .resolve(original)?;
+        };
         let t = Instant::now();
         let gng = gng3d_core::simplify(original, &gp)?;
         let gng_seconds = t.elapsed().as_secs_f64();
@@ -129,10 +128,9 @@ pub fn survey_mesh(
         let gqp = GngOptions {
             target: GngTarget::Vertices(target),
             ..params.gngq.clone()
-        }
-        .resolve(original)?;
+        };
         let t = Instant::now();
-        let gngq = crate::simplify_gng(original, &gqp)?;
+        let gngq = gng3d_core::simplify(original, &gqp)?;
         let gngq_seconds = t.elapsed().as_secs_f64();
         let qem_at_gngq = if gngq.mesh.vertex_count() == gng.mesh.vertex_count() {
             evaluator.evaluate(&qem_mesh)?

@@ -8,7 +8,7 @@
 //! `GNG3D_MESHES=/work/shared/meshes cargo bench -p gng3d-core --bench signals`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use gng3d_core::{GngParams, SearchStrategy, SignalSource, Trainer, simplify};
+use gng3d_core::{GngParams, SearchStrategy, SignalSource, Trainer};
 use mesh::TriMesh;
 use std::time::Duration;
 
@@ -69,7 +69,13 @@ fn gargoyle_protocol(c: &mut Criterion) {
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(5));
     group.bench_function("phase1+2", |b| {
-        b.iter(|| simplify(&gargoyle, &params).expect("simplify"))
+        b.iter(|| {
+            let mut trainer = Trainer::new(&gargoyle, params.clone()).expect("trainer");
+            while !trainer.is_finished() {
+                trainer.step(u64::MAX);
+            }
+            gng3d_core::finish(&trainer, |_| {}).expect("finish")
+        })
     });
     group.finish();
 }

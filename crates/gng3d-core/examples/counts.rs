@@ -2,7 +2,7 @@
 //! `cargo run --release -p gng3d-core --example counts -- RATIOS FILE...` (RATIOS comma
 //! separated, e.g. `0.1,0.25,0.5`). Env: GNG_SPN (signals per node), GNG_EPOCHS, GNG_TIME.
 
-use gng3d_core::{GngParams, simplify};
+use gng3d_core::{GngOptions, GngTarget, simplify};
 use std::path::Path;
 
 fn main() {
@@ -21,12 +21,16 @@ fn main() {
         let input = mesh::topology::analyze(&m);
         for &ratio in &ratios {
             let target = ((m.vertex_count() as f64) * ratio).round() as usize;
-            let mut params = GngParams::for_target(target);
+            // The network's mesh itself (no oversampling), as this example has always measured.
+            let mut params = GngOptions {
+                oversample: Some(1.0),
+                ..GngOptions::for_target(GngTarget::Vertices(target))
+            };
             if let Some(spn) = env("GNG_SPN") {
                 params.max_signals = Some((spn * target as f64) as u64);
             }
             params.epochs = env("GNG_EPOCHS");
-            params.time_limit = env("GNG_TIME").map(std::time::Duration::from_secs_f64);
+            params.time_limit_seconds = env("GNG_TIME");
             let name = Path::new(file).file_name().unwrap().to_string_lossy();
             match simplify(&m, &params) {
                 Ok(r) => {

@@ -315,7 +315,7 @@ impl Domain {
                 vertices: distinct.len(),
             });
         }
-        let target = params.target_vertices;
+        let target = params.network_target();
         let vertex_bound = params.signal_source == SignalSource::Vertices;
         if target < 3 || (vertex_bound && target > distinct.len()) {
             return Err(GngError::Target {

@@ -5,6 +5,7 @@ use thiserror::Error;
 
 /// Why GNG3D could not run on the given mesh and parameters.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum GngError {
     /// Fewer than three distinct referenced vertices: nothing to approximate.
     #[error("the mesh has {vertices} distinct referenced vertices; GNG3D needs at least 3")]
@@ -65,11 +66,6 @@ pub enum GngError {
         /// Trained nodes.
         nodes: usize,
     },
-    /// Oversampled parameters (`GngParams::decimate_to`) were given without a decimator.
-    #[error(
-        "oversampling (decimate_to) needs a decimator: use simplify_with / finish_with (the gng3d facade passes QEM)"
-    )]
-    NoDecimator,
     /// The decimator of an oversampled run failed.
     #[error("decimating the network's mesh failed: {reason}")]
     Decimation {

@@ -68,15 +68,13 @@ pub struct GngOptions {
     pub reconstruction: ReconstructionParams,
     /// Oversampling factor k in [1, 4]: train `ceil(k·N)` nodes (at most the input's vertices
     /// with vertex signals), reconstruct, then decimate error first to N
-    /// ([`GngParams::decimate_to`]; needs a decimator, see [`crate::simplify_with`]). `Some(1.0)`
-    /// (the library default: [`crate::simplify`] has no decimator) turns it off. `None` takes
+    /// ([`GngParams::network_vertices`]). `Some(1.0)` turns it off. `None` (the default) takes
     /// [`GngOptions::default_oversample`] of `reconstruction.placement` when the options are
-    /// resolved, so that a front end with QEM at hand (`compare`, the survey, the CLI without
-    /// `--oversample`) gets 1.5 for GNG3D-Q and 1 for the paper's placement whatever the order
-    /// in which its fields were set.
+    /// resolved: 1.5 for GNG3D-Q, 1 (off) for the paper's placement, whatever the order in
+    /// which the fields were set. The library, the CLI and the viewer share this default.
     pub oversample: Option<f64>,
     /// Rounds of detail nodes in oversampled runs (reconstruction option (g), at most
-    /// [`MAX_DETAIL_ROUNDS`]); `None`: [`GngParams::oversampled`]'s rule
+    /// [`MAX_DETAIL_ROUNDS`]); `None`: [`crate::GngOptions::resolve`]'s rule
     /// ([`DEFAULT_DETAIL_ROUNDS`] for outputs of at least [`DETAIL_MIN_RATIO`] of the input's
     /// vertices, 0 below). Runs that are not oversampled have none (the nodes they add would
     /// break the exact count).
@@ -95,7 +93,7 @@ pub struct GngOptions {
 pub const DEFAULT_OVERSAMPLE: f64 = 1.5;
 
 /// Rounds of detail nodes (reconstruction option (g)) in oversampled runs, where the rule of
-/// [`GngParams::oversampled`] applies. On 16 survey runs (10-50 %, 200k samples) 0 / 1 / 2 / 3 /
+/// [`crate::GngOptions::resolve`] applies. On 16 survey runs (10-50 %, 200k samples) 0 / 1 / 2 / 3 /
 /// 4 rounds gave a median Hausdorff ratio to QEM of 4.12 / 3.12 (vertices only) / 1.61 / 1.74 /
 /// 1.34 and a median mean-distance ratio of 1.28 / 1.22 / 1.15 / 1.12 / 1.09; each round costs
 /// about one more phase 2 (docs/notes/gngq.md, "Detail nodes").
@@ -111,7 +109,7 @@ pub const MAX_DETAIL_ROUNDS: usize = 8;
 pub const DETAIL_MIN_RATIO: f64 = 0.05;
 
 /// Outputs larger than this share of the input's vertices are not relaxed after the decimation
-/// ([`crate::ReconstructionParams::relax`] is turned off by [`GngParams::oversampled`]): there
+/// ([`crate::ReconstructionParams::relax`] is turned off by [`crate::GngOptions::resolve`]): there
 /// E_avg is won without it and the step only costs surface distance. Survey runs (14 meshes,
 /// GNG3D-Q / QEM medians, without → with the relaxation): at 50 % E_avg wins 13 → 13 of 14,
 /// mean distance 1.153 → 1.254; at 25 % 13 → 13 of 14 (armadillo's margin 0.986 → 0.916), mean
@@ -133,7 +131,7 @@ impl Default for GngOptions {
             eps_neighbour: None,
             signal_source: p.signal_source,
             reconstruction: p.reconstruction,
-            oversample: Some(1.0),
+            oversample: None,
             detail_rounds: None,
         }
     }
@@ -296,7 +294,7 @@ impl GngOptions {
         }
         .oversampled(self.oversample_factor(), available);
         if let Some(rounds) = self.detail_rounds
-            && params.decimate_to.is_some()
+            && params.decimates()
         {
             params.reconstruction.detail_rounds = rounds;
         }
@@ -306,40 +304,38 @@ impl GngOptions {
 
 impl GngParams {
     /// These parameters with the network oversampled by `factor` (≥ 1) for an input of
-    /// `available` referenced vertices: `target_vertices` becomes `ceil(factor · N)` (at most
-    /// `available` with vertex signals, which cannot place more nodes than there are distinct
-    /// vertices) and [`GngParams::decimate_to`] becomes N, the output count. A factor of 1, or
-    /// no room above N, leaves them as they are. The one rule for every front end
-    /// ([`GngOptions::resolve`], the viewer). Oversampled parameters also turn on
-    /// [`crate::ReconstructionParams::split_bad_cells`] and [`GngParams::split_training`].
-    pub fn oversampled(self, factor: f64, available: usize) -> GngParams {
-        let output_vertices = self.decimate_to.unwrap_or(self.target_vertices);
+    /// `available` referenced vertices: [`GngParams::network_vertices`] becomes
+    /// `ceil(factor · N)` (at most `available` with vertex signals, which cannot place more nodes
+    /// than there are distinct vertices) for the output count N = `target_vertices`. A factor
+    /// of 1, or no room above N, leaves the network at N. The one rule for every front end
+    /// ([`GngOptions::resolve`]). It sets [`crate::ReconstructionParams::split_bad_cells`] and
+    /// [`GngParams::split_training`] (on when oversampled, off otherwise), the detail rounds, the relaxation and the deviation repair by the output's share of
+    /// the input.
+    pub(crate) fn oversampled(self, factor: f64, available: usize) -> GngParams {
+        let output_vertices = self.target_vertices;
         let wanted = (output_vertices as f64 * factor.max(1.0)).ceil() as usize;
         let network = if self.signal_source == SignalSource::Vertices {
             wanted.min(available)
         } else {
             wanted
         };
-        let (target_vertices, decimate_to) = if network > output_vertices {
-            (network, Some(output_vertices))
-        } else {
-            (output_vertices, None)
-        };
+        let network_vertices = (network > output_vertices).then_some(network);
+        let decimates = network_vertices.is_some();
         // The decimation restores the count, so the reconstruction may add nodes to repair
-        // the topology (option (f)).
+        // the topology (option (f)); without it every node must stay a vertex.
         let mut reconstruction = self.reconstruction.clone();
-        reconstruction.split_bad_cells = decimate_to.is_some();
+        reconstruction.split_bad_cells = decimates;
         // And add detail nodes where the mesh stays far from the original (option (g)), for
         // outputs of at least DETAIL_MIN_RATIO of the input.
         let detailed = output_vertices as f64 >= DETAIL_MIN_RATIO * available as f64;
-        reconstruction.detail_rounds = if decimate_to.is_some() && detailed {
+        reconstruction.detail_rounds = if decimates && detailed {
             DEFAULT_DETAIL_ROUNDS
         } else {
             0
         };
         // And relax the decimated vertices (option (h)) for outputs of at most RELAX_MAX_RATIO
         // (without a decimation the option is left as it is: it does nothing there).
-        if decimate_to.is_some() {
+        if decimates {
             reconstruction.relax &= output_vertices as f64 <= RELAX_MAX_RATIO * available as f64;
             // And repair the decimated mesh's deviations (option (i)) where detail nodes are
             // added, for the same reason: below DETAIL_MIN_RATIO the Hausdorff max is already
@@ -350,10 +346,9 @@ impl GngParams {
         // refit take the shape from the original, not from where each node converged, and on
         // 80 runs (9 meshes at 1-50 %, two seeds) halves gave the same distances as one network
         // (docs/notes/gng.md, "Two halves").
-        let split_training = decimate_to.is_some();
+        let split_training = decimates;
         GngParams {
-            target_vertices,
-            decimate_to,
+            network_vertices,
             reconstruction,
             split_training,
             ..self
@@ -371,7 +366,10 @@ mod tests {
 
     #[test]
     fn defaults_resolve_to_library_defaults() {
-        let opts = GngOptions::for_target(GngTarget::Vertices(50));
+        let opts = GngOptions {
+            oversample: Some(1.0),
+            ..GngOptions::for_target(GngTarget::Vertices(50))
+        };
         let p = opts.resolve(&sphere()).unwrap();
         assert_eq!(p, GngParams::for_target(50));
     }
@@ -482,8 +480,8 @@ mod tests {
     fn resolved_params_train() {
         let opts = GngOptions::for_target(GngTarget::Ratio(0.5));
         let m = sphere();
-        let r = crate::simplify(&m, &opts.resolve(&m).unwrap()).unwrap();
-        assert!(r.mesh.face_count() > 0);
+        let r = crate::simplify(&m, &opts).unwrap();
+        assert_eq!(r.mesh.vertex_count(), 81);
     }
 
     #[test]
@@ -496,13 +494,13 @@ mod tests {
             }
             .resolve(&m)
             .unwrap();
-            (p.target_vertices, p.decimate_to)
+            (p.target_vertices, p.network_vertices)
         };
         assert_eq!(at(50, 1.0), (50, None));
-        assert_eq!(at(50, 1.5), (75, Some(50)));
-        assert_eq!(at(51, 1.5), (77, Some(51))); // ceil(76.5)
+        assert_eq!(at(50, 1.5), (50, Some(75)));
+        assert_eq!(at(51, 1.5), (51, Some(77))); // ceil(76.5)
         // Vertex signals cannot place more nodes than there are vertices.
-        assert_eq!(at(150, 1.5), (162, Some(150)));
+        assert_eq!(at(150, 1.5), (150, Some(162)));
         assert_eq!(at(162, 2.0), (162, None));
         // Surface signals can.
         let surface = GngOptions {
@@ -511,8 +509,8 @@ mod tests {
             ..GngOptions::for_target(GngTarget::Vertices(150))
         };
         let p = surface.resolve(&m).unwrap();
-        assert_eq!((p.target_vertices, p.decimate_to), (225, Some(150)));
-        // Applying the rule twice changes nothing (the viewer applies it to resolved params).
+        assert_eq!((p.target_vertices, p.network_vertices), (150, Some(225)));
+        // Applying the rule twice changes nothing.
         assert_eq!(p.clone().oversampled(1.5, 162), p);
         for k in [0.5, 4.5, f64::NAN, f64::INFINITY] {
             let e = GngOptions {
@@ -541,15 +539,18 @@ mod tests {
             ..GngOptions::for_target(GngTarget::Vertices(50))
         };
         let p = opts.resolve(&m).unwrap();
-        assert_eq!((p.target_vertices, p.decimate_to), (75, Some(50)));
+        assert_eq!((p.target_vertices, p.network_vertices), (50, Some(75)));
         assert!(p.reconstruction.split_bad_cells);
         opts.reconstruction = ReconstructionParams::paper();
         let p = opts.resolve(&m).unwrap();
-        assert_eq!((p.target_vertices, p.decimate_to), (50, None));
+        assert_eq!((p.target_vertices, p.network_vertices), (50, None));
         assert!(!p.reconstruction.split_bad_cells);
         assert_eq!(opts.oversample_factor(), 1.0);
-        // The library default is off, so that `simplify` (no decimator) works with it.
-        assert_eq!(GngOptions::default().oversample_factor(), 1.0);
+        // The library default is the CLI's: GNG3D-Q, oversampled.
+        assert_eq!(
+            GngOptions::default().oversample_factor(),
+            DEFAULT_OVERSAMPLE
+        );
     }
 
     /// Detail rounds: the rule of `oversampled` unless the user gave a count, and never
@@ -623,38 +624,27 @@ mod tests {
     }
 
     #[test]
-    fn oversampled_params_need_a_decimator_and_get_exactly_the_target() {
+    fn oversampled_runs_decimate_the_network_to_exactly_the_target() {
         let m = mesh::procedural::icosphere(3); // 642 vertices
-        let p = GngOptions {
+        let options = GngOptions {
             oversample: Some(1.5),
             ..GngOptions::for_target(GngTarget::Vertices(200))
-        }
-        .resolve(&m)
-        .unwrap();
-        assert!(matches!(
-            crate::simplify(&m, &p),
-            Err(GngError::NoDecimator)
-        ));
-        // A stand-in decimator: checks what it is asked for, counts the calls and hands back a
-        // fixed mesh (the real one, QEM, is tested in the facade's tests).
-        let calls = std::cell::Cell::new(0);
-        let given = std::cell::Cell::new(0);
-        let coarse = mesh::procedural::icosphere(2); // 162 vertices
-        let decimate = |input: &TriMesh, n: usize| -> Result<TriMesh, String> {
-            calls.set(calls.get() + 1);
-            given.set(input.vertex_count());
-            assert_eq!(n, 200);
-            Ok(coarse.clone())
         };
-        let r = crate::simplify_with(&m, &p, Some(&decimate)).unwrap();
-        assert_eq!(calls.get(), 1);
-        // The network's 300 nodes, plus those options (f) and (g) added.
+        let r = crate::simplify(&m, &options).unwrap();
+        // The network's 300 nodes, plus those options (f) and (g) added, decimated to 200.
         let rec = &r.report.reconstruction;
-        assert_eq!(given.get(), 300 + rec.split_cells + rec.detail_nodes);
-        assert_eq!(r.report.network_vertices, given.get());
-        assert_eq!((r.report.target_vertices, r.report.vertices), (200, 162));
-        let failing = |_: &TriMesh, _: usize| -> Result<TriMesh, String> { Err("no".into()) };
-        let e = crate::simplify_with(&m, &p, Some(&failing)).unwrap_err();
-        assert!(e.to_string().contains("decimating"), "{e}");
+        assert_eq!(
+            r.report.network_vertices,
+            300 + rec.split_cells + rec.detail_nodes
+        );
+        assert_eq!((r.report.target_vertices, r.report.vertices), (200, 200));
+        assert_eq!(r.mesh.vertex_count(), 200);
+        let decimate = r
+            .report
+            .steps
+            .iter()
+            .find(|s| s.step == crate::Step::Decimate)
+            .expect("a decimation step");
+        assert_eq!(decimate.changed, r.report.network_vertices - 200);
     }
 }

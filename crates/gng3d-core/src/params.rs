@@ -13,7 +13,7 @@ use std::time::Duration;
 /// node, and 150 instead took GNG3D-Q on four meshes from 2.92× to 2.53× QEM's mean distance
 /// and from 35.0° to 37.5° median smallest angle (docs/notes/gng.md, 2026-12-02).
 ///
-/// Per *output* vertex: an oversampled run ([`GngParams::decimate_to`]) spreads the same budget
+/// Per *output* vertex: an oversampled run ([`GngParams::network_vertices`]) spreads the same budget
 /// over its larger network (100 per node at the default 1.5×). Against 150 per network node,
 /// measured 2026-12-03 over 42 survey runs (all but igea-1m): median GNG3D-Q / QEM mean
 /// distance 1.077 → 1.087, Hausdorff 1.33 → 1.20, E_avg / E_max / triangle-quality wins 40 /
@@ -95,14 +95,14 @@ pub struct ReconstructionParams {
     /// (f) Split the cells that cannot give a faithful mesh (not a topological disc, e.g. an
     /// annulus around a thin tube; or along a hole the mapping made) and map again, for a few
     /// rounds. It adds nodes, so the mesh has more vertices than the network: it is for
-    /// oversampled runs, whose decimation brings the count back: [`GngParams::oversampled`]
+    /// oversampled runs, whose decimation brings the count back: [`crate::GngOptions::resolve`]
     /// sets it, on when it oversamples and off otherwise (so that un-decimated runs keep the
     /// exact count). Default `false`.
     #[serde(default)]
     pub split_bad_cells: bool,
     /// (g) Rounds of detail nodes: build the mesh, add a node at the original vertex farthest
     /// from it in each of the worst cells (at most 5 % of the mesh's vertices a round), build
-    /// again. It adds nodes like (f), so it is for oversampled runs: [`GngParams::oversampled`]
+    /// again. It adds nodes like (f), so it is for oversampled runs: [`crate::GngOptions::resolve`]
     /// sets it ([`crate::DEFAULT_DETAIL_ROUNDS`] when it oversamples for an output of at least
     /// [`crate::DETAIL_MIN_RATIO`] of the input's vertices, 0 otherwise). Default 0 (off).
     #[serde(default)]
@@ -111,7 +111,7 @@ pub struct ReconstructionParams {
     /// decimation; [`crate::relax`]): each vertex moves half-way toward the centroid of the
     /// original vertices nearest to it, along the directions in which their faces are flat, so
     /// that it stands for them as the paper's nodes do (E_avg). Default `true`; it does
-    /// nothing without a decimation, and [`GngParams::oversampled`] turns it off for outputs of
+    /// nothing without a decimation, and [`crate::GngOptions::resolve`] turns it off for outputs of
     /// more than [`crate::RELAX_MAX_RATIO`] of the input's vertices.
     #[serde(default = "default_true")]
     pub relax: bool,
@@ -119,7 +119,7 @@ pub struct ReconstructionParams {
     /// and the relaxation; [`crate::deviation`]): vertices standing off the original surface
     /// move back onto it and edges spanning a groove of it flip, where the output is farthest
     /// from the original. Default `true`; it does nothing without a decimation, and
-    /// [`GngParams::oversampled`] turns it off for outputs of less than
+    /// [`crate::GngOptions::resolve`] turns it off for outputs of less than
     /// [`crate::DETAIL_MIN_RATIO`] of the input's vertices (like the detail rounds).
     #[serde(default = "default_true")]
     pub repair_deviations: bool,
@@ -190,7 +190,8 @@ impl Default for ReconstructionParams {
 /// GNG3D parameters. Use [`GngParams::for_target`] and adjust fields as needed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GngParams {
-    /// Target node (= output vertex) count N; insertion stops there and the count is held. At
+    /// The output's vertex count N. The network holds N nodes (or
+    /// [`GngParams::network_vertices`] when oversampled) and every one is an output vertex. At
     /// least 3; with [`SignalSource::Vertices`] at most the number of distinct input vertices.
     pub target_vertices: usize,
     /// λ: signals between insertions. `None` (default) picks
@@ -214,10 +215,12 @@ pub struct GngParams {
     /// Signal budget in epochs of the signal-point count (distinct input vertices): the GNG3D
     /// paper's protocol is `Some(30.0)` ([`PAPER_EPOCHS`]). `None` (default) makes the budget
     /// follow the output instead: [`DEFAULT_SIGNALS_PER_NODE`] × the output's vertex count
-    /// ([`GngParams::decimate_to`] when set, else `target_vertices`; more than the paper's
+    /// (`target_vertices`, also when oversampled; more than the paper's
     /// 30 epochs above 20 % of the vertices, where 30 epochs starve the network).
     pub epochs: Option<f64>,
-    /// Wall-clock limit for training (phase 1). Default none.
+    /// Wall-clock limit of the whole run, from [`crate::Trainer::new`] to the returned mesh
+    /// (training, reconstruction and every step after it; see [`crate::pipeline`] for how the
+    /// time is shared). Default none.
     pub time_limit: Option<Duration>,
     /// Seed of the PCG random generator; equal seeds give identical results. Default 1.
     pub seed: u64,
@@ -227,17 +230,16 @@ pub struct GngParams {
     pub search: SearchStrategy,
     /// Phase-2 options.
     pub reconstruction: ReconstructionParams,
-    /// Oversampling (GNG3D-Q's last step): the network is trained to `target_vertices` nodes
-    /// and its mesh is then decimated, error first, to this many vertices (at least 3, at most
-    /// `target_vertices`). `None` (default): the network's mesh is the output. Needs a
-    /// decimator: [`crate::simplify_with`] / [`crate::finish_with`] (the `gng3d` facade passes
-    /// its QEM); [`crate::simplify`] refuses it. Set through [`crate::GngOptions::oversample`].
-    pub decimate_to: Option<usize>,
+    /// Oversampling (GNG3D-Q): the network is trained to this many nodes (more than
+    /// `target_vertices`), reconstructed, then decimated error first (QEM) to
+    /// `target_vertices`. `None` (default): the network has `target_vertices` nodes and its mesh
+    /// is the output. Set through [`crate::GngOptions::oversample`].
+    pub network_vertices: Option<usize>,
     /// Train each piece of at least [`crate::SPLIT_MIN_NODES`] nodes as two networks, one per
     /// half of its points (cut at the median of its longest axis), on two threads where the
     /// machine has them; the result is the same for any thread count. The reconstruction
     /// labels across the cut, so the output has no seam. Default `false` (one network per
-    /// piece, as published); [`GngParams::oversampled`] (GNG3D-Q) turns it on.
+    /// piece, as published); [`crate::GngOptions::resolve`] (GNG3D-Q) turns it on.
     pub split_training: bool,
 }
 
@@ -259,7 +261,7 @@ impl Default for GngParams {
             signal_source: SignalSource::Vertices,
             search: SearchStrategy::Grid,
             reconstruction: ReconstructionParams::default(),
-            decimate_to: None,
+            network_vertices: None,
             split_training: false,
         }
     }
@@ -272,6 +274,17 @@ impl GngParams {
             target_vertices,
             ..GngParams::default()
         }
+    }
+
+    /// Nodes the network is trained to: [`GngParams::network_vertices`] when oversampled, else
+    /// `target_vertices`.
+    pub fn network_target(&self) -> usize {
+        self.network_vertices.unwrap_or(self.target_vertices)
+    }
+
+    /// Whether the network's mesh is decimated to the output count (oversampled).
+    pub fn decimates(&self) -> bool {
+        self.network_vertices.is_some()
     }
 
     /// The paper's protocol: defaults with a budget of 30 epochs ([`PAPER_EPOCHS`]).
@@ -298,10 +311,13 @@ impl GngParams {
         if self.max_edge_age == 0 {
             return bad("max_edge_age", 0.0);
         }
-        if let Some(n) = self.decimate_to
-            && !(3..=self.target_vertices).contains(&n)
+        if let Some(n) = self.network_vertices
+            && n < self.target_vertices
         {
-            return bad("decimate_to (must be in 3..=target_vertices)", n as f64);
+            return bad(
+                "network_vertices (must be at least target_vertices)",
+                n as f64,
+            );
         }
         if self.max_signals == Some(0) {
             return bad("max_signals", 0.0);

@@ -1,6 +1,6 @@
 //! Tangential relaxation, option (h): GNG3D-Q's last step, on the mesh that the decimation of
 //! an oversampled run returns (for outputs of at most [`crate::RELAX_MAX_RATIO`] of the input's
-//! vertices, the rule of [`crate::GngParams::oversampled`]).
+//! vertices, the rule of [`crate::GngOptions::resolve`]).
 //!
 //! Why: the decimation puts each merged vertex at the minimum of its quadric on the network's
 //! mesh, which is right for the surface but not for the paper's E_avg (squared distance from

@@ -11,6 +11,7 @@ use std::fmt;
 /// `"kind"` tag in snake case, e.g. `{"kind":"dropped_components","components":3,...}`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum GngWarning {
     /// Vertices farther than [`crate::STRAY_RADII`] robust radii from their component's median
     /// gave no training signal (scanner outliers, corrupted coordinates).
@@ -49,6 +50,14 @@ pub enum GngWarning {
     UnattachedNodes {
         /// Nodes left out of the mesh.
         nodes: usize,
+    },
+    /// The output has border edges where the input had none: the reconstruction left holes
+    /// (the paper's reconstruction does at low ratios; docs/notes/gng.md).
+    OpenedHoles {
+        /// Border edges of the output.
+        boundary_edges: usize,
+        /// Border loops (holes) of the output.
+        boundary_loops: usize,
     },
     /// The decimation of an oversampled run's network mesh stopped above the target: no
     /// further contraction keeps the mesh's topology (every hole and every piece keeps at
@@ -93,6 +102,13 @@ impl fmt::Display for GngWarning {
             GngWarning::UnattachedNodes { nodes } => {
                 write!(f, "{nodes} nodes could not be attached to the mesh")
             }
+            GngWarning::OpenedHoles {
+                boundary_edges,
+                boundary_loops,
+            } => write!(
+                f,
+                "the input is closed but the output has {boundary_loops} holes ({boundary_edges} border edges)"
+            ),
             GngWarning::DecimationStopped { vertices, target } => write!(
                 f,
                 "the decimation to {target} vertices stopped at {vertices}: no further contraction keeps the mesh's topology (holes and pieces keep three vertices each)"
@@ -111,13 +127,15 @@ pub struct GngReport {
     /// Requested output vertex count N.
     pub target_vertices: usize,
     /// Vertices of the network's mesh before decimation (equals `vertices` unless the run was
-    /// oversampled, [`crate::GngParams::decimate_to`]).
+    /// oversampled, [`crate::GngParams::network_vertices`]).
     pub network_vertices: usize,
     /// Output vertex count (equals `target_vertices` unless `warnings` says why not).
     pub vertices: usize,
     /// Output face count.
     pub faces: usize,
-    /// Wall time of both phases, seconds.
+    /// Every step after training that ran, in order, with its time and what it changed.
+    pub steps: Vec<crate::pipeline::StepRecord>,
+    /// Wall time of the whole run, seconds, from [`crate::Trainer::new`] to the result.
     pub seconds: f64,
     /// Everything that was dropped or kept the output from `target_vertices` vertices.
     pub warnings: Vec<GngWarning>,

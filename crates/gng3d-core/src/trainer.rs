@@ -10,14 +10,16 @@
 //! (Over ~700 lines on purpose: the per-piece loop (`Part`) and the `Trainer` that schedules it
 //! share the loop settings and counters of the hot path; the tests are the last 20 lines.)
 
+use crate::GngResult;
 use crate::ReconstructionParams;
 use crate::domain::{Domain, Frame, Piece, Pieces};
 use crate::error::GngError;
 use crate::grid::{Grid, NONE, Nearest2};
 use crate::network::Network;
 use crate::params::{DEFAULT_SIGNALS_PER_NODE, GngParams, SearchStrategy, SignalSource};
+use crate::pipeline::{Plan, StepRecord};
 use crate::reconstruct::{OriginalTables, Reconstruction};
-use crate::report::GngWarning;
+use crate::report::{GngReport, GngWarning};
 use glam::Vec3;
 use mesh::TriMesh;
 use mesh::sampling::AreaSampler;
@@ -532,6 +534,10 @@ pub struct Trainer {
     /// Phase 2's tables of `original`, built on a helper thread while training runs.
     tables: Arc<BackgroundTables>,
     params: GngParams,
+    /// The steps after training ([`Plan::of`] the parameters).
+    plan: Plan,
+    /// When the run began (the top of [`Trainer::new`]): the time limit counts from here.
+    started: Instant,
     parts: Vec<Part>,
     /// Warnings of the domain set-up (dropped components, stray vertices, capacity).
     domain_warnings: Vec<GngWarning>,
@@ -556,6 +562,7 @@ impl Trainer {
     /// Validate `params` against `mesh` and set up training (two nodes at random vertices of
     /// every trained component).
     pub fn new(mesh: &TriMesh, params: GngParams) -> Result<Trainer, GngError> {
+        let started = Instant::now();
         params.validate()?;
         for (f, t) in mesh.triangles.iter().enumerate() {
             if t.iter().any(|&v| v as usize >= mesh.positions.len()) {
@@ -571,7 +578,7 @@ impl Trainer {
         let tables = Arc::new(BackgroundTables::start(&original));
         let input = Pieces::of(mesh);
         let domain = Domain::build(mesh, &input, &params)?;
-        let n = params.target_vertices;
+        let n = params.network_target();
         let budget = signal_budget(&params, domain.distinct);
         let lambda = params
             .lambda
@@ -596,10 +603,13 @@ impl Trainer {
                 Pcg64Mcg::seed_from_u64(seed),
             )?);
         }
+        let plan = Plan::of(&params.reconstruction, params.decimates());
         Ok(Trainer {
             tables,
             original,
             input,
+            plan,
+            started,
             inv_decay: 1.0 / params.error_decay,
             params,
             parts,
@@ -620,6 +630,11 @@ impl Trainer {
     /// The parameters in use.
     pub fn params(&self) -> &GngParams {
         &self.params
+    }
+
+    /// The steps [`crate::finish`] runs after training.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
     }
 
     /// The mesh being simplified.
@@ -877,31 +892,143 @@ impl Trainer {
             positions,
             edges,
             signals: self.signals,
-            target: self.params.target_vertices,
+            target: self.params.network_target(),
             finished: self.is_finished(),
         }
     }
 
-    /// Phase 2 on the current network.
+    /// The reconstruction alone (no decimation) of the current network with `params`, every
+    /// option as given (a tool for experiments: option (f) and (g) add vertices here).
     pub fn reconstruct(&self, params: &ReconstructionParams) -> Reconstruction {
-        self.reconstruct_snapshot(&self.snapshot(), params)
+        let snap = self.snapshot();
+        let input = self.pipeline_input(&snap, params);
+        let out = crate::pipeline::run(&input, &Plan::of(params, false), |_| {})
+            .expect("a plan without a decimation cannot fail");
+        Reconstruction {
+            mesh: out.mesh,
+            node_of_vertex: out.node_of_vertex,
+            report: out.report,
+        }
     }
 
-    /// Phase 2 on `snap` (a [`Trainer::snapshot`] of this trainer), reusing the input's
-    /// distinct points and components from training.
-    pub(crate) fn reconstruct_snapshot(
+    /// A preview of the current network, e.g. while it trains: the run's plan without its
+    /// detail rounds (each costs about one more reconstruction), with [`crate::finish`]'s checks;
+    /// no warnings (a network still growing is short of the target by design).
+    pub fn preview(&self) -> Result<GngResult, GngError> {
+        let mut reconstruction = self.params.reconstruction.clone();
+        reconstruction.detail_rounds = 0;
+        let plan = Plan::of(&reconstruction, self.params.decimates());
+        let snap = self.snapshot();
+        let mut result = self.run_plan_with(&snap, &plan, &reconstruction, |_| {})?;
+        result.report.warnings.clear();
+        Ok(result)
+    }
+
+    fn pipeline_input<'a>(
+        &'a self,
+        snap: &'a Snapshot,
+        params: &'a ReconstructionParams,
+    ) -> crate::pipeline::Input<'a> {
+        crate::pipeline::Input {
+            original: &self.original,
+            pieces: &self.input,
+            tables: self.tables.get(),
+            nodes: &snap.positions,
+            edges: &snap.edges,
+            params,
+            decimate_to: self
+                .params
+                .decimates()
+                .then_some(self.params.target_vertices),
+        }
+    }
+
+    /// [`crate::finish`]: `plan` on `snap`, with the checks and warnings of a run.
+    pub(crate) fn run_plan(
         &self,
         snap: &Snapshot,
-        params: &ReconstructionParams,
-    ) -> Reconstruction {
-        crate::reconstruct::reconstruct_with(
-            &self.original,
-            &self.input,
-            self.tables.get(),
-            &snap.positions,
-            &snap.edges,
-            params,
-        )
+        plan: &Plan,
+        on_step: impl FnMut(&StepRecord),
+    ) -> Result<GngResult, GngError> {
+        self.run_plan_with(snap, plan, &self.params.reconstruction, on_step)
+    }
+
+    fn run_plan_with(
+        &self,
+        snap: &Snapshot,
+        plan: &Plan,
+        reconstruction: &ReconstructionParams,
+        on_step: impl FnMut(&StepRecord),
+    ) -> Result<GngResult, GngError> {
+        let stats = self.stats();
+        if snap.positions.len() < 3 {
+            return Err(GngError::TooFewNodes {
+                nodes: snap.positions.len(),
+                stop: stats.stop,
+            });
+        }
+        let input = self.pipeline_input(snap, reconstruction);
+        let out = crate::pipeline::run(&input, plan, on_step)
+            .map_err(|reason| GngError::Decimation { reason })?;
+        if out.network_vertices == 0 || out.mesh.face_count() == 0 {
+            return Err(GngError::EmptyMesh {
+                nodes: snap.positions.len(),
+            });
+        }
+        let mut warnings = self.warnings();
+        if out.report.unreferenced_nodes > 0 {
+            warnings.push(GngWarning::UnattachedNodes {
+                nodes: out.report.unreferenced_nodes,
+            });
+        }
+        let target = self.params.target_vertices;
+        let vertices = out.mesh.vertex_count();
+        if self.params.decimates() {
+            if vertices > target {
+                warnings.push(GngWarning::DecimationStopped { vertices, target });
+            }
+            if vertices == target {
+                warnings.retain(|w| {
+                    !matches!(
+                        w,
+                        GngWarning::TargetAboveCapacity { .. }
+                            | GngWarning::TimeLimitBeforeTarget { .. }
+                            | GngWarning::UnattachedNodes { .. }
+                    )
+                });
+            }
+        }
+        let topology = &out.report.topology;
+        if topology.boundary_edges > 0 && self.input_is_closed() {
+            warnings.push(GngWarning::OpenedHoles {
+                boundary_edges: topology.boundary_edges,
+                boundary_loops: topology.boundary_loops,
+            });
+        }
+        let report = GngReport {
+            training: stats,
+            target_vertices: target,
+            network_vertices: out.network_vertices,
+            vertices,
+            faces: out.mesh.face_count(),
+            reconstruction: out.report,
+            steps: out.steps,
+            seconds: self.started.elapsed().as_secs_f64(),
+            warnings,
+        };
+        Ok(GngResult {
+            mesh: out.mesh,
+            nodes: snap.positions.clone(),
+            report,
+        })
+    }
+
+    /// Whether the input has no border edge (then an output with one has a hole the run made).
+    fn input_is_closed(&self) -> bool {
+        match self.tables.get() {
+            Some(t) => (0..t.edges.len()).all(|e| !t.edges.is_boundary(e)),
+            None => mesh::topology::analyze(&self.original).boundary_edges == 0,
+        }
     }
 }
 
@@ -985,7 +1112,7 @@ impl std::fmt::Debug for BackgroundTables {
 /// [`DEFAULT_SIGNALS_PER_NODE`] × the output's vertex count (the decimation's target in
 /// oversampled runs, whose extra nodes share that budget).
 pub(crate) fn signal_budget(params: &GngParams, distinct: usize) -> u64 {
-    let n = params.decimate_to.unwrap_or(params.target_vertices) as f64;
+    let n = params.target_vertices as f64;
     let v = distinct as f64;
     let b = match (params.max_signals, params.epochs) {
         (Some(m), _) => m as f64,

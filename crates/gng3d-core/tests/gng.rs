@@ -1,12 +1,23 @@
 //! Behavioural tests of GNG3D training and reconstruction on procedural and real meshes.
 
 use glam::Vec3;
-use gng3d_core::{GngError, GngParams, SearchStrategy, StopReason, Trainer, simplify};
+use gng3d_core::{
+    GngError, GngOptions, GngParams, GngResult, GngTarget, SearchStrategy, StopReason, Trainer,
+};
 use mesh::TriMesh;
 use mesh::procedural::{icosphere, torus};
 use std::collections::HashMap;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
+
+/// A run with these exact parameters (no option resolution): train, then `gng3d_core::finish`.
+fn simplify(mesh: &TriMesh, params: &GngParams) -> Result<GngResult, GngError> {
+    let mut trainer = Trainer::new(mesh, params.clone())?;
+    while !trainer.is_finished() {
+        trainer.step(u64::MAX);
+    }
+    gng3d_core::finish(&trainer, |_| {})
+}
 
 /// Load a shared mesh through `GNG3D_MESHES` (see `mesh::fixtures::shared_meshes_dir`).
 fn shared_mesh(name: &str) -> Option<TriMesh> {
@@ -588,8 +599,8 @@ fn default_budget_follows_the_target_and_paper_budget_the_input() {
         (gng3d_core::DEFAULT_SIGNALS_PER_NODE * 9000.0) as u64
     );
     // Oversampled: the output's count sets it, the extra nodes share it.
-    let mut p = GngParams::for_target(150);
-    p.decimate_to = Some(100);
+    let mut p = GngParams::for_target(100);
+    p.network_vertices = Some(150);
     let t = Trainer::new(&sphere, p).unwrap();
     assert_eq!(
         t.stats().max_signals,
@@ -621,47 +632,63 @@ fn trainer_reconstruction_equals_the_free_function() {
 
 #[test]
 fn a_decimation_that_stops_above_the_target_is_reported() {
-    // The decimator decides whether an oversampled run reaches N; when it cannot (a scan with
-    // more holes than N / 3 vertices can close), the result must say so instead of quietly
-    // returning more vertices than asked for. Two stand-in decimators: one that cannot remove
-    // anything, one that removes vertices down to the target by dropping the faces of the last
-    // ones (not a real decimation, only a count the check can see).
-    let sphere = icosphere(4); // 2562 vertices
-    let mut params = GngParams::for_target(300);
-    params.decimate_to = Some(200);
-    params.seed = 5;
-    let stuck = |m: &TriMesh, _n: usize| Ok(m.clone());
-    let result = gng3d_core::simplify_with(&sphere, &params, Some(&stuck)).unwrap();
-    let network = result.report.network_vertices;
-    assert!(network > 200, "network mesh of {network} vertices");
-    assert_eq!(result.mesh.vertex_count(), network);
-    assert_eq!(
-        result.report.warnings,
-        vec![gng3d_core::GngWarning::DecimationStopped {
-            vertices: network,
-            target: 200
-        }]
-    );
-    assert!(
-        result.report.warnings[0]
-            .to_string()
-            .contains(&format!("stopped at {network}"))
-    );
-
-    let to_target = |m: &TriMesh, n: usize| {
-        let triangles: Vec<[u32; 3]> = m
-            .triangles
-            .iter()
-            .copied()
-            .filter(|t| t.iter().all(|&v| (v as usize) < n))
-            .collect();
-        Ok(TriMesh::new(m.positions[..n].to_vec(), triangles))
+    // QEM keeps every hole at three vertices or more, so a sphere with many small holes cannot
+    // go down to fewer vertices than three per hole: the result must say so instead of
+    // quietly returning more vertices than asked for.
+    let sphere = icosphere(3); // 642 vertices
+    let mut ring: Vec<Vec<u32>> = vec![Vec::new(); sphere.positions.len()];
+    for t in &sphere.triangles {
+        for k in 0..3 {
+            ring[t[k] as usize].push(t[(k + 1) % 3]);
+        }
+    }
+    // Holes at vertices at least three edges apart (their fans share no vertex).
+    let mut blocked = vec![false; ring.len()];
+    let mut holes = Vec::new();
+    for v in 0..ring.len() {
+        if blocked[v] {
+            continue;
+        }
+        holes.push(v as u32);
+        for &w in &ring[v] {
+            blocked[w as usize] = true;
+            for &x in &ring[w as usize] {
+                blocked[x as usize] = true;
+            }
+        }
+    }
+    assert!(holes.len() >= 40, "{} holes", holes.len());
+    let mut holed = sphere.clone();
+    holed
+        .triangles
+        .retain(|t| !t.iter().any(|v| holes.contains(v)));
+    let holed = mesh::clean::prepare(&holed).0;
+    let target = holes.len(); // fewer than the three vertices each hole keeps
+    let options = GngOptions {
+        seed: 5,
+        ..GngOptions::for_target(GngTarget::Vertices(target))
     };
-    let result = gng3d_core::simplify_with(&sphere, &params, Some(&to_target)).unwrap();
-    assert_eq!(result.mesh.vertex_count(), 200);
+    let result = gng3d_core::simplify(&holed, &options).unwrap();
+    let vertices = result.mesh.vertex_count();
+    assert!(result.report.network_vertices > target);
+    assert!(vertices > target, "{vertices} vertices");
     assert!(
-        result.report.warnings.is_empty(),
+        result
+            .report
+            .warnings
+            .contains(&gng3d_core::GngWarning::DecimationStopped { vertices, target }),
         "{:?}",
         result.report.warnings
+    );
+    let stopped = result
+        .report
+        .warnings
+        .iter()
+        .find(|w| matches!(w, gng3d_core::GngWarning::DecimationStopped { .. }))
+        .unwrap();
+    assert!(
+        stopped
+            .to_string()
+            .contains(&format!("stopped at {vertices}"))
     );
 }

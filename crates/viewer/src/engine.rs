@@ -54,14 +54,38 @@ pub struct Engine {
 }
 
 impl Engine {
-    /// Start training on `mesh` (already cleaned) with `params`, whose `target_vertices` is
-    /// the output count N: GNG3D-Q (quadric placement) trains an oversampled network and
-    /// decimates it to N, as `gng3d simplify --method gng` does (the rule is
-    /// `GngParams::oversampled` with `GngOptions::default_oversample`).
+    /// Start training on `mesh` (already cleaned) with `params` as edited in the UI, whose
+    /// `target_vertices` is the output count N. The user-level fields are resolved against the
+    /// mesh by `GngOptions::resolve`, the one rule of the CLI and the library (GNG3D-Q trains an
+    /// oversampled network and decimates it to N); the UI's low-level knobs (α, decay, edge
+    /// age, removal window, search) are then taken as edited.
     pub fn new(mesh: &TriMesh, params: &TrainParams) -> Result<Engine> {
-        let factor = gng3d_core::GngOptions::default_oversample(params.reconstruction.placement);
-        let params = params.clone().oversampled(factor, mesh.vertex_count());
-        gng3d_core::Trainer::new(mesh, params)
+        let options = gng3d_core::GngOptions {
+            target: gng3d_core::GngTarget::Vertices(params.target_vertices),
+            time_limit_seconds: params.time_limit.map(|t| t.as_secs_f64()),
+            seed: params.seed,
+            max_signals: params.max_signals,
+            epochs: params.epochs,
+            lambda: params.lambda,
+            eps_winner: Some(params.eps_winner),
+            eps_neighbour: Some(params.eps_neighbour),
+            signal_source: params.signal_source,
+            reconstruction: params.reconstruction.clone(),
+            oversample: None,
+            detail_rounds: None,
+        };
+        let resolved = options
+            .resolve(mesh)
+            .map_err(|e| ViewerError::Gng(e.to_string()))?;
+        let resolved = TrainParams {
+            alpha: params.alpha,
+            error_decay: params.error_decay,
+            max_edge_age: params.max_edge_age,
+            removal_window: params.removal_window,
+            search: params.search,
+            ..resolved
+        };
+        gng3d_core::Trainer::new(mesh, resolved)
             .map(|trainer| Engine { trainer })
             .map_err(|e| ViewerError::Gng(e.to_string()))
     }
@@ -91,31 +115,26 @@ impl Engine {
         self.trainer.snapshot()
     }
 
-    /// Build a triangle mesh from the current network (decimated to the output count when
-    /// the network is oversampled and already larger; the same `gng3d_core::finish_with` as the
-    /// CLI). While training runs, a checkpoint's preview skips the detail rounds: each costs
-    /// about one more phase 2, and with three of them the default watched run of gargoyle-10k
-    /// at 25 % (12 s asked) was at 68 % of its signals after 20 s. The finished network gets
-    /// the CLI's full reconstruction, and with it the run's warnings (why the mesh has another
+    /// Build a triangle mesh from the current network with the pipeline the CLI runs
+    /// (`gng3d_core::finish`: decimated to the output count when the network is oversampled).
+    /// While training runs, a checkpoint's preview (`Trainer::preview`) skips the detail rounds:
+    /// each costs about one more reconstruction, and with three of them the default watched run
+    /// of gargoyle-10k at 25 % (12 s asked) was at 68 % of its signals after 20 s. The finished
+    /// network gets the full pipeline, and with it the run's warnings (why the mesh has another
     /// vertex count than the target, what was dropped), as the CLI prints them; a preview has
     /// none (a network still growing is short of the target by design).
     pub fn reconstruct(&mut self) -> Result<(TriMesh, Vec<String>)> {
-        let finished = self.trainer.is_finished();
-        let mut reconstruction = self.trainer.params().reconstruction.clone();
-        if !finished {
-            reconstruction.detail_rounds = 0;
-        }
-        gng3d_core::finish_with_reconstruction(
-            &self.trainer,
-            std::time::Instant::now(),
-            Some(&gng3d::qem_decimator),
-            &reconstruction,
-        )
-        .map(|result| {
-            let warnings = result.report.warnings.iter().filter(|_| finished);
-            (result.mesh, warnings.map(|w| w.to_string()).collect())
-        })
-        .map_err(|e| ViewerError::Gng(e.to_string()))
+        let result = if self.trainer.is_finished() {
+            gng3d_core::finish(&self.trainer, |_| {})
+        } else {
+            self.trainer.preview()
+        };
+        result
+            .map(|result| {
+                let warnings = result.report.warnings.iter().map(|w| w.to_string());
+                (result.mesh, warnings.collect())
+            })
+            .map_err(|e| ViewerError::Gng(e.to_string()))
     }
 }
 

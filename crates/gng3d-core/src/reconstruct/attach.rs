@@ -33,7 +33,7 @@ const SPLIT_POINT_MARGIN: f64 = 0.25;
 /// fandisk at 50 % one sat 6 % of the bounding-box diagonal away and set the Hausdorff max).
 /// On the triangle it adds no deviation. Returns the attachments in the order they were made,
 /// so a later placement can move the node with its triangle ([`Attachment`]).
-pub(super) fn attach_unreferenced(
+pub(crate) fn attach_unreferenced(
     faces: &mut Vec<Candidate>,
     nodes: &mut [Vec3],
     edges: &[[u32; 2]],

@@ -61,7 +61,7 @@ const MIN_VERTICES_PER_THREAD: usize = 8_192;
 /// Steps 1-2: up to `budget` original vertices, the farthest of their cells from the mesh
 /// (`positions`, `triangles`), farthest first. `owner[v]` is the output vertex of original
 /// vertex `v` (`u32::MAX`: none).
-pub(super) fn farthest_vertices(
+pub(crate) fn farthest_vertices(
     original: &TriMesh,
     tables: &OriginalTables,
     owner: &[u32],
@@ -198,7 +198,7 @@ pub(super) fn farthest_vertices(
 
 /// Step 3: a new node at each vertex of `chosen`, appended to `nodes` and `node_comp`, and the
 /// vertices nearer to it than to their own node, connected to it, relabelled.
-pub(super) fn insert_nodes(
+pub(crate) fn insert_nodes(
     original: &TriMesh,
     tables: &OriginalTables,
     chosen: &[u32],

@@ -5,18 +5,14 @@
 //! attached, the output vertices are placed ([`crate::placement`]) and edges flipped toward
 //! the surface ([`crate::flip`]).
 //!
-//! Steps: label (component-aware: a vertex only takes a node trained on its own connected
-//! piece), make cells connected, map faces, resolve orientation, GNG-edge filter, cleanup,
-//! optionally split the cells that broke the topology and map again ([`split`], option (f),
-//! for oversampled runs), attach every node that no triangle references (so `N` nodes give `N`
-//! vertices), compact, place, flip, refit. With option (g) ([`detail`], oversampled runs) that
-//! build is done `detail_rounds` times first, each followed by new nodes where the mesh stayed
-//! farthest from the original, and the last build is the output.
+//! The steps and their order are [`crate::pipeline`]'s; this module holds the steps of the
+//! reconstruction proper (labelling, connected cells, face mapping, cleanup, attachment) with
+//! the cell splits ([`split`], option (f)) and the detail nodes ([`detail`], option (g)).
 //!
 //! The original's edge table and vertex adjacency depend on the original alone: a
 //! [`crate::Trainer`] builds them on a helper thread while it trains and hands them over with its
-//! distinct points and components; [`reconstruct`] builds them on a second thread while it
-//! labels. Labelling, placement and the flips' point assignment are independent per vertex and
+//! distinct points and components; the pipeline builds them on a second thread while it labels
+//! when no trainer did. Labelling, placement and the flips' point assignment are independent per vertex and
 //! run on all cores ([`crate::parallel`]); every result is the same for any thread count.
 
 use crate::domain::{Pieces, find};
@@ -27,23 +23,21 @@ use mesh::TriMesh;
 use mesh::topology::TopologyReport;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use serde::Serialize;
-use std::time::Instant;
 
-mod attach;
+pub(crate) mod attach;
 mod cleanup;
-mod detail;
-mod split;
+pub(crate) mod detail;
+pub(crate) mod split;
 
 /// Most rounds of option (f) (map, split the bad cells, map again). The cow at 10 % needs 7, the
 /// thin torus of the tests 4; the shared meshes at 5-25 % settle within 8.
-const SPLIT_ROUNDS: usize = 8;
+pub(crate) const SPLIT_ROUNDS: usize = 8;
 
 /// Most nodes option (f) adds, as a share of the original's vertices that have no node (the
 /// thin torus of the tests needs 5.5 new nodes per node; the cow at 5 % 0.9).
-const SPLIT_BUDGET: f64 = 0.5;
+pub(crate) const SPLIT_BUDGET: f64 = 0.5;
 
 pub(crate) use attach::Attachment;
-use attach::attach_unreferenced;
 use cleanup::{fill_holes, remove_fins};
 
 /// Result of phase 2.
@@ -118,6 +112,38 @@ pub struct ReconstructionReport {
     pub seconds: f64,
 }
 
+impl ReconstructionReport {
+    /// A report with every counter at zero, for an original of `original_faces` faces.
+    pub(crate) fn empty(original_faces: usize) -> ReconstructionReport {
+        ReconstructionReport {
+            original_faces,
+            relabelled_vertices: 0,
+            degenerate_faces: 0,
+            duplicate_faces: 0,
+            opposite_faces: 0,
+            non_gng_faces: 0,
+            fin_faces: 0,
+            holes_filled: 0,
+            fill_faces: 0,
+            split_cells: 0,
+            split_rounds: 0,
+            detail_nodes: 0,
+            attached_nodes: 0,
+            unreferenced_nodes: 0,
+            placed_vertices: 0,
+            flipped_edges: 0,
+            refit_moves: 0,
+            relaxed_vertices: 0,
+            deviation_moves: 0,
+            deviation_flips: 0,
+            vertices: 0,
+            faces: 0,
+            topology: mesh::topology::analyze(&TriMesh::default()),
+            seconds: 0.0,
+        }
+    }
+}
+
 /// f64 kd-tree over `points` (f64 so that squared distances of 1e30-sized coordinates do not
 /// overflow); `None` when empty.
 fn kd_tree(points: &[Vec3]) -> Option<ImmutableKdTree<f64, 3>> {
@@ -173,7 +199,7 @@ pub fn label_vertices_by_component(
 }
 
 /// [`label_vertices_by_component`] plus the piece of each node.
-fn labels_and_node_components(
+pub(crate) fn labels_and_node_components(
     original: &TriMesh,
     input: &Pieces,
     nodes: &[Vec3],
@@ -257,8 +283,8 @@ fn labels_and_node_components(
 /// while the network trains; [`reconstruct`] builds them next to the labelling.
 #[derive(Debug, Clone)]
 pub(crate) struct OriginalTables {
-    edges: mesh::topology::EdgeTable,
-    adjacency: VertexAdjacency,
+    pub edges: mesh::topology::EdgeTable,
+    pub adjacency: VertexAdjacency,
 }
 
 impl OriginalTables {
@@ -273,9 +299,9 @@ impl OriginalTables {
 
 /// Vertex adjacency of a mesh (CSR) from its triangle edges; duplicates are harmless.
 #[derive(Debug, Clone)]
-struct VertexAdjacency {
-    offset: Vec<usize>,
-    nbrs: Vec<u32>,
+pub(crate) struct VertexAdjacency {
+    pub offset: Vec<usize>,
+    pub nbrs: Vec<u32>,
 }
 
 impl VertexAdjacency {
@@ -310,7 +336,7 @@ impl VertexAdjacency {
 /// original mesh: keep the component holding the vertex closest to the node and give the other
 /// vertices, by breadth-first growth, the label of an adjacent vertex whose node is closest.
 /// Returns the number of vertices relabelled.
-fn make_cells_connected(
+pub(crate) fn make_cells_connected(
     original: &TriMesh,
     tables: &OriginalTables,
     nodes: &[Vec3],
@@ -404,10 +430,10 @@ fn edge_key(a: u32, b: u32) -> (u32, u32) {
 
 /// A candidate output triangle with its support (how many original faces mapped to it).
 #[derive(Debug, Clone, Copy)]
-struct Candidate {
-    tri: [u32; 3],
+pub(crate) struct Candidate {
+    pub tri: [u32; 3],
     /// Original faces mapping to the triple in the kept orientation.
-    support: u32,
+    pub support: u32,
 }
 
 /// Build the simplified mesh from trained `nodes` (and GNG `edges` between them) over the
@@ -418,290 +444,30 @@ pub fn reconstruct(
     edges: &[[u32; 2]],
     params: &ReconstructionParams,
 ) -> Reconstruction {
-    reconstruct_with(original, &Pieces::of(original), None, nodes, edges, params)
-}
-
-/// [`reconstruct`] with the distinct points and components of `original` already known
-/// (`input`, from training), and its tables when they are (`tables`, from the trainer's helper
-/// thread).
-pub(crate) fn reconstruct_with(
-    original: &TriMesh,
-    input: &Pieces,
-    tables: Option<&OriginalTables>,
-    nodes: &[Vec3],
-    edges: &[[u32; 2]],
-    params: &ReconstructionParams,
-) -> Reconstruction {
-    let start = Instant::now();
-    if let Some(tables) = tables {
-        // Nothing runs beside the labelling: all cores label.
-        let threads = crate::parallel::threads();
-        let labelled = labels_and_node_components(original, input, nodes, edges, threads);
-        return reconstruct_labelled(original, tables, labelled, nodes, edges, params, start);
-    }
-    // The tables are built on a second thread while this one labels the vertices: igea, 134k
-    // vertices, ~45 ms of work off the critical path.
-    std::thread::scope(|scope| {
-        let tables = scope.spawn(|| OriginalTables::of(original));
-        let labelled = labels_and_node_components(original, input, nodes, edges, 1);
-        // A panic on the table thread is a bug; rebuilding here keeps phase 2 alive anyway.
-        let tables = tables
-            .join()
-            .unwrap_or_else(|_| OriginalTables::of(original));
-        reconstruct_labelled(original, &tables, labelled, nodes, edges, params, start)
-    })
-}
-
-/// The steps after labelling (see the module docs).
-fn reconstruct_labelled(
-    original: &TriMesh,
-    tables: &OriginalTables,
-    (mut labels, node_comp): (Vec<u32>, Vec<u32>),
-    nodes: &[Vec3],
-    edges: &[[u32; 2]],
-    params: &ReconstructionParams,
-    start: Instant,
-) -> Reconstruction {
-    let mut report = ReconstructionReport {
-        original_faces: original.triangles.len(),
-        relabelled_vertices: 0,
-        degenerate_faces: 0,
-        duplicate_faces: 0,
-        opposite_faces: 0,
-        non_gng_faces: 0,
-        fin_faces: 0,
-        holes_filled: 0,
-        fill_faces: 0,
-        split_cells: 0,
-        split_rounds: 0,
-        detail_nodes: 0,
-        attached_nodes: 0,
-        unreferenced_nodes: 0,
-        placed_vertices: 0,
-        flipped_edges: 0,
-        refit_moves: 0,
-        relaxed_vertices: 0,
-        deviation_moves: 0,
-        deviation_flips: 0,
-        vertices: 0,
-        faces: 0,
-        topology: mesh::topology::analyze(&TriMesh::default()),
-        seconds: 0.0,
-    };
-    if params.connected_cells {
-        report.relabelled_vertices = make_cells_connected(original, tables, nodes, &mut labels);
-    }
-
-    // Map, split, attach, place, flip, refit; with option (g), rounds of detail nodes first.
-    let mut nodes = nodes.to_vec();
-    let mut node_comp = node_comp;
-    let mut round = 0;
-    let built = loop {
-        let built = build_mesh(
-            original,
-            tables,
-            &mut labels,
-            &mut nodes,
-            &mut node_comp,
-            edges,
-            params,
-            &mut report,
-        );
-        if round == params.detail_rounds {
-            break built;
-        }
-        round += 1;
-        let budget = (detail::NODES_PER_ROUND * built.positions.len() as f64).ceil() as usize;
-        let chosen = detail::farthest_vertices(
-            original,
-            tables,
-            &built.owner,
-            &built.positions,
-            &built.triangles,
-            budget,
-        );
-        if chosen.is_empty() {
-            break built;
-        }
-        detail::insert_nodes(
-            original,
-            tables,
-            &chosen,
-            &mut labels,
-            &mut nodes,
-            &mut node_comp,
-        );
-        if params.connected_cells {
-            report.relabelled_vertices +=
-                make_cells_connected(original, tables, &nodes, &mut labels);
-        }
-        report.detail_nodes += chosen.len();
-    };
-    let Built {
-        positions,
-        triangles,
-        node_of_vertex,
-        ..
-    } = built;
-
-    let mesh = TriMesh::new(positions, triangles);
-    report.vertices = mesh.vertex_count();
-    report.faces = mesh.face_count();
-    report.topology = mesh::topology::analyze(&mesh);
-    report.seconds = start.elapsed().as_secs_f64();
-    Reconstruction {
-        mesh,
-        node_of_vertex,
-        report,
-    }
-}
-
-/// An output mesh before it becomes a [`TriMesh`], with what option (g) needs to measure it.
-struct Built {
-    positions: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
-    node_of_vertex: Vec<u32>,
-    /// Output vertex of each original vertex (`u32::MAX`: none).
-    owner: Vec<u32>,
-}
-
-/// Map (with option (f): split the bad cells and map again), attach, compact, place, flip and
-/// refit for the current `labels` of `nodes`; `nodes` and `node_comp` gain the split cells'
-/// nodes and the attach step's moves.
-#[allow(clippy::too_many_arguments)]
-fn build_mesh(
-    original: &TriMesh,
-    tables: &OriginalTables,
-    labels: &mut [u32],
-    nodes: &mut Vec<Vec3>,
-    node_comp: &mut Vec<u32>,
-    edges: &[[u32; 2]],
-    params: &ReconstructionParams,
-    report: &mut ReconstructionReport,
-) -> Built {
-    let original_edges = &tables.edges;
-    // Map, and with option (f) split the cells that broke the topology and map again.
-    let split_budget =
-        (original.positions.len().saturating_sub(nodes.len()) as f64 * SPLIT_BUDGET) as usize;
-    let mut rounds = 0;
-    let mut faces = loop {
-        let (faces, on_border) = map_faces(
-            original,
-            original_edges,
-            labels,
-            nodes,
-            edges,
-            params,
-            report,
-        );
-        if !params.split_bad_cells || rounds == SPLIT_ROUNDS {
-            break faces;
-        }
-        let bad = split::bad_cells(original, tables, labels, nodes.len(), &faces, &on_border);
-        let added = split::split_cells(
-            original,
-            tables,
-            labels,
-            nodes,
-            node_comp,
-            &bad,
-            split_budget.saturating_sub(report.split_cells),
-        );
-        if added == 0 {
-            break faces;
-        }
-        report.split_cells += added;
-        report.split_rounds += 1;
-        rounds += 1;
-    };
-    // The attach step moves attached nodes onto their triangles, in a copy: `nodes` stay where
-    // training left them for option (g)'s labels.
-    let mut nodes_attached = nodes.clone();
-    let attachments = attach_unreferenced(
-        &mut faces,
-        &mut nodes_attached,
+    let pieces = Pieces::of(original);
+    let input = crate::pipeline::Input {
+        original,
+        pieces: &pieces,
+        tables: None,
+        nodes,
         edges,
-        original,
-        labels,
-        node_comp,
-    );
-    report.attached_nodes = attachments.len();
-    let nodes = &nodes_attached[..];
-
-    // Compact: keep referenced nodes only, in node order.
-    let mut remap = vec![u32::MAX; nodes.len()];
-    for c in &faces {
-        for &v in &c.tri {
-            remap[v as usize] = 0;
-        }
-    }
-    let mut node_of_vertex = Vec::new();
-    let mut positions = Vec::new();
-    for (i, r) in remap.iter_mut().enumerate() {
-        if *r == 0 {
-            *r = positions.len() as u32;
-            positions.push(nodes[i]);
-            node_of_vertex.push(i as u32);
-        }
-    }
-    report.unreferenced_nodes = nodes.len() - positions.len();
-    let triangles: Vec<[u32; 3]> = faces
-        .iter()
-        .map(|c| c.tri.map(|v| remap[v as usize]))
-        .collect();
-
-    // GNG3D-Q: placement (c) and flips (d). Attached nodes, in output indices, follow their
-    // split triangles.
-    let attachments: Vec<Attachment> = attachments
-        .iter()
-        .map(|a| Attachment {
-            node: remap[a.node as usize],
-            corners: a.corners.map(|c| remap[c as usize]),
-            weights: a.weights,
-        })
-        .collect();
-    let owner = crate::placement::owners(labels, &node_of_vertex, nodes.len());
-    let placed = crate::placement::place(
-        original,
-        original_edges,
-        &owner,
-        params.placement,
-        &attachments,
-        &mut positions,
-    );
-    report.placed_vertices = placed.moved;
-    let mut triangles = triangles;
-    if params.flip_edges {
-        let flips =
-            crate::flip::flip_edges(&positions, &mut triangles, &original.positions, &owner);
-        report.flipped_edges = flips.flips;
-    }
-    // (e) Refit after the flips: it fits the final triangles (before them, measured on four
-    // meshes at 10 % and 50 %: 4-6 % more mean distance and a higher Hausdorff max in 7 of 8).
-    if params.refits() {
-        let refit = crate::refit::refit(
-            &mut positions,
-            &triangles,
-            original,
-            original_edges,
-            &owner,
-            &placed.quadrics,
-        );
-        report.refit_moves = refit.moves;
-    }
-
-    Built {
-        positions,
-        triangles,
-        node_of_vertex,
-        owner,
+        params,
+        decimate_to: None,
+    };
+    let plan = crate::pipeline::Plan::of(params, false);
+    let out = crate::pipeline::run(&input, &plan, |_| {})
+        .expect("a plan without a decimation cannot fail");
+    Reconstruction {
+        mesh: out.mesh,
+        node_of_vertex: out.node_of_vertex,
+        report: out.report,
     }
 }
 
 /// Map the original faces to label triples, merge duplicates, resolve orientation and run
 /// options (a) and (b); sets the face counts of `report`. Returns the candidates and, per
 /// node, whether its cell holds a vertex of an original border.
-fn map_faces(
+pub(crate) fn map_faces(
     original: &TriMesh,
     original_edges: &mesh::topology::EdgeTable,
     labels: &[u32],

@@ -34,7 +34,7 @@ use std::collections::BinaryHeap;
 /// split in two gives a tube two cells round, which still maps to back-to-back faces; in three
 /// it maps to a tube), two otherwise. `faces` are the mapped (and cleaned) candidates for the
 /// current `labels`.
-pub(super) fn bad_cells(
+pub(crate) fn bad_cells(
     original: &TriMesh,
     tables: &OriginalTables,
     labels: &[u32],
@@ -106,7 +106,7 @@ pub(super) fn bad_cells(
 /// Step 2: split each cell of `bad` in two (see the module docs), appending the new nodes to
 /// `nodes` and `node_comp` and relabelling their vertices; at most `budget` new nodes. Returns
 /// how many were added.
-pub(super) fn split_cells(
+pub(crate) fn split_cells(
     original: &TriMesh,
     tables: &OriginalTables,
     labels: &mut [u32],

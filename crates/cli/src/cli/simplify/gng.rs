@@ -52,6 +52,9 @@ struct Summary {
     deviation_moves: usize,
     /// Edges it flipped.
     deviation_flips: usize,
+    /// The steps after training that ran, in order: name, build round, seconds and what each
+    /// changed (the pipeline of `gng3d_core::pipeline`).
+    steps: Vec<gng3d_core::StepRecord>,
     /// Machine-readable reasons why the output differs from the request (empty when exact).
     warnings: Vec<GngWarning>,
     closed: bool,
@@ -110,10 +113,14 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         bar.set_message(format!("{} nodes", p.nodes));
         ControlFlow::Continue(())
     });
+    // The steps after training, named on the bar as they finish.
+    bar.set_message("reconstructing");
+    let result = gng3d_core::finish(&trainer, |step| {
+        bar.set_message(format!("{} done", step.step));
+    });
     bar.finish_and_clear();
     // Same checks and warnings as gng3d_core::simplify: no mesh is an error, never exit 0.
-    let result = gng3d_core::finish_with(&trainer, start, Some(&gng3d::qem_decimator))
-        .with_context(|| format!("GNG3D on {}", args.input.display()))?;
+    let result = result.with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let seconds = start.elapsed().as_secs_f64();
     let stats = trainer.stats();
     crate::cli::save_checked(&result.mesh, &args.output, "GNG3D")
@@ -144,6 +151,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         repair_deviations: params.reconstruction.repair_deviations,
         deviation_moves: result.report.reconstruction.deviation_moves,
         deviation_flips: result.report.reconstruction.deviation_flips,
+        steps: result.report.steps.clone(),
         warnings: result.report.warnings.clone(),
         closed: t.closed,
         manifold: t.manifold,
