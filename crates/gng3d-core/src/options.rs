@@ -47,7 +47,8 @@ impl Default for GngTarget {
 pub struct GngOptions {
     /// Output size.
     pub target: GngTarget,
-    /// Maximum training time in seconds (finite, > 0); `None`: no limit.
+    /// Maximum running time in seconds (finite, > 0): training and every step after it
+    /// ([`GngParams::time_limit`]); `None`: no limit.
     pub time_limit_seconds: Option<f64>,
     /// Seed of the random generator (equal seeds give identical results).
     pub seed: u64,
@@ -311,6 +312,19 @@ impl GngParams {
     /// ([`GngOptions::resolve`]). It sets [`crate::ReconstructionParams::split_bad_cells`] and
     /// [`GngParams::split_training`] (on when oversampled, off otherwise), the detail rounds, the relaxation and the deviation repair by the output's share of
     /// the input.
+    /// These parameters without oversampling: the network has `target_vertices` nodes and its
+    /// mesh is the output (no cell splits or detail rounds, which add vertices).
+    pub(crate) fn not_oversampled(self) -> GngParams {
+        let mut reconstruction = self.reconstruction;
+        reconstruction.split_bad_cells = false;
+        reconstruction.detail_rounds = 0;
+        GngParams {
+            network_vertices: None,
+            reconstruction,
+            ..self
+        }
+    }
+
     pub(crate) fn oversampled(self, factor: f64, available: usize) -> GngParams {
         let output_vertices = self.target_vertices;
         let wanted = (output_vertices as f64 * factor.max(1.0)).ceil() as usize;

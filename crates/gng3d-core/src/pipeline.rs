@@ -24,14 +24,15 @@
 //! simplify --json`): its time and what it changed.
 
 use crate::domain::Pieces;
-use crate::params::ReconstructionParams;
+use crate::params::{GngParams, ReconstructionParams};
 use crate::reconstruct::{self, Attachment, Candidate, OriginalTables, ReconstructionReport};
+use crate::report::GngWarning;
 use glam::Vec3;
 use mesh::TriMesh;
 use mesh::quadric::Quadric;
 use serde::Serialize;
 use std::borrow::Cow;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// One step of the pipeline after training.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
@@ -102,6 +103,71 @@ impl Step {
         }
     }
 }
+
+impl Step {
+    /// Whether every run needs this step for an exact vertex count (the rest may be left out
+    /// when time runs short, in [`CUT_ORDER`]).
+    pub fn is_required(self) -> bool {
+        matches!(
+            self,
+            Step::Label
+                | Step::ConnectCells
+                | Step::MapFaces
+                | Step::Attach
+                | Step::Place
+                | Step::Decimate
+        )
+    }
+
+    /// Estimated seconds of this step in build `round` of a run of these `sizes`: a cost per
+    /// original vertex plus one per vertex of the mesh it works on (the network's mesh of that
+    /// round; the output for the relaxation and the repair). Fitted (weighted least squares on
+    /// the relative error) to the step records of `gng3d simplify --method gng --json` on the
+    /// 14 shared meshes at 1, 10 and 50 %, with and without a time limit (252 runs), and raised
+    /// to the 90th percentile of measured / fitted; docs/notes/anytime.md has the table. A
+    /// budget, not a promise: the driver scales it by what the steps so far really took.
+    fn estimate(self, sizes: Sizes, round: usize) -> f64 {
+        // (µs per original vertex, µs per vertex of the mesh the step works on)
+        let (per_original, per_vertex) = match self {
+            Step::Label => (0.15, 0.33),
+            Step::ConnectCells => (0.04, 0.03),
+            Step::MapFaces => (0.012, 1.0),
+            Step::SplitBadCells => (0.05, 0.5),
+            Step::Attach => (0.003, 0.7),
+            Step::Place => (0.29, 1.0),
+            Step::Flip => (0.19, 3.4),
+            Step::Refit => (0.33, 10.0),
+            Step::DetailRound => (1.0, 10.0),
+            Step::Decimate => (0.0, 0.62),
+            Step::Relax => (0.03, 2.2),
+            Step::RepairDeviations => (0.3, 22.0),
+        };
+        let vertices = match self {
+            Step::Relax | Step::RepairDeviations => sizes.output,
+            _ => network_at(sizes.network, round),
+        };
+        (per_original * sizes.original as f64 + per_vertex * vertices as f64) * 1e-6
+    }
+}
+
+/// The optional steps in the order a short time limit leaves them out, least quality per
+/// second first. Measured on six meshes at 10 and 50 % (`gng3d compare --samples 100000` with
+/// each step turned off; docs/notes/anytime.md, "What each step buys"), as the geometric mean of
+/// (mean distance, Hausdorff) lost per share of the run's time saved: the flips 0.57 (they cost
+/// 11 % of the time; without them the mean distance is 1.4 % lower and the Hausdorff 8 %
+/// higher), the refit 0.63 (27 %; ×1.055 mean, ×1.12 Hausdorff), the detail rounds 1.4 (66 %
+/// for all three; ×1.21, ×2.13; the last round goes first), the deviation repair 3.4 (9 %;
+/// ×1.004, ×1.35). The relaxation and the cell splits cost little (≤ 2 % each) and go last:
+/// the relaxation is what wins E_avg, the splits keep thin parts attached. After them the
+/// oversampling goes (72 %; ×1.60, ×2.67).
+pub const CUT_ORDER: [Step; 6] = [
+    Step::Flip,
+    Step::Refit,
+    Step::DetailRound,
+    Step::RepairDeviations,
+    Step::Relax,
+    Step::SplitBadCells,
+];
 
 impl std::fmt::Display for Step {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -183,6 +249,200 @@ impl Plan {
     pub fn contains(&self, step: Step) -> bool {
         self.steps.iter().any(|s| s.step == step)
     }
+
+    /// This plan without `step`: every round of it, or for [`Step::DetailRound`] the last
+    /// round (the detail round and the build after it).
+    fn without(&self, step: Step) -> Plan {
+        let last = self
+            .steps
+            .iter()
+            .filter(|s| s.step == Step::DetailRound)
+            .map(|s| s.round)
+            .max();
+        let steps = self
+            .steps
+            .iter()
+            .filter(|s| match (step, last) {
+                (Step::DetailRound, Some(last)) => {
+                    s.round != last
+                        || matches!(
+                            s.step,
+                            Step::Decimate | Step::Relax | Step::RepairDeviations
+                        )
+                }
+                _ => s.step != step,
+            })
+            .copied()
+            .collect();
+        Plan { steps }
+    }
+
+    /// Estimated seconds of the planned steps from `from` (an index into [`Plan::steps`]) on,
+    /// `required_only` or all, for a run of these `sizes`.
+    fn estimate(&self, from: usize, required_only: bool, sizes: Sizes) -> f64 {
+        self.steps[from.min(self.steps.len())..]
+            .iter()
+            .filter(|s| !required_only || s.step.is_required())
+            .map(|s| s.step.estimate(sizes, s.round))
+            .sum()
+    }
+}
+
+/// What a run's step costs depend on.
+#[derive(Debug, Clone, Copy)]
+struct Sizes {
+    /// Vertices of the original.
+    original: usize,
+    /// Nodes of the trained network.
+    network: usize,
+    /// Vertices of the output.
+    output: usize,
+}
+
+impl Sizes {
+    /// Seconds of the work after the last step (the output's topology, the checks), per
+    /// original and output vertex (measured with the steps: 0.1-0.4 µs per original vertex).
+    fn finish(self) -> f64 {
+        FIXED_SECONDS + 0.3e-6 * self.original as f64 + 0.3e-6 * self.output as f64
+    }
+}
+
+/// Vertices of the network's mesh in build `round`: each detail round adds at most
+/// [`crate::reconstruct::detail::NODES_PER_ROUND`] of them.
+fn network_at(network: usize, round: usize) -> usize {
+    (network as f64 * (1.0 + crate::reconstruct::detail::NODES_PER_ROUND * round as f64)) as usize
+}
+
+/// Estimated seconds of the training set-up ([`crate::Trainer::new`]: distinct points,
+/// pieces, frames, grids) per original vertex, and of the fastest growth to a network of N
+/// nodes (one insertion per signal) per node. Measured in docs/notes/anytime.md.
+const SETUP_SECONDS_PER_VERTEX: f64 = 0.35e-6;
+const GROWTH_SECONDS_PER_NODE: f64 = 1.8e-6;
+
+/// Fixed cost of a run (threads started, result checked): ~1 ms on the smallest meshes.
+const FIXED_SECONDS: f64 = 2e-3;
+
+/// The estimated minimum is this much above the sum of its estimates: on the fastest runs of
+/// the 14 shared meshes at 1, 10 and 50 % the sum was 0.87-2.3× short of the measured time
+/// before the fit above (docs/notes/anytime.md); the minimum is a promise to the user.
+const MINIMUM_MARGIN: f64 = 1.3;
+
+/// The training a time limit leaves room for is at least this many times the fastest growth:
+/// the rest refines the network (a network stopped right after growth has its last nodes
+/// where they were inserted, between older ones).
+const MIN_TRAINING_OVER_GROWTH: f64 = 3.0;
+
+/// What a run's time limit buys (see [`plan_for_time`]).
+#[derive(Debug, Clone)]
+pub(crate) struct TimePlan {
+    /// The parameters to train with (without oversampling when the time is short).
+    pub params: GngParams,
+    /// The steps after training.
+    pub plan: Plan,
+    /// Wall time from the start of the run at which training stops (once the network holds
+    /// its nodes); `None`: no limit.
+    pub training_limit: Option<Duration>,
+    /// What was left out for time, and whether the limit is below the minimum.
+    pub warnings: Vec<GngWarning>,
+}
+
+/// Share a run's time limit between the training and the steps after it: the plan's steps
+/// are estimated ([`Step::estimate`]); while the training would get less than
+/// [`MIN_TRAINING_OVER_GROWTH`] times its fastest growth, optional steps are left out in
+/// [`CUT_ORDER`], and then the oversampling. The training gets what the remaining plan leaves
+/// (the driver still checks each optional step against the clock: [`run`]).
+///
+/// The minimum a run needs is the set-up, the fastest growth to N nodes and the required steps
+/// of a run that is not oversampled; below it the warning
+/// [`GngWarning::TimeLimitBelowMinimum`] says so, and the run is that fastest run (growth is
+/// never cut short: the vertex count stays exact).
+pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
+    let plan = Plan::of(&params.reconstruction, params.decimates());
+    let Some(limit) = params.time_limit else {
+        return TimePlan {
+            params,
+            plan,
+            training_limit: None,
+            warnings: Vec::new(),
+        };
+    };
+    let limit_seconds = limit.as_secs_f64();
+    let setup = FIXED_SECONDS + SETUP_SECONDS_PER_VERTEX * original as f64;
+    let training_needs = |network: usize| {
+        setup + GROWTH_SECONDS_PER_NODE * network as f64 * MIN_TRAINING_OVER_GROWTH
+    };
+    let mut params = params;
+    let mut plan = plan;
+    let mut cut = Vec::new();
+    let mut oversampling_cut = None;
+    let sizes = |params: &GngParams| Sizes {
+        original,
+        network: params.network_target(),
+        output: params.target_vertices,
+    };
+    let fits = |params: &GngParams, plan: &Plan| {
+        let sizes = sizes(params);
+        training_needs(sizes.network) + plan.estimate(0, false, sizes) + sizes.finish()
+            <= limit_seconds
+    };
+    'cut: while !fits(&params, &plan) {
+        for step in CUT_ORDER {
+            if plan.contains(step) {
+                plan = plan.without(step);
+                if !cut.contains(&step) {
+                    cut.push(step);
+                }
+                continue 'cut;
+            }
+        }
+        if let Some(network_vertices) = params.network_vertices {
+            // The network trains N nodes instead and its mesh is the output: no decimation,
+            // no cell splits or detail nodes (they would break the count).
+            oversampling_cut = Some(network_vertices);
+            params = params.not_oversampled();
+            plan = Plan::of(&params.reconstruction, false);
+            for &step in &cut {
+                plan = plan.without(step);
+            }
+            continue;
+        }
+        break;
+    }
+    let mut warnings: Vec<GngWarning> = cut
+        .iter()
+        .map(|&step| GngWarning::StepSkippedForTime { step })
+        .collect();
+    if let Some(network_vertices) = oversampling_cut {
+        warnings.push(GngWarning::OversamplingSkippedForTime { network_vertices });
+    }
+    let n = params.target_vertices;
+    let fastest = Sizes {
+        original,
+        network: n,
+        output: n,
+    };
+    let minimum = MINIMUM_MARGIN
+        * (setup
+            + GROWTH_SECONDS_PER_NODE * n as f64
+            + Plan::of(&params.reconstruction, false).estimate(0, true, fastest)
+            + fastest.finish());
+    if limit_seconds < minimum {
+        warnings.insert(
+            0,
+            GngWarning::TimeLimitBelowMinimum {
+                limit_seconds,
+                minimum_seconds: minimum,
+            },
+        );
+    }
+    let after = plan.estimate(0, false, sizes(&params)) + sizes(&params).finish();
+    let training_limit = Some(Duration::from_secs_f64((limit_seconds - after).max(0.0)));
+    TimePlan {
+        params,
+        plan,
+        training_limit,
+        warnings,
+    }
 }
 
 /// A step that ran: how long it took and what it changed.
@@ -228,25 +488,73 @@ pub(crate) struct Output {
     pub network_vertices: usize,
     /// Every step that ran.
     pub steps: Vec<StepRecord>,
+    /// Optional steps left out (in at least one round) to keep the deadline.
+    pub skipped: Vec<Step>,
 }
 
 /// Run `plan` on `input`; `on_step` sees each step's record as it finishes. Errors are the
 /// decimator's.
+///
+/// With a `deadline`, each optional step runs only when its estimate and the estimates of the
+/// required steps after it fit in the time left, all scaled by how long the steps so far took
+/// against their estimates (a loaded or slower machine); a detail round counts with the build
+/// after it, and when it is left out so are the later rounds. Left-out steps are in
+/// [`Output::skipped`].
 pub(crate) fn run(
     input: &Input<'_>,
     plan: &Plan,
+    deadline: Option<Instant>,
     mut on_step: impl FnMut(&StepRecord),
 ) -> Result<Output, String> {
     let start = Instant::now();
     let mut work = Work::new(input);
     let mut steps = Vec::with_capacity(plan.steps().len());
-    // Build rounds after this one are not run: a detail round found nothing to add, so the
-    // mesh of this round is the last build.
+    let mut skipped = Vec::new();
+    // Build rounds after this one are not run: a detail round found nothing to add (or was
+    // left out for time), so the mesh of this round is the last build.
     let mut last_round = usize::MAX;
     let mut build_seconds = 0.0;
-    for &PlannedStep { step, round } in plan.steps() {
+    let sizes = Sizes {
+        original: input.original.positions.len(),
+        network: input.nodes.len(),
+        output: input.decimate_to.unwrap_or(input.nodes.len()),
+    };
+    // Seconds the steps so far took, and their estimates.
+    let (mut spent, mut estimated) = (0.0f64, 0.0f64);
+    for (i, &PlannedStep { step, round }) in plan.steps().iter().enumerate() {
         if round > last_round && !work.after_build(step) {
             continue;
+        }
+        if let Some(deadline) = deadline
+            && !step.is_required()
+        {
+            let scale = if estimated > 0.0 {
+                (spent / estimated).clamp(0.5, 4.0)
+            } else {
+                1.0
+            };
+            let own = if step == Step::DetailRound {
+                plan.steps()[i..]
+                    .iter()
+                    .take_while(|s| s.round == round && !work.after_build(s.step))
+                    .map(|s| s.step.estimate(sizes, round))
+                    .sum()
+            } else {
+                step.estimate(sizes, round)
+            };
+            let rest = plan.estimate(i + 1, true, sizes) + sizes.finish();
+            let left = deadline
+                .saturating_duration_since(Instant::now())
+                .as_secs_f64();
+            if (own + rest) * scale > left {
+                if !skipped.contains(&step) {
+                    skipped.push(step);
+                }
+                if step == Step::DetailRound {
+                    last_round = round - 1;
+                }
+                continue;
+            }
         }
         let t = Instant::now();
         let changed = match step {
@@ -276,6 +584,8 @@ pub(crate) fn run(
         if !work.after_build(step) {
             build_seconds += seconds;
         }
+        spent += seconds;
+        estimated += step.estimate(sizes, round);
         let record = StepRecord {
             step,
             round,
@@ -288,7 +598,7 @@ pub(crate) fn run(
     if !work.build_ended {
         work.end_build(start, build_seconds);
     }
-    Ok(work.output(steps))
+    Ok(work.output(steps, skipped))
 }
 
 /// The state the steps pass along.
@@ -650,7 +960,7 @@ impl<'a> Work<'a> {
         repaired.moves + repaired.flips
     }
 
-    fn output(mut self, steps: Vec<StepRecord>) -> Output {
+    fn output(mut self, steps: Vec<StepRecord>, skipped: Vec<Step>) -> Output {
         let mesh = TriMesh::new(self.positions, self.triangles);
         self.report.topology = mesh::topology::analyze(&mesh);
         Output {
@@ -659,6 +969,7 @@ impl<'a> Work<'a> {
             report: self.report,
             network_vertices: self.network_vertices,
             steps,
+            skipped,
         }
     }
 }

@@ -51,6 +51,26 @@ pub enum GngWarning {
         /// Nodes left out of the mesh.
         nodes: usize,
     },
+    /// The time limit is below the minimum a run needs (the set-up, the fastest growth to N
+    /// nodes and the required steps after it, as estimated: [`crate::pipeline`]); the run is
+    /// the fastest one that gives N vertices, and it takes longer than the limit.
+    TimeLimitBelowMinimum {
+        /// The time limit, seconds.
+        limit_seconds: f64,
+        /// The estimated minimum, seconds.
+        minimum_seconds: f64,
+    },
+    /// An optional step was left out (in every round) to keep the time limit.
+    StepSkippedForTime {
+        /// The step.
+        step: crate::pipeline::Step,
+    },
+    /// The network was not oversampled, to keep the time limit: it trained N nodes and its mesh
+    /// is the output (no decimation).
+    OversamplingSkippedForTime {
+        /// The nodes the oversampled network would have had.
+        network_vertices: usize,
+    },
     /// The output has border edges where the input had none: the reconstruction left holes
     /// (the paper's reconstruction does at low ratios; docs/notes/gng.md).
     OpenedHoles {
@@ -102,6 +122,20 @@ impl fmt::Display for GngWarning {
             GngWarning::UnattachedNodes { nodes } => {
                 write!(f, "{nodes} nodes could not be attached to the mesh")
             }
+            GngWarning::TimeLimitBelowMinimum {
+                limit_seconds,
+                minimum_seconds,
+            } => write!(
+                f,
+                "the time limit of {limit_seconds} s is below the {minimum_seconds:.3} s a run needs (growth to the vertex count plus the cheapest reconstruction); this is the fastest run with exactly that count"
+            ),
+            GngWarning::StepSkippedForTime { step } => {
+                write!(f, "step {step} was skipped to keep the time limit")
+            }
+            GngWarning::OversamplingSkippedForTime { network_vertices } => write!(
+                f,
+                "the network was not oversampled ({network_vertices} nodes, then decimated) to keep the time limit"
+            ),
             GngWarning::OpenedHoles {
                 boundary_edges,
                 boundary_loops,

@@ -534,8 +534,14 @@ pub struct Trainer {
     /// Phase 2's tables of `original`, built on a helper thread while training runs.
     tables: Arc<BackgroundTables>,
     params: GngParams,
-    /// The steps after training ([`Plan::of`] the parameters).
+    /// The steps after training ([`Plan::of`] the parameters, less what the time limit left
+    /// out).
     plan: Plan,
+    /// Wall time from `started` at which training stops once the network holds its nodes
+    /// (the time limit less what the plan needs).
+    training_limit: Option<Duration>,
+    /// What the time limit left out of the run before it started.
+    plan_warnings: Vec<GngWarning>,
     /// When the run began (the top of [`Trainer::new`]): the time limit counts from here.
     started: Instant,
     parts: Vec<Part>,
@@ -564,6 +570,9 @@ impl Trainer {
     pub fn new(mesh: &TriMesh, params: GngParams) -> Result<Trainer, GngError> {
         let started = Instant::now();
         params.validate()?;
+        // The time limit is shared between the training and the steps after it, once.
+        let time_plan = crate::pipeline::plan_for_time(params, mesh.positions.len());
+        let params = time_plan.params;
         for (f, t) in mesh.triangles.iter().enumerate() {
             if t.iter().any(|&v| v as usize >= mesh.positions.len()) {
                 return Err(GngError::BadIndex { face: f });
@@ -603,12 +612,13 @@ impl Trainer {
                 Pcg64Mcg::seed_from_u64(seed),
             )?);
         }
-        let plan = Plan::of(&params.reconstruction, params.decimates());
         Ok(Trainer {
             tables,
             original,
             input,
-            plan,
+            plan: time_plan.plan,
+            training_limit: time_plan.training_limit,
+            plan_warnings: time_plan.warnings,
             started,
             inv_decay: 1.0 / params.error_decay,
             params,
@@ -680,7 +690,8 @@ impl Trainer {
 
     /// What was dropped from the input or keeps the network from the target so far.
     pub fn warnings(&self) -> Vec<GngWarning> {
-        let mut w = self.domain_warnings.clone();
+        let mut w = self.plan_warnings.clone();
+        w.extend(self.domain_warnings.iter().cloned());
         if self.stop == Some(StopReason::TimeLimit) && self.node_count() < self.held_target {
             w.push(GngWarning::TimeLimitBeforeTarget {
                 nodes: self.node_count(),
@@ -735,7 +746,7 @@ impl Trainer {
     /// (max-error scan, grid rebuilds), and a falling mean rate made the schedule spiral down
     /// to λ = 1 with growth still unfinished (measured on igea, N = 20,000, 0.5 s).
     fn schedule_growth(&mut self, now: Duration) {
-        let Some(limit) = self.params.time_limit else {
+        let Some(limit) = self.training_limit else {
             return;
         };
         if self.growth_elapsed.is_some() || self.signals < RATE_WARMUP_SIGNALS || now.is_zero() {
@@ -750,12 +761,24 @@ impl Trainer {
             return;
         }
         let rate = self.peak_rate.max(self.signals as f64 / now.as_secs_f64());
-        let left = (limit.as_secs_f64() * GROWTH_SHARE_OF_TIME_LIMIT - now.as_secs_f64()).max(0.0);
+        let wall = self.started.elapsed().as_secs_f64();
+        let left = (limit.as_secs_f64() * GROWTH_SHARE_OF_TIME_LIMIT - wall).max(0.0);
         let affordable = (rate * left / missing as f64).floor().max(1.0) as u64;
         if affordable < self.lambda {
             self.lambda = affordable;
             for p in &mut self.parts {
                 p.next_insert = p.next_insert.min(p.signals + affordable);
+            }
+        }
+    }
+
+    /// One insertion per signal from now on (growth past the training's share of the time
+    /// limit).
+    fn force_growth(&mut self) {
+        if self.lambda > 1 {
+            self.lambda = 1;
+            for p in &mut self.parts {
+                p.next_insert = p.next_insert.min(p.signals + 1);
             }
         }
     }
@@ -778,12 +801,17 @@ impl Trainer {
                 self.stop = Some(StopReason::Cancelled);
                 break;
             }
-            let now = self.elapsed + start.elapsed();
-            if let Some(limit) = self.params.time_limit
-                && now >= limit
-            {
-                self.stop = Some(StopReason::TimeLimit);
-                break;
+            // The time limit counts wall time from the start of the run (set-up included).
+            let now = self.started.elapsed();
+            let past_limit = self.training_limit.is_some_and(|limit| now >= limit);
+            if past_limit {
+                if self.node_count() >= self.held_target {
+                    self.stop = Some(StopReason::TimeLimit);
+                    break;
+                }
+                // Growth is never cut short (the vertex count stays exact): past the limit the
+                // missing nodes come in as fast as they can, one per signal.
+                self.force_growth();
             }
             let (budgets, counts): (Vec<u64>, Vec<u64>) = self
                 .parts
@@ -800,7 +828,7 @@ impl Trainer {
                 });
                 break;
             }
-            self.schedule_growth(now);
+            self.schedule_growth(self.elapsed + start.elapsed());
             let settings = LoopSettings {
                 eps_b: self.params.eps_winner,
                 eps_n: self.params.eps_neighbour,
@@ -814,9 +842,9 @@ impl Trainer {
             let round = (n - done).min(ROUND_SIGNALS_PER_PART * budgets.len() as u64);
             let quotas = round_quotas(round, &budgets, &counts);
             let deadline = self
-                .params
-                .time_limit
-                .map(|limit| start + limit.saturating_sub(self.elapsed));
+                .training_limit
+                .filter(|_| !past_limit)
+                .map(|limit| self.started + limit);
             let (search, cancel) = (self.params.search, &self.cancel);
             let mut work: Vec<(&mut Part, u64)> = self
                 .parts
@@ -829,7 +857,7 @@ impl Trainer {
                 let (part, quota) = work;
                 part.advance(*quota, search, settings, deadline, cancel)
             });
-            if self.params.time_limit.is_some() && processed >= CHECK_EVERY / 2 {
+            if self.training_limit.is_some() && processed >= CHECK_EVERY / 2 {
                 let dt = round_start.elapsed().as_secs_f64();
                 if dt > 0.0 {
                     self.peak_rate = self.peak_rate.max(processed as f64 / dt);
@@ -902,7 +930,7 @@ impl Trainer {
     pub fn reconstruct(&self, params: &ReconstructionParams) -> Reconstruction {
         let snap = self.snapshot();
         let input = self.pipeline_input(&snap, params);
-        let out = crate::pipeline::run(&input, &Plan::of(params, false), |_| {})
+        let out = crate::pipeline::run(&input, &Plan::of(params, false), None, |_| {})
             .expect("a plan without a decimation cannot fail");
         Reconstruction {
             mesh: out.mesh,
@@ -919,7 +947,7 @@ impl Trainer {
         reconstruction.detail_rounds = 0;
         let plan = Plan::of(&reconstruction, self.params.decimates());
         let snap = self.snapshot();
-        let mut result = self.run_plan_with(&snap, &plan, &reconstruction, |_| {})?;
+        let mut result = self.run_plan_with(&snap, &plan, &reconstruction, None, |_| {})?;
         result.report.warnings.clear();
         Ok(result)
     }
@@ -950,7 +978,8 @@ impl Trainer {
         plan: &Plan,
         on_step: impl FnMut(&StepRecord),
     ) -> Result<GngResult, GngError> {
-        self.run_plan_with(snap, plan, &self.params.reconstruction, on_step)
+        let deadline = self.params.time_limit.map(|limit| self.started + limit);
+        self.run_plan_with(snap, plan, &self.params.reconstruction, deadline, on_step)
     }
 
     fn run_plan_with(
@@ -958,6 +987,7 @@ impl Trainer {
         snap: &Snapshot,
         plan: &Plan,
         reconstruction: &ReconstructionParams,
+        deadline: Option<Instant>,
         on_step: impl FnMut(&StepRecord),
     ) -> Result<GngResult, GngError> {
         let stats = self.stats();
@@ -968,7 +998,7 @@ impl Trainer {
             });
         }
         let input = self.pipeline_input(snap, reconstruction);
-        let out = crate::pipeline::run(&input, plan, on_step)
+        let out = crate::pipeline::run(&input, plan, deadline, on_step)
             .map_err(|reason| GngError::Decimation { reason })?;
         if out.network_vertices == 0 || out.mesh.face_count() == 0 {
             return Err(GngError::EmptyMesh {
@@ -976,6 +1006,12 @@ impl Trainer {
             });
         }
         let mut warnings = self.warnings();
+        for &step in &out.skipped {
+            let w = GngWarning::StepSkippedForTime { step };
+            if !warnings.contains(&w) {
+                warnings.push(w);
+            }
+        }
         if out.report.unreferenced_nodes > 0 {
             warnings.push(GngWarning::UnattachedNodes {
                 nodes: out.report.unreferenced_nodes,

@@ -94,7 +94,9 @@ fn node_count_reaches_and_holds_the_target() {
 }
 
 #[test]
-fn time_limit_is_honoured() {
+fn time_limit_bounds_the_whole_run() {
+    // The limit counts from Trainer::new to the returned mesh: training stops early enough
+    // for the steps after it, and the run still has exactly its vertex count.
     let sphere = icosphere(4);
     let mut params = GngParams::for_target(1500);
     params.max_signals = Some(u64::MAX / 4);
@@ -104,14 +106,19 @@ fn time_limit_is_honoured() {
     let result = simplify(&sphere, &params).unwrap();
     let wall = start.elapsed();
     assert_eq!(result.report.training.stop, Some(StopReason::TimeLimit));
-    assert!(wall >= limit, "stopped early: {wall:?}");
-    // The limit bounds phase 1 (documented on GngParams::time_limit); phase 2 comes on top.
-    let training = Duration::from_secs_f64(result.report.training.seconds);
-    assert!(
-        training <= limit.mul_f64(1.1) + Duration::from_millis(20),
-        "trained {training:?} for a {limit:?} limit"
-    );
     assert_eq!(result.mesh.vertex_count(), 1500);
+    // Not much earlier than the limit (training fills what the steps leave), not later. The
+    // margin is for this shared, noisy test machine; the benchmark in docs/notes/anytime.md
+    // measures the 5 % target.
+    assert!(wall >= limit.mul_f64(0.6), "stopped early: {wall:?}");
+    assert!(
+        wall <= limit.mul_f64(1.25),
+        "took {wall:?} for a {limit:?} limit"
+    );
+    let report = &result.report;
+    assert!(report.seconds <= limit.as_secs_f64() * 1.25);
+    let steps: f64 = report.steps.iter().map(|s| s.seconds).sum();
+    assert!(report.training.seconds + steps <= report.seconds + 1e-3);
 }
 
 #[test]
@@ -515,27 +522,44 @@ fn nearby_components_do_not_share_nodes() {
 }
 
 #[test]
-fn tiny_time_limit_is_an_error_or_a_reported_shortfall() {
+fn a_limit_below_the_minimum_gives_the_fastest_exact_run_and_says_so() {
+    // Growth is never cut short: below the minimum a run needs, the result is the fastest run
+    // with exactly N vertices (no oversampling, no optional step), and the warning names the
+    // minimum, which that run then meets within a margin for this noisy machine.
     let sphere = icosphere(5); // 10242 vertices
-    let mut p = GngParams::for_target(10_000);
-    p.time_limit = Some(Duration::from_nanos(1));
-    match simplify(&sphere, &p) {
-        Err(GngError::TooFewNodes { nodes, .. }) => assert!(nodes < 3),
-        other => panic!("expected TooFewNodes, got {other:?}"),
-    }
-    p.time_limit = Some(Duration::from_micros(300));
-    match simplify(&sphere, &p) {
-        Err(GngError::TooFewNodes { .. }) => {}
-        Ok(r) => {
-            assert!(r.mesh.vertex_count() < 10_000);
-            assert!(
-                r.report
-                    .warnings
-                    .iter()
-                    .any(|w| matches!(w, gng3d_core::GngWarning::TimeLimitBeforeTarget { .. }))
-            );
-        }
-        Err(e) => panic!("unexpected {e}"),
+    let target = 2_000;
+    for limit in [Duration::from_nanos(1), Duration::from_micros(300)] {
+        let options = GngOptions {
+            time_limit_seconds: Some(limit.as_secs_f64()),
+            ..GngOptions::for_target(GngTarget::Vertices(target))
+        };
+        let r = gng3d_core::simplify(&sphere, &options).unwrap();
+        assert_eq!(r.mesh.vertex_count(), target);
+        let minimum = r
+            .report
+            .warnings
+            .iter()
+            .find_map(|w| match w {
+                gng3d_core::GngWarning::TimeLimitBelowMinimum {
+                    minimum_seconds, ..
+                } => Some(*minimum_seconds),
+                _ => None,
+            })
+            .expect("a below-minimum warning");
+        assert!(minimum > limit.as_secs_f64());
+        assert!(
+            r.report.seconds <= 2.0 * minimum,
+            "{} s for a minimum of {minimum} s",
+            r.report.seconds
+        );
+        assert!(
+            r.report
+                .warnings
+                .iter()
+                .any(|w| matches!(w, gng3d_core::GngWarning::OversamplingSkippedForTime { .. }))
+        );
+        let ran: Vec<_> = r.report.steps.iter().map(|s| s.step).collect();
+        assert!(ran.iter().all(|s| s.is_required()), "{ran:?}");
     }
 }
 
@@ -553,6 +577,7 @@ fn time_limit_schedules_growth_to_reach_the_target() {
     assert_eq!(t.stop, Some(StopReason::TimeLimit));
     assert_eq!(r.mesh.vertex_count(), 500);
     assert!(r.report.warnings.is_empty(), "{:?}", r.report.warnings);
+    assert!(r.report.seconds < 0.4 * 1.25, "{} s", r.report.seconds);
     let grown = t.growth_seconds.expect("grown");
     assert!(
         grown < 0.4 && t.lambda < 5000,

@@ -13,7 +13,8 @@ struct Args {
     /// Vertex target for GNG3D and QEM.
     #[arg(long)]
     target: Option<usize>,
-    /// GNG3D training time limit in seconds.
+    /// GNG3D maximum running time in seconds (training and reconstruction; watching paces the
+    /// training, so keep it above the watch time).
     #[arg(long)]
     time_limit: Option<f64>,
     /// Seed of the training signals.

@@ -455,7 +455,7 @@ pub fn reconstruct(
         decimate_to: None,
     };
     let plan = crate::pipeline::Plan::of(params, false);
-    let out = crate::pipeline::run(&input, &plan, |_| {})
+    let out = crate::pipeline::run(&input, &plan, None, |_| {})
         .expect("a plan without a decimation cannot fail");
     Reconstruction {
         mesh: out.mesh,

@@ -37,7 +37,11 @@ pub struct SimplifyArgs {
     /// QEM pair distance threshold t in model units (0: edges only).
     #[arg(long, default_value_t = 0.0)]
     pub threshold: f64,
-    /// GNG3D maximum training time in seconds.
+    /// GNG3D maximum running time in seconds: training and every step after it, from the start
+    /// of the algorithm to the returned mesh (loading and saving not counted). Steps are left
+    /// out in a documented order when time is short (each is a warning); the vertex count stays
+    /// exact. Below the minimum a run needs, a warning gives that minimum and the run is the
+    /// fastest one.
     #[arg(long)]
     pub time_limit: Option<f64>,
     /// GNG3D random seed.
