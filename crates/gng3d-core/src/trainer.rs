@@ -647,6 +647,18 @@ impl Trainer {
         &self.plan
     }
 
+    /// With a time limit, the wall time from the start of the run ([`Trainer::new`]) at which
+    /// training stops once the network holds its nodes: the limit less what the plan's steps
+    /// need. A front end that paces training (a viewer) paces it to this.
+    pub fn training_limit(&self) -> Option<Duration> {
+        self.training_limit
+    }
+
+    /// Wall time since the start of the run ([`Trainer::new`]).
+    pub fn run_elapsed(&self) -> Duration {
+        self.started.elapsed()
+    }
+
     /// The mesh being simplified.
     pub fn original(&self) -> &TriMesh {
         &self.original
@@ -867,6 +879,16 @@ impl Trainer {
             self.signals += processed;
             if self.growth_elapsed.is_none() && self.node_count() >= self.held_target {
                 self.growth_elapsed = Some(self.elapsed + start.elapsed());
+            }
+            // Finished as soon as the last part is, not at the next call.
+            if self.parts.iter().all(|p| p.done) {
+                let capped = self.parts.iter().any(|p| p.capped);
+                self.stop = Some(if capped {
+                    StopReason::SignalCap
+                } else {
+                    StopReason::Completed
+                });
+                break;
             }
         }
         self.elapsed += start.elapsed();

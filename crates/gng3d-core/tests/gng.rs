@@ -717,3 +717,17 @@ fn a_decimation_that_stops_above_the_target_is_reported() {
             .contains(&format!("stopped at {vertices}"))
     );
 }
+
+#[test]
+fn the_trainer_is_finished_once_its_budget_is_spent() {
+    // Not at the next call: a front end that steps exactly the budget sees the end at once.
+    let sphere = icosphere(3);
+    let mut trainer = Trainer::new(&sphere, GngParams::for_target(200)).unwrap();
+    let budget = trainer.stats().max_signals;
+    assert_eq!(trainer.step(budget - 1), budget - 1);
+    assert!(!trainer.is_finished());
+    assert_eq!(trainer.step(1), 1);
+    assert!(trainer.is_finished());
+    assert_eq!(trainer.stats().stop, Some(StopReason::Completed));
+    assert_eq!(trainer.step(10), 0);
+}
