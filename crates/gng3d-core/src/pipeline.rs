@@ -123,24 +123,26 @@ impl Step {
     /// original vertex plus one per vertex of the mesh it works on (the network's mesh of that
     /// round; the output for the relaxation and the repair). Fitted (weighted least squares on
     /// the relative error) to the step records of `gng3d simplify --method gng --json` on the
-    /// 14 shared meshes at 1, 10 and 50 %, with and without a time limit (252 runs), and raised
-    /// to the 90th percentile of measured / fitted; docs/notes/anytime.md has the table. A
-    /// budget, not a promise: the driver scales it by what the steps so far really took.
+    /// 14 shared meshes at 1, 10 and 50 %, with and without a time limit (252 runs): the
+    /// optional steps at 1.25× the fit (a run should use its time), the required ones at the
+    /// 90th percentile of measured / fitted (they decide the minimum and cannot be left out);
+    /// docs/notes/anytime.md has the table. A budget, not a promise: the driver scales it by
+    /// what the steps so far really took.
     fn estimate(self, sizes: Sizes, round: usize) -> f64 {
         // (µs per original vertex, µs per vertex of the mesh the step works on)
         let (per_original, per_vertex) = match self {
             Step::Label => (0.15, 0.33),
             Step::ConnectCells => (0.04, 0.03),
             Step::MapFaces => (0.012, 1.0),
-            Step::SplitBadCells => (0.05, 0.5),
+            Step::SplitBadCells => (0.05, 0.3),
             Step::Attach => (0.003, 0.7),
             Step::Place => (0.29, 1.0),
-            Step::Flip => (0.19, 3.4),
-            Step::Refit => (0.33, 10.0),
-            Step::DetailRound => (1.0, 10.0),
+            Step::Flip => (0.15, 2.6),
+            Step::Refit => (0.25, 7.7),
+            Step::DetailRound => (0.8, 8.0),
             Step::Decimate => (0.0, 0.62),
-            Step::Relax => (0.03, 2.2),
-            Step::RepairDeviations => (0.3, 22.0),
+            Step::Relax => (0.03, 2.3),
+            Step::RepairDeviations => (1.5, 17.0),
         };
         let vertices = match self {
             Step::Relax | Step::RepairDeviations => sizes.output,
@@ -150,24 +152,41 @@ impl Step {
     }
 }
 
-/// The optional steps in the order a short time limit leaves them out, least quality per
-/// second first. Measured on six meshes at 10 and 50 % (`gng3d compare --samples 100000` with
-/// each step turned off; docs/notes/anytime.md, "What each step buys"), as the geometric mean of
-/// (mean distance, Hausdorff) lost per share of the run's time saved: the flips 0.57 (they cost
-/// 11 % of the time; without them the mean distance is 1.4 % lower and the Hausdorff 8 %
-/// higher), the refit 0.63 (27 %; ×1.055 mean, ×1.12 Hausdorff), the detail rounds 1.4 (66 %
-/// for all three; ×1.21, ×2.13; the last round goes first), the deviation repair 3.4 (9 %;
-/// ×1.004, ×1.35). The relaxation and the cell splits cost little (≤ 2 % each) and go last:
-/// the relaxation is what wins E_avg, the splits keep thin parts attached. After them the
-/// oversampling goes (72 %; ×1.60, ×2.67).
-pub const CUT_ORDER: [Step; 6] = [
-    Step::Flip,
-    Step::Refit,
-    Step::DetailRound,
-    Step::RepairDeviations,
-    Step::Relax,
-    Step::SplitBadCells,
+/// The cuts a short time limit makes, in order, least quality per second first. Measured on
+/// six meshes at 10 and 50 % (`gng3d compare --samples 100000`; docs/notes/anytime.md, "What
+/// each step buys"), as the geometric mean over the runs of the mean distance and Hausdorff
+/// lost per share of the run's time saved:
+/// 1. the flips and refits of the builds before the last (the detail rounds' builds): 30 % of
+///    the time for a 2.5 % *lower* mean distance and an 18 % higher Hausdorff;
+/// 2. the detail rounds, the last first (all three: 66 % of the time, ×1.21 mean distance,
+///    ×2.13 Hausdorff);
+/// 3. the flips (11 %; ×0.986 mean, ×1.08 Hausdorff) and the refit (27 %; ×1.055, ×1.12) of
+///    the last build;
+/// 4. the deviation repair (9 %; ×1.004, ×1.35), the relaxation and the cell splits (≤ 2 %
+///    each: the relaxation is what wins E_avg, the splits keep thin parts attached);
+/// 5. then the oversampling (72 %; ×1.60, ×2.67).
+pub const CUT_ORDER: [Cut; 8] = [
+    Cut::DetailBuilds,
+    Cut::Step(Step::DetailRound),
+    Cut::Step(Step::Flip),
+    Cut::Step(Step::Refit),
+    Cut::Step(Step::RepairDeviations),
+    Cut::Step(Step::Relax),
+    Cut::Step(Step::SplitBadCells),
+    Cut::Oversampling,
 ];
+
+/// One cut of [`CUT_ORDER`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Cut {
+    /// The flips and refits of every build but the last.
+    DetailBuilds,
+    /// Every run of an optional step; for [`Step::DetailRound`] the last round.
+    Step(Step),
+    /// The oversampling: the network trains N nodes and its mesh is the output.
+    Oversampling,
+}
 
 impl std::fmt::Display for Step {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -248,6 +267,23 @@ impl Plan {
     /// Whether the plan has `step`.
     pub fn contains(&self, step: Step) -> bool {
         self.steps.iter().any(|s| s.step == step)
+    }
+
+    /// This plan without the flips and refits of the builds before the last.
+    fn lean_detail_builds(&self) -> Plan {
+        let last = self.steps.iter().map(|s| s.round).max().unwrap_or(0);
+        let steps = self
+            .steps
+            .iter()
+            .filter(|s| s.round == last || !matches!(s.step, Step::Flip | Step::Refit))
+            .copied()
+            .collect();
+        Plan { steps }
+    }
+
+    /// How many times the plan runs `step`.
+    pub fn count(&self, step: Step) -> usize {
+        self.steps.iter().filter(|s| s.step == step).count()
     }
 
     /// This plan without `step`: every round of it, or for [`Step::DetailRound`] the last
@@ -332,13 +368,24 @@ const MINIMUM_MARGIN: f64 = 1.3;
 /// where they were inserted, between older ones).
 const MIN_TRAINING_OVER_GROWTH: f64 = 3.0;
 
+/// Share of a time limit the plan and the driver aim at: 5 % under it, less a millisecond,
+/// so that the noise of a shared machine (a few ms on the smallest meshes) stays within it.
+pub(crate) fn aim_seconds(limit: Duration) -> f64 {
+    (limit.as_secs_f64() * 0.95 - 1e-3).max(0.0)
+}
+
 /// What a run's time limit buys (see [`plan_for_time`]).
 #[derive(Debug, Clone)]
 pub(crate) struct TimePlan {
     /// The parameters to train with (without oversampling when the time is short).
     pub params: GngParams,
+    /// The steps after training for these parameters without a time limit (what the plan's
+    /// cuts are counted against).
+    pub full: Plan,
     /// The steps after training.
     pub plan: Plan,
+    /// Runs of each optional step the plan left out for time.
+    pub cut_runs: Vec<(Step, usize)>,
     /// Wall time from the start of the run at which training stops (once the network holds
     /// its nodes); `None`: no limit.
     pub training_limit: Option<Duration>,
@@ -361,19 +408,22 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
     let Some(limit) = params.time_limit else {
         return TimePlan {
             params,
+            full: plan.clone(),
             plan,
+            cut_runs: Vec::new(),
             training_limit: None,
             warnings: Vec::new(),
         };
     };
     let limit_seconds = limit.as_secs_f64();
+    // What the plan aims at: a little under the limit, for the noise of a loaded machine.
+    let aim = aim_seconds(limit);
     let setup = FIXED_SECONDS + SETUP_SECONDS_PER_VERTEX * original as f64;
     let training_needs = |network: usize| {
         setup + GROWTH_SECONDS_PER_NODE * network as f64 * MIN_TRAINING_OVER_GROWTH
     };
     let mut params = params;
     let mut plan = plan;
-    let mut cut = Vec::new();
     let mut oversampling_cut = None;
     let sizes = |params: &GngParams| Sizes {
         original,
@@ -382,36 +432,63 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
     };
     let fits = |params: &GngParams, plan: &Plan| {
         let sizes = sizes(params);
-        training_needs(sizes.network) + plan.estimate(0, false, sizes) + sizes.finish()
-            <= limit_seconds
+        training_needs(sizes.network) + plan.estimate(0, false, sizes) + sizes.finish() <= aim
     };
-    'cut: while !fits(&params, &plan) {
-        for step in CUT_ORDER {
-            if plan.contains(step) {
-                plan = plan.without(step);
-                if !cut.contains(&step) {
-                    cut.push(step);
+    // Runs of each step the cuts removed.
+    let mut cut_runs: Vec<(Step, usize)> = Vec::new();
+    let mut count_cut = |step: Step, runs: usize| {
+        if runs == 0 {
+            return;
+        }
+        match cut_runs.iter_mut().find(|(s, _)| *s == step) {
+            Some((_, n)) => *n += runs,
+            None => cut_runs.push((step, runs)),
+        }
+    };
+    let mut cuts = CUT_ORDER.iter().copied().peekable();
+    while !fits(&params, &plan) {
+        let Some(&cut) = cuts.peek() else {
+            break;
+        };
+        let before = plan.clone();
+        match cut {
+            Cut::DetailBuilds => plan = plan.lean_detail_builds(),
+            Cut::Step(step) => plan = plan.without(step),
+            Cut::Oversampling => {
+                if let Some(network_vertices) = params.network_vertices {
+                    // The network trains N nodes instead and its mesh is the output: no
+                    // decimation, no cell splits or detail nodes (they would break the count).
+                    oversampling_cut = Some(network_vertices);
+                    params = params.not_oversampled();
+                    let full = Plan::of(&params.reconstruction, false);
+                    // What was cut stays cut.
+                    plan = Plan {
+                        steps: full
+                            .steps
+                            .iter()
+                            .filter(|s| before.count(s.step) > 0 || s.step.is_required())
+                            .copied()
+                            .collect(),
+                    };
                 }
-                continue 'cut;
             }
         }
-        if let Some(network_vertices) = params.network_vertices {
-            // The network trains N nodes instead and its mesh is the output: no decimation,
-            // no cell splits or detail nodes (they would break the count).
-            oversampling_cut = Some(network_vertices);
-            params = params.not_oversampled();
-            plan = Plan::of(&params.reconstruction, false);
-            for &step in &cut {
-                plan = plan.without(step);
+        match cut {
+            Cut::DetailBuilds => {
+                for step in [Step::Flip, Step::Refit] {
+                    count_cut(step, before.count(step) - plan.count(step));
+                }
             }
-            continue;
+            Cut::Step(step) => count_cut(step, before.count(step) - plan.count(step)),
+            Cut::Oversampling => {}
         }
-        break;
+        // A detail round is cut one at a time; every other cut once.
+        if plan == before || cut != Cut::Step(Step::DetailRound) {
+            cuts.next();
+        }
     }
-    let mut warnings: Vec<GngWarning> = cut
-        .iter()
-        .map(|&step| GngWarning::StepSkippedForTime { step })
-        .collect();
+    let full = Plan::of(&params.reconstruction, params.decimates());
+    let mut warnings: Vec<GngWarning> = Vec::new();
     if let Some(network_vertices) = oversampling_cut {
         warnings.push(GngWarning::OversamplingSkippedForTime { network_vertices });
     }
@@ -424,9 +501,11 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
     let minimum = MINIMUM_MARGIN
         * (setup
             + GROWTH_SECONDS_PER_NODE * n as f64
-            + Plan::of(&params.reconstruction, false).estimate(0, true, fastest)
+            + Plan::of(&params.clone().not_oversampled().reconstruction, false)
+                .estimate(0, true, fastest)
             + fastest.finish());
-    if limit_seconds < minimum {
+    // (The limit went through a Duration: nanoseconds.)
+    if limit_seconds < minimum - 1e-9 {
         warnings.insert(
             0,
             GngWarning::TimeLimitBelowMinimum {
@@ -436,10 +515,12 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
         );
     }
     let after = plan.estimate(0, false, sizes(&params)) + sizes(&params).finish();
-    let training_limit = Some(Duration::from_secs_f64((limit_seconds - after).max(0.0)));
+    let training_limit = Some(Duration::from_secs_f64((aim - after).max(0.0)));
     TimePlan {
         params,
+        full,
         plan,
+        cut_runs,
         training_limit,
         warnings,
     }
@@ -488,7 +569,8 @@ pub(crate) struct Output {
     pub network_vertices: usize,
     /// Every step that ran.
     pub steps: Vec<StepRecord>,
-    /// Optional steps left out (in at least one round) to keep the deadline.
+    /// Runs of optional steps left out to keep the deadline (a detail round left out counts
+    /// the later ones too).
     pub skipped: Vec<Step>,
 }
 
@@ -528,8 +610,10 @@ pub(crate) fn run(
         if let Some(deadline) = deadline
             && !step.is_required()
         {
+            // Slower than estimated (a loaded machine) scales the estimates up; faster does
+            // not scale them down (the required steps' estimates are generous on purpose).
             let scale = if estimated > 0.0 {
-                (spent / estimated).clamp(0.5, 4.0)
+                (spent / estimated).clamp(1.0, 4.0)
             } else {
                 1.0
             };
@@ -546,12 +630,19 @@ pub(crate) fn run(
             let left = deadline
                 .saturating_duration_since(Instant::now())
                 .as_secs_f64();
+            // A step that can stop early stops where the rest still fits.
+            work.step_deadline =
+                deadline.checked_sub(Duration::from_secs_f64((rest * scale).min(left)));
             if (own + rest) * scale > left {
-                if !skipped.contains(&step) {
-                    skipped.push(step);
-                }
                 if step == Step::DetailRound {
                     last_round = round - 1;
+                    let later = plan.steps()[i..]
+                        .iter()
+                        .filter(|s| s.step == Step::DetailRound)
+                        .count();
+                    skipped.extend(std::iter::repeat_n(step, later));
+                } else {
+                    skipped.push(step);
                 }
                 continue;
             }
@@ -636,6 +727,9 @@ struct Work<'a> {
     build_ended: bool,
     /// Whether the decimation removed vertices (the relaxation and the repair run only then).
     decimated: bool,
+    /// When the current step should end to leave the rest of the plan its time (steps that
+    /// can stop early: the deviation repair between its rounds).
+    step_deadline: Option<Instant>,
 }
 
 impl<'a> Work<'a> {
@@ -663,6 +757,7 @@ impl<'a> Work<'a> {
             network_vertices: 0,
             build_ended: false,
             decimated: false,
+            step_deadline: None,
         }
     }
 
@@ -953,8 +1048,12 @@ impl<'a> Work<'a> {
         if !self.decimated {
             return 0;
         }
-        let repaired =
-            crate::deviation::repair(&mut self.positions, &mut self.triangles, self.original);
+        let repaired = crate::deviation::repair_until(
+            &mut self.positions,
+            &mut self.triangles,
+            self.original,
+            self.step_deadline,
+        );
         self.report.deviation_moves = repaired.moves;
         self.report.deviation_flips = repaired.flips;
         repaired.moves + repaired.flips

@@ -60,10 +60,15 @@ pub enum GngWarning {
         /// The estimated minimum, seconds.
         minimum_seconds: f64,
     },
-    /// An optional step was left out (in every round) to keep the time limit.
+    /// An optional step was left out of some or all of its runs (one per build round) to keep
+    /// the time limit.
     StepSkippedForTime {
         /// The step.
         step: crate::pipeline::Step,
+        /// Runs left out.
+        skipped: usize,
+        /// Runs the run would have had without a time limit.
+        planned: usize,
     },
     /// The network was not oversampled, to keep the time limit: it trained N nodes and its mesh
     /// is the output (no decimation).
@@ -129,9 +134,14 @@ impl fmt::Display for GngWarning {
                 f,
                 "the time limit of {limit_seconds} s is below the {minimum_seconds:.3} s a run needs (growth to the vertex count plus the cheapest reconstruction); this is the fastest run with exactly that count"
             ),
-            GngWarning::StepSkippedForTime { step } => {
-                write!(f, "step {step} was skipped to keep the time limit")
-            }
+            GngWarning::StepSkippedForTime {
+                step,
+                skipped,
+                planned,
+            } => write!(
+                f,
+                "step {step} was left out of {skipped} of its {planned} runs to keep the time limit"
+            ),
             GngWarning::OversamplingSkippedForTime { network_vertices } => write!(
                 f,
                 "the network was not oversampled ({network_vertices} nodes, then decimated) to keep the time limit"

@@ -542,6 +542,10 @@ pub struct Trainer {
     training_limit: Option<Duration>,
     /// What the time limit left out of the run before it started.
     plan_warnings: Vec<GngWarning>,
+    /// The plan these parameters have without a time limit.
+    full_plan: Plan,
+    /// Runs of each optional step the time limit left out of the plan.
+    cut_runs: Vec<(crate::pipeline::Step, usize)>,
     /// When the run began (the top of [`Trainer::new`]): the time limit counts from here.
     started: Instant,
     parts: Vec<Part>,
@@ -619,6 +623,8 @@ impl Trainer {
             plan: time_plan.plan,
             training_limit: time_plan.training_limit,
             plan_warnings: time_plan.warnings,
+            full_plan: time_plan.full,
+            cut_runs: time_plan.cut_runs,
             started,
             inv_decay: 1.0 / params.error_decay,
             params,
@@ -1000,7 +1006,9 @@ impl Trainer {
         plan: &Plan,
         on_step: impl FnMut(&StepRecord),
     ) -> Result<GngResult, GngError> {
-        let deadline = self.params.time_limit.map(|limit| self.started + limit);
+        let deadline = self.params.time_limit.map(|limit| {
+            self.started + Duration::from_secs_f64(crate::pipeline::aim_seconds(limit))
+        });
         self.run_plan_with(snap, plan, &self.params.reconstruction, deadline, on_step)
     }
 
@@ -1028,10 +1036,25 @@ impl Trainer {
             });
         }
         let mut warnings = self.warnings();
-        for &step in &out.skipped {
-            let w = GngWarning::StepSkippedForTime { step };
-            if !warnings.contains(&w) {
-                warnings.push(w);
+        // Runs of each optional step left out for time: before the run (the plan's cuts) and
+        // during it (the driver), out of the runs it has without a time limit.
+        for &step in crate::pipeline::CUT_ORDER.iter().filter_map(|c| match c {
+            crate::pipeline::Cut::Step(step) => Some(step),
+            _ => None,
+        }) {
+            let before = self
+                .cut_runs
+                .iter()
+                .find(|(s, _)| *s == step)
+                .map_or(0, |c| c.1);
+            let during = out.skipped.iter().filter(|&&s| s == step).count();
+            let planned = self.full_plan.count(step);
+            if before + during > 0 && planned > 0 {
+                warnings.push(GngWarning::StepSkippedForTime {
+                    step,
+                    skipped: (before + during).min(planned),
+                    planned,
+                });
             }
         }
         if out.report.unreferenced_nodes > 0 {
