@@ -35,7 +35,7 @@
 use super::OriginalTables;
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
-use mesh::geometry::closest_point_triangle;
+use mesh::geometry::{box_distance2, closest_point_triangle};
 
 /// Most detail nodes a round adds, as a share of the mesh's vertices. On large meshes
 /// [`MIN_DEVIATION_SHARE`] stops a round first (gargoyle-10k at 50 %: 0.05 and 0.1 chose the
@@ -76,12 +76,24 @@ pub(crate) fn farthest_vertices(
     let fans = crate::flip::fans(triangles, outputs);
     let pos: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
     let adjacency = &tables.adjacency;
-    // Squared distance from `q` to the faces around the output vertices in `around`.
+    // Squared distance from `q` to the faces around the output vertices in `around`. A face
+    // around an earlier vertex of `around` was measured with that vertex's fan, and a face
+    // whose bounding box is no nearer than the best so far cannot lower it: the same minimum
+    // with far fewer exact tests (a face is in three fans). Detail rounds of gargoyle-10k at
+    // 50 % 0.22 -> 0.12 s, stanford-bunny at 10 % 0.16 -> 0.11 s (medians of 5 alternating
+    // runs); outputs identical.
     let distance_to_fans = |q: DVec3, around: &[u32]| {
         let mut best = f64::INFINITY;
-        for &w in around {
+        for (k, &w) in around.iter().enumerate() {
             for &f in &fans[w as usize] {
-                let [a, b, c] = triangles[f as usize].map(|i| pos[i as usize]);
+                let t = triangles[f as usize];
+                if around[..k].iter().any(|e| t.contains(e)) {
+                    continue;
+                }
+                let [a, b, c] = t.map(|i| pos[i as usize]);
+                if box_distance2(q, a, b, c) >= best {
+                    continue;
+                }
                 best = best.min((closest_point_triangle(q, a, b, c) - q).length_squared());
             }
         }
