@@ -660,9 +660,16 @@ impl Trainer {
         self.training_limit
     }
 
-    /// Wall time since the start of the run ([`Trainer::new`]).
+    /// Wall time since the start of the run ([`Trainer::new`]), less what [`Trainer::discount`]
+    /// left out.
     pub fn run_elapsed(&self) -> Duration {
         self.started.elapsed()
+    }
+
+    /// Leave `idle` out of the run's clock: a front end that paused the run (a viewer) hands
+    /// the pause back, so that the time limit counts only the time the run was going.
+    pub fn discount(&mut self, idle: Duration) {
+        self.started += idle;
     }
 
     /// The mesh being simplified.

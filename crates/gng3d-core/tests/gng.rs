@@ -740,3 +740,25 @@ fn the_trainer_is_finished_once_its_budget_is_spent() {
     assert_eq!(trainer.stats().stop, Some(StopReason::Completed));
     assert_eq!(trainer.step(10), 0);
 }
+
+#[test]
+fn a_discounted_pause_does_not_count_against_the_time_limit() {
+    // A viewer hands its pauses back (Trainer::discount): the limit counts the time the run
+    // was going. Without it, a 250 ms pause puts the run past a 200 ms limit.
+    let sphere = icosphere(4);
+    let mut p = GngParams::for_target(500);
+    p.max_signals = Some(u64::MAX / 4);
+    p.time_limit = Some(Duration::from_millis(200));
+    let mut paused = Trainer::new(&sphere, p.clone()).unwrap();
+    let mut resumed = Trainer::new(&sphere, p).unwrap();
+    std::thread::sleep(Duration::from_millis(250));
+    resumed.discount(Duration::from_millis(250));
+    assert!(resumed.run_elapsed() < Duration::from_millis(100));
+    for t in [&mut paused, &mut resumed] {
+        for _ in 0..20 {
+            t.step(1_000);
+        }
+    }
+    assert_eq!(paused.stats().stop, Some(StopReason::TimeLimit));
+    assert!(!resumed.is_finished(), "{:?}", resumed.stats().stop);
+}

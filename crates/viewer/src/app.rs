@@ -58,6 +58,10 @@ pub struct Panels {
     pub controls: bool,
     /// The plots and table at the bottom.
     pub plots: bool,
+    /// The GNG3D step strip under the viewports.
+    pub steps: bool,
+    /// The table of every GNG3D step (a window over the views).
+    pub step_details: bool,
     /// The keyboard/mouse help overlay (F1).
     pub help: bool,
     /// Which of the plot columns are shown: vertex errors, E_sur, Hausdorff, table.
@@ -71,6 +75,8 @@ impl Panels {
         Panels {
             controls: width >= 1100.0,
             plots: true,
+            steps: true,
+            step_details: false,
             help: false,
             columns: [true; 4],
         }
@@ -95,6 +101,8 @@ pub struct ViewerApp {
     pub(crate) automation: Automation,
     /// Screen rectangles of the two viewports in the last frame (GNG3D, QEM), in points.
     pub viewport_rects: [Option<egui::Rect>; 2],
+    /// Height of the step strip in the last frame, points (the plots' height cap counts it).
+    pub(crate) strip_height: f32,
     /// The model the camera was last framed on (re-framed when the session replaces it).
     framed: Option<std::sync::Arc<mesh::TriMesh>>,
     /// The context that draws (for screenshots requested outside a frame).
@@ -124,6 +132,7 @@ impl ViewerApp {
             started: Instant::now(),
             automation: Automation::default(),
             viewport_rects: [None, None],
+            strip_height: crate::panels::STRIP_HEIGHT_GUESS,
             framed: None,
             automation_ctx: Some(ctx.clone()),
             ctx_bound: false,

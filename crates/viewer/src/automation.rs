@@ -3,6 +3,7 @@
 
 use crate::app::ViewerApp;
 use crate::io;
+use crate::steps::StepStatus;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
@@ -97,7 +98,9 @@ impl ViewerApp {
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }
 
-    /// One-line run summary (fps, training rate, sizes, backend, viewport rectangles in pixels).
+    /// One-line run summary (fps, training rate, sizes, the run's seconds from start to final
+    /// mesh with its training and steps and each entry of the step strip, backend, viewport
+    /// rectangles in pixels).
     pub fn summary(&self) -> String {
         let live = self.session.live();
         let ppp = self
@@ -118,11 +121,33 @@ impl ViewerApp {
                 },
             )
         };
+        let steps = &self.session.steps;
+        let seconds = |s: Option<f64>| s.map_or_else(|| "none".to_string(), |s| format!("{s:.2}"));
+        let rows = steps.rows();
+        let count = |f: fn(&StepStatus) -> bool| rows.iter().filter(|r| f(&r.status)).count();
+        // Each entry of the strip: `build:0.231`, `detail_2:skipped`.
+        let group_times = steps
+            .groups()
+            .iter()
+            .map(|g| {
+                let status = match g.status() {
+                    StepStatus::Done { seconds, .. } => format!("{seconds:.3}"),
+                    StepStatus::Pending => "pending".into(),
+                    StepStatus::Running => "running".into(),
+                    StepStatus::Skipped => "skipped".into(),
+                    StepStatus::NotRun => "not_run".into(),
+                };
+                format!("{}:{status}", g.label.replace(' ', "_"))
+            })
+            .collect::<Vec<_>>()
+            .join(",");
         format!(
             "viewer stats: model={} frames={} mean_fps={:.1} last_frame_ms={:.1} \
              drawing_cpu_ms_per_frame={:.1} max_nodes={} signals={} mean_signals_per_s={:.0} \
              train_s={:.2} gng_mesh_faces={} qem_faces={} error_points={} checkpoints={} \
-             skipped_checkpoints={} backend={} gng_viewport={} qem_viewport={}",
+             skipped_checkpoints={} run_s={} pace_s={} steps_estimate_s={} training_wall_s={} \
+             pipeline_s={} steps_done={} \
+             steps_skipped={} steps={} backend={} gng_viewport={} qem_viewport={}",
             self.session.model_name,
             self.stats.frames,
             self.stats.mean_fps(),
@@ -138,6 +163,14 @@ impl ViewerApp {
             self.session.history.errors.len(),
             self.session.history.reconstructions.len(),
             live.skipped_checkpoints,
+            seconds(steps.run_seconds),
+            seconds(live.pace_seconds),
+            seconds(steps.limit.map(|l| l.steps_estimate)),
+            seconds(steps.training_seconds),
+            seconds(steps.pipeline_seconds),
+            count(StepStatus::is_done),
+            count(|s| *s == StepStatus::Skipped),
+            group_times,
             self.backend()
                 .map_or_else(|| "none".to_string(), |b| format!("{b:?}")),
             rect(self.viewport_rects[0]),

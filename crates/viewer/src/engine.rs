@@ -12,6 +12,12 @@ pub type TrainParams = gng3d_core::GngParams;
 pub type SignalSourceKind = gng3d_core::SignalSource;
 /// A cheap copy of the live network: node positions and GNG edges.
 pub type NetworkSnapshot = gng3d_core::Snapshot;
+/// One step of the pipeline after training (label, map faces, …, decimate).
+pub type PipelineStep = gng3d_core::Step;
+/// A step of the run's plan with its build round.
+pub type PlannedStep = gng3d_core::pipeline::PlannedStep;
+/// A finished step: its seconds and what it changed.
+pub type StepRecord = gng3d_core::StepRecord;
 
 /// Every signal source, in menu order, with its label.
 pub const SIGNAL_SOURCES: [(SignalSourceKind, &str); 3] = [
@@ -51,6 +57,10 @@ pub fn default_params(target_vertices: usize) -> TrainParams {
 /// A running GNG3D training session.
 pub struct Engine {
     trainer: gng3d_core::Trainer,
+    /// The finished network's reconstruction, once built: the network no longer changes, and
+    /// a second run of the pipeline would find the run's deadline passed and leave its
+    /// optional steps out.
+    finished: Option<Reconstruction>,
 }
 
 impl Engine {
@@ -86,7 +96,10 @@ impl Engine {
             ..resolved
         };
         gng3d_core::Trainer::new(mesh, resolved)
-            .map(|trainer| Engine { trainer })
+            .map(|trainer| Engine {
+                trainer,
+                finished: None,
+            })
             .map_err(|e| ViewerError::Gng(e.to_string()))
     }
 
@@ -115,27 +128,130 @@ impl Engine {
         self.trainer.snapshot()
     }
 
+    /// The steps the finished network's reconstruction runs, in order (the run's plan, less
+    /// what its time limit left out before it started).
+    pub fn plan(&self) -> Vec<PlannedStep> {
+        self.trainer.plan().steps().to_vec()
+    }
+
+    /// The steps the run's parameters plan without a time limit (`Plan::of`): [`Engine::plan`]
+    /// is this list less what the time limit left out before the run started.
+    pub fn full_plan(&self) -> Vec<PlannedStep> {
+        let params = self.trainer.params();
+        gng3d_core::Plan::of(&params.reconstruction, params.decimates())
+            .steps()
+            .to_vec()
+    }
+
+    /// The run's time limit (training and the steps after it), if any.
+    pub fn time_limit(&self) -> Option<std::time::Duration> {
+        self.trainer.params().time_limit
+    }
+
+    /// With a time limit: the wall time from the start of the run at which training stops so
+    /// that the steps after it fit (`Trainer::training_limit`).
+    pub fn training_limit(&self) -> Option<std::time::Duration> {
+        self.trainer.training_limit()
+    }
+
+    /// The run's time limit and its training limit, when it has a limit.
+    pub fn limits(&self) -> Option<(std::time::Duration, std::time::Duration)> {
+        self.time_limit().zip(self.training_limit())
+    }
+
+    /// Whether the network holds the nodes it aims for (growth is over).
+    pub fn holds_target(&self) -> bool {
+        self.trainer.node_count() >= self.trainer.node_target()
+    }
+
+    /// Leave a pause of `idle` out of the run's clock (`Trainer::discount`): the time limit
+    /// counts the time the run was going, not the time the user had it paused.
+    pub fn discount(&mut self, idle: std::time::Duration) {
+        self.trainer.discount(idle);
+    }
+
+    /// End training now (`Trainer::cancel_token`): the network stays as it is and
+    /// [`Engine::reconstruct`] runs the finished network's pipeline on it.
+    pub fn stop(&mut self) {
+        self.trainer.cancel_token().cancel();
+        // The trainer notices the cancel at the top of its next step.
+        self.trainer.step(1);
+    }
+
+    /// Wall time since the run started ([`Engine::new`]).
+    pub fn run_elapsed(&self) -> std::time::Duration {
+        self.trainer.run_elapsed()
+    }
+
     /// Build a triangle mesh from the current network with the pipeline the CLI runs
-    /// (`gng3d_core::finish`: decimated to the output count when the network is oversampled).
+    /// (`gng3d_core::finish`: decimated to the output count when the network is oversampled);
+    /// `on_step` sees each step of that pipeline as it finishes.
     /// While training runs, a checkpoint's preview (`Trainer::preview`) skips the detail rounds:
     /// each costs about one more reconstruction, and with three of them the default watched run
-    /// of gargoyle-10k at 25 % (12 s asked) was at 68 % of its signals after 20 s. The finished
-    /// network gets the full pipeline, and with it the run's warnings (why the mesh has another
-    /// vertex count than the target, what was dropped), as the CLI prints them; a preview has
-    /// none (a network still growing is short of the target by design).
-    pub fn reconstruct(&mut self) -> Result<(TriMesh, Vec<String>)> {
-        let result = if self.trainer.is_finished() {
-            gng3d_core::finish(&self.trainer, |_| {})
+    /// of gargoyle-10k at 25 % (12 s asked) was at 68 % of its signals after 20 s; `on_step` is
+    /// not called for it. The finished network gets the full pipeline, and with it the run's
+    /// warnings (why the mesh has another vertex count than the target, what was dropped), as
+    /// the CLI prints them; a preview has none (a network still growing is short of the target
+    /// by design).
+    ///
+    /// The finished network's reconstruction is built once: later calls return it again
+    /// without running the pipeline ([`Engine::has_final`]).
+    pub fn reconstruct(&mut self, on_step: impl FnMut(&StepRecord)) -> Result<Reconstruction> {
+        if let Some(done) = &self.finished {
+            return Ok(done.clone());
+        }
+        let full = self.trainer.is_finished();
+        let result = if full {
+            gng3d_core::finish(&self.trainer, on_step)
         } else {
             self.trainer.preview()
         };
         result
             .map(|result| {
-                let warnings = result.report.warnings.iter().map(|w| w.to_string());
-                (result.mesh, warnings.collect())
+                let warnings = &result.report.warnings;
+                let cut_for_time = warnings.iter().any(|w| {
+                    matches!(
+                        w,
+                        gng3d_core::GngWarning::StepSkippedForTime { .. }
+                            | gng3d_core::GngWarning::OversamplingSkippedForTime { .. }
+                            | gng3d_core::GngWarning::TimeLimitBelowMinimum { .. }
+                            | gng3d_core::GngWarning::TimeLimitBeforeTarget { .. }
+                    )
+                });
+                Reconstruction {
+                    mesh: result.mesh,
+                    warnings: warnings.iter().map(|w| w.to_string()).collect(),
+                    cut_for_time,
+                    full,
+                }
+            })
+            .inspect(|reconstruction| {
+                if full {
+                    self.finished = Some(reconstruction.clone());
+                }
             })
             .map_err(|e| ViewerError::Gng(e.to_string()))
     }
+
+    /// Whether the finished network's reconstruction is built (the next
+    /// [`Engine::reconstruct`] returns it without running the pipeline).
+    pub fn has_final(&self) -> bool {
+        self.finished.is_some()
+    }
+}
+
+/// What [`Engine::reconstruct`] built.
+#[derive(Debug, Clone)]
+pub struct Reconstruction {
+    /// The mesh.
+    pub mesh: TriMesh,
+    /// The run's warnings, as the CLI prints them (finished network only).
+    pub warnings: Vec<String>,
+    /// Whether the time limit cut anything (steps, oversampling, training before the target),
+    /// or is below the run's minimum.
+    pub cut_for_time: bool,
+    /// Whether this was the finished network's full pipeline (not a preview).
+    pub full: bool,
 }
 
 /// QEM simplification of `mesh` to `target_vertices` vertices, with the CLI's note when it

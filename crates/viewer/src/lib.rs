@@ -20,6 +20,7 @@ pub mod render;
 pub mod scene;
 pub mod session;
 pub mod shortcuts;
+pub mod steps;
 pub mod worker;
 
 pub use app::ViewerApp;

@@ -13,8 +13,8 @@ struct Args {
     /// Vertex target for GNG3D and QEM.
     #[arg(long)]
     target: Option<usize>,
-    /// GNG3D maximum running time in seconds (training and reconstruction; watching paces the
-    /// training, so keep it above the watch time).
+    /// GNG3D maximum running time in seconds (training and the steps after it). A watched run's
+    /// time limit is its watch time unless this is shorter.
     #[arg(long)]
     time_limit: Option<f64>,
     /// Seed of the training signals.
@@ -26,8 +26,9 @@ struct Args {
     /// λ: signals between node insertions (default: automatic).
     #[arg(long)]
     lambda: Option<u32>,
-    /// Length of the watched run in seconds: the signal budget is spread over it so the network
-    /// visibly grows (default 12; 0 = as fast as possible).
+    /// Length of the watched run in seconds, training and the steps after it: the signal budget
+    /// is spread over the training's share so the network visibly grows (default 12; 0 = as fast
+    /// as possible).
     #[arg(long, value_name = "SECS")]
     watch: Option<f64>,
     /// Reconstruct and measure the neural mesh every N signals (default |V|, the paper's

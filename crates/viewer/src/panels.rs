@@ -18,6 +18,8 @@ pub const PLOTS_MIN_HEIGHT: f32 = 120.0;
 pub const VIEWPORT_AREA_SHARE: f32 = 0.5;
 /// Width at which a plot column stops being readable; narrower windows scroll the row.
 const MIN_COLUMN_WIDTH: f32 = 160.0;
+/// Height of the step strip before its first frame (one row of entries and its time bar).
+pub const STRIP_HEIGHT_GUESS: f32 = 36.0;
 
 /// Tallest plots panel that leaves the viewports [`VIEWPORT_AREA_SHARE`] of the `window`, when
 /// `rest` is the space left after the menu, status and parameter panels:
@@ -64,14 +66,40 @@ impl ViewerApp {
                 });
         }
         if panels.plots {
-            let rest = ui.available_rect_before_wrap().size();
-            let max = plots_max_height(window.size(), rest);
+            // What the viewports get of the rest: less the central panel's margins and the step
+            // strip (between the plots and the viewports).
+            let mut rest = ui.available_rect_before_wrap().size() - central.total_margin().sum();
+            if panels.steps {
+                rest.y -= self.strip_height;
+            }
+            // The share is of the whole window (the root ui may have a margin: test harnesses).
+            let max = plots_max_height(ui.ctx().content_rect().size(), rest);
             egui::Panel::bottom("plots")
                 .frame(bar)
                 .resizable(true)
                 .default_size((0.32 * window.height()).clamp(PLOTS_MIN_HEIGHT, max))
                 .size_range(PLOTS_MIN_HEIGHT..=max)
                 .show(ui, |ui| self.plots(ui));
+        }
+        if panels.steps {
+            let strip = egui::Panel::bottom("steps")
+                .frame(bar)
+                .resizable(false)
+                .show(ui, |ui| {
+                    let clock = self.session.training_clock();
+                    let mut details = panels.step_details;
+                    crate::steps::strip_ui(ui, &self.session.steps, clock, &mut details);
+                    self.panels_mut().step_details = details;
+                });
+            self.strip_height = strip.response.rect.height();
+        }
+        if panels.step_details {
+            let clock = self.session.training_clock();
+            let mut open = true;
+            crate::steps::details_window(ui.ctx(), &self.session.steps, clock, &mut open);
+            if !open {
+                self.panels_mut().step_details = false;
+            }
         }
         egui::CentralPanel::default()
             .frame(central)
@@ -130,6 +158,8 @@ impl ViewerApp {
                 let panels = self.panels_mut();
                 ui.checkbox(&mut panels.controls, "Parameter panel  (C)");
                 ui.checkbox(&mut panels.plots, "Plots and table  (P)");
+                ui.checkbox(&mut panels.steps, "GNG3D step strip");
+                ui.checkbox(&mut panels.step_details, "GNG3D step table");
                 ui.checkbox(&mut self.display.smooth_ui, "Anti-aliased UI")
                     .on_hover_text("Off saves about 1 ms per frame on a software renderer");
                 if ui.button("Reset camera  (Home)").clicked() {
@@ -447,7 +477,9 @@ impl ViewerApp {
             )
             .labelled_by(label.id)
             .on_hover_text(
-                "the whole signal budget is spread over this wall time (applies at once)",
+                "the whole run (training, then the steps after it) takes about this wall time: \
+                 from the next Reset it is the run's time limit unless a shorter one is set; \
+                 the training's pace applies at once",
             );
             speed = if fast {
                 Speed::Unlimited

@@ -6,23 +6,24 @@
 //! - [`train_params`]: start-up options → validated GNG3D parameters (headless and window mode);
 //! - [`crate::engine::evaluate`]: the one evaluation of a simplified mesh (table, plots, QEM).
 //!
-//! (About a third of this file is its GPU-free tests.)
-//!
-//! (Over ~700 lines only with its unit tests, the last ~153 lines.)
+//! (About a fifth of this file is its GPU-free tests, the last ~220 lines.)
 
 use crate::engine::{self, Evaluation, TrainParams};
 use crate::error::{Result, ViewerError};
 use crate::io::{self, LoadedModel};
 use crate::jobs::Job;
 use crate::plots::{Checkpoint, History};
+use crate::steps::{RunLimit, StepStrip, TrainingClock};
 use crate::worker::{self, Command, Event, Live, Speed, TrainingJob};
 use mesh::TriMesh;
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// Default length of a watched run: the whole signal budget is spread over this many seconds,
-/// so the network visibly grows whatever the mesh size (issue 13: "roughly 10–20 s").
+/// Default length of a watched run, training and the steps after it: the signal budget is
+/// spread over the training's share of this many seconds, so the network visibly grows whatever
+/// the mesh size (issue 13: "roughly 10–20 s"), and the final mesh comes about this long after
+/// the start ([`worker::run_time_limit`], [`worker::pace_seconds`]).
 pub const DEFAULT_WATCH_SECONDS: f64 = 12.0;
 
 /// As fast as possible, evaluations of checkpoints (200k-sample Hausdorff, on their own thread)
@@ -104,11 +105,18 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
         gng3d_core::GngError::Parameter { name, .. } if name.starts_with("lambda") => "--lambda",
         _ => "--target",
     };
-    // The input's size is not known yet: ratios are not offered here, so any count will do;
-    // Trainer::new checks the target against the mesh.
+    // The input's size is not known yet: the options are checked here (ratios are not offered,
+    // so any count will do) and resolved against the mesh when a run starts (`Engine::new`).
+    // The step switches the UI shows are the user's choices, not what a resolution against an
+    // unknown size would make of them (against usize::MAX every output is under 5 % of the
+    // input, which turned the deviation repair off for every run).
     let params = gng
         .resolve_for_vertex_count(usize::MAX)
         .map_err(|e| invalid(flag(&e), e.to_string()))?;
+    let params = TrainParams {
+        reconstruction: gng.reconstruction.clone(),
+        ..params
+    };
     if let Some(seconds) = options.watch_seconds
         && !(seconds.is_finite() && seconds >= 0.0)
     {
@@ -217,6 +225,8 @@ pub struct Session {
     live: Live,
     /// Plot and table data.
     pub history: History,
+    /// The run's training and pipeline steps, as they happen.
+    pub steps: StepStrip,
     reconstruction: Option<Arc<TriMesh>>,
     evaluating: Option<(PendingEvaluation, Job<EvaluationResult>)>,
     /// When the last evaluation finished, and the seconds its own work took (without its
@@ -250,6 +260,7 @@ impl Session {
             trainer,
             live: Live::default(),
             history: History::default(),
+            steps: StepStrip::default(),
             reconstruction: None,
             evaluating: None,
             last_evaluation: None,
@@ -350,6 +361,15 @@ impl Session {
         &self.live
     }
 
+    /// The training's clock for the step strip.
+    pub fn training_clock(&self) -> TrainingClock {
+        TrainingClock {
+            seconds: self.live.run_seconds,
+            pace_seconds: self.live.pace_seconds,
+            running: self.live.running,
+        }
+    }
+
     /// Training, paused or finished (one answer for every label that shows it).
     pub fn training_state(&self) -> TrainingState {
         if self.live.finished {
@@ -373,6 +393,7 @@ impl Session {
             self.request_qem();
         }
         self.history.clear_training();
+        self.steps.clear();
         self.reconstruction = None;
         self.evaluation_queue.clear();
         self.evaluating = None;
@@ -548,6 +569,57 @@ impl Session {
                     session: s,
                     message,
                 } if s == session => self.error(format!("GNG3D: {message}")),
+                // The strip checks the session itself: a run's plan comes before the training
+                // thread publishes the new session number.
+                Event::Planned {
+                    session: s,
+                    full_plan,
+                    steps,
+                    time_limit,
+                    limit_is_watch_time,
+                    steps_estimate,
+                } => {
+                    let limit = time_limit.map(|seconds| RunLimit {
+                        seconds,
+                        is_watch_time: limit_is_watch_time,
+                        steps_estimate: steps_estimate.unwrap_or(0.0),
+                    });
+                    self.steps.start(s, &full_plan, &steps, limit);
+                }
+                Event::PipelineStarted {
+                    session: s,
+                    training_seconds,
+                    preview_seconds,
+                    previews,
+                } => self
+                    .steps
+                    .pipeline_started(s, training_seconds, preview_seconds, previews),
+                Event::Step { session: s, record } => self.steps.step_done(s, record),
+                Event::PipelineDone {
+                    session: s,
+                    cut_for_time,
+                    pipeline_seconds,
+                    run_seconds,
+                    failed,
+                } => {
+                    self.steps.pipeline_done(
+                        s,
+                        pipeline_seconds,
+                        run_seconds,
+                        cut_for_time,
+                        failed,
+                    );
+                    if s == session
+                        && cut_for_time
+                        && let Some(limit) = self.steps.limit.filter(|l| l.is_watch_time)
+                    {
+                        self.info(format!(
+                            "GNG3D: the run length ({} s) is this run's time limit; a longer \
+                             run length (or as fast as possible) leaves every step in",
+                            limit.seconds
+                        ));
+                    }
+                }
                 _ => {}
             }
         }
@@ -687,6 +759,18 @@ mod tests {
         }
     }
 
+    /// The UI's step switches start as the library's defaults (the deviation repair on):
+    /// resolving against an unknown input size must not decide them.
+    #[test]
+    fn the_step_switches_start_as_the_library_defaults() {
+        let params = train_params(&ViewerOptions::default()).unwrap();
+        assert_eq!(
+            params.reconstruction,
+            gng3d_core::ReconstructionParams::default()
+        );
+        assert!(params.reconstruction.repair_deviations);
+    }
+
     #[test]
     fn bad_options_are_errors_naming_the_option() {
         for (options, flag) in [
@@ -806,6 +890,63 @@ mod tests {
         let area = |m: &TriMesh| metrics::surface_error(m, m).original_area;
         let signed = area(session.original()) - area(session.qem_mesh().unwrap());
         assert!((qem.evaluation.e_sur - signed).abs() <= 1e-9 * signed.abs().max(1.0));
+    }
+
+    /// A watched run without a time limit of the user's is bounded by its watch time: the
+    /// training is paced to leave the steps their time, the strip records every step, and the
+    /// final mesh comes within 10 % of the watch time (the core stops at its limit; the pace
+    /// leaves the steps 1.25 times their estimate).
+    #[test]
+    fn a_watched_run_holds_its_length_and_records_its_steps() {
+        let watch = 3.0;
+        let mut session = Session::new(
+            ViewerOptions {
+                target: Some(300),
+                watch_seconds: Some(watch),
+                checkpoint_every: Some(0),
+                ..Default::default()
+            },
+            None,
+        )
+        .unwrap();
+        wait_until(&mut session, "the final mesh", |s| {
+            s.steps.phase() == crate::steps::Phase::Done && s.reconstruction().is_some()
+        });
+        let steps = &session.steps;
+        let limit = steps.limit.expect("the watch time is the run's limit");
+        assert_eq!(limit.seconds, watch);
+        assert!(limit.is_watch_time);
+        assert!(
+            limit.steps_estimate > 0.0 && limit.steps_estimate < watch,
+            "{limit:?}"
+        );
+        let run = steps.run_seconds.unwrap();
+        assert!(
+            (0.85 * watch..=1.1 * watch).contains(&run),
+            "start to final mesh: {run:.2} s of {watch} s"
+        );
+        // The training ran for its pace (the watch time less the steps' share), not the whole
+        // watch time.
+        let training = steps.training_seconds.unwrap();
+        let pace = session.live().pace_seconds.expect("paced");
+        assert!(pace < watch - limit.steps_estimate, "{pace} {limit:?}");
+        assert!(
+            training >= pace - 0.05 && training <= pace + 0.3,
+            "training {training:.2} s, pace {pace:.2} s"
+        );
+        let rows = steps.rows();
+        let done: f64 = rows
+            .iter()
+            .map(|r| match r.status {
+                crate::steps::StepStatus::Done { seconds, .. } => seconds,
+                _ => 0.0,
+            })
+            .sum();
+        assert!(done > 0.0 && done <= steps.pipeline_seconds.unwrap() + 1e-9);
+        assert!(
+            rows.iter()
+                .all(|r| r.status != crate::steps::StepStatus::Pending)
+        );
     }
 
     #[test]

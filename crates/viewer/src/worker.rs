@@ -1,8 +1,14 @@
 //! The GNG3D training thread: trains at full speed or paced over a chosen wall time, publishes a
-//! network snapshot about every 16 ms, measures the live vertex errors densely, and reconstructs
-//! the neural mesh at checkpoints. The UI only ever polls; nothing here blocks a frame.
+//! network snapshot about every 16 ms, measures the live vertex errors densely, reconstructs
+//! the neural mesh at checkpoints, and reports each step of the finished network's pipeline as
+//! it ends. The UI only ever polls; nothing here blocks a frame.
+//!
+//! A watched run holds its length: unless the user set a shorter time limit, the run's time
+//! limit (training and the steps after it, [`run_time_limit`]) is the watch time, and the
+//! training is paced to the wall time at which the core stops it so that the steps fit
+//! (`Trainer::training_limit`, [`paced_due`]), not to the whole watch time.
 
-use crate::engine::{self, Engine, NetworkSnapshot, TrainParams};
+use crate::engine::{self, Engine, NetworkSnapshot, PlannedStep, StepRecord, TrainParams};
 use mesh::TriMesh;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};
 use std::sync::{Arc, Mutex, PoisonError};
@@ -29,12 +35,102 @@ pub const CHECKPOINT_TIME_SHARE: f64 = 0.1;
 pub enum Speed {
     /// As many signals as the thread can do.
     Unlimited,
-    /// Spread the whole signal budget over this many seconds of (unpaused) wall time, so the
-    /// network visibly grows; a slow machine simply takes longer.
+    /// The whole run (training and the steps after it) takes about this many seconds of wall
+    /// time, so the network visibly grows: the signal budget is spread over the part of it
+    /// that training gets ([`paced_due`]); a slow machine simply takes longer.
     Paced {
         /// Intended run length, seconds (> 0).
         seconds: f64,
     },
+}
+
+/// The time limit of a run that starts with `speed` and the user's limit `user`, and whether
+/// it is the watch time (`true`) rather than the user's. A watched run that starts playing is
+/// bounded by its watch time unless the user's limit is shorter; a run that starts paused or
+/// trains as fast as possible keeps the user's limit. The core's limit is wall time from the
+/// run's start; pauses are left out of it (`Engine::discount` on resume), so a paused run
+/// keeps its steps.
+pub fn run_time_limit(
+    user: Option<Duration>,
+    speed: Speed,
+    autoplay: bool,
+) -> (Option<Duration>, bool) {
+    match speed {
+        Speed::Paced { seconds } if autoplay && seconds.is_finite() && seconds > 0.0 => {
+            let watch = Duration::from_secs_f64(seconds);
+            match user {
+                Some(limit) if limit <= watch => (Some(limit), false),
+                _ => (Some(watch), true),
+            }
+        }
+        _ => (user, false),
+    }
+}
+
+/// The steps after training get this many times the core's estimate of their time (the time
+/// limit less the training limit, which includes the core's own margin under the limit) when
+/// the viewer paces the training, and at least [`STEPS_MIN_MARGIN_SHARE`] of the limit more:
+/// the core's estimates are fitted to `gng3d simplify` alone on the machine, and in the viewer
+/// the steps share the cores with the renderer and the checkpoint evaluations. Paced right up
+/// to the training limit, the driver left out all three detail rounds of armadillo (43k
+/// vertices) to keep the limit. With 1.25 times the estimate and the floor, the default watched
+/// run of each of the 15 shared meshes took 10.6-11.1 s of 12 s from its start to the final
+/// mesh, every step run (debug build of the viewer, 2 cores, another process busy on one); with
+/// both cores busy elsewhere, the driver still left out a detail round or two on the biggest
+/// meshes to keep the length.
+pub const STEPS_TIME_FACTOR: f64 = 1.25;
+
+/// Least margin the steps after training get beyond the core's estimate, as a share of the
+/// time limit (0.36 s of 12 s): the smallest meshes' steps are estimated at a few ms, and a
+/// busy renderer or evaluation can take longer than that from them.
+pub const STEPS_MIN_MARGIN_SHARE: f64 = 0.03;
+
+/// Seconds of running wall time a paced run spreads its signal budget over: the watch
+/// `seconds`, or less when the run has a time limit (`limits`: the limit and the training
+/// limit, the wall time from the start at which the core stops training so that the steps
+/// after it fit): then the training ends where the steps have [`STEPS_TIME_FACTOR`] times
+/// their estimate left, and at least [`STEPS_MIN_MARGIN_SHARE`] of the limit more than it (at
+/// once when that is not left).
+pub fn pace_seconds(seconds: f64, limits: Option<(Duration, Duration)>) -> f64 {
+    match limits {
+        None => seconds,
+        Some((limit, training_limit)) => {
+            let (limit, training_limit) = (limit.as_secs_f64(), training_limit.as_secs_f64());
+            let steps = (limit - training_limit).max(0.0);
+            let margin = ((STEPS_TIME_FACTOR - 1.0) * steps).max(STEPS_MIN_MARGIN_SHARE * limit);
+            (training_limit - margin).clamp(0.0, seconds)
+        }
+    }
+}
+
+/// Signals a paced run of `budget` signals should have presented after `clock` seconds of
+/// running wall time when it spreads them over `pace` seconds ([`pace_seconds`]); the whole
+/// budget once the pace is over (or at once for a pace of 0: a limit below the minimum).
+pub fn paced_due(budget: u64, clock: f64, pace: f64) -> u64 {
+    if pace <= 0.0 {
+        return budget;
+    }
+    (budget as f64 * (clock / pace)).min(budget as f64) as u64
+}
+
+/// Whether a paced run may reconstruct a checkpoint now: it is on pace (at most
+/// [`PREVIEW_LAG_SECONDS`] behind, `lag` seconds), and a preview as long as the last one
+/// (`last_preview` seconds) ends before the training does (`left` seconds of pace left). A
+/// preview runs on the training thread: one that makes the run late takes signals from the
+/// network (the core stops training at its limit) or time from the steps after it.
+pub fn paced_preview_fits(lag: f64, left: f64, last_preview: f64) -> bool {
+    lag <= PREVIEW_LAG_SECONDS && last_preview < left
+}
+
+/// How far (seconds of pace) a paced run may be behind its schedule and still reconstruct a
+/// checkpoint.
+pub const PREVIEW_LAG_SECONDS: f64 = 0.05;
+
+/// Whether a paced run with a time limit is past the end of its pace (`clock` and `pace`
+/// seconds of running wall time) by more than [`PREVIEW_LAG_SECONDS`]: a run on pace has spent
+/// its budget by then and finished; a late one stops training there.
+pub fn is_late(clock: f64, pace: f64) -> bool {
+    clock > pace + PREVIEW_LAG_SECONDS
 }
 
 /// What a training run works on.
@@ -94,6 +190,56 @@ pub enum Event {
         /// The run's warnings (finished network only, see `Engine::reconstruct`).
         warnings: Vec<String>,
     },
+    /// A run started: the steps its finished network's pipeline will run, and its limits.
+    Planned {
+        /// Session number.
+        session: u64,
+        /// The steps the run's parameters plan without a time limit, in order
+        /// ([`Engine::full_plan`]).
+        full_plan: Vec<PlannedStep>,
+        /// Those of them the run will run ([`Engine::plan`]; the rest the time limit left out
+        /// before the run started).
+        steps: Vec<PlannedStep>,
+        /// The run's time limit (training and steps), seconds.
+        time_limit: Option<f64>,
+        /// Whether that limit is the watch time (not one the user set).
+        limit_is_watch_time: bool,
+        /// With a limit: the core's estimate of the steps' seconds (the limit less the
+        /// training limit).
+        steps_estimate: Option<f64>,
+    },
+    /// Training ended and the finished network's pipeline starts (once per run: "Reconstruct
+    /// now" on a finished network gets the same mesh again, [`Engine::has_final`]).
+    PipelineStarted {
+        /// Session number.
+        session: u64,
+        /// Wall time training ran, seconds (pauses excluded; checkpoint previews included).
+        training_seconds: f64,
+        /// Of it, seconds of checkpoint previews.
+        preview_seconds: f64,
+        /// Checkpoint previews reconstructed.
+        previews: u64,
+    },
+    /// A step of the finished network's pipeline is done.
+    Step {
+        /// Session number.
+        session: u64,
+        /// Its record.
+        record: StepRecord,
+    },
+    /// The finished network's pipeline ended (sent before its [`Event::Reconstructed`]).
+    PipelineDone {
+        /// Session number.
+        session: u64,
+        /// Whether the time limit cut anything or is below the run's minimum.
+        cut_for_time: bool,
+        /// Wall time of the pipeline, seconds.
+        pipeline_seconds: f64,
+        /// Wall time from the run's start to the final mesh, seconds (pauses included).
+        run_seconds: f64,
+        /// Whether it failed (then there is no mesh).
+        failed: bool,
+    },
     /// Something failed (shown in the UI).
     Failed {
         /// Session number.
@@ -120,8 +266,13 @@ pub struct Live {
     pub train_seconds: f64,
     /// The run's signal budget (0 before a run starts).
     pub max_signals: u64,
-    /// Checkpoints skipped to keep reconstructions within [`CHECKPOINT_TIME_SHARE`].
+    /// Checkpoints skipped to keep reconstructions within [`CHECKPOINT_TIME_SHARE`] (as fast
+    /// as possible) or the run on pace ([`paced_preview_fits`], watched).
     pub skipped_checkpoints: u64,
+    /// Wall time training has run, seconds (pauses excluded).
+    pub run_seconds: f64,
+    /// A paced run: the running wall time its signal budget is spread over ([`pace_seconds`]).
+    pub pace_seconds: Option<f64>,
 }
 
 struct Shared {
@@ -203,6 +354,8 @@ struct Training {
     source: Option<Arc<TriMesh>>,
     engine: Option<Engine>,
     running: bool,
+    /// When the user paused the run (left out of its clock on resume).
+    paused_at: Option<Instant>,
     finished: bool,
     speed: Speed,
     batch: u64,
@@ -211,6 +364,9 @@ struct Training {
     train_time: Duration,
     /// Time spent on checkpoint reconstructions since the reset.
     reconstruct_time: Duration,
+    /// Checkpoint reconstructions since the reset, and the seconds of the last one.
+    previews: u64,
+    last_preview: f64,
     /// Checkpoints skipped by [`CHECKPOINT_TIME_SHARE`] since the reset.
     skipped_checkpoints: u64,
     /// Wall time spent running (pauses excluded) since the reset: the clock of a paced run.
@@ -235,6 +391,7 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
         source: None,
         engine: None,
         running: false,
+        paused_at: None,
         finished: false,
         speed: Speed::Unlimited,
         batch: 256,
@@ -242,6 +399,8 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
         next_checkpoint: u64::MAX,
         train_time: Duration::ZERO,
         reconstruct_time: Duration::ZERO,
+        previews: 0,
+        last_preview: 0.0,
         skipped_checkpoints: 0,
         paced_clock: Duration::ZERO,
         clock_tick: Instant::now(),
@@ -276,17 +435,39 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                     t.finished = false;
                     t.train_time = Duration::ZERO;
                     t.reconstruct_time = Duration::ZERO;
+                    t.previews = 0;
+                    t.last_preview = 0.0;
                     t.skipped_checkpoints = 0;
                     t.paced_clock = Duration::ZERO;
+                    // The run's clock (the core's, from `Engine::new`) and the pace start together.
+                    t.clock_tick = Instant::now();
                     t.next_error_signals = 0;
                     t.signals_per_second = 0.0;
                     t.rate_window = (Instant::now(), 0);
                     t.checkpoint_every = session.checkpoint_every.filter(|&c| c > 0);
                     t.next_checkpoint = t.checkpoint_every.unwrap_or(u64::MAX);
-                    match Engine::new(&session.mesh, &session.params) {
+                    let (time_limit, limit_is_watch_time) =
+                        run_time_limit(session.params.time_limit, t.speed, session.autoplay);
+                    let params = TrainParams {
+                        time_limit,
+                        ..session.params.clone()
+                    };
+                    match Engine::new(&session.mesh, &params) {
                         Ok(engine) => {
+                            let _ = events.send(Event::Planned {
+                                session: t.session,
+                                full_plan: engine.full_plan(),
+                                steps: engine.plan(),
+                                time_limit: engine.time_limit().map(|d| d.as_secs_f64()),
+                                limit_is_watch_time,
+                                steps_estimate: engine.limits().map(|(limit, training)| {
+                                    limit.saturating_sub(training).as_secs_f64()
+                                }),
+                            });
                             t.engine = Some(engine);
                             t.running = session.autoplay;
+                            // A run that starts paused starts its clock when it first plays.
+                            t.paused_at = (!t.running).then(Instant::now);
                         }
                         Err(error) => {
                             t.engine = None;
@@ -301,6 +482,18 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                     publish(&mut t, shared);
                 }
                 Command::SetRunning(running) => {
+                    // A pause does not count against the run's time limit.
+                    match (t.running, running) {
+                        (true, false) => t.paused_at = Some(Instant::now()),
+                        (false, true) => {
+                            if let (Some(at), Some(engine)) =
+                                (t.paused_at.take(), t.engine.as_mut())
+                            {
+                                engine.discount(at.elapsed());
+                            }
+                        }
+                        _ => {}
+                    }
                     t.running = running;
                     t.rate_window = (Instant::now(), signals_of(&t));
                     publish(&mut t, shared);
@@ -349,13 +542,28 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
         return;
     };
     let budget = engine.max_signals();
+    // A paced run with a time limit that is late (a loaded machine) ends its training at the
+    // pace's end once the network holds its nodes: the steps after it keep their time, and the
+    // network loses the signals it is short of, as the core's own limit would take them.
+    if let Speed::Paced { seconds } = t.speed
+        && let Some(limits) = engine.limits()
+        && is_late(
+            t.paced_clock.as_secs_f64(),
+            pace_seconds(seconds, Some(limits)),
+        )
+        && engine.holds_target()
+    {
+        engine.stop();
+        t.finished = true;
+    }
     let n = match t.speed {
         Speed::Unlimited => t.batch,
         Speed::Paced { seconds } => {
-            // Where a run of `seconds` would be now; the first checkpoint's reconstruction or a
-            // slow machine only make the run longer, never a burst.
-            let due = (budget as f64 * (t.paced_clock.as_secs_f64() / seconds.max(1e-3)))
-                .min(budget as f64) as u64;
+            // Where a run paced over its training's share of `seconds` would be now; a
+            // checkpoint's reconstruction or a slow machine only make the run late, never a
+            // burst (and a run with a time limit is stopped by the core at its limit).
+            let pace = pace_seconds(seconds, engine.limits());
+            let due = paced_due(budget, t.paced_clock.as_secs_f64(), pace);
             if due >= budget {
                 // The pace is done: let the trainer run into its own stop rule (it decides when
                 // it is finished, e.g. only on the step after the last budgeted signal).
@@ -394,16 +602,32 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
             signals.saturating_sub(t.rate_window.1) as f64 / window.as_secs_f64();
         t.rate_window = (Instant::now(), signals);
     }
-    let measure = match t.speed {
+    // A paced run: how far behind its schedule it is (seconds of pace), and the pace left.
+    let paced = match (t.speed, t.engine.as_ref()) {
+        (Speed::Paced { seconds }, Some(engine)) => {
+            let pace = pace_seconds(seconds, engine.limits());
+            let clock = t.paced_clock.as_secs_f64();
+            let due = paced_due(budget, clock, pace);
+            let lag = due.saturating_sub(signals) as f64 / budget.max(1) as f64 * pace;
+            Some((lag, pace - clock))
+        }
+        _ => None,
+    };
+    let measure = match paced {
         // Full speed: a time budget (see `measure_errors`), and always the first batch of a run,
         // so the curve starts where training starts.
-        Speed::Unlimited => signals <= n || t.last_errors.elapsed() >= t.error_interval,
-        // Paced: a fixed signal schedule, so every run gets the same dense curve.
-        Speed::Paced { .. } => signals >= t.next_error_signals,
+        None => signals <= n || t.last_errors.elapsed() >= t.error_interval,
+        // Paced: a fixed signal schedule, so every run gets the same dense curve, as long as
+        // the run is on pace (on a big mesh or a loaded machine, 200 measurements may take
+        // most of the thread's time: armadillo, 6.6 s of a 10 s pace with another process on
+        // one of two cores); a point a late run passes is left out, not taken later.
+        Some((lag, _)) => signals >= t.next_error_signals && lag <= PREVIEW_LAG_SECONDS,
     };
     if measure || t.finished {
-        t.next_error_signals = signals + (budget / PACED_ERROR_POINTS).max(1);
         measure_errors(t, events);
+    }
+    if measure || t.finished || signals >= t.next_error_signals {
+        t.next_error_signals = signals + (budget / PACED_ERROR_POINTS).max(1);
     }
     if signals >= t.next_checkpoint && !t.finished {
         while t.next_checkpoint <= signals {
@@ -411,10 +635,11 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
                 .next_checkpoint
                 .saturating_add(t.checkpoint_every.unwrap_or(u64::MAX));
         }
-        let within_share = match t.speed {
-            // Paced runs sleep between batches: checkpoints only use that slack.
-            Speed::Paced { .. } => true,
-            Speed::Unlimited => {
+        let within_share = match paced {
+            // Paced runs sleep between batches: checkpoints only use that slack, while the run
+            // is on pace and when they end before the training does.
+            Some((lag, left)) => paced_preview_fits(lag, left, t.last_preview),
+            None => {
                 t.reconstruct_time.as_secs_f64()
                     <= CHECKPOINT_TIME_SHARE * t.train_time.as_secs_f64()
             }
@@ -422,7 +647,10 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
         if within_share {
             let started = Instant::now();
             reconstruct(t, events);
-            t.reconstruct_time += started.elapsed();
+            let spent = started.elapsed();
+            t.reconstruct_time += spent;
+            t.previews += 1;
+            t.last_preview = spent.as_secs_f64();
         } else {
             t.skipped_checkpoints += 1;
         }
@@ -461,17 +689,44 @@ fn reconstruct(t: &mut Training, events: &Sender<Event>) {
     let Some(engine) = t.engine.as_mut() else {
         return;
     };
+    let session = t.session;
     let signals = engine.signals();
-    let event = match engine.reconstruct() {
-        Ok((mesh, warnings)) => Event::Reconstructed {
-            session: t.session,
+    // The finished network's pipeline runs once (a second request gets the same mesh).
+    let full = engine.is_finished() && !engine.has_final();
+    if full {
+        let _ = events.send(Event::PipelineStarted {
+            session,
+            training_seconds: (t.paced_clock + t.clock_tick.elapsed()).as_secs_f64(),
+            preview_seconds: t.reconstruct_time.as_secs_f64(),
+            previews: t.previews,
+        });
+    }
+    let started = Instant::now();
+    let result = engine.reconstruct(|record| {
+        let _ = events.send(Event::Step {
+            session,
+            record: record.clone(),
+        });
+    });
+    if full {
+        let _ = events.send(Event::PipelineDone {
+            session,
+            cut_for_time: result.as_ref().is_ok_and(|r| r.cut_for_time),
+            pipeline_seconds: started.elapsed().as_secs_f64(),
+            run_seconds: engine.run_elapsed().as_secs_f64(),
+            failed: result.is_err(),
+        });
+    }
+    let event = match result {
+        Ok(r) => Event::Reconstructed {
+            session,
             signals,
-            mesh: Arc::new(mesh),
+            mesh: Arc::new(r.mesh),
             train_seconds: t.train_time.as_secs_f64(),
-            warnings,
+            warnings: r.warnings,
         },
         Err(error) => Event::Failed {
-            session: t.session,
+            session,
             message: format!("reconstruction failed: {error}"),
         },
     };
@@ -508,6 +763,13 @@ fn publish(t: &mut Training, shared: &Shared) {
             train_seconds: t.train_time.as_secs_f64(),
             max_signals: t.engine.as_ref().map_or(0, Engine::max_signals),
             skipped_checkpoints: t.skipped_checkpoints,
+            run_seconds: t.paced_clock.as_secs_f64(),
+            pace_seconds: match (t.speed, t.engine.as_ref()) {
+                (Speed::Paced { seconds }, Some(engine)) => {
+                    Some(pace_seconds(seconds, engine.limits()))
+                }
+                _ => None,
+            },
         };
     }
     t.last_publish = Instant::now();
@@ -518,5 +780,93 @@ fn publish(t: &mut Training, shared: &Shared) {
         .as_ref()
     {
         ctx.request_repaint_after(TRAINING_FRAME_INTERVAL);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn secs(s: f64) -> Duration {
+        Duration::from_secs_f64(s)
+    }
+
+    #[test]
+    fn a_watched_run_is_bounded_by_its_watch_time_unless_the_user_limit_is_shorter() {
+        let watch = Speed::Paced { seconds: 12.0 };
+        assert_eq!(run_time_limit(None, watch, true), (Some(secs(12.0)), true));
+        // A shorter limit of the user's wins; a longer one gives way to the watch time.
+        assert_eq!(
+            run_time_limit(Some(secs(5.0)), watch, true),
+            (Some(secs(5.0)), false)
+        );
+        assert_eq!(
+            run_time_limit(Some(secs(30.0)), watch, true),
+            (Some(secs(12.0)), true)
+        );
+        // Started paused, or as fast as possible: the user's limit alone.
+        assert_eq!(run_time_limit(None, watch, false), (None, false));
+        assert_eq!(
+            run_time_limit(Some(secs(30.0)), watch, false),
+            (Some(secs(30.0)), false)
+        );
+        assert_eq!(run_time_limit(None, Speed::Unlimited, true), (None, false));
+        assert_eq!(
+            run_time_limit(Some(secs(2.0)), Speed::Unlimited, true),
+            (Some(secs(2.0)), false)
+        );
+    }
+
+    #[test]
+    fn training_is_paced_to_leave_the_steps_their_share_of_the_run() {
+        assert_eq!(
+            (STEPS_TIME_FACTOR, STEPS_MIN_MARGIN_SHARE),
+            (1.25, 0.03),
+            "update the values below"
+        );
+        // No limit: the whole watch time.
+        assert_eq!(pace_seconds(12.0, None), 12.0);
+        // 12 s in all, the core stops training at 10.4 s: the steps are estimated at 1.6 s and
+        // get 1.25 times that, so the signals are spread over 12 - 2 = 10 s.
+        let pace = pace_seconds(12.0, Some((secs(12.0), secs(10.4))));
+        assert!((pace - 10.0).abs() < 1e-9, "{pace}");
+        // Steps estimated at 0.6 s get at least 3 % of the limit (0.36 s) more: 11.04 s.
+        let pace = pace_seconds(12.0, Some((secs(12.0), secs(11.4))));
+        assert!((pace - 11.04).abs() < 1e-9, "{pace}");
+        // A user's limit of 5 s (steps 2 s) on a 12 s watch: 2.5 s of training.
+        let pace = pace_seconds(12.0, Some((secs(5.0), secs(3.0))));
+        assert!((pace - 2.5).abs() < 1e-9, "{pace}");
+        // Never longer than the watch time (a shorter watch set mid-run), never negative (a
+        // limit below the run's minimum: training as fast as it can).
+        assert_eq!(pace_seconds(3.0, Some((secs(30.0), secs(29.0)))), 3.0);
+        assert_eq!(pace_seconds(12.0, Some((secs(1.0), secs(0.0)))), 0.0);
+
+        // Where the run should be: linear in the clock, the whole budget at the end.
+        assert_eq!(paced_due(1_000, 0.0, 10.0), 0);
+        assert_eq!(paced_due(1_000, 4.0, 10.0), 400);
+        assert_eq!(paced_due(1_000, 10.0, 10.0), 1_000);
+        assert_eq!(paced_due(1_000, 20.0, 10.0), 1_000);
+        assert_eq!(
+            paced_due(1_000, 0.0, 0.0),
+            1_000,
+            "no time to pace: at once"
+        );
+
+        // A late run stops training a little after its pace ends.
+        assert!(!is_late(10.0, 10.0));
+        assert!(!is_late(10.0 + PREVIEW_LAG_SECONDS, 10.0));
+        assert!(is_late(10.1, 10.0));
+    }
+
+    #[test]
+    fn a_paced_preview_runs_only_on_pace_and_when_it_ends_before_the_training() {
+        assert!(paced_preview_fits(0.0, 5.0, 0.3));
+        assert!(paced_preview_fits(PREVIEW_LAG_SECONDS, 5.0, 0.3));
+        // Behind after the last preview: catch up first.
+        assert!(!paced_preview_fits(0.4, 5.0, 0.3));
+        // The last preview took 0.3 s and 0.2 s of training are left: the final mesh follows.
+        assert!(!paced_preview_fits(0.0, 0.2, 0.3));
+        // The first preview of a run (none timed yet) runs whenever the run is on pace.
+        assert!(paced_preview_fits(0.0, 0.01, 0.0));
     }
 }

@@ -593,3 +593,68 @@ fn a_short_result_says_why_in_the_message_strip() {
     assert!(texts.iter().any(|t| t.contains(&gng_note)), "{texts:?}");
     assert!(texts.iter().any(|t| t.contains(&qem_note)), "{texts:?}");
 }
+
+/// The step strip under the viewports lists the training and every step of the finished
+/// network's pipeline with its time; its toggle opens the table of every step, with what each
+/// changed. At 1024×600 the strip fits and the viewports keep half of the window.
+#[test]
+fn step_strip_shows_the_pipeline_and_its_table() {
+    let size = egui::vec2(1024.0, 600.0);
+    let Some(mut h) = harness_sized(fast(300), size) else {
+        return;
+    };
+    step_until(&mut h, Duration::from_secs(60), "the final mesh", |a| {
+        a.session.steps.phase() == viewer::steps::Phase::Done
+            && a.session.reconstruction().is_some()
+    });
+    h.step();
+    let app = h.state();
+    let steps = &app.session.steps;
+    // As fast as possible and no time limit: every planned step ran, or had nothing to do.
+    let rows = steps.rows();
+    assert!(rows.len() >= 8, "{rows:?}");
+    assert!(
+        rows.iter().all(|r| matches!(
+            r.status,
+            viewer::steps::StepStatus::Done { .. } | viewer::steps::StepStatus::NotRun
+        )),
+        "{rows:?}"
+    );
+    let label = rows[0];
+    assert_eq!(label.step, viewer::engine::PipelineStep::Label);
+    let viewer::steps::StepStatus::Done { changed, .. } = label.status else {
+        panic!("label not done: {label:?}");
+    };
+    assert_eq!(
+        changed,
+        app.session.original().vertex_count(),
+        "every vertex labelled"
+    );
+    assert!(steps.limit.is_none());
+    let total = steps.total_seconds().expect("a total");
+    assert!(total > 0.0 && total >= steps.pipeline_seconds.unwrap());
+    // The strip's entries, and the viewports keep half of the window with it.
+    h.get_by_label_contains("training: ");
+    h.get_by_label_contains("label: ");
+    h.get_by_label_contains("build: ");
+    h.get_by_label_contains("decimate: ");
+    h.get_by_label(&format!("= {}", viewer::steps::format_seconds(total)));
+    let [Some(left), Some(right)] = h.state().viewport_rects else {
+        panic!("no viewports");
+    };
+    save_snapshot(&mut h, "step_strip_1024x600.png");
+    assert!(
+        left.area() + right.area() >= 0.5 * size.x * size.y,
+        "viewports {left:?} {right:?}"
+    );
+    // The table.
+    h.get_by_label("GNG3D steps").click();
+    for _ in 0..4 {
+        h.step();
+    }
+    assert!(h.state().panels.as_ref().unwrap().step_details);
+    save_snapshot(&mut h, "step_table_1024x600.png");
+    h.get_by_label("map faces");
+    h.get_by_label_contains("original vertices labelled");
+    h.get_by_label_contains("faces mapped");
+}

@@ -1,0 +1,993 @@
+//! The GNG3D step strip: where a run's seconds go. The training comes first, then every step of
+//! the finished network's pipeline (`gng3d_core::pipeline`), each pending, running, done (with
+//! its seconds and what it changed), skipped (the time limit left it out) or not run (a detail
+//! round found nothing to add, so the builds after it had nothing to do), then the total
+//! against the run's time limit.
+//!
+//! [`StepStrip`] is the UI-free state the session fills from the training thread's events;
+//! [`strip_ui`] draws it as one compact row under the viewports (build rounds grouped), and
+//! [`details_window`] as a table of every step.
+
+use crate::engine::{PipelineStep, PlannedStep, StepRecord};
+use egui::{Color32, RichText};
+
+/// Where one planned step stands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepStatus {
+    /// Not started yet.
+    Pending,
+    /// Running now.
+    Running,
+    /// Finished.
+    Done {
+        /// Wall time, seconds.
+        seconds: f64,
+        /// What it changed, counted in [`PipelineStep::changes`].
+        changed: usize,
+    },
+    /// Left out to keep the run's time limit (before the run or while it ran).
+    Skipped,
+    /// Not needed: a detail round before it found nothing to add (or the pipeline failed).
+    NotRun,
+}
+
+impl StepStatus {
+    /// Whether the step finished.
+    pub fn is_done(&self) -> bool {
+        matches!(self, StepStatus::Done { .. })
+    }
+}
+
+/// One planned step and where it stands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepRow {
+    /// The step.
+    pub step: PipelineStep,
+    /// Its build round (0: the first build; r: the build after the r-th detail round).
+    pub round: usize,
+    /// Where it stands.
+    pub status: StepStatus,
+}
+
+/// Steps shown together in the strip: a single step, or a build round.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepGroup {
+    /// Short label ("label", "build", "detail 2", "decimate").
+    pub label: String,
+    /// Its steps, in order.
+    pub rows: Vec<StepRow>,
+}
+
+impl StepGroup {
+    /// The group's status: running while one of its steps runs, pending while all are, done
+    /// (with the seconds of its done steps and no count) once one is done and none waits,
+    /// otherwise skipped or not run.
+    pub fn status(&self) -> StepStatus {
+        let any = |f: fn(&StepStatus) -> bool| self.rows.iter().any(|r| f(&r.status));
+        if any(|s| *s == StepStatus::Running) {
+            StepStatus::Running
+        } else if self.rows.iter().all(|r| r.status == StepStatus::Pending) {
+            StepStatus::Pending
+        } else if any(|s| matches!(s, StepStatus::Done { .. })) {
+            if any(|s| *s == StepStatus::Pending) {
+                // Between two of its steps (the next one's event has not come yet).
+                return StepStatus::Running;
+            }
+            StepStatus::Done {
+                seconds: self.seconds(),
+                changed: 0,
+            }
+        } else if any(|s| *s == StepStatus::Skipped) {
+            StepStatus::Skipped
+        } else {
+            StepStatus::NotRun
+        }
+    }
+
+    /// Seconds of its finished steps.
+    pub fn seconds(&self) -> f64 {
+        self.rows
+            .iter()
+            .map(|r| match r.status {
+                StepStatus::Done { seconds, .. } => seconds,
+                _ => 0.0,
+            })
+            .sum()
+    }
+
+    /// Colour of the group in the strip and its time bar.
+    fn color(&self) -> Color32 {
+        match self.rows.first().map(|r| r.step) {
+            Some(PipelineStep::Label | PipelineStep::ConnectCells) => {
+                Color32::from_rgb(150, 150, 160)
+            }
+            Some(PipelineStep::Decimate) => Color32::from_rgb(170, 120, 220),
+            Some(PipelineStep::Relax | PipelineStep::RepairDeviations) => {
+                Color32::from_rgb(70, 190, 180)
+            }
+            _ => {
+                // Build rounds: greens, lighter each round.
+                let round = self.rows.first().map_or(0, |r| r.round).min(4) as u8;
+                Color32::from_rgb(80 + 25 * round, 170 + 12 * round, 90 + 20 * round)
+            }
+        }
+    }
+}
+
+/// Colour of the training in the strip and its time bar.
+const TRAINING_COLOR: Color32 = Color32::from_rgb(90, 150, 230);
+
+/// Phase of the run the strip shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Phase {
+    /// No run yet (or a reset whose plan has not arrived).
+    #[default]
+    Waiting,
+    /// The network trains.
+    Training,
+    /// The finished network's pipeline runs.
+    Pipeline,
+    /// The pipeline ended with a mesh.
+    Done,
+    /// The pipeline failed.
+    Failed,
+}
+
+/// The run's time limit as the strip shows it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunLimit {
+    /// Seconds, training and the steps together.
+    pub seconds: f64,
+    /// Whether it is the watch time (the user set none, or a longer one).
+    pub is_watch_time: bool,
+    /// The core's estimate of the steps' seconds (the limit less the training limit).
+    pub steps_estimate: f64,
+}
+
+/// A planned step: the row, and whether the run's plan kept it (the time limit may leave
+/// steps out before the run starts).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Planned {
+    step: PipelineStep,
+    round: usize,
+    kept: bool,
+}
+
+/// The strip's state for the current session (see the module header).
+#[derive(Debug, Clone, Default)]
+pub struct StepStrip {
+    /// Session the events belong to.
+    session: u64,
+    phase: Phase,
+    planned: Vec<Planned>,
+    records: Vec<StepRecord>,
+    /// The run's time limit.
+    pub limit: Option<RunLimit>,
+    /// Running wall time of the training, seconds (pauses excluded, checkpoint previews
+    /// included), once it ended.
+    pub training_seconds: Option<f64>,
+    /// Of it, seconds of checkpoint previews, and how many.
+    pub preview_seconds: f64,
+    /// Checkpoint previews during training.
+    pub previews: u64,
+    /// Wall time of the finished pipeline, seconds.
+    pub pipeline_seconds: Option<f64>,
+    /// Wall time from the run's start to its final mesh, seconds (pauses included).
+    pub run_seconds: Option<f64>,
+    /// Whether the time limit cut anything from the run (or is below its minimum).
+    pub cut_for_time: bool,
+}
+
+impl StepStrip {
+    /// The phase of the run.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    /// Forget the run (a reset): events of its session are ignored from now on, until the next
+    /// session's plan arrives.
+    pub fn clear(&mut self) {
+        *self = StepStrip {
+            session: self.session,
+            ..StepStrip::default()
+        };
+    }
+
+    /// A run of `session` started: `full_plan` is what its parameters plan, `steps` what it
+    /// will run (a subsequence: the rest the time limit left out). Ignored unless `session` is
+    /// newer than the one shown (sessions count from 1).
+    pub fn start(
+        &mut self,
+        session: u64,
+        full_plan: &[PlannedStep],
+        steps: &[PlannedStep],
+        limit: Option<RunLimit>,
+    ) {
+        if session <= self.session {
+            return;
+        }
+        let mut kept = steps.iter().peekable();
+        let planned = full_plan
+            .iter()
+            .map(|p| {
+                let keep = kept.peek().is_some_and(|k| **k == *p);
+                if keep {
+                    kept.next();
+                }
+                Planned {
+                    step: p.step,
+                    round: p.round,
+                    kept: keep,
+                }
+            })
+            .collect();
+        *self = StepStrip {
+            session,
+            phase: Phase::Training,
+            planned,
+            limit,
+            ..StepStrip::default()
+        };
+    }
+
+    fn owns(&self, session: u64) -> bool {
+        self.phase != Phase::Waiting && session == self.session
+    }
+
+    /// The finished network's pipeline starts: its steps so far are forgotten.
+    pub fn pipeline_started(
+        &mut self,
+        session: u64,
+        training_seconds: f64,
+        preview_seconds: f64,
+        previews: u64,
+    ) {
+        if !self.owns(session) {
+            return;
+        }
+        self.phase = Phase::Pipeline;
+        self.records.clear();
+        self.training_seconds = Some(training_seconds);
+        self.preview_seconds = preview_seconds;
+        self.previews = previews;
+        self.pipeline_seconds = None;
+        self.run_seconds = None;
+        self.cut_for_time = false;
+    }
+
+    /// A step finished.
+    pub fn step_done(&mut self, session: u64, record: StepRecord) {
+        if self.owns(session) && self.phase == Phase::Pipeline {
+            self.records.push(record);
+        }
+    }
+
+    /// The pipeline ended.
+    pub fn pipeline_done(
+        &mut self,
+        session: u64,
+        pipeline_seconds: f64,
+        run_seconds: f64,
+        cut_for_time: bool,
+        failed: bool,
+    ) {
+        if !self.owns(session) {
+            return;
+        }
+        self.phase = if failed { Phase::Failed } else { Phase::Done };
+        self.pipeline_seconds = Some(pipeline_seconds);
+        self.run_seconds = Some(run_seconds);
+        self.cut_for_time = cut_for_time;
+    }
+
+    /// Every planned step (of the plan without a time limit) and where it stands: the records
+    /// are matched in order to the steps the run kept; a kept step the pipeline passed over was
+    /// skipped for time, unless a detail round at or before its round found nothing to add (then
+    /// it was not run); steps the run's plan left out are skipped.
+    pub fn rows(&self) -> Vec<StepRow> {
+        let mut rows: Vec<StepRow> = self
+            .planned
+            .iter()
+            .map(|p| StepRow {
+                step: p.step,
+                round: p.round,
+                status: if p.kept {
+                    StepStatus::Pending
+                } else {
+                    StepStatus::Skipped
+                },
+            })
+            .collect();
+        // Rounds from which on the builds had nothing to do.
+        let empty_round = self
+            .records
+            .iter()
+            .filter(|r| r.step == PipelineStep::DetailRound && r.changed == 0)
+            .map(|r| r.round)
+            .min();
+        let passed_over = |row: &StepRow, failed: bool| {
+            let build = !matches!(
+                row.step,
+                PipelineStep::Decimate | PipelineStep::Relax | PipelineStep::RepairDeviations
+            );
+            let nothing_to_do = build
+                && empty_round.is_some_and(|q| {
+                    q < row.round || (q == row.round && row.step != PipelineStep::DetailRound)
+                });
+            if nothing_to_do || failed {
+                StepStatus::NotRun
+            } else {
+                StepStatus::Skipped
+            }
+        };
+        let mut cursor = 0;
+        for record in &self.records {
+            let found = (cursor..self.planned.len()).find(|&k| {
+                let p = &self.planned[k];
+                p.kept && p.step == record.step && p.round == record.round
+            });
+            let Some(k) = found else {
+                continue;
+            };
+            for row in &mut rows[cursor..k] {
+                if row.status == StepStatus::Pending {
+                    row.status = passed_over(row, false);
+                }
+            }
+            rows[k].status = StepStatus::Done {
+                seconds: record.seconds,
+                changed: record.changed,
+            };
+            cursor = k + 1;
+        }
+        match self.phase {
+            Phase::Waiting | Phase::Training => {}
+            Phase::Pipeline => {
+                if let Some(row) = rows[cursor..]
+                    .iter_mut()
+                    .find(|r| r.status == StepStatus::Pending)
+                {
+                    row.status = StepStatus::Running;
+                }
+            }
+            Phase::Done | Phase::Failed => {
+                let failed = self.phase == Phase::Failed;
+                for row in &mut rows[cursor..] {
+                    if row.status == StepStatus::Pending {
+                        row.status = passed_over(row, failed);
+                    }
+                }
+            }
+        }
+        rows
+    }
+
+    /// [`StepStrip::rows`] grouped for the strip: the label and the cell connection alone, each
+    /// build round together ("build" for the first, "detail r" for the r-th detail round and
+    /// the build after it), then the decimation, the relaxation and the repair alone.
+    pub fn groups(&self) -> Vec<StepGroup> {
+        let mut groups: Vec<StepGroup> = Vec::new();
+        for row in self.rows() {
+            let label = match row.step {
+                PipelineStep::Label
+                | PipelineStep::ConnectCells
+                | PipelineStep::Decimate
+                | PipelineStep::Relax
+                | PipelineStep::RepairDeviations => short_name(row.step).to_string(),
+                _ if row.round == 0 => "build".to_string(),
+                _ => format!("detail {}", row.round),
+            };
+            match groups.last_mut() {
+                Some(g) if g.label == label => g.rows.push(row),
+                _ => groups.push(StepGroup {
+                    label,
+                    rows: vec![row],
+                }),
+            }
+        }
+        groups
+    }
+
+    /// Training plus pipeline, seconds, once the pipeline ended.
+    pub fn total_seconds(&self) -> Option<f64> {
+        Some(self.training_seconds? + self.pipeline_seconds?)
+    }
+
+    /// Whether there is anything to show.
+    pub fn is_empty(&self) -> bool {
+        self.phase == Phase::Waiting
+    }
+}
+
+/// A step's name in the strip ("map", "repair").
+pub fn short_name(step: PipelineStep) -> &'static str {
+    match step {
+        PipelineStep::Label => "label",
+        PipelineStep::ConnectCells => "cells",
+        PipelineStep::MapFaces => "map",
+        PipelineStep::SplitBadCells => "split",
+        PipelineStep::Attach => "attach",
+        PipelineStep::Place => "place",
+        PipelineStep::Flip => "flip",
+        PipelineStep::Refit => "refit",
+        PipelineStep::DetailRound => "detail",
+        PipelineStep::Decimate => "decimate",
+        PipelineStep::Relax => "relax",
+        PipelineStep::RepairDeviations => "repair",
+        _ => step.name(),
+    }
+}
+
+/// A step's name in the details table ("map faces").
+pub fn long_name(step: PipelineStep) -> String {
+    step.name().replace('_', " ")
+}
+
+/// Seconds for the strip: "0.4 ms", "31 ms", "1.24 s", "11.8 s".
+pub fn format_seconds(seconds: f64) -> String {
+    if seconds < 0.001 {
+        format!("{:.1} ms", seconds * 1e3)
+    } else if seconds < 1.0 {
+        format!("{:.0} ms", seconds * 1e3)
+    } else if seconds < 10.0 {
+        format!("{seconds:.2} s")
+    } else {
+        format!("{seconds:.1} s")
+    }
+}
+
+/// A count with thousands separators: 12,345.
+pub fn group_digits(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// "12,345 faces mapped" for a done step.
+pub fn changed_text(step: PipelineStep, changed: usize) -> String {
+    format!("{} {}", group_digits(changed), step.changes())
+}
+
+/// One row's status as text: its seconds, or what happened to it.
+pub fn status_text(status: StepStatus) -> String {
+    match status {
+        StepStatus::Pending => "pending".into(),
+        StepStatus::Running => "running…".into(),
+        StepStatus::Done { seconds, .. } => format_seconds(seconds),
+        StepStatus::Skipped => "skipped (time limit)".into(),
+        StepStatus::NotRun => "not run".into(),
+    }
+}
+
+/// Text colour of a status.
+fn status_color(ui: &egui::Ui, status: StepStatus) -> Color32 {
+    match status {
+        StepStatus::Pending | StepStatus::NotRun => ui.visuals().weak_text_color(),
+        StepStatus::Running => Color32::from_rgb(240, 200, 90),
+        StepStatus::Done { .. } => ui.visuals().text_color(),
+        StepStatus::Skipped => Color32::from_rgb(235, 140, 90),
+    }
+}
+
+/// What the training thread says about the run while it trains (for the strip's first entry).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TrainingClock {
+    /// Running wall time so far, seconds.
+    pub seconds: f64,
+    /// A paced run: the running wall time its signals are spread over.
+    pub pace_seconds: Option<f64>,
+    /// Whether it runs (not paused).
+    pub running: bool,
+}
+
+/// The training entry's text: "training: 2.31 s of 4.10 s" while it trains, "training: 4.10 s".
+fn training_text(strip: &StepStrip, clock: TrainingClock) -> (String, StepStatus) {
+    match strip.training_seconds {
+        Some(seconds) => (
+            format!("training: {}", format_seconds(seconds)),
+            StepStatus::Done {
+                seconds,
+                changed: 0,
+            },
+        ),
+        None => {
+            let of = clock
+                .pace_seconds
+                .map_or(String::new(), |p| format!(" of {}", format_seconds(p)));
+            let state = if clock.running { "" } else { " (paused)" };
+            (
+                format!("training: {}{of}{state}", format_seconds(clock.seconds)),
+                if clock.running {
+                    StepStatus::Running
+                } else {
+                    StepStatus::Pending
+                },
+            )
+        }
+    }
+}
+
+/// The total's text: "= 11.8 s of 12.0 s" once done, "limit 12.0 s" before.
+fn total_text(strip: &StepStrip) -> String {
+    let limit = strip.limit.map(|l| {
+        let what = if l.is_watch_time {
+            "run length"
+        } else {
+            "time limit"
+        };
+        (format_seconds(l.seconds), what)
+    });
+    match (strip.total_seconds(), limit) {
+        (Some(total), Some((limit, what))) => {
+            format!("= {} ({what} {limit})", format_seconds(total))
+        }
+        (Some(total), None) => format!("= {}", format_seconds(total)),
+        (None, Some((limit, what))) => format!("{what} {limit}"),
+        (None, None) => String::new(),
+    }
+}
+
+/// Hover text of a group: each step with its status and what it changed.
+fn group_tooltip(group: &StepGroup) -> String {
+    group
+        .rows
+        .iter()
+        .map(|r| {
+            let changed = match r.status {
+                StepStatus::Done { changed, .. } => format!(" — {}", changed_text(r.step, changed)),
+                _ => String::new(),
+            };
+            format!("{}: {}{changed}", long_name(r.step), status_text(r.status))
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// A coloured square, then `text` in the status colour.
+fn chip(ui: &mut egui::Ui, color: Color32, text: &str, status: StepStatus) -> egui::Response {
+    ui.horizontal(|ui| {
+        ui.spacing_mut().item_spacing.x = 3.0;
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(8.0, 8.0), egui::Sense::hover());
+        let fill = if matches!(status, StepStatus::Done { .. } | StepStatus::Running) {
+            color
+        } else {
+            color.gamma_multiply(0.3)
+        };
+        ui.painter().rect_filled(rect, 1.0, fill);
+        let mut rich = RichText::new(text).small().color(status_color(ui, status));
+        if status == StepStatus::Skipped {
+            rich = rich.strikethrough();
+        }
+        ui.add(egui::Label::new(rich).wrap_mode(egui::TextWrapMode::Extend))
+    })
+    .inner
+}
+
+/// The compact strip: a row of entries (training, then each step or build round with its
+/// seconds, coloured by status, details on hover) and the total against the run's limit, over a
+/// thin bar with each entry's share of the run's time. `details` toggles the table
+/// ([`details_window`]).
+pub fn strip_ui(ui: &mut egui::Ui, strip: &StepStrip, clock: TrainingClock, details: &mut bool) {
+    let groups = strip.groups();
+    ui.horizontal_wrapped(|ui| {
+        ui.spacing_mut().item_spacing.x = 10.0;
+        ui.toggle_value(details, RichText::new("GNG3D steps").small())
+            .on_hover_text("the table of every step of the pipeline after training");
+        if strip.is_empty() {
+            ui.label(RichText::new("no run yet").small().weak());
+            return;
+        }
+        let (text, status) = training_text(strip, clock);
+        let mut hover = "running wall time of the training (pauses excluded)".to_string();
+        if strip.previews > 0 {
+            hover += &format!(
+                ", with {} checkpoint previews ({})",
+                strip.previews,
+                format_seconds(strip.preview_seconds)
+            );
+        }
+        if clock.pace_seconds.is_some() && strip.limit.is_some() {
+            hover += "; the signals are spread over the training's share of the run, and the \
+                      time limit counts wall time from the start, pauses included";
+        }
+        chip(ui, TRAINING_COLOR, &text, status).on_hover_text(hover);
+        for group in &groups {
+            let status = group.status();
+            let text = match status {
+                StepStatus::Done { seconds, .. } => {
+                    format!("{}: {}", group.label, format_seconds(seconds))
+                }
+                StepStatus::Running => format!("{} …", group.label),
+                StepStatus::Pending => group.label.clone(),
+                StepStatus::Skipped => format!("{} skipped", group.label),
+                StepStatus::NotRun => format!("{} not run", group.label),
+            };
+            chip(ui, group.color(), &text, status).on_hover_text(group_tooltip(group));
+        }
+        let total = total_text(strip);
+        if !total.is_empty() {
+            let over = match (strip.total_seconds(), strip.limit) {
+                (Some(total), Some(limit)) => total > 1.1 * limit.seconds,
+                _ => false,
+            };
+            let color = if over {
+                Color32::from_rgb(235, 140, 90)
+            } else {
+                ui.visuals().text_color()
+            };
+            ui.label(RichText::new(total).small().strong().color(color))
+                .on_hover_text(
+                    "training plus the steps after it (wall time, start to final mesh); the \
+                     run's time limit is the run length unless a shorter one is set",
+                );
+        }
+    });
+    time_bar(ui, strip, clock, &groups);
+}
+
+/// A thin bar: the training and each group as a share of the run's time (the limit when it is
+/// longer than what ran), with a tick at the limit.
+fn time_bar(ui: &mut egui::Ui, strip: &StepStrip, clock: TrainingClock, groups: &[StepGroup]) {
+    let width = ui.available_width();
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 4.0), egui::Sense::hover());
+    if strip.is_empty() {
+        return;
+    }
+    let training = strip.training_seconds.unwrap_or(clock.seconds);
+    let mut segments = vec![(training, TRAINING_COLOR)];
+    segments.extend(groups.iter().map(|g| (g.seconds(), g.color())));
+    let used: f64 = segments.iter().map(|(s, _)| s).sum();
+    let limit = strip.limit.map(|l| l.seconds);
+    let expected = clock.pace_seconds.unwrap_or(0.0);
+    let scale = used.max(limit.unwrap_or(0.0)).max(expected).max(1e-9);
+    let painter = ui.painter();
+    painter.rect_filled(rect, 1.0, ui.visuals().extreme_bg_color);
+    let mut x = rect.min.x;
+    for (seconds, color) in segments {
+        let w = (seconds / scale) as f32 * rect.width();
+        if w > 0.0 {
+            let r = egui::Rect::from_min_size(egui::pos2(x, rect.min.y), egui::vec2(w, 4.0));
+            painter.rect_filled(r, 0.0, color);
+            x += w;
+        }
+    }
+    if let Some(limit) = limit.filter(|&l| l < scale) {
+        let lx = rect.min.x + (limit / scale) as f32 * rect.width();
+        painter.vline(
+            lx,
+            rect.y_range().expand(2.0),
+            egui::Stroke::new(1.5, ui.visuals().strong_text_color()),
+        );
+    }
+}
+
+/// The table of every step (a closable window over the GNG3D view): the training, each step
+/// with its round, status or seconds, and what it changed, and the total.
+pub fn details_window(
+    ctx: &egui::Context,
+    strip: &StepStrip,
+    clock: TrainingClock,
+    open: &mut bool,
+) {
+    let max_height = (ctx.content_rect().height() * 0.55).max(120.0);
+    egui::Window::new("GNG3D pipeline steps")
+        .open(open)
+        .collapsible(true)
+        .resizable(false)
+        .default_pos(egui::pos2(12.0, 60.0))
+        .show(ctx, |ui| {
+            egui::ScrollArea::vertical()
+                .max_height(max_height)
+                .show(ui, |ui| details_table(ui, strip, clock));
+        });
+}
+
+fn details_table(ui: &mut egui::Ui, strip: &StepStrip, clock: TrainingClock) {
+    egui::Grid::new("gng3d_steps")
+        .num_columns(4)
+        .striped(true)
+        .spacing(egui::vec2(14.0, 2.0))
+        .show(ui, |ui| {
+            for title in ["step", "round", "time", "changed"] {
+                ui.label(RichText::new(title).small().strong());
+            }
+            ui.end_row();
+            let (text, status) = training_text(strip, clock);
+            ui.label(RichText::new("training").small());
+            ui.label("");
+            let time = text.trim_start_matches("training: ").to_string();
+            ui.label(RichText::new(time).small().color(status_color(ui, status)));
+            ui.label(
+                RichText::new(if strip.previews > 0 {
+                    format!(
+                        "{} checkpoint previews ({})",
+                        strip.previews,
+                        format_seconds(strip.preview_seconds)
+                    )
+                } else {
+                    String::new()
+                })
+                .small()
+                .weak(),
+            );
+            ui.end_row();
+            for row in strip.rows() {
+                ui.label(RichText::new(long_name(row.step)).small());
+                ui.label(RichText::new(row.round.to_string()).small().weak());
+                ui.label(
+                    RichText::new(status_text(row.status))
+                        .small()
+                        .color(status_color(ui, row.status)),
+                );
+                match row.status {
+                    StepStatus::Done { changed, .. } => {
+                        ui.label(RichText::new(changed_text(row.step, changed)).small())
+                    }
+                    _ => ui.label(""),
+                };
+                ui.end_row();
+            }
+            let total = total_text(strip);
+            if !total.is_empty() {
+                ui.label(RichText::new("total").small().strong());
+                ui.label("");
+                ui.label(RichText::new(total).small().strong());
+                ui.label(
+                    RichText::new(if strip.cut_for_time {
+                        "the time limit cut steps"
+                    } else {
+                        ""
+                    })
+                    .small()
+                    .weak(),
+                );
+                ui.end_row();
+            }
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gng3d_core::{Plan, ReconstructionParams};
+
+    fn record(step: PipelineStep, round: usize, seconds: f64, changed: usize) -> StepRecord {
+        StepRecord {
+            step,
+            round,
+            seconds,
+            changed,
+        }
+    }
+
+    /// The GNG3D-Q plan with two detail rounds, oversampled (decimated).
+    fn plan() -> Vec<PlannedStep> {
+        let params = ReconstructionParams {
+            detail_rounds: 2,
+            split_bad_cells: true,
+            ..ReconstructionParams::default()
+        };
+        Plan::of(&params, true).steps().to_vec()
+    }
+
+    fn names(rows: &[StepRow]) -> Vec<(&'static str, usize)> {
+        rows.iter().map(|r| (r.step.name(), r.round)).collect()
+    }
+
+    #[test]
+    fn plan_and_records_map_to_rows_in_order() {
+        let plan = plan();
+        let mut strip = StepStrip::default();
+        strip.start(3, &plan, &plan, None);
+        let rows = strip.rows();
+        assert_eq!(rows.len(), plan.len());
+        assert!(rows.iter().all(|r| r.status == StepStatus::Pending));
+        assert_eq!(rows[0].step, PipelineStep::Label);
+        assert_eq!(rows.last().unwrap().step, plan.last().unwrap().step);
+        // The pipeline starts: the first step runs.
+        strip.pipeline_started(3, 4.0, 0.5, 7);
+        assert_eq!(strip.rows()[0].status, StepStatus::Running);
+        // Events of another session change nothing.
+        strip.step_done(2, record(PipelineStep::Label, 0, 0.5, 9));
+        assert_eq!(strip.rows()[0].status, StepStatus::Running);
+        strip.step_done(3, record(PipelineStep::Label, 0, 0.031, 43_243));
+        let rows = strip.rows();
+        assert_eq!(
+            rows[0].status,
+            StepStatus::Done {
+                seconds: 0.031,
+                changed: 43_243
+            }
+        );
+        assert_eq!(rows[1].status, StepStatus::Running);
+        assert!(rows[2..].iter().all(|r| r.status == StepStatus::Pending));
+        assert_eq!(strip.total_seconds(), None);
+    }
+
+    #[test]
+    fn skipped_and_not_run_steps_are_told_apart() {
+        let plan = plan();
+        // The time limit left the last round's refit out before the run started.
+        let kept: Vec<PlannedStep> = plan
+            .iter()
+            .copied()
+            .filter(|p| !(p.step == PipelineStep::Refit && p.round == 2))
+            .collect();
+        let mut strip = StepStrip::default();
+        strip.start(
+            1,
+            &plan,
+            &kept,
+            Some(RunLimit {
+                seconds: 12.0,
+                is_watch_time: true,
+                steps_estimate: 1.5,
+            }),
+        );
+        strip.pipeline_started(1, 9.5, 1.0, 4);
+        // Everything of round 0 runs; the flip of round 0 is skipped for time by the driver
+        // (no record); detail round 1 adds nodes and its build runs; detail round 2 finds
+        // nothing, so its build is not run; the decimation runs, the relaxation is skipped,
+        // the deviation repair runs.
+        for p in &kept {
+            let skip = (p.step == PipelineStep::Flip && p.round == 0)
+                || (p.round == 2
+                    && p.step != PipelineStep::DetailRound
+                    && p.step != PipelineStep::Decimate
+                    && p.step != PipelineStep::RepairDeviations)
+                || p.step == PipelineStep::Relax;
+            if skip {
+                continue;
+            }
+            let changed = if p.step == PipelineStep::DetailRound && p.round == 2 {
+                0
+            } else {
+                10
+            };
+            strip.step_done(1, record(p.step, p.round, 0.01, changed));
+        }
+        strip.pipeline_done(1, 2.0, 11.7, true, false);
+        assert_eq!(strip.phase(), Phase::Done);
+        let rows = strip.rows();
+        let status = |step: PipelineStep, round: usize| {
+            rows.iter()
+                .find(|r| r.step == step && r.round == round)
+                .unwrap_or_else(|| panic!("no {step} {round} in {:?}", names(&rows)))
+                .status
+        };
+        let done = StepStatus::Done {
+            seconds: 0.01,
+            changed: 10,
+        };
+        assert_eq!(status(PipelineStep::Flip, 0), StepStatus::Skipped);
+        assert_eq!(status(PipelineStep::Refit, 0), done);
+        assert_eq!(status(PipelineStep::MapFaces, 1), done);
+        assert_eq!(
+            status(PipelineStep::DetailRound, 2),
+            StepStatus::Done {
+                seconds: 0.01,
+                changed: 0
+            }
+        );
+        assert_eq!(status(PipelineStep::MapFaces, 2), StepStatus::NotRun);
+        assert_eq!(status(PipelineStep::Flip, 2), StepStatus::NotRun);
+        // Left out before the run: skipped, even though round 2 had nothing to do.
+        assert_eq!(status(PipelineStep::Refit, 2), StepStatus::Skipped);
+        assert_eq!(status(PipelineStep::Decimate, 2), done);
+        assert_eq!(status(PipelineStep::Relax, 2), StepStatus::Skipped);
+        assert_eq!(status(PipelineStep::RepairDeviations, 2), done);
+        assert_eq!(strip.total_seconds(), Some(11.5));
+        assert_eq!(
+            total_text(&strip),
+            "= 11.5 s (run length 12.0 s)",
+            "training 9.5 s + pipeline 2 s"
+        );
+
+        // Grouped: label, cells, build, detail 1, detail 2, decimate, relax, repair.
+        let groups = strip.groups();
+        let labels: Vec<&str> = groups.iter().map(|g| g.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            [
+                "label", "cells", "build", "detail 1", "detail 2", "decimate", "relax", "repair"
+            ]
+        );
+        let build = &groups[2];
+        // map, split, attach, place, refit done (0.01 s each); flip skipped.
+        assert!(
+            (build.seconds() - 0.05).abs() < 1e-12,
+            "{}",
+            build.seconds()
+        );
+        assert!(matches!(build.status(), StepStatus::Done { .. }));
+        assert!(matches!(groups[4].status(), StepStatus::Done { .. }));
+        assert_eq!(groups[6].status(), StepStatus::Skipped);
+        assert!(group_tooltip(build).contains("flip: skipped (time limit)"));
+        assert!(group_tooltip(build).contains("map faces: 10 ms — 10 faces mapped"));
+    }
+
+    #[test]
+    fn a_detail_round_skipped_for_time_skips_its_build_and_a_failure_leaves_the_rest_not_run() {
+        let plan = plan();
+        let mut strip = StepStrip::default();
+        strip.start(5, &plan, &plan, None);
+        strip.pipeline_started(5, 1.0, 0.0, 0);
+        for p in plan.iter().filter(|p| p.round == 0) {
+            strip.step_done(5, record(p.step, p.round, 0.002, 1));
+        }
+        // Detail round 1 and 2 left out by the driver; the decimation ran, then the run failed.
+        strip.step_done(5, record(PipelineStep::Decimate, 2, 0.3, 100));
+        // While the pipeline runs, the step after the decimation runs and the rounds it passed
+        // over are skipped.
+        let rows = strip.rows();
+        let relax = rows
+            .iter()
+            .position(|r| r.step == PipelineStep::Relax)
+            .unwrap();
+        assert_eq!(rows[relax].status, StepStatus::Running);
+        assert!(
+            rows.iter()
+                .filter(|r| r.round == 1)
+                .all(|r| r.status == StepStatus::Skipped)
+        );
+        strip.pipeline_done(5, 0.5, 1.6, false, true);
+        assert_eq!(strip.phase(), Phase::Failed);
+        let rows = strip.rows();
+        assert_eq!(rows[relax].status, StepStatus::NotRun);
+        assert_eq!(
+            rows.iter()
+                .filter(|r| r.step == PipelineStep::DetailRound)
+                .map(|r| r.status)
+                .collect::<Vec<_>>(),
+            [StepStatus::Skipped, StepStatus::Skipped]
+        );
+        // A reset forgets the run and ignores its late events until the next plan.
+        strip.clear();
+        assert!(strip.is_empty());
+        strip.pipeline_started(5, 1.0, 0.0, 0);
+        assert!(strip.is_empty());
+        strip.start(4, &plan, &plan, None);
+        assert!(strip.is_empty(), "an older session's plan is ignored");
+        strip.start(6, &plan, &plan, None);
+        assert_eq!(strip.phase(), Phase::Training);
+    }
+
+    #[test]
+    fn formats() {
+        assert_eq!(format_seconds(0.0004), "0.4 ms");
+        assert_eq!(format_seconds(0.0312), "31 ms");
+        assert_eq!(format_seconds(1.2345), "1.23 s");
+        assert_eq!(format_seconds(11.84), "11.8 s");
+        assert_eq!(group_digits(0), "0");
+        assert_eq!(group_digits(999), "999");
+        assert_eq!(group_digits(43_243), "43,243");
+        assert_eq!(group_digits(1_234_567), "1,234,567");
+        assert_eq!(
+            changed_text(PipelineStep::MapFaces, 12_345),
+            "12,345 faces mapped"
+        );
+        assert_eq!(
+            long_name(PipelineStep::RepairDeviations),
+            "repair deviations"
+        );
+        let strip = StepStrip::default();
+        let clock = TrainingClock {
+            seconds: 2.5,
+            pace_seconds: Some(8.25),
+            running: true,
+        };
+        assert_eq!(
+            training_text(&strip, clock),
+            (
+                "training: 2.50 s of 8.25 s".to_string(),
+                StepStatus::Running
+            )
+        );
+    }
+}
