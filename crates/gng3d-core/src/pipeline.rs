@@ -139,10 +139,10 @@ impl Step {
             Step::Place => (0.29, 1.0),
             Step::Flip => (0.15, 2.6),
             Step::Refit => (0.25, 7.7),
-            Step::DetailRound => (0.8, 8.0),
+            Step::DetailRound => (0.67, 2.2),
             Step::Decimate => (0.0, 0.62),
             Step::Relax => (0.03, 2.3),
-            Step::RepairDeviations => (1.5, 17.0),
+            Step::RepairDeviations => (0.5, 9.2),
         };
         let vertices = match self {
             Step::Relax | Step::RepairDeviations => sizes.output,
