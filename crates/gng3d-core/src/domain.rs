@@ -401,8 +401,16 @@ impl Domain {
             .filter(|&c| mass[c] > 0.0 && pieces[c].points.len() >= 3)
             .collect();
         keep.sort_by(|&a, &b| mass[b].total_cmp(&mass[a]).then(a.cmp(&b)));
+        // The kept total after each drop: prefix sums in the same order as a sum over the kept
+        // list (the same value to the bit), instead of summing the list again at every drop,
+        // which made 300k pieces take 28 s.
+        let mut prefix = Vec::with_capacity(keep.len() + 1);
+        prefix.push(0.0f64);
+        for &c in &keep {
+            prefix.push(prefix[prefix.len() - 1] + mass[c]);
+        }
         loop {
-            let total: f64 = keep.iter().map(|&c| mass[c]).sum();
+            let total = prefix[keep.len()];
             match keep.last() {
                 Some(&c)
                     if keep.len() > 1
@@ -418,8 +426,12 @@ impl Domain {
         }
         let dropped = count - keep.len();
         if dropped > 0 {
+            let mut kept = vec![false; count];
+            for &c in &keep {
+                kept[c] = true;
+            }
             let vertices: usize = (0..count)
-                .filter(|c| !keep.contains(c))
+                .filter(|&c| !kept[c])
                 .map(|c| members[c].len())
                 .sum();
             warnings.push(GngWarning::DroppedComponents {

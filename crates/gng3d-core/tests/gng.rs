@@ -762,3 +762,34 @@ fn a_discounted_pause_does_not_count_against_the_time_limit() {
     assert_eq!(paused.stats().stop, Some(StopReason::TimeLimit));
     assert!(!resumed.is_finished(), "{:?}", resumed.stats().stop);
 }
+
+#[test]
+fn many_pieces_keep_the_largest_and_report_the_rest() {
+    // 50,000 disjoint triangles (a noisy scan, a CAD assembly), 3 vertices asked for: one piece
+    // can hold them, the others are dropped with one warning. The kept total is a prefix sum
+    // and the dropped set a flag per piece (it was a sum and a search per piece: 300k pieces
+    // took 38 s, now 0.8 s; 1M pieces 4.2 s).
+    let n = 50_000u32;
+    let mut m = TriMesh::default();
+    for i in 0..n {
+        let (x, y, z) = (
+            (i % 100) as f32,
+            (i / 100 % 100) as f32,
+            (i / 10_000) as f32,
+        );
+        let p = Vec3::new(3.0 * x, 3.0 * y, 3.0 * z);
+        m.positions
+            .extend([p, p + Vec3::X, p + Vec3::Y * (1.0 + i as f32 * 1e-6)]);
+        m.triangles.push([3 * i, 3 * i + 1, 3 * i + 2]);
+    }
+    let r = simplify(&m, &GngParams::for_target(3)).unwrap();
+    assert_eq!(r.mesh.vertex_count(), 3);
+    assert_eq!(
+        r.report.warnings,
+        vec![gng3d_core::GngWarning::DroppedComponents {
+            components: n as usize - 1,
+            vertices: 3 * (n as usize - 1),
+            kept: 1
+        }]
+    );
+}
