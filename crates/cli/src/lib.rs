@@ -6,6 +6,22 @@
 //! the library's one owner of each mapping (`gng3d_core::GngOptions`, `qem::QemParams`,
 //! `metrics::HausdorffParams::validate`), and never writes an empty or unloadable mesh.
 
+/// `println!` for the commands' text output: an error writing stdout (a full disk, a closed
+/// file) is the command's error, as `--json`'s is, instead of a panic; a closed pipe is not (the
+/// reader has what it wanted). Usable where the function returns `anyhow::Result`.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::cli::write_stdout(format_args!($($arg)*), true)?
+    };
+}
+
+/// `print!` with [`outln!`]'s error handling.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        $crate::cli::write_stdout(format_args!($($arg)*), false)?
+    };
+}
+
 mod cli;
 
 pub use cli::{Cli, run};

@@ -416,3 +416,47 @@ fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
         }
     }
 }
+
+/// Text output to a stdout that cannot take it (a full disk: /dev/full) is an error naming
+/// stdout with exit 1, as `--json` output is, not a panic (exit 101); a simplification still
+/// writes its mesh first.
+#[test]
+fn a_failing_stdout_is_an_error_not_a_panic() {
+    let full = Path::new("/dev/full");
+    if !full.exists() {
+        eprintln!("skipped: no /dev/full on this system");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.obj");
+    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    let output = dir.path().join("out.ply");
+    let runs: Vec<Vec<&str>> = vec![
+        vec!["info", s(&input)],
+        vec!["metrics", s(&input), s(&input), "--samples", "1000"],
+        vec![
+            "simplify",
+            s(&input),
+            s(&output),
+            "--method",
+            "qem",
+            "--ratio",
+            "0.5",
+        ],
+        vec!["info", s(&input), "--json"],
+    ];
+    for args in runs {
+        let o = Command::new(env!("CARGO_BIN_EXE_gng3d"))
+            .args(&args)
+            .stdout(std::fs::File::create(full).unwrap())
+            .output()
+            .expect("run gng3d");
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains("stdout") && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
+    }
+    assert!(output.exists(), "the mesh is written before the summary");
+}

@@ -89,15 +89,15 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     if args.json {
         super::print_json(&result.report)
     } else {
-        println!(
+        outln!(
             "{}: {} vertices, {} faces -> {} vertices",
             args.input.display(),
             result.report.original_vertices,
             result.report.original_faces,
             result.report.target_vertices
         );
-        println!("GNG3D column: {}", result.report.gng_variant);
-        print!("{}", comparison_table(&result.report).to_text());
+        outln!("GNG3D column: {}", result.report.gng_variant);
+        out!("{}", comparison_table(&result.report).to_text());
         Ok(())
     }
 }

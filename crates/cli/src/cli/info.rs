@@ -75,25 +75,26 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let genus = info
         .genus
         .map_or_else(|| "undefined".to_string(), |g| g.to_string());
-    println!("file                  {}", args.mesh.display());
-    println!("vertices              {}", info.vertices);
-    println!("referenced vertices   {}", info.referenced_vertices);
-    println!("faces                 {}", info.faces);
-    println!("edges                 {}", info.edges);
-    println!(
+    outln!("file                  {}", args.mesh.display());
+    outln!("vertices              {}", info.vertices);
+    outln!("referenced vertices   {}", info.referenced_vertices);
+    outln!("faces                 {}", info.faces);
+    outln!("edges                 {}", info.edges);
+    outln!(
         "boundary edges        {} ({} loop(s))",
-        info.boundary_edges, info.boundary_loops
+        info.boundary_edges,
+        info.boundary_loops
     );
-    println!("non-manifold edges    {}", info.non_manifold_edges);
-    println!("non-manifold vertices {}", info.non_manifold_vertices);
-    println!("components            {}", info.components);
-    println!("euler characteristic  {}", info.euler_characteristic);
-    println!("genus                 {genus}");
-    println!("area                  {}", info.area);
-    println!("bbox diagonal         {}", info.bbox_diagonal);
-    println!("load time             {:.3} s", info.load_seconds);
+    outln!("non-manifold edges    {}", info.non_manifold_edges);
+    outln!("non-manifold vertices {}", info.non_manifold_vertices);
+    outln!("components            {}", info.components);
+    outln!("euler characteristic  {}", info.euler_characteristic);
+    outln!("genus                 {genus}");
+    outln!("area                  {}", info.area);
+    outln!("bbox diagonal         {}", info.bbox_diagonal);
+    outln!("load time             {:.3} s", info.load_seconds);
     for w in &info.warnings {
-        println!("warning: {w}");
+        outln!("warning: {w}");
     }
     Ok(())
 }

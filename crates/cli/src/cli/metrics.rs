@@ -66,8 +66,7 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
     if args.json {
         return super::print_json(&report);
     }
-    print_text(&args, &report);
-    Ok(())
+    print_text(&args, &report)
 }
 
 /// One line of one-sided distances.
@@ -79,46 +78,51 @@ fn one_sided_line(label: &str, d: &OneSided) -> String {
 }
 
 /// Human-readable report.
-fn print_text(args: &MetricsArgs, r: &MetricsReport) {
+fn print_text(args: &MetricsArgs, r: &MetricsReport) -> anyhow::Result<()> {
     let h = &r.hausdorff;
     let (o, s) = (&r.meshes.original, &r.meshes.simplified);
-    println!(
+    outln!(
         "original              {} ({} vertices, {} faces)",
         args.original.display(),
         o.referenced_vertices,
         o.faces
     );
-    println!(
+    outln!(
         "simplified            {} ({} vertices, {} faces)",
         args.simplified.display(),
         s.referenced_vertices,
         s.faces
     );
-    println!("bbox diagonal         {:.6e}", r.bbox_diagonal);
-    println!("E_avg (squared)       {:.6e}", r.e_avg);
-    println!("E_max (squared)       {:.6e}", r.e_max);
-    println!(
+    outln!("bbox diagonal         {:.6e}", r.bbox_diagonal);
+    outln!("E_avg (squared)       {:.6e}", r.e_avg);
+    outln!("E_max (squared)       {:.6e}", r.e_max);
+    outln!(
         "E_sur (signed)        {:.6e}  (|E_sur| {:.6e}, {:.3}% of the original area)",
         r.e_sur_signed,
         r.e_sur_abs,
         100.0 * r.e_sur_relative
     );
-    println!("{}", one_sided_line("forward  (orig→simp)", &h.forward));
-    println!("{}", one_sided_line("backward (simp→orig)", &h.backward));
-    println!(
+    outln!("{}", one_sided_line("forward  (orig→simp)", &h.forward));
+    outln!("{}", one_sided_line("backward (simp→orig)", &h.backward));
+    outln!(
         "hausdorff             max {:.6e}  mean {:.6e}  rms {:.6e}",
-        h.max, h.mean, h.rms
+        h.max,
+        h.mean,
+        h.rms
     );
-    println!(
+    outln!(
         "area-weighted mean    forward {:.6e}  backward {:.6e}  (headline mean: (1/A)∫d dA)",
-        h.forward.area_mean, h.backward.area_mean
+        h.forward.area_mean,
+        h.backward.area_mean
     );
-    println!(
+    outln!(
         "  / bbox diagonal     max {:.6e}  mean {:.6e}  rms {:.6e}",
-        h.relative.max, h.relative.mean, h.relative.rms
+        h.relative.max,
+        h.relative.mean,
+        h.relative.rms
     );
     let (nf, nb) = (&r.normal_deviation.forward, &r.normal_deviation.backward);
-    println!(
+    outln!(
         "normal deviation      forward mean {:.2}° p95 {:.0}° max {:.1}°; backward mean {:.2}° p95 {:.0}° max {:.1}°",
         nf.mean_degrees,
         nf.p95_degrees,
@@ -131,7 +135,7 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) {
         ("original", &r.quality.original),
         ("simplified", &r.quality.simplified),
     ] {
-        println!(
+        outln!(
             "quality {label:<13} min angle {:.2}° (median {:.1}°, mean {:.1}°, {:.2}% < 20°, {:.2}% < 10°), aspect mean {:.2} max {:.1}, {} degenerate",
             q.min_angle_degrees,
             q.median_min_angle_degrees,
@@ -150,10 +154,14 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) {
         let genus = t
             .genus
             .map_or_else(|| "undefined".to_string(), |g| g.to_string());
-        println!(
+        outln!(
             "topology {label:<12} genus {genus}, {} components, {} boundary loops, {} non-manifold edges, {} non-manifold vertices",
-            t.components, t.boundary_loops, t.non_manifold_edges, t.non_manifold_vertices
+            t.components,
+            t.boundary_loops,
+            t.non_manifold_edges,
+            t.non_manifold_vertices
         );
     }
-    println!("time                  {:.3} s", r.seconds);
+    outln!("time                  {:.3} s", r.seconds);
+    Ok(())
 }

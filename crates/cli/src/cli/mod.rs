@@ -179,11 +179,29 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 
 /// Print `value` as pretty JSON on stdout; a closed stdout (e.g. `| head`) is not an error.
 pub(crate) fn print_json<T: serde::Serialize>(value: &T) -> anyhow::Result<()> {
-    use std::io::Write;
     let text = serde_json::to_string_pretty(value)?;
+    write_stdout(format_args!("{text}"), true)
+}
+
+/// Write `args` (and a newline) to stdout and flush: a write error is an error naming stdout
+/// (a full disk, a closed file), except a closed pipe (`gng3d info m.obj | head -1`).
+pub(crate) fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) -> anyhow::Result<()> {
+    use std::io::Write;
     let mut out = std::io::stdout().lock();
-    match writeln!(out, "{text}").and_then(|()| out.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+    let written = out
+        .write_fmt(args)
+        .and_then(|()| {
+            if newline {
+                out.write_all(b"\n")
+            } else {
+                Ok(())
+            }
+        })
+        .and_then(|()| out.flush());
+    match written {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(anyhow::anyhow!("writing the output to stdout failed: {e}"))
+        }
         _ => Ok(()),
     }
 }

@@ -128,9 +128,9 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
         return super::print_json(&report);
     }
     // The full table (faces, E_sur, QEM at the target) is in table.md / table.csv.
-    print!("{}", terminal_table(&report).to_text());
-    print!("{}", terminal_legend(&report));
-    println!(
+    out!("{}", terminal_table(&report).to_text());
+    out!("{}", terminal_legend(&report));
+    outln!(
         "training {:.2} s, evaluation {:.2} s, total {:.2} s; wrote {} files to {}",
         report.seconds.training,
         report.seconds.evaluation,
@@ -205,8 +205,8 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     if args.json {
         return super::print_json(&rows);
     }
-    print!("{}", table.to_text());
-    println!(
+    out!("{}", table.to_text());
+    outln!(
         "wrote summary.csv, summary.md and summary.json to {}",
         out.display()
     );

@@ -162,7 +162,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     if args.json {
         return crate::cli::print_json(&summary);
     }
-    println!(
+    outln!(
         "{} -> {}: {} vertices, {} faces, {} signals in {:.3} s ({:?}); closed: {}, manifold: {}, genus: {}",
         args.input.display(),
         args.output.display(),

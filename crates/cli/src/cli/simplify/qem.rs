@@ -64,7 +64,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         if let Some(shortfall) = report.shortfall(target) {
             eprintln!("warning: {shortfall}");
         }
-        println!(
+        outln!(
             "qem: {} -> {} vertices, {} -> {} faces, {} collapses in {:.3} s -> {}",
             report.input_vertices,
             report.vertices,
