@@ -11,6 +11,25 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+/// Most epochs `reproduce` and the survey take: one checkpoint (a copy of the network) is kept
+/// per epoch, and `--epochs 1000000` kept snapshots until it ran out of memory (the paper uses
+/// 30).
+pub const MAX_EPOCHS: u64 = 300;
+
+/// The one check of an epoch count for `reproduce` and the survey (the CLI calls it before
+/// loading anything): at least 1, at most [`MAX_EPOCHS`].
+pub fn check_epochs(epochs: u64) -> Result<(), String> {
+    if epochs == 0 {
+        return Err("epochs must be at least 1".into());
+    }
+    if epochs > MAX_EPOCHS {
+        return Err(format!(
+            "epochs must be at most {MAX_EPOCHS} (one checkpoint is kept per epoch), got {epochs}"
+        ));
+    }
+    Ok(())
+}
+
 /// Parameters of [`reproduce`].
 #[derive(Debug, Clone)]
 pub struct ReproduceParams {
@@ -140,11 +159,7 @@ pub fn reproduce(
             params.target_ratio
         )));
     }
-    if params.epochs == 0 {
-        return Err(ExperimentError::BadTarget(
-            "epochs must be at least 1".into(),
-        ));
-    }
+    check_epochs(params.epochs).map_err(ExperimentError::BadTarget)?;
     let target = ((n as f64 * params.target_ratio).round() as usize).max(4);
     let per_epoch = n as u64;
     let options = GngOptions {

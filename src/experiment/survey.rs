@@ -104,6 +104,8 @@ pub fn survey_mesh(
             "the mesh has {n} vertices; the survey needs at least 4"
         )));
     }
+    crate::experiment::reproduce::check_epochs(params.epochs)
+        .map_err(ExperimentError::BadTarget)?;
     let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
     let topo = mesh::topology::analyze(original);
     let mut rows = Vec::new();

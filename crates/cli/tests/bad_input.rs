@@ -460,3 +460,43 @@ fn a_failing_stdout_is_an_error_not_a_panic() {
     }
     assert!(output.exists(), "the mesh is written before the summary");
 }
+
+/// Absurd budgets and targets are refused before any work, naming the limit: a typo must not
+/// train for days, keep a snapshot per epoch until memory runs out, wrap to a zero budget or
+/// abort on an allocation.
+#[test]
+fn absurd_epochs_and_surface_targets_are_refused_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.obj");
+    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    let out = dir.path().join("out.ply");
+    let gng = |extra: &[&str]| {
+        let mut args = vec!["simplify", s(&input), s(&out), "--method", "gng"];
+        args.extend_from_slice(extra);
+        gng3d(&args)
+    };
+    for (extra, needle) in [
+        (vec!["--ratio", "0.5", "--epochs", "1e12"], "1e10"),
+        (
+            vec!["--vertices", "18446744073709551615", "--signals", "surface"],
+            "16 times",
+        ),
+        (
+            vec!["--vertices", "4000000000", "--signals", "curvature"],
+            "16 times",
+        ),
+    ] {
+        let o = gng(&extra);
+        assert_clean_failure(&o, &[needle]);
+        assert!(!out.exists(), "{extra:?}");
+    }
+    let o = gng3d(&[
+        "reproduce",
+        s(&input),
+        "--epochs",
+        "1000000",
+        "--out",
+        s(dir.path()),
+    ]);
+    assert_clean_failure(&o, &["--epochs", "at most 300"]);
+}

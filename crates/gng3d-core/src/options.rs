@@ -103,6 +103,16 @@ pub const DEFAULT_DETAIL_ROUNDS: usize = 3;
 /// Most rounds of detail nodes a user may ask for.
 pub const MAX_DETAIL_ROUNDS: usize = 8;
 
+/// Largest signal budget a user may ask for (`max_signals`, or `epochs` × the input's
+/// vertices): 10¹⁰ signals, about an hour of training at the 3-5 M signals/s measured here.
+/// Above it a typo (`--epochs 1e12`) would train for days or wrap the product to nothing.
+pub const MAX_SIGNALS: u64 = 10_000_000_000;
+
+/// With surface or curvature signals a network may have more nodes than the input has
+/// vertices, up to this many times them: `--vertices 18446744073709551615 --signals surface`
+/// panicked on a capacity overflow and 4·10⁹ aborted on a 72 GB allocation.
+pub const MAX_SURFACE_NODES_PER_VERTEX: usize = 16;
+
 /// Outputs smaller than this share of the input's vertices get no detail rounds by default:
 /// there the network's Hausdorff max is already at QEM's (igea at 1 %: 1.04×, armadillo at 1 %:
 /// 1.08×, gargoyle-10k at 2 %: 0.83×) while a round costs as much as the rest of phase 2 (igea
@@ -199,6 +209,14 @@ impl GngOptions {
         if self.max_signals == Some(0) {
             return Err(bad("signal budget (must be at least 1 signal)", 0.0));
         }
+        if let Some(m) = self.max_signals
+            && m > MAX_SIGNALS
+        {
+            return Err(bad(
+                "signal budget (must be at most 1e10 signals)",
+                m as f64,
+            ));
+        }
         if let Some(e) = self.epochs
             && !(e > 0.0 && e.is_finite())
         {
@@ -258,6 +276,20 @@ impl GngOptions {
                 target: n,
                 available,
             });
+        }
+        if !vertex_bound && n > available.saturating_mul(MAX_SURFACE_NODES_PER_VERTEX) {
+            return Err(bad(
+                "target vertices (with surface signals at most 16 times the input's vertices)",
+                n as f64,
+            ));
+        }
+        if let Some(e) = self.epochs
+            && e * available as f64 > MAX_SIGNALS as f64
+        {
+            return Err(bad(
+                "epochs (the signal budget, epochs x vertices, must be at most 1e10 signals)",
+                e,
+            ));
         }
         Ok(n)
     }
@@ -488,6 +520,38 @@ mod tests {
             let half = &msg[..msg.len() / 2];
             assert!(!msg[msg.len() / 2..].contains(half), "doubled: {msg}");
         }
+    }
+
+    /// Absurd budgets and targets are refused up front with the limit named (a typo must not
+    /// train for days, wrap to nothing or abort on an allocation).
+    #[test]
+    fn absurd_budgets_and_surface_targets_are_refused_with_the_limit() {
+        let m = sphere(); // 162 vertices
+        let err = |o: GngOptions| o.resolve(&m).unwrap_err().to_string();
+        let e = err(GngOptions {
+            epochs: Some(1e12),
+            ..GngOptions::for_target(GngTarget::Vertices(50))
+        });
+        assert!(e.contains("epochs") && e.contains("1e10"), "{e}");
+        let e = err(GngOptions {
+            max_signals: Some(MAX_SIGNALS + 1),
+            ..GngOptions::for_target(GngTarget::Vertices(50))
+        });
+        assert!(e.contains("signal budget") && e.contains("1e10"), "{e}");
+        for n in [usize::MAX, 4_000_000_000, 162 * 16 + 1] {
+            let e = err(GngOptions {
+                signal_source: SignalSource::Surface,
+                ..GngOptions::for_target(GngTarget::Vertices(n))
+            });
+            assert!(e.contains("16 times"), "{n}: {e}");
+        }
+        // At the limits they resolve.
+        let ok = GngOptions {
+            signal_source: SignalSource::Surface,
+            max_signals: Some(MAX_SIGNALS),
+            ..GngOptions::for_target(GngTarget::Vertices(162 * 16))
+        };
+        assert_eq!(ok.resolve(&m).unwrap().target_vertices, 162 * 16);
     }
 
     #[test]

@@ -75,9 +75,8 @@ fn check_args(args: &ReproduceArgs) -> anyhow::Result<()> {
     HausdorffParams::with_samples(args.samples)
         .validate()
         .context("--samples")?;
-    if args.epochs == 0 {
-        anyhow::bail!("--epochs must be at least 1");
-    }
+    gng3d::experiment::reproduce::check_epochs(args.epochs)
+        .map_err(|e| anyhow::anyhow!("--epochs: {e}"))?;
     if !(args.target_ratio > 0.0 && args.target_ratio <= 1.0) {
         anyhow::bail!(
             "--target-ratio must be in (0, 1], got {}",
