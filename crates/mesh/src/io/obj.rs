@@ -25,7 +25,10 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
     let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
     let mut raw = RawMesh::default();
     let mut poly: Vec<u32> = Vec::with_capacity(8);
-    for (line_no, line) in bytes.split(|&b| b == b'\n').enumerate() {
+    // Lines end in LF (a CR before it is whitespace to the records), or in a lone CR in files
+    // from classic Mac OS tools, which read as one line without a face before.
+    let end = if bytes.contains(&b'\n') { b'\n' } else { b'\r' };
+    for (line_no, line) in bytes.split(|&b| b == end).enumerate() {
         let line = line.trim_ascii_start();
         let kind = match line {
             [b'v', b' ' | b'\t', ..] => b'v',

@@ -43,7 +43,10 @@ fn is_ascii(bytes: &[u8]) -> bool {
     has(b"facet") || has(b"endsolid")
 }
 
-/// The ASCII text with its first line made acceptable to stl_io (`solid <name>`).
+/// The ASCII text with its first line made acceptable to stl_io (`solid <name>`) and every
+/// facet normal written as `0 0 0`: the normals are not used (faces come from their corners),
+/// and exporters write `facet normal -nan -nan -nan` for zero-area facets, which refused the
+/// whole file (the same normals in binary STL load).
 fn normalised_ascii(bytes: &[u8]) -> Vec<u8> {
     let start = bytes
         .iter()
@@ -56,7 +59,23 @@ fn normalised_ascii(bytes: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(bytes.len() + 8);
     out.extend_from_slice(b"solid ");
     out.extend_from_slice(if name.is_empty() { b"unnamed" } else { name });
-    out.extend_from_slice(&rest[line_end..]);
+    for line in rest[line_end..].split_inclusive(|&b| b == b'\n') {
+        let body = line.trim_ascii_start();
+        let indent = &line[..line.len() - body.len()];
+        if body.len() >= 12 && body[..12].eq_ignore_ascii_case(b"facet normal") {
+            out.extend_from_slice(indent);
+            out.extend_from_slice(b"facet normal 0 0 0");
+            out.extend_from_slice(if line.ends_with(b"\r\n") {
+                b"\r\n"
+            } else if line.ends_with(b"\n") {
+                b"\n"
+            } else {
+                b""
+            });
+        } else {
+            out.extend_from_slice(line);
+        }
+    }
     out
 }
 

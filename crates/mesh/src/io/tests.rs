@@ -366,6 +366,60 @@ fn obj_index_errors_name_the_index_as_written_and_the_line() {
     }
 }
 
+/// ASCII STL with `facet normal -nan -nan -nan` (what exporters write for zero-area facets)
+/// loads like the same file with real normals: the normals are not used.
+#[test]
+fn ascii_stl_with_nan_normals_loads() {
+    let dir = tmp();
+    let facet = |n: &str, c: [&str; 3]| {
+        format!(
+            "  facet normal {n}\n    outer loop\n      vertex {}\n      vertex {}\n      vertex {}\n    endloop\n  endfacet\n",
+            c[0], c[1], c[2]
+        )
+    };
+    let tri = ["0 0 0", "1 0 0", "0 1 0"];
+    let other = ["0 0 0", "0 1 0", "0 0 1"];
+    let text = |n: &str| {
+        format!(
+            "solid t\n{}{}endsolid t\n",
+            facet("0 0 1", tri),
+            facet(n, other)
+        )
+    };
+    let want = load(&write(dir.path(), "ok.stl", text("-1 0 0").as_bytes()))
+        .unwrap()
+        .mesh;
+    assert_eq!(want.triangles.len(), 2);
+    for n in ["-nan -nan -nan", "nan nan nan", "NaN NaN NaN"] {
+        let got = load(&write(dir.path(), "nan.stl", text(n).as_bytes()))
+            .unwrap()
+            .mesh;
+        assert_eq!(got, want, "{n}");
+    }
+}
+
+/// Lines ending in a lone CR (classic Mac OS) read as lines, as LF and CRLF do: the same mesh,
+/// and an error names the right line.
+#[test]
+fn obj_with_cr_line_ends_reads_like_lf() {
+    let dir = tmp();
+    let lf = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
+    let want = load(&write(dir.path(), "lf.obj", lf)).unwrap().mesh;
+    assert_eq!(want.triangles.len(), 2);
+    for (name, sep) in [("cr.obj", "\r"), ("crlf.obj", "\r\n")] {
+        let text = String::from_utf8(lf.to_vec()).unwrap().replace('\n', sep);
+        let got = load(&write(dir.path(), name, text.as_bytes()))
+            .unwrap()
+            .mesh;
+        assert_eq!(got, want, "{name}");
+    }
+    let bad = b"v 0 0 0\rv 1 0 0\rf 1 2 9\r";
+    let e = load(&write(dir.path(), "badcr.obj", bad))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("line 3"), "{e}");
+}
+
 /// Issue 12: a UTF-8 byte order mark does not eat the first `v` line.
 #[test]
 fn obj_with_bom_keeps_the_first_vertex() {
