@@ -371,8 +371,7 @@ fn read_int<const BE: bool>(b: &[u8], at: usize, ty: Scalar) -> i64 {
         Scalar::U16 => read_as!(b, at, BE, u16, 2, i64),
         Scalar::I32 => read_as!(b, at, BE, i32, 4, i64),
         Scalar::U32 => read_as!(b, at, BE, u32, 4, i64),
-        // Float list entries used as indices: truncated; a non-integral value is unusual
-        // enough that we do not special-case it.
+        // Float list entries used as indices: the caller has checked they are whole numbers.
         Scalar::F32 | Scalar::F64 => read_scalar::<BE>(b, at, ty) as i64,
     }
 }
@@ -485,8 +484,20 @@ fn parse_binary<const BE: bool>(
                                     .ok_or_else(|| eof(element, record))?;
                                 if face_list == Some(pi) {
                                     for k in 0..count as usize {
-                                        let v =
-                                            read_int::<BE>(body, at + k * item_ty.size(), *item_ty);
+                                        let at = at + k * item_ty.size();
+                                        // Float indices must be whole numbers, as in the
+                                        // ASCII reader (NaN read as vertex 0, 2.7 as 2).
+                                        if !item_ty.is_integer() {
+                                            let v = read_scalar::<BE>(body, at, *item_ty);
+                                            if !v.is_finite() || v.fract() != 0.0 {
+                                                return Err(MeshError::parse(
+                                                    path,
+                                                    format!("{} {record}", element.name),
+                                                    format!("vertex index {v} is not an integer"),
+                                                ));
+                                            }
+                                        }
+                                        let v = read_int::<BE>(body, at, *item_ty);
                                         poly.push(check_index(raw, v, record, path)?);
                                     }
                                 }

@@ -182,6 +182,51 @@ fn ply_binary_both_endians_and_list_types() {
     }
 }
 
+/// Binary PLY face indices stored as floats: whole numbers load like integers; NaN, infinite
+/// and fractional ones are refused with the face named, as the ASCII reader refuses them (they
+/// were read as vertex 0 and truncated).
+#[test]
+fn ply_binary_float_indices_must_be_whole() {
+    let dir = tmp();
+    let with_indices = |indices: [f32; 6]| {
+        let props = "property float x\nproperty float y\nproperty float z\n";
+        let face = "property list uchar float vertex_indices";
+        let mut out = ply_header("binary_little_endian", props, face, 4, 2).into_bytes();
+        for p in &icosphere(0).positions[..4] {
+            for c in p.to_array() {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        for t in indices.chunks(3) {
+            out.push(3);
+            for &i in t {
+                out.extend_from_slice(&i.to_le_bytes());
+            }
+        }
+        out
+    };
+    let l = load(&write(
+        dir.path(),
+        "f.ply",
+        &with_indices([0.0, 1.0, 2.0, 0.0, 2.0, 3.0]),
+    ))
+    .unwrap();
+    assert_eq!(l.mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    for bad in [f32::NAN, 2.7, f32::INFINITY] {
+        let e = load(&write(
+            dir.path(),
+            "g.ply",
+            &with_indices([0.0, 1.0, 2.0, 0.0, bad, 3.0]),
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("not an integer") && e.contains("face 1"),
+            "{bad}: {e}"
+        );
+    }
+}
+
 fn expect_err(name: &str, bytes: &[u8]) -> MeshError {
     let dir = tmp();
     let p = write(dir.path(), name, bytes);
