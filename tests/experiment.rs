@@ -560,3 +560,21 @@ fn a_closed_input_never_returns_an_open_mesh_without_a_warning() {
     // Measured 2 of these 3 seeds (1 and 2): the check above has had open outputs to see.
     assert!(opened_paper_2 >= 1, "no open output to check");
 }
+
+#[test]
+fn reproduce_never_writes_an_empty_table() {
+    // A tetrahedron (the target is every vertex: no training needed) has its network as the
+    // one checkpoint; the table had no row, and the CLI said it wrote 11 files with exit 0.
+    let mut tet = gng3d::mesh::TriMesh::default();
+    tet.positions = vec![
+        glam::Vec3::ZERO,
+        glam::Vec3::X,
+        glam::Vec3::Y,
+        glam::Vec3::Z,
+    ];
+    tet.triangles = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let report = reproduce(&tet, &small_params(30), |_| {}).unwrap();
+    assert_eq!(report.checkpoints.len(), 1);
+    assert_eq!(report.checkpoints[0].gng.vertices, 4);
+    assert!(!checkpoint_table(&report).to_text().trim().is_empty());
+}

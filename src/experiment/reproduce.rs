@@ -181,6 +181,18 @@ pub fn reproduce(
         snapshots.push(trainer.snapshot());
         report(Stage::Training, snapshots.len() as u64, params.epochs);
     }
+    // A network that needed no training (a target of every vertex) is its own checkpoint; a
+    // run with nothing to show is an error, not an empty table.
+    if snapshots.is_empty() {
+        let last = trainer.snapshot();
+        if last.positions.len() < 3 {
+            return Err(ExperimentError::BadTarget(format!(
+                "no checkpoint: training ended with {} nodes before its first epoch (no piece of the mesh can hold a node's share of the target)",
+                last.positions.len()
+            )));
+        }
+        snapshots.push(last);
+    }
     let training = start.elapsed().as_secs_f64();
 
     let eval_start = Instant::now();
