@@ -565,14 +565,15 @@ fn a_closed_input_never_returns_an_open_mesh_without_a_warning() {
 fn reproduce_never_writes_an_empty_table() {
     // A tetrahedron (the target is every vertex: no training needed) has its network as the
     // one checkpoint; the table had no row, and the CLI said it wrote 11 files with exit 0.
-    let mut tet = gng3d::mesh::TriMesh::default();
-    tet.positions = vec![
-        glam::Vec3::ZERO,
-        glam::Vec3::X,
-        glam::Vec3::Y,
-        glam::Vec3::Z,
-    ];
-    tet.triangles = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let tet = gng3d::mesh::TriMesh::new(
+        vec![
+            glam::Vec3::ZERO,
+            glam::Vec3::X,
+            glam::Vec3::Y,
+            glam::Vec3::Z,
+        ],
+        vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+    );
     let report = reproduce(&tet, &small_params(30), |_| {}).unwrap();
     assert_eq!(report.checkpoints.len(), 1);
     assert_eq!(report.checkpoints[0].gng.vertices, 4);
