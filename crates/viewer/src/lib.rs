@@ -55,7 +55,13 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     let mut live = trainer.live();
     while start.elapsed().as_secs_f64() < seconds {
         std::thread::sleep(Duration::from_millis(16));
-        let _ = trainer.drain_events();
+        // A run that cannot start (a target above the vertex count) is an error, not a
+        // summary of zero nodes with exit 0.
+        for event in trainer.drain_events() {
+            if let worker::Event::Failed { message, .. } = event {
+                return Err(error::ViewerError::Gng(message));
+            }
+        }
         live = trainer.live();
         if live.running && live.signals_per_second > 0.0 && start.elapsed().as_secs_f64() > 1.0 {
             rates.push(live.signals_per_second);

@@ -144,3 +144,23 @@ fn unreadable_mesh_argument_fails_with_its_name() {
         }
     }
 }
+
+/// `--headless` on a run that cannot start (a target above the mesh's vertex count) fails with
+/// the reason and exit 1; it printed `nodes=0 signals=0` with exit 0.
+#[test]
+fn headless_run_that_cannot_start_fails() {
+    let dir = std::env::temp_dir().join(format!("viewer-headless-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = dir.join("tri.obj");
+    std::fs::write(&mesh, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_viewer"))
+        .arg(&mesh)
+        .args(["--target", "100", "--headless", "--quit-after", "2"])
+        .output()
+        .expect("run viewer");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("out of range"), "{err}");
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("headless stats"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
