@@ -209,33 +209,92 @@ pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
 /// rename cannot cross file systems), then renamed over `path`. A failure leaves `path` as it
 /// was (absent or the previous content) and removes the temporary file. Every file the project
 /// writes (meshes, tables, reports, plots) goes through here.
+///
+/// When `path` is a symbolic link the file it points to is written (the link stays a link).
+/// The temporary name is short and does not repeat the file's (`.gng3d.<pid>.<n>.tmp`), so a
+/// name near the file system's 255-byte limit still works; temporaries that a process which no
+/// longer runs left in that folder (killed during a write) are removed on the way.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MeshError> {
     let write_err = |message: String| MeshError::Write {
         path: path.to_path_buf(),
         message,
     };
-    let temp = temp_path(path);
+    let target = through_links(path);
+    remove_stale_temporaries(&target);
+    let temp = temp_path(&target);
     if let Err(e) = std::fs::write(&temp, bytes) {
         let _ = std::fs::remove_file(&temp);
         return Err(write_err(e.to_string()));
     }
-    if let Err(e) = std::fs::rename(&temp, path) {
+    if let Err(e) = std::fs::rename(&temp, &target) {
         let _ = std::fs::remove_file(&temp);
         return Err(write_err(e.to_string()));
     }
     Ok(())
 }
 
-/// A hidden sibling of `path` unique to this process and call.
+/// The file `path` names after following symbolic links (itself when it is none; a dangling
+/// link's target is resolved against the link's folder).
+fn through_links(path: &Path) -> PathBuf {
+    let mut current = path.to_path_buf();
+    // A bounded walk: a link loop ends at the last link, whose write then fails with the OS's
+    // error.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&current) {
+            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&current) {
+                Ok(to) if to.is_absolute() => current = to,
+                Ok(to) => {
+                    current = current
+                        .parent()
+                        .map_or_else(|| to.clone(), |dir| dir.join(&to));
+                }
+                Err(_) => break,
+            },
+            _ => break,
+        }
+    }
+    current
+}
+
+/// Prefix of the temporary files [`write_atomic`] writes.
+const TEMP_PREFIX: &str = ".gng3d.";
+
+/// A hidden sibling of `path` unique to this process and call, with a short name.
 fn temp_path(path: &Path) -> PathBuf {
     use std::sync::atomic::{AtomicU64, Ordering};
     static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
     let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.{}.{unique}.tmp", std::process::id()))
+    path.with_file_name(format!("{TEMP_PREFIX}{}.{unique}.tmp", std::process::id()))
+}
+
+/// Remove the temporaries of [`write_atomic`] in `path`'s folder whose process is gone (on
+/// Linux, no `/proc/<pid>`; elsewhere nothing is removed).
+fn remove_stale_temporaries(path: &Path) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let Some(pid) = name
+            .strip_prefix(TEMP_PREFIX)
+            .and_then(|rest| rest.strip_suffix(".tmp"))
+            .and_then(|rest| rest.split('.').next())
+            .and_then(|pid| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if !Path::new(&format!("/proc/{pid}")).exists() {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
 }
 
 #[cfg(test)]

@@ -568,3 +568,41 @@ fn binary_stl_count_mismatch() {
         20
     );
 }
+
+/// Writing through a symbolic link writes the file it points to and keeps the link; a name
+/// near the 255-byte limit works (the temporary name no longer repeats it); a temporary left
+/// by a process that no longer runs is removed by the next write in that folder.
+#[cfg(unix)]
+#[test]
+fn atomic_writes_follow_links_take_long_names_and_clean_stale_temporaries() {
+    let dir = tmp();
+    let m = icosphere(1);
+    // Through a link.
+    let real = dir.path().join("real.obj");
+    save(&icosphere(0), &real).unwrap();
+    let link = dir.path().join("link.obj");
+    std::os::unix::fs::symlink("real.obj", &link).unwrap();
+    save(&m, &link).unwrap();
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(load(&real).unwrap().mesh.triangles, m.triangles);
+    // A 250-byte name.
+    let long = dir.path().join(format!("{}.obj", "n".repeat(246)));
+    save(&m, &long).unwrap();
+    assert_eq!(load(&long).unwrap().mesh.triangles, m.triangles);
+    // A stale temporary of a dead process (no pid is this large) goes; one of this process,
+    // still running, stays.
+    let stale = dir.path().join(".gng3d.4294967295.0.tmp");
+    let live = dir
+        .path()
+        .join(format!(".gng3d.{}.999999.tmp", std::process::id()));
+    std::fs::write(&stale, b"partial").unwrap();
+    std::fs::write(&live, b"partial").unwrap();
+    save(&m, &dir.path().join("next.obj")).unwrap();
+    assert!(!stale.exists(), "stale temporary left");
+    assert!(live.exists(), "a running process's temporary removed");
+}
