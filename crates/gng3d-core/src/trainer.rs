@@ -797,6 +797,16 @@ impl Trainer {
         }
     }
 
+    /// Why training ends when every part is done: its budget, or the cap of twice the budget
+    /// for a part that could not reach its nodes.
+    fn budget_stop(&self) -> StopReason {
+        if self.parts.iter().any(|p| p.capped) {
+            StopReason::SignalCap
+        } else {
+            StopReason::Completed
+        }
+    }
+
     /// One insertion per signal from now on (growth past the training's share of the time
     /// limit).
     fn force_growth(&mut self) {
@@ -845,12 +855,7 @@ impl Trainer {
                 .map(|p| (p.budget, p.signals))
                 .unzip();
             if budgets.is_empty() {
-                let capped = self.parts.iter().any(|p| p.capped);
-                self.stop = Some(if capped {
-                    StopReason::SignalCap
-                } else {
-                    StopReason::Completed
-                });
+                self.stop = Some(self.budget_stop());
                 break;
             }
             self.schedule_growth(self.elapsed + start.elapsed());
@@ -895,12 +900,7 @@ impl Trainer {
             }
             // Finished as soon as the last part is, not at the next call.
             if self.parts.iter().all(|p| p.done) {
-                let capped = self.parts.iter().any(|p| p.capped);
-                self.stop = Some(if capped {
-                    StopReason::SignalCap
-                } else {
-                    StopReason::Completed
-                });
+                self.stop = Some(self.budget_stop());
                 break;
             }
         }
