@@ -105,6 +105,11 @@ impl Step {
 }
 
 impl Step {
+    /// Whether the step works on the network's finished mesh (not part of a build round).
+    fn after_build(self) -> bool {
+        matches!(self, Step::Decimate | Step::Relax | Step::RepairDeviations)
+    }
+
     /// Whether every run needs this step for an exact vertex count (the rest may be left out
     /// when time runs short, in [`CUT_ORDER`]).
     pub fn is_required(self) -> bool {
@@ -565,13 +570,23 @@ pub(crate) struct Output {
     pub node_of_vertex: Vec<u32>,
     /// Counters of the reconstruction (the network's mesh) and the topology of the output.
     pub report: ReconstructionReport,
-    /// Vertices of the network's mesh (before the decimation).
-    pub network_vertices: usize,
     /// Every step that ran.
     pub steps: Vec<StepRecord>,
     /// Runs of optional steps left out to keep the deadline (a detail round left out counts
     /// the later ones too).
     pub skipped: Vec<Step>,
+}
+
+/// The reconstruction alone of `input` (its options as given, no decimation, no deadline):
+/// [`crate::reconstruct`] and [`crate::Trainer::reconstruct`].
+pub(crate) fn reconstruct_only(input: &Input<'_>) -> crate::Reconstruction {
+    let out = run(input, &Plan::of(input.params, false), None, |_| {})
+        .expect("a plan without a decimation cannot fail");
+    crate::Reconstruction {
+        mesh: out.mesh,
+        node_of_vertex: out.node_of_vertex,
+        report: out.report,
+    }
 }
 
 /// Run `plan` on `input`; `on_step` sees each step's record as it finishes. Errors are the
@@ -604,7 +619,7 @@ pub(crate) fn run(
     // Seconds the steps so far took, and their estimates.
     let (mut spent, mut estimated) = (0.0f64, 0.0f64);
     for (i, &PlannedStep { step, round }) in plan.steps().iter().enumerate() {
-        if round > last_round && !work.after_build(step) {
+        if round > last_round && !step.after_build() {
             continue;
         }
         if let Some(deadline) = deadline
@@ -620,7 +635,7 @@ pub(crate) fn run(
             let own = if step == Step::DetailRound {
                 plan.steps()[i..]
                     .iter()
-                    .take_while(|s| s.round == round && !work.after_build(s.step))
+                    .take_while(|s| s.round == round && !s.step.after_build())
                     .map(|s| s.step.estimate(sizes, round))
                     .sum()
             } else {
@@ -672,7 +687,7 @@ pub(crate) fn run(
             Step::RepairDeviations => work.repair_deviations(),
         };
         let seconds = t.elapsed().as_secs_f64();
-        if !work.after_build(step) {
+        if !step.after_build() {
             build_seconds += seconds;
         }
         spent += seconds;
@@ -722,8 +737,7 @@ struct Work<'a> {
     /// Cell quadrics of the placement (for the refit).
     quadrics: Vec<Quadric>,
     report: ReconstructionReport,
-    /// Vertices of the network's mesh, once the last build is done.
-    network_vertices: usize,
+    /// Whether the last build is done (its counts are in the report).
     build_ended: bool,
     /// Whether the decimation removed vertices (the relaxation and the repair run only then).
     decimated: bool,
@@ -754,16 +768,10 @@ impl<'a> Work<'a> {
             owner: Vec::new(),
             quadrics: Vec::new(),
             report: ReconstructionReport::empty(input.original.triangles.len()),
-            network_vertices: 0,
             build_ended: false,
             decimated: false,
             step_deadline: None,
         }
-    }
-
-    /// Whether `step` works on the network's finished mesh (not part of a build round).
-    fn after_build(&self, step: Step) -> bool {
-        matches!(step, Step::Decimate | Step::Relax | Step::RepairDeviations)
     }
 
     /// [`Step::Label`]. When no helper thread built the original's tables, they are built on a
@@ -1000,7 +1008,6 @@ impl<'a> Work<'a> {
     /// The network's mesh is done: its counts go to the report.
     fn end_build(&mut self, start: Instant, build_seconds: f64) {
         self.build_ended = true;
-        self.network_vertices = self.positions.len();
         self.report.vertices = self.positions.len();
         self.report.faces = self.triangles.len();
         // Phase 2 proper (the decimation and what follows are not counted).
@@ -1066,7 +1073,6 @@ impl<'a> Work<'a> {
             mesh,
             node_of_vertex: self.node_of_vertex,
             report: self.report,
-            network_vertices: self.network_vertices,
             steps,
             skipped,
         }

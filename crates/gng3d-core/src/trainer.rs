@@ -964,14 +964,7 @@ impl Trainer {
     /// option as given (a tool for experiments: option (f) and (g) add vertices here).
     pub fn reconstruct(&self, params: &ReconstructionParams) -> Reconstruction {
         let snap = self.snapshot();
-        let input = self.pipeline_input(&snap, params);
-        let out = crate::pipeline::run(&input, &Plan::of(params, false), None, |_| {})
-            .expect("a plan without a decimation cannot fail");
-        Reconstruction {
-            mesh: out.mesh,
-            node_of_vertex: out.node_of_vertex,
-            report: out.report,
-        }
+        crate::pipeline::reconstruct_only(&self.pipeline_input(&snap, params))
     }
 
     /// A preview of the current network, e.g. while it trains: the run's plan without its
@@ -1037,7 +1030,7 @@ impl Trainer {
         let input = self.pipeline_input(snap, reconstruction);
         let out = crate::pipeline::run(&input, plan, deadline, on_step)
             .map_err(|reason| GngError::Decimation { reason })?;
-        if out.network_vertices == 0 || out.mesh.face_count() == 0 {
+        if out.report.vertices == 0 || out.mesh.face_count() == 0 {
             return Err(GngError::EmptyMesh {
                 nodes: snap.positions.len(),
             });
@@ -1096,7 +1089,7 @@ impl Trainer {
         let report = GngReport {
             training: stats,
             target_vertices: target,
-            network_vertices: out.network_vertices,
+            network_vertices: out.report.vertices,
             vertices,
             faces: out.mesh.face_count(),
             reconstruction: out.report,

@@ -454,14 +454,7 @@ pub fn reconstruct(
         params,
         decimate_to: None,
     };
-    let plan = crate::pipeline::Plan::of(params, false);
-    let out = crate::pipeline::run(&input, &plan, None, |_| {})
-        .expect("a plan without a decimation cannot fail");
-    Reconstruction {
-        mesh: out.mesh,
-        node_of_vertex: out.node_of_vertex,
-        report: out.report,
-    }
+    crate::pipeline::reconstruct_only(&input)
 }
 
 /// Map the original faces to label triples, merge duplicates, resolve orientation and run
