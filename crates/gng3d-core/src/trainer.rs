@@ -653,6 +653,12 @@ impl Trainer {
         &self.plan
     }
 
+    /// The steps these parameters have without a time limit: [`Trainer::plan`] is this list
+    /// less what the limit left out before the run started.
+    pub fn full_plan(&self) -> &Plan {
+        &self.full_plan
+    }
+
     /// With a time limit, the wall time from the start of the run ([`Trainer::new`]) at which
     /// training stops once the network holds its nodes: the limit less what the plan's steps
     /// need. A front end that paces training (a viewer) paces it to this.

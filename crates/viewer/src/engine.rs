@@ -137,10 +137,7 @@ impl Engine {
     /// The steps the run's parameters plan without a time limit (`Plan::of`): [`Engine::plan`]
     /// is this list less what the time limit left out before the run started.
     pub fn full_plan(&self) -> Vec<PlannedStep> {
-        let params = self.trainer.params();
-        gng3d_core::Plan::of(&params.reconstruction, params.decimates())
-            .steps()
-            .to_vec()
+        self.trainer.full_plan().steps().to_vec()
     }
 
     /// The run's time limit (training and the steps after it), if any.
