@@ -43,6 +43,7 @@
 //! Deterministic: the measuring runs on all cores, one result per point; the repairs run in a
 //! fixed order on one thread.
 
+use crate::fan_search::LargeLists;
 use crate::flip::{apply_flip, faces_on_edge, has_edge, oriented};
 use crate::placement::{CellFaces, cell_faces, closest_on_faces};
 use glam::{DVec3, Vec3};
@@ -107,6 +108,9 @@ struct Surface<'a> {
     original: &'a TriMesh,
     tree: ImmutableKdTree<f64, 3>,
     faces: CellFaces,
+    /// Trees of the vertices of high valence (crate::fan_search: a fan-triangulated cap's hub
+    /// has thousands of faces, and every query near it searched them all).
+    large: LargeLists,
 }
 
 impl<'a> Surface<'a> {
@@ -119,10 +123,18 @@ impl<'a> Surface<'a> {
         let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&points).ok()?;
         let n = original.positions.len();
         let itself: Vec<u32> = (0..n as u32).collect();
+        let faces = cell_faces(original, &itself, n);
+        let large = LargeLists::new(
+            n,
+            |v| faces.of(v),
+            |v| original.positions[v].as_dvec3(),
+            |f| original.triangle_f64(f as usize),
+        );
         Some(Surface {
             original,
             tree,
-            faces: cell_faces(original, &itself, n),
+            faces,
+            large,
         })
     }
 
@@ -141,7 +153,16 @@ impl<'a> Surface<'a> {
             if hit.distance < best.0 {
                 best = (hit.distance, self.original.positions[v].as_dvec3());
             }
-            best = closest_on_faces(self.original, self.faces.of(v), p, best);
+            best = match self.large.tree(v) {
+                Some(tree) => {
+                    let mut found = (best.0, u32::MAX, best.1);
+                    tree.nearest(p, &mut found, |f| {
+                        Some(self.original.triangle_f64(f as usize))
+                    });
+                    (found.0, found.2)
+                }
+                None => closest_on_faces(self.original, self.faces.of(v), p, best),
+            };
         }
         (best.0.sqrt(), best.1)
     }

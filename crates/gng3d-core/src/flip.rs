@@ -119,8 +119,10 @@ pub(crate) fn fans(triangles: &[[u32; 3]], n: usize) -> Vec<Vec<u32>> {
     fan
 }
 
-/// The faces on edge `a b`, found in `a`'s fan: how many there are, and the last of them other
-/// than `not` that runs `b → a` (the face across the edge from one running `a → b`).
+/// The faces on edge `a b`, found in the smaller fan of `a` and `b` (a hub of thousands of
+/// faces made every edge at it a scan of its whole fan): how many there are, and the last of
+/// them other than `not` that runs `b → a` in that fan's order (the face across the edge from
+/// one running `a → b`; the only one when the edge has two faces, which every caller checks).
 pub(crate) fn faces_on_edge(
     fan: &[Vec<u32>],
     triangles: &[[u32; 3]],
@@ -130,9 +132,14 @@ pub(crate) fn faces_on_edge(
 ) -> (usize, Option<u32>) {
     let mut across = None;
     let mut on_edge = 0;
-    for &g in &fan[a as usize] {
+    let (from, to) = if fan[b as usize].len() < fan[a as usize].len() {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    for &g in &fan[from as usize] {
         let t = triangles[g as usize];
-        if t.contains(&b) {
+        if t.contains(&to) {
             on_edge += 1;
             if g != not && oriented(t, b, a).is_some() {
                 across = Some(g);
@@ -149,11 +156,17 @@ pub(crate) fn oriented(t: [u32; 3], a: u32, b: u32) -> Option<(u32, u32, u32)> {
         .map(|i| (a, b, t[(i + 2) % 3]))
 }
 
-/// Whether some face has the edge `c d` (a flip to `c d` would then duplicate it).
+/// Whether some face has the edge `c d` (a flip to `c d` would then duplicate it), found in
+/// the smaller of their fans.
 pub(crate) fn has_edge(fan: &[Vec<u32>], triangles: &[[u32; 3]], c: u32, d: u32) -> bool {
-    fan[c as usize]
+    let (from, to) = if fan[d as usize].len() < fan[c as usize].len() {
+        (d, c)
+    } else {
+        (c, d)
+    };
+    fan[from as usize]
         .iter()
-        .any(|&g| triangles[g as usize].contains(&d))
+        .any(|&g| triangles[g as usize].contains(&to))
 }
 
 /// Flips edge `a b` of faces `f1 = (a b c)` and `f2 = (b a d)` to `c d`: `f1` becomes
@@ -220,29 +233,19 @@ pub fn flip_edges(
     // result for any count).
     let closest = {
         let triangles = &*triangles;
+        let search = crate::fan_search::FanSearch::new(&fan, triangles, &pos);
         crate::parallel::map_indexed(
             owner.len().div_ceil(stride),
             crate::parallel::threads(),
             MIN_POINTS_PER_THREAD,
             |k| {
                 let (i, o) = (k * stride, owner[k * stride]);
-                let mut best = (f64::INFINITY, NONE);
                 if o != NONE && (o as usize) < n {
-                    let p = points[i].as_dvec3();
-                    for &f in &fan[o as usize] {
-                        let [a, b, c] = triangles[f as usize].map(|v| pos[v as usize]);
-                        // A face whose bounding box is no nearer than the best so far cannot
-                        // win: skips most exact tests (the result is the same).
-                        if box_distance2(p, a, b, c) >= best.0 {
-                            continue;
-                        }
-                        let d = (closest_point_triangle(p, a, b, c) - p).length_squared();
-                        if d < best.0 {
-                            best = (d, f);
-                        }
-                    }
+                    let (d, f, _) = search.nearest(points[i].as_dvec3(), &[o]);
+                    (d, f)
+                } else {
+                    (f64::INFINITY, NONE)
                 }
-                best
             },
         )
     };

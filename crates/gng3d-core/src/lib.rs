@@ -46,6 +46,7 @@ pub mod decimate;
 pub mod deviation;
 mod domain;
 mod error;
+mod fan_search;
 pub mod features;
 pub mod flip;
 mod grid;
