@@ -96,6 +96,62 @@ pub fn unit_square_grid(n: u32) -> TriMesh {
     TriMesh::new(positions, triangles)
 }
 
+/// A flat disk of `n` triangles around one vertex: the hub (vertex 0) at the origin, `n` rim
+/// vertices on the unit circle in the plane z = 0 (vertex `i + 1` at angle `2πi / n`) and the
+/// counter-clockwise triangles `(hub, i, i + 1)`, the last closing the ring (`n` at least 3).
+/// The fan-triangulated caps of CAD and STL exports in their purest form: one vertex of valence
+/// `n` (issue 33's hostile input for the simplifiers).
+///
+/// ```
+/// let f = mesh::procedural::fan(100);
+/// assert_eq!((f.vertex_count(), f.face_count()), (101, 100));
+/// ```
+pub fn fan(n: u32) -> TriMesh {
+    let n = n.max(3);
+    let mut positions = Vec::with_capacity(n as usize + 1);
+    positions.push(Vec3::ZERO);
+    for i in 0..n {
+        let a = f64::from(i) / f64::from(n) * std::f64::consts::TAU;
+        positions.push(Vec3::new(a.cos() as f32, a.sin() as f32, 0.0));
+    }
+    let triangles = (0..n).map(|i| [0, i + 1, (i + 1) % n + 1]).collect();
+    TriMesh::new(positions, triangles)
+}
+
+/// A closed cylinder of radius 1 and height 2 around the z axis with `segments` segments
+/// (at least 3): one band of `2 × segments` side triangles and a fan cap of `segments`
+/// triangles around a hub at each end, all facing outwards (`2 × segments + 2` vertices,
+/// `4 × segments` faces). Two vertices of valence `segments`: the fan-capped solids of CAD
+/// exports (issue 33).
+///
+/// ```
+/// let c = mesh::procedural::fan_capped_cylinder(16);
+/// assert_eq!((c.vertex_count(), c.face_count()), (34, 64));
+/// ```
+pub fn fan_capped_cylinder(segments: u32) -> TriMesh {
+    let n = segments.max(3);
+    let mut positions = Vec::with_capacity(2 * n as usize + 2);
+    for z in [-1.0f32, 1.0] {
+        for i in 0..n {
+            let a = f64::from(i) / f64::from(n) * std::f64::consts::TAU;
+            positions.push(Vec3::new(a.cos() as f32, a.sin() as f32, z));
+        }
+    }
+    let (bottom_hub, top_hub) = (2 * n, 2 * n + 1);
+    positions.push(Vec3::new(0.0, 0.0, -1.0));
+    positions.push(Vec3::new(0.0, 0.0, 1.0));
+    let mut triangles = Vec::with_capacity(4 * n as usize);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        let (b0, b1, t0, t1) = (i, j, n + i, n + j);
+        triangles.push([b0, b1, t1]);
+        triangles.push([b0, t1, t0]);
+        triangles.push([bottom_hub, b1, b0]);
+        triangles.push([top_hub, t0, t1]);
+    }
+    TriMesh::new(positions, triangles)
+}
+
 /// A torus (genus 1) around the z axis with major radius `major`, tube radius `minor`,
 /// `rings` segments around the axis and `sides` segments around the tube (each at least 3).
 pub fn torus(major: f32, minor: f32, rings: u32, sides: u32) -> TriMesh {
@@ -295,5 +351,28 @@ mod tests {
         let (_, dropped) = crate::clean::drop_degenerate_and_duplicate_faces(&m);
         assert_eq!(dropped, crate::clean::DroppedFaces::default());
         assert_eq!(blob(), m);
+    }
+
+    #[test]
+    fn fan_is_a_disk_with_one_hub_and_the_capped_cylinder_is_closed() {
+        let f = fan(1000);
+        let r = crate::topology::analyze(&f);
+        assert!(r.manifold && !r.closed && r.components == 1, "{r:?}");
+        assert!(f.triangles.iter().all(|t| t[0] == 0));
+        // Counter-clockwise seen from +z, area close to the unit disk's.
+        let n = f.face_normals()[0];
+        assert!(n.z > 0.99, "{n:?}");
+        assert!(
+            (f.area() - std::f64::consts::PI).abs() < 1e-4,
+            "{}",
+            f.area()
+        );
+        let c = fan_capped_cylinder(500);
+        assert_eq!((c.vertex_count(), c.face_count()), (1002, 2000));
+        let r = crate::topology::analyze(&c);
+        assert!(r.closed && r.manifold && r.components == 1, "{r:?}");
+        assert_eq!(r.genus, Some(0));
+        let volume = 2.0 * std::f64::consts::PI;
+        assert!((c.signed_volume() - volume).abs() < 1e-3 * volume);
     }
 }
