@@ -23,6 +23,7 @@ macro_rules! out {
 }
 
 mod cli;
+pub mod process;
 
 pub use cli::{Cli, run};
 

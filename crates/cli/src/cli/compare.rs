@@ -72,7 +72,7 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     params.metrics.hausdorff.samples = args.samples;
     params.metrics.hausdorff.validate()?;
     if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        super::prepare_output_folder(dir)?;
     }
     let original = load_prepared(&args.input, false)?;
     let result = compare(&original, &params)

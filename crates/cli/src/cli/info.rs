@@ -45,6 +45,7 @@ struct Info {
 pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     let start = std::time::Instant::now();
     // MeshError names the file already; no extra context, so the path is said once.
+    crate::process::working_on(&args.mesh);
     let loaded = mesh::io::load(&args.mesh)?;
     let load_seconds = start.elapsed().as_secs_f64();
     let m = &loaded.mesh;

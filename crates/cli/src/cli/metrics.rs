@@ -31,6 +31,7 @@ pub struct MetricsArgs {
 /// Loads a mesh, naming the file in errors and printing loader warnings to stderr.
 fn load(path: &Path) -> anyhow::Result<mesh::TriMesh> {
     // MeshError names the file already; no extra context, so the path is said once.
+    crate::process::working_on(path);
     let loaded = mesh::io::load(path)?;
     for warning in &loaded.warnings {
         eprintln!("warning: {}: {warning}", path.display());

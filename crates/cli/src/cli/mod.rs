@@ -210,6 +210,7 @@ pub(crate) fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) -> anyh
 /// vertices unless `raw`; loader warnings and what cleaning removed go to stderr.
 pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result<mesh::TriMesh> {
     // MeshError names the file already; no extra context, so the path is said once.
+    crate::process::working_on(path);
     let loaded = mesh::io::load(path)?;
     for w in &loaded.warnings {
         eprintln!("warning: {}: {w}", path.display());
@@ -244,7 +245,18 @@ pub(crate) fn check_output_mesh_path(path: &std::path::Path) -> anyhow::Result<m
     if path.is_dir() {
         anyhow::bail!("{}: is a folder, not a mesh file", path.display());
     }
+    mesh::io::check_writable(path)?;
     Ok(format)
+}
+
+/// Creates the output folder `dir` (and its parents) and checks that it takes new files, before
+/// any long work.
+pub(crate) fn prepare_output_folder(dir: &std::path::Path) -> anyhow::Result<()> {
+    use anyhow::Context;
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    mesh::io::check_writable(&dir.join("probe"))
+        .with_context(|| format!("{}: cannot write output files there", dir.display()))?;
+    Ok(())
 }
 
 /// Writes a simplified mesh, after making sure it is one: at least one triangle, and bytes that

@@ -88,6 +88,12 @@ fn check_args(args: &ReproduceArgs) -> anyhow::Result<()> {
 
 fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
     check_args(args)?;
+    // The output folder exists and takes files before the (long) training and evaluation.
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("reproduce-{}", stem(input))));
+    super::prepare_output_folder(&dir)?;
     let original = load_prepared(input, false)?;
     let mut params = ReproduceParams {
         epochs: args.epochs,
@@ -118,10 +124,6 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
         .with_context(|| format!("reproducing on {}", input.display()))?;
     progress.finish_and_clear();
     let name = stem(input);
-    let dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("reproduce-{name}")));
     let written = write_reproduction(&report, &name, &dir)?;
     if args.json {
         return super::print_json(&report);
@@ -160,7 +162,7 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     params.hausdorff.seed = args.seed;
     // The output folder exists before the (long) survey starts.
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("survey"));
-    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    super::prepare_output_folder(&out)?;
     let progress = bar(files.len() as u64, "meshes");
     let results: Vec<(String, anyhow::Result<Vec<SurveyRow>>)> = files
         .par_iter()

@@ -222,6 +222,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MeshError> {
     let target = through_links(path);
     remove_stale_temporaries(&target);
     let temp = temp_path(&target);
+    let _in_flight = InFlight::register(&temp);
     if let Err(e) = std::fs::write(&temp, bytes) {
         let _ = std::fs::remove_file(&temp);
         return Err(write_err(e.to_string()));
@@ -231,6 +232,93 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MeshError> {
         return Err(write_err(e.to_string()));
     }
     Ok(())
+}
+
+/// Checks, before any work, that [`write_atomic`] can write `path`: its folder (after
+/// following links) exists and takes a new file. A short probe file is created and removed
+/// there, so a read-only folder, a full quota or a name the file system refuses is found before
+/// minutes of work rather than after them.
+pub fn check_writable(path: &Path) -> Result<(), MeshError> {
+    let write_err = |message: String| MeshError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    let target = through_links(path);
+    let dir = match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(write_err(format!(
+            "the folder {} does not exist",
+            dir.display()
+        )));
+    }
+    let probe = temp_path(&target);
+    let _in_flight = InFlight::register(&probe);
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(write_err(format!(
+            "the folder {} does not take new files: {e}",
+            dir.display()
+        ))),
+    }
+}
+
+/// Temporary files being written now, so that a signal can remove them
+/// ([`remove_unfinished_writes`]).
+static IN_FLIGHT: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// A temporary file in [`IN_FLIGHT`] while this guard lives.
+struct InFlight(PathBuf);
+
+impl InFlight {
+    fn register(path: &Path) -> InFlight {
+        if let Ok(mut list) = IN_FLIGHT.lock() {
+            list.push(path.to_path_buf());
+        }
+        InFlight(path.to_path_buf())
+    }
+}
+
+impl Drop for InFlight {
+    fn drop(&mut self) {
+        if let Ok(mut list) = IN_FLIGHT.lock()
+            && let Some(i) = list.iter().position(|p| *p == self.0)
+        {
+            list.swap_remove(i);
+        }
+    }
+}
+
+/// The temporaries registered now (for the tests).
+#[cfg(test)]
+fn unfinished_writes() -> Vec<PathBuf> {
+    IN_FLIGHT.lock().map(|l| l.clone()).unwrap_or_default()
+}
+
+/// Removes the temporary files of the writes in progress in this process, for a program that
+/// is about to exit on a signal (SIGINT, SIGTERM, SIGHUP) in the middle of a write: the output
+/// keeps its previous content and no partial file is left beside it. Holds the list until the
+/// process exits, so a write that finishes meanwhile cannot rename a removed file; call it only
+/// right before exiting.
+pub fn remove_unfinished_writes() {
+    let list = match IN_FLIGHT.lock() {
+        Ok(list) => list,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    for temp in list.iter() {
+        let _ = std::fs::remove_file(temp);
+    }
+    // Keep the lock: the caller exits.
+    std::mem::forget(list);
 }
 
 /// The file `path` names after following symbolic links (itself when it is none; a dangling

@@ -606,3 +606,34 @@ fn atomic_writes_follow_links_take_long_names_and_clean_stale_temporaries() {
     assert!(!stale.exists(), "stale temporary left");
     assert!(live.exists(), "a running process's temporary removed");
 }
+
+/// A write registers its temporary while it is in progress (what a signal handler removes with
+/// `remove_unfinished_writes`) and unregisters it when done, failed or not; the writability
+/// probe leaves nothing behind.
+#[test]
+fn writes_in_progress_are_registered_until_they_end() {
+    let dir = tmp();
+    let temp = dir.path().join(".gng3d.1.2.tmp");
+    {
+        let _guard = super::InFlight::register(&temp);
+        assert!(super::unfinished_writes().contains(&temp));
+    }
+    assert!(!super::unfinished_writes().contains(&temp));
+    let out = dir.path().join("m.obj");
+    save(&icosphere(1), &out).unwrap();
+    assert!(
+        super::unfinished_writes()
+            .iter()
+            .all(|p| !p.starts_with(dir.path())),
+        "a finished write is still registered"
+    );
+    super::check_writable(&dir.path().join("later.obj")).unwrap();
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("m.obj")]);
+    let missing = dir.path().join("no/such/folder/x.obj");
+    let err = super::check_writable(&missing).unwrap_err().to_string();
+    assert!(err.contains("does not exist"), "{err}");
+}
