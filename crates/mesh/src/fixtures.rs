@@ -109,7 +109,10 @@ pub mod fuzz {
     /// 0-2 OBJ / binary LE PLY / binary STL of a 12-vertex sphere; 3-5 the same at 162 / 162 /
     /// 42 vertices (4-16 kB); 6-7 binary big-endian PLY (12, 162 vertices); 8 OBJ with a BOM,
     /// a quad and negative indices; 9 ASCII PLY with an extra property and a quad; 10 ASCII STL;
-    /// 11 ASCII STL with a bare `solid` line; 12 an 80-facet ASCII STL.
+    /// 11 ASCII STL with a bare `solid` line; 12 an 80-facet ASCII STL; and issue 33's hostile
+    /// shapes: 13 a fan of 200 triangles around one vertex (PLY), 14 a fan-capped cylinder of
+    /// 48 segments (OBJ), 15 120 disjoint triangles (binary STL), 16-17 a 42-vertex sphere at
+    /// coordinates scaled by 1e-20 (PLY) and by 1e18 (OBJ).
     pub fn seeds() -> Vec<(Format, Vec<u8>)> {
         let small = icosphere(0);
         let mut out = vec![
@@ -152,6 +155,32 @@ pub mod fuzz {
         }
         text.push_str("endsolid sphere\n");
         out.push((Format::Stl, text.into_bytes()));
+        out.push((Format::Ply, bytes(&crate::procedural::fan(200), Format::Ply)));
+        out.push((
+            Format::Obj,
+            bytes(&crate::procedural::fan_capped_cylinder(48), Format::Obj),
+        ));
+        let pieces = TriMesh::new(
+            (0..120)
+                .flat_map(|i| {
+                    let x = i as f32;
+                    [
+                        glam::Vec3::new(x, 0.0, 0.0),
+                        glam::Vec3::new(x + 0.5, 0.0, 0.1),
+                        glam::Vec3::new(x, 0.5, 0.2),
+                    ]
+                })
+                .collect(),
+            (0..120u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect(),
+        );
+        out.push((Format::Stl, bytes(&pieces, Format::Stl)));
+        for (scale, format) in [(1e-20f32, Format::Ply), (1e18, Format::Obj)] {
+            let mut scaled = icosphere(1);
+            for p in &mut scaled.positions {
+                *p *= scale;
+            }
+            out.push((format, bytes(&scaled, format)));
+        }
         out
     }
 }
