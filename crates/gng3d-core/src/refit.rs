@@ -99,6 +99,9 @@ pub const MAX_SAMPLES_PER_FACE: usize = 8;
 /// Below this many samples per thread the assignment stays on one thread.
 const MIN_SAMPLES_PER_THREAD: usize = 8_192;
 
+/// Below this many vertices per thread the moves are worked out on one thread.
+const MIN_VERTICES_PER_THREAD: usize = 4_096;
+
 const NONE: u32 = u32::MAX;
 
 /// A point of the original with the plane it asks the output to pass through.
@@ -184,40 +187,23 @@ pub fn refit(
             let Some((u, w, t)) = *hit else { continue };
             add_sample(&mut quadric, s, &[u, w], &[1.0 - t, t], &pos);
         }
-        // Step 4: moves.
+        // Step 4: moves. What each vertex asks for depends only on the previous positions, so
+        // it is worked out on all cores (the 3×3 eigen-solves are most of this step); the
+        // moves are then checked and taken in vertex order, each against its neighbours'
+        // current positions, as before (outputs identical).
         let old = pos.clone();
-        for v in 0..n {
-            if quadric[v].trace() <= 0.0 {
+        let proposals = crate::parallel::map_indexed(n, threads, MIN_VERTICES_PER_THREAD, |v| {
+            propose_move(v, &quadric[v], &fan[v], triangles, &old)
+        });
+        for (v, proposal) in proposals.into_iter().enumerate() {
+            let Some((step, normal_dir)) = proposal else {
                 continue;
-            }
+            };
             let start = old[v];
-            let p = quadric[v].minimizer_near(start, EIGEN_REL_TOL);
-            if !p.is_finite() {
-                continue;
-            }
-            let shortest = fan[v]
-                .iter()
-                .flat_map(|&f| triangles[f as usize])
-                .filter(|&u| u as usize != v)
-                .map(|u| (old[u as usize] - start).length())
-                .fold(f64::INFINITY, f64::min);
-            let mut step = p - start;
-            let limit = MAX_STEP * shortest;
-            if step.length() > limit {
-                step *= limit / step.length();
-            }
             // The full move, else its part along the vertex normal (the fan keeps its shape in
             // the tangent plane), else none. Interior vertices must keep their faces' shape
             // (KEEP_ANGLE_DEGREES); border vertices only their orientation, so that they can
             // follow the original's rim.
-            let normal_dir: DVec3 = fan[v]
-                .iter()
-                .map(|&f| {
-                    let [a, b, c] = triangles[f as usize].map(|u| old[u as usize]);
-                    (b - a).cross(c - a)
-                })
-                .sum::<DVec3>()
-                .normalize_or_zero();
             let on_border = !out_boundary[v].is_empty();
             let mut taken = false;
             for candidate in [start + step, start + normal_dir * normal_dir.dot(step)] {
@@ -238,6 +224,46 @@ pub fn refit(
         *p = q.as_vec3();
     }
     stats
+}
+
+/// Step 4's move of vertex `v` (faces `fan`) from `old`: toward its quadric's minimiser,
+/// clamped to [`MAX_STEP`] × its shortest incident edge, with its area-weighted normal; `None`
+/// when it has no quadric or no finite minimiser.
+fn propose_move(
+    v: usize,
+    quadric: &Quadric,
+    fan: &[u32],
+    triangles: &[[u32; 3]],
+    old: &[DVec3],
+) -> Option<(DVec3, DVec3)> {
+    if quadric.trace() <= 0.0 {
+        return None;
+    }
+    let start = old[v];
+    let p = quadric.minimizer_near(start, EIGEN_REL_TOL);
+    if !p.is_finite() {
+        return None;
+    }
+    let shortest = fan
+        .iter()
+        .flat_map(|&f| triangles[f as usize])
+        .filter(|&u| u as usize != v)
+        .map(|u| (old[u as usize] - start).length())
+        .fold(f64::INFINITY, f64::min);
+    let mut step = p - start;
+    let limit = MAX_STEP * shortest;
+    if step.length() > limit {
+        step *= limit / step.length();
+    }
+    let normal_dir: DVec3 = fan
+        .iter()
+        .map(|&f| {
+            let [a, b, c] = triangles[f as usize].map(|u| old[u as usize]);
+            (b - a).cross(c - a)
+        })
+        .sum::<DVec3>()
+        .normalize_or_zero();
+    Some((step, normal_dir))
 }
 
 /// Step 4's rule for a vertex move from `old` to `pos` (the two differ in that vertex only,
