@@ -71,48 +71,7 @@ pub fn curvature_face_weights(mesh: &TriMesh, target_vertices: usize) -> Vec<f64
 mod tests {
     use super::*;
 
-    /// Closed unit cube with every side an `n × n` grid of quads (welded).
-    pub(crate) fn grid_cube(n: u32) -> TriMesh {
-        use glam::Vec3;
-        use rustc_hash::FxHashMap as HashMap;
-        let mut index: HashMap<[i32; 3], u32> = HashMap::default();
-        let mut positions = Vec::new();
-        let mut vertex = |p: [i32; 3]| {
-            *index.entry(p).or_insert_with(|| {
-                positions.push(Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / n as f32);
-                positions.len() as u32 - 1
-            })
-        };
-        let mut triangles = Vec::new();
-        let n = n as i32;
-        // For each axis and side, a grid with outward orientation.
-        for axis in 0..3 {
-            for side in [0, n] {
-                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-                for i in 0..n {
-                    for j in 0..n {
-                        let corner = |di: i32, dj: i32| {
-                            let mut p = [0; 3];
-                            p[axis] = side;
-                            p[u] = i + di;
-                            p[v] = j + dj;
-                            p
-                        };
-                        let q = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)]
-                            .map(&mut vertex);
-                        if side == n {
-                            triangles.push([q[0], q[1], q[2]]);
-                            triangles.push([q[0], q[2], q[3]]);
-                        } else {
-                            triangles.push([q[0], q[2], q[1]]);
-                            triangles.push([q[0], q[3], q[2]]);
-                        }
-                    }
-                }
-            }
-        }
-        TriMesh::new(positions, triangles)
-    }
+    use mesh::procedural::grid_cube;
 
     #[test]
     fn flat_faces_keep_their_area_and_curved_ones_gain_boundedly() {

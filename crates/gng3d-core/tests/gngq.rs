@@ -4,7 +4,7 @@
 use glam::{DVec3, Vec3};
 use gng3d_core::{GngParams, Placement, ReconstructionParams, SignalSource, Trainer};
 use mesh::TriMesh;
-use mesh::procedural::{blob, icosphere, torus};
+use mesh::procedural::{blob, grid_cube, icosphere, torus};
 use std::collections::{HashMap, HashSet};
 
 /// A trainer on `m` run to the end of its (small) budget.
@@ -157,45 +157,6 @@ fn quadric_placement_and_flips_fit_a_curved_surface_better_than_nodes() {
         "flips {dg:?} -> refit {dr:?}"
     );
     assert!(closed_oriented(&refit.mesh));
-}
-
-/// Closed unit cube whose sides are `n × n` grids (welded, outward).
-fn grid_cube(n: i32) -> TriMesh {
-    let mut index: HashMap<[i32; 3], u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut vertex = |p: [i32; 3]| {
-        *index.entry(p).or_insert_with(|| {
-            positions.push(Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / n as f32);
-            positions.len() as u32 - 1
-        })
-    };
-    let mut triangles = Vec::new();
-    for axis in 0..3 {
-        for side in [0, n] {
-            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            for i in 0..n {
-                for j in 0..n {
-                    let corner = |di: i32, dj: i32| {
-                        let mut p = [0; 3];
-                        p[axis] = side;
-                        p[u] = i + di;
-                        p[v] = j + dj;
-                        p
-                    };
-                    let q =
-                        [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
-                    if side == n {
-                        triangles.push([q[0], q[1], q[2]]);
-                        triangles.push([q[0], q[2], q[3]]);
-                    } else {
-                        triangles.push([q[0], q[2], q[1]]);
-                        triangles.push([q[0], q[3], q[2]]);
-                    }
-                }
-            }
-        }
-    }
-    TriMesh::new(positions, triangles)
 }
 
 #[test]

@@ -155,10 +155,10 @@ pub mod fuzz {
         }
         text.push_str("endsolid sphere\n");
         out.push((Format::Stl, text.into_bytes()));
-        out.push((Format::Ply, bytes(&crate::procedural::fan(200), Format::Ply)));
+        out.push((Format::Ply, bytes(&mesh::procedural::fan(200), Format::Ply)));
         out.push((
             Format::Obj,
-            bytes(&crate::procedural::fan_capped_cylinder(48), Format::Obj),
+            bytes(&mesh::procedural::fan_capped_cylinder(48), Format::Obj),
         ));
         let pieces = TriMesh::new(
             (0..120)
@@ -182,6 +182,133 @@ pub mod fuzz {
             out.push((format, bytes(&scaled, format)));
         }
         out
+    }
+}
+
+/// The topology analysis before its counting-sort rewrite (one global sort of all half-edge
+/// keys, then a global union-find over the 3F corners), kept as an independent oracle for
+/// `topology`'s tests and as the baseline of its bench.
+pub mod previous_topology {
+    use mesh::TriMesh;
+    use mesh::topology::{EdgeTable, TopologyReport, UnionFind};
+
+    /// Edge table by sorting all packed half-edge keys at once (the previous implementation).
+    pub fn edge_table(mesh: &TriMesh) -> EdgeTable {
+        let f = mesh.triangles.len();
+        let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * f);
+        for (fi, t) in mesh.triangles.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
+                half.push((key, (3 * fi + i) as u32));
+            }
+        }
+        half.sort_unstable();
+        let mut edges = Vec::with_capacity(3 * f / 2 + 1);
+        let mut offsets = Vec::with_capacity(3 * f / 2 + 2);
+        let mut edge_corners = Vec::with_capacity(3 * f);
+        let mut face_edges = vec![[0u32; 3]; f];
+        let mut last = u64::MAX;
+        for &(key, corner) in &half {
+            if key != last {
+                offsets.push(edge_corners.len() as u32);
+                edges.push([(key >> 32) as u32, key as u32]);
+                last = key;
+            }
+            let e = (edges.len() - 1) as u32;
+            face_edges[corner as usize / 3][corner as usize % 3] = e;
+            edge_corners.push(corner);
+        }
+        offsets.push(edge_corners.len() as u32);
+        EdgeTable {
+            edges,
+            offsets,
+            edge_corners,
+            face_edges,
+        }
+    }
+
+    /// The previous global corner union-find implementation, kept as an independent check.
+    pub fn analyze(mesh: &TriMesh) -> TopologyReport {
+        let table = &edge_table(mesh);
+        let v = mesh.positions.len();
+        let f = mesh.triangles.len();
+        let mut referenced = vec![false; v];
+        for t in &mesh.triangles {
+            for &i in t {
+                referenced[i as usize] = true;
+            }
+        }
+        let referenced_vertices = referenced.iter().filter(|&&r| r).count();
+
+        let mut boundary_edges = 0;
+        let mut non_manifold_edges = 0;
+        let mut boundary_graph = UnionFind::new(v);
+        let mut on_boundary = vec![false; v];
+        let mut faces_uf = UnionFind::new(f);
+        // Corners 3*face+i; corners of the same vertex joined across shared edges form fans.
+        let mut fans_uf = UnionFind::new(3 * f);
+        let corner_of = |face: u32, vertex: u32| -> u32 {
+            let t = mesh.triangles[face as usize];
+            let i = t.iter().position(|&x| x == vertex).unwrap_or(0);
+            3 * face + i as u32
+        };
+        for e in 0..table.len() {
+            let corners = table.corners(e);
+            match corners.len() {
+                1 => {
+                    boundary_edges += 1;
+                    let [a, b] = table.edges[e];
+                    boundary_graph.union(a, b);
+                    on_boundary[a as usize] = true;
+                    on_boundary[b as usize] = true;
+                }
+                2 => {}
+                _ => non_manifold_edges += 1,
+            }
+            let [a, b] = table.edges[e];
+            let first = corners[0] / 3;
+            for &c in &corners[1..] {
+                let face = c / 3;
+                faces_uf.union(first, face);
+                fans_uf.union(corner_of(first, a), corner_of(face, a));
+                fans_uf.union(corner_of(first, b), corner_of(face, b));
+            }
+        }
+        let boundary_loops = (0..v as u32)
+            .filter(|&i| on_boundary[i as usize] && boundary_graph.find(i) == i)
+            .count();
+        let components = (0..f as u32).filter(|&i| faces_uf.find(i) == i).count();
+        let mut fans_at = vec![0u32; v];
+        let mut fans_total = 0i64;
+        for c in 0..3 * f as u32 {
+            if fans_uf.find(c) == c {
+                fans_total += 1;
+                fans_at[mesh.triangles[c as usize / 3][c as usize % 3] as usize] += 1;
+            }
+        }
+        let non_manifold_vertices = fans_at.iter().filter(|&&n| n > 1).count();
+        let edges = table.len() as i64;
+        let euler = referenced_vertices as i64 - edges + f as i64;
+        let euler_split = fans_total - edges + f as i64;
+        let twice_genus = 2 * components as i64 - euler_split - boundary_loops as i64;
+        let genus = (non_manifold_edges == 0 && twice_genus % 2 == 0).then_some(twice_genus / 2);
+        TopologyReport {
+            vertices: v,
+            referenced_vertices,
+            faces: f,
+            edges: table.len(),
+            boundary_edges,
+            boundary_loops,
+            non_manifold_edges,
+            non_manifold_vertices,
+            components,
+            euler_characteristic: euler,
+            euler_characteristic_split: euler_split,
+            genus,
+            closed: boundary_edges == 0,
+            manifold: non_manifold_edges == 0 && non_manifold_vertices == 0,
+        }
     }
 }
 

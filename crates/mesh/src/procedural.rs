@@ -152,6 +152,54 @@ pub fn fan_capped_cylinder(segments: u32) -> TriMesh {
     TriMesh::new(positions, triangles)
 }
 
+/// The closed unit cube `[0, 1]³` with every side an `n × n` grid of quads, two triangles each
+/// (`6n² + 2` vertices, `12n²` faces, outward): flat sides and sharp creases, the CAD-like case
+/// for feature preservation tests (`n` at least 1).
+///
+/// ```
+/// let c = mesh::procedural::grid_cube(4);
+/// assert_eq!((c.vertex_count(), c.face_count()), (98, 192));
+/// ```
+pub fn grid_cube(n: u32) -> TriMesh {
+    let n = n.max(1) as i32;
+    let mut index: std::collections::HashMap<[i32; 3], u32> = Default::default();
+    let mut positions = Vec::new();
+    let mut vertex = |p: [i32; 3]| {
+        *index.entry(p).or_insert_with(|| {
+            positions.push(Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / n as f32);
+            positions.len() as u32 - 1
+        })
+    };
+    let mut triangles = Vec::new();
+    // For each axis and side, a grid with outward orientation.
+    for axis in 0..3 {
+        for side in [0, n] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            for i in 0..n {
+                for j in 0..n {
+                    let corner = |di: i32, dj: i32| {
+                        let mut p = [0; 3];
+                        p[axis] = side;
+                        p[u] = i + di;
+                        p[v] = j + dj;
+                        p
+                    };
+                    let q =
+                        [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
+                    if side == n {
+                        triangles.push([q[0], q[1], q[2]]);
+                        triangles.push([q[0], q[2], q[3]]);
+                    } else {
+                        triangles.push([q[0], q[2], q[1]]);
+                        triangles.push([q[0], q[3], q[2]]);
+                    }
+                }
+            }
+        }
+    }
+    TriMesh::new(positions, triangles)
+}
+
 /// A torus (genus 1) around the z axis with major radius `major`, tube radius `minor`,
 /// `rings` segments around the axis and `sides` segments around the tube (each at least 3).
 pub fn torus(major: f32, minor: f32, rings: u32, sides: u32) -> TriMesh {
