@@ -11,13 +11,23 @@
 //! Work is split into fixed-size chunks of samples, each chunk processed sequentially and the
 //! chunk results reduced in chunk order, so results are bit-identical for any thread count.
 //!
+//! Each direction is measured in the target index's [`Frame`] (for a pair: the original's,
+//! scaled by a power of two near its diagonal), so the figures are the same, up to rounding of
+//! the model's own coordinates, at any model scale; they are reported in model units.
+//!
 //! (Over ~700 lines only with its unit tests, the last ~127 lines.)
 
+use crate::frame::Frame;
 use crate::index::{NO_SLOT, SurfaceDistanceIndex, bound_f32};
-use crate::{MetricsError, validate_mesh};
+use crate::{MetricsError, validate_all_vertices, validate_mesh};
 use glam::{Vec3, Vec3A};
 use mesh::TriMesh;
-use mesh::sampling::{EdgeSampling, FaceSampling, StratifiedParams, sample_stratified};
+use mesh::sampling::{
+    EdgeSampling, FaceSampling, StratifiedParams, StratifiedSamples, SurfaceSample,
+    sample_stratified,
+};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -41,10 +51,11 @@ pub enum SamplingPlan {
     #[default]
     Budget,
     /// MeshLab's Hausdorff filter with vertex, edge and face sampling and `samplenum = samples`:
-    /// every referenced vertex of the source, plus `samples` edge samples, plus `samples` face
-    /// samples (e.g. 2,001,407 samples for `samples` = 1,000,000 on a 1,407-vertex mesh). The
-    /// `vertices` and `edges` fields are ignored. Exact while the source has at most
-    /// `2 × samples` referenced vertices (otherwise a random half of the budget is vertices).
+    /// every vertex record of the source, **unreferenced ones included** (MeshLab's
+    /// `VertexUniform` takes every vertex of the mesh), or a random `samples` of them when there
+    /// are more; plus `samples` edge samples, plus `samples` face samples (e.g. 2,001,407
+    /// samples for `samples` = 1,000,000 on a 1,407-vertex mesh). The `vertices` and `edges`
+    /// fields are ignored. Every vertex record must then be finite.
     MeshLab,
 }
 
@@ -152,8 +163,9 @@ impl HausdorffParams {
         Ok(())
     }
 
-    /// The sampling plan of one direction on `source` for `samples` requested samples.
-    fn plan_for(&self, source: &TriMesh, samples: usize) -> StratifiedParams {
+    /// The stratified plan of one direction for `samples` requested samples (for MeshLab's
+    /// plan: its edge and face samples; the vertices are drawn by [`meshlab_vertices`]).
+    fn plan_for(&self, samples: usize) -> StratifiedParams {
         match self.plan {
             SamplingPlan::Budget => StratifiedParams {
                 total: samples,
@@ -162,24 +174,51 @@ impl HausdorffParams {
                 faces: self.faces,
             },
             SamplingPlan::MeshLab => StratifiedParams {
-                total: referenced_count(source) + 2 * samples,
-                vertices: true,
+                total: 2 * samples,
+                vertices: false,
                 edges: EdgeSampling::Share(0.5),
                 faces: self.faces,
             },
         }
     }
+
+    /// True when the plan samples every vertex record, unreferenced ones included.
+    pub(crate) fn samples_every_vertex(&self) -> bool {
+        self.plan == SamplingPlan::MeshLab
+    }
 }
 
-/// Vertices referenced by at least one (valid) triangle.
-fn referenced_count(mesh: &TriMesh) -> usize {
-    let mut used = vec![false; mesh.positions.len()];
-    for &v in mesh.triangles.iter().flatten() {
-        if let Some(u) = used.get_mut(v as usize) {
-            *u = true;
+/// MeshLab's vertex samples (`VertexUniform`): every vertex record of `mesh`, referenced or not,
+/// in index order, or a seeded random `samples` of them when there are more. A vertex sample's
+/// face is its first incident face (`u32::MAX` for an unreferenced vertex; vertex samples'
+/// faces are never read).
+fn meshlab_vertices(mesh: &TriMesh, samples: usize, seed: u64) -> Vec<SurfaceSample> {
+    let mut incident = vec![u32::MAX; mesh.positions.len()];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for &v in t {
+            if incident[v as usize] == u32::MAX {
+                incident[v as usize] = f as u32;
+            }
         }
     }
-    used.iter().filter(|&&u| u).count()
+    let mut chosen: Vec<u32> = (0..mesh.positions.len() as u32).collect();
+    if chosen.len() > samples {
+        // Partial Fisher-Yates: a uniform random subset, then back into index order.
+        let mut rng = Pcg64Mcg::seed_from_u64(seed);
+        for i in 0..samples {
+            let j = rng.random_range(i..chosen.len());
+            chosen.swap(i, j);
+        }
+        chosen.truncate(samples);
+        chosen.sort_unstable();
+    }
+    chosen
+        .into_iter()
+        .map(|v| SurfaceSample {
+            position: mesh.positions[v as usize],
+            face: incident[v as usize],
+        })
+        .collect()
 }
 
 /// Max, mean and RMS of a distance, in model units (or relative to a diagonal).
@@ -329,7 +368,8 @@ fn default_samples(a: &TriMesh, b: &TriMesh) -> usize {
 
 /// One-sided distance from `source` to the mesh behind `target`, with statistics made relative
 /// to `diagonal` (normally the original's bounding-box diagonal). `params.samples = None` means
-/// 10 × the source's face count.
+/// 10 × the source's face count. The source is sampled in the target index's frame, so the
+/// source must lie within [`crate::MAX_SPAN`] of the target's bounding-box diagonals.
 pub fn one_sided(
     source: &TriMesh,
     target: &SurfaceDistanceIndex,
@@ -344,15 +384,17 @@ pub fn one_sided(
     one_sided_inner(source, target, params, samples, params.seed, diagonal).map(|(o, _)| o)
 }
 
-/// The samples of one direction, ready to be measured.
+/// The samples of one direction, ready to be measured, in the frame of the target.
 pub(crate) struct Drawn {
-    samples: mesh::sampling::StratifiedSamples,
+    samples: StratifiedSamples,
     normals: Vec<Vec3>,
 }
 
-/// Draws the samples of one direction on `source`.
+/// Draws the samples of one direction on `source` (validated), held in `frame` (the target
+/// index's).
 pub(crate) fn draw(
     source: &TriMesh,
+    frame: &Frame,
     params: &HausdorffParams,
     samples: usize,
     seed: u64,
@@ -360,15 +402,28 @@ pub(crate) fn draw(
     if source.triangles.is_empty() {
         return Err(MetricsError::NoTriangles { mesh: "source" });
     }
-    let plan = params.plan_for(source, samples);
-    let samples =
-        sample_stratified(source, &plan, seed).map_err(|problem| MetricsError::Invalid {
+    let every_vertex = params.samples_every_vertex();
+    if every_vertex {
+        validate_all_vertices(source, "source")?;
+    }
+    frame.check_span(source, "source", every_vertex)?;
+    let local = frame.apply(source);
+    let plan = params.plan_for(samples);
+    let mut drawn =
+        sample_stratified(&local, &plan, seed).map_err(|problem| MetricsError::Invalid {
             mesh: "source",
             problem,
         })?;
+    if every_vertex {
+        // Own seed, so the edge and face samples are those of a mesh without the extra vertices.
+        let mut all = meshlab_vertices(&local, samples, derive_seed(seed, 3));
+        drawn.vertex_count = all.len();
+        all.append(&mut drawn.samples);
+        drawn.samples = all;
+    }
     Ok(Drawn {
-        samples,
-        normals: source.face_normals(),
+        samples: drawn,
+        normals: local.face_normals(),
     })
 }
 
@@ -381,13 +436,15 @@ pub(crate) fn one_sided_inner(
     seed: u64,
     diagonal: f64,
 ) -> Result<(OneSided, NormalDeviation), MetricsError> {
-    let drawn = draw(source, params, samples, seed)?;
+    let drawn = draw(source, target.frame(), params, samples, seed)?;
     let (one, normals) = measure(&drawn, target, params, diagonal);
     check_counted(&one, "source")?;
     Ok((one, normals))
 }
 
 /// Measures drawn samples against `target`: fixed chunks, each sequential, reduced in order.
+/// The samples are in the target's frame; the distances are measured there and reported in
+/// model units.
 pub(crate) fn measure(
     drawn: &Drawn,
     target: &SurfaceDistanceIndex,
@@ -397,8 +454,13 @@ pub(crate) fn measure(
     let source_normals = &drawn.normals;
     let drawn = &drawn.samples;
     let face_start = drawn.vertex_count + drawn.edge_count;
-    let bound2 = params.max_distance.map_or(f32::INFINITY, bound_f32);
-    let max_distance = params.max_distance.unwrap_or(f64::INFINITY);
+    let frame = *target.frame();
+    let scale = frame.scale();
+    // The exclusion bound in frame units.
+    let bound2 = params
+        .max_distance
+        .map_or(f32::INFINITY, |d| bound_f32(d / scale));
+    let max_distance = params.max_distance.map_or(f64::INFINITY, |d| d / scale);
 
     let partials: Vec<Partial> = drawn
         .samples
@@ -464,9 +526,12 @@ pub(crate) fn measure(
     } else {
         (mean, rms)
     };
+    // Back to model units (the scale is a power of two: exact).
+    let [max, mean, rms, area_mean, area_rms] =
+        [total.max, mean, rms, area_mean, area_rms].map(|d| d * scale);
     let rel = |x: f64| if diagonal > 0.0 { x / diagonal } else { 0.0 };
     let one = OneSided {
-        max: total.max,
+        max,
         mean,
         rms,
         area_mean,
@@ -476,9 +541,9 @@ pub(crate) fn measure(
         edge_samples: drawn.edge_count,
         face_samples: drawn.face_count,
         excluded: total.excluded,
-        max_at: total.max_at,
+        max_at: frame.to_model(total.max_at.as_dvec3()).as_vec3(),
         relative: DistanceStats {
-            max: rel(total.max),
+            max: rel(max),
             mean: rel(mean),
             rms: rel(rms),
         },
@@ -569,8 +634,26 @@ pub(crate) fn hausdorff_full(
 ) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
     let (samples, diagonal) = check_pair(original, simplified, params)?;
     let (fwd, bwd) = rayon::join(
-        || draw(original, params, samples, derive_seed(params.seed, 1)),
-        || draw(simplified, params, samples, derive_seed(params.seed, 2)),
+        || {
+            let frame = simplified_index.frame();
+            draw(
+                original,
+                frame,
+                params,
+                samples,
+                derive_seed(params.seed, 1),
+            )
+        },
+        || {
+            let frame = original_index.frame();
+            draw(
+                simplified,
+                frame,
+                params,
+                samples,
+                derive_seed(params.seed, 2),
+            )
+        },
     );
     let fwd = fwd.map_err(|e| rename(e, "original"))?;
     let bwd = bwd.map_err(|e| rename(e, "simplified"))?;
@@ -584,22 +667,37 @@ pub(crate) fn hausdorff_full(
 }
 
 /// Both directions, building the two indices on the way and overlapping the (sequential) build
-/// of the larger one with sampling and the forward queries.
+/// of the larger one with sampling and the forward queries. Both are measured in the
+/// original's frame.
 pub(crate) fn hausdorff_pipelined(
     original: &TriMesh,
     simplified: &TriMesh,
     params: &HausdorffParams,
 ) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
     let (samples, diagonal) = check_pair(original, simplified, params)?;
+    let frame = Frame::of_mesh(original);
+    frame.check_span(simplified, "simplified", false)?;
     let (original_index, rest) = rayon::join(
-        || SurfaceDistanceIndex::new(original).map_err(|e| rename(e, "original")),
+        || SurfaceDistanceIndex::in_frame(original, frame).map_err(|e| rename(e, "original")),
         || -> Result<_, MetricsError> {
-            let simplified_index =
-                SurfaceDistanceIndex::new(simplified).map_err(|e| rename(e, "simplified"))?;
-            let fwd = draw(original, params, samples, derive_seed(params.seed, 1))
-                .map_err(|e| rename(e, "original"))?;
-            let bwd = draw(simplified, params, samples, derive_seed(params.seed, 2))
+            let simplified_index = SurfaceDistanceIndex::in_frame(simplified, frame)
                 .map_err(|e| rename(e, "simplified"))?;
+            let fwd = draw(
+                original,
+                &frame,
+                params,
+                samples,
+                derive_seed(params.seed, 1),
+            )
+            .map_err(|e| rename(e, "original"))?;
+            let bwd = draw(
+                simplified,
+                &frame,
+                params,
+                samples,
+                derive_seed(params.seed, 2),
+            )
+            .map_err(|e| rename(e, "simplified"))?;
             let forward = measure(&fwd, &simplified_index, params, diagonal);
             Ok((forward, bwd))
         },

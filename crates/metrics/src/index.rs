@@ -4,12 +4,17 @@
 //! node array itself: nearest child first, subtrees pruned when their box is farther than the
 //! best triangle found so far. Candidates are scored in f32 with the exact region-based
 //! point–triangle routine; the winner is re-evaluated in f64.
+//!
+//! The index holds its mesh in a [`Frame`] (centred, scaled by a power of two near the
+//! diagonal), so the f32 search neither underflows on a model in 1e-25 units nor overflows on
+//! one in 1e15 units; queries are mapped into the frame and answers back into model units.
 
 use crate::MetricsError;
 use crate::closest::{
     PackedTriangle, closest_point_triangle, is_degenerate, squared_distance_f32,
     squared_distance_segments_f32,
 };
+use crate::frame::Frame;
 use glam::{DVec3, Vec3, Vec3A};
 use mesh::TriMesh;
 use obvhs::aabb::Aabb as BvhAabb;
@@ -32,10 +37,14 @@ pub struct ClosestPoint {
 }
 
 /// A BVH over one mesh's triangles answering exact closest-point queries; build once, query
-/// many times from any number of threads (`Sync`).
+/// many times from any number of threads (`Sync`). Works at any model scale: the mesh is held
+/// translated to its bounding box's centre and scaled by a power of two near its diagonal, and
+/// answers come back in model units.
 pub struct SurfaceDistanceIndex {
+    /// The frame the triangles are held in.
+    frame: Frame,
     bvh: Bvh2,
-    /// Triangles in BVH primitive order (leaf ranges are contiguous).
+    /// Triangles in BVH primitive order (leaf ranges are contiguous), in frame coordinates.
     triangles: Vec<PackedTriangle>,
     /// Degenerate flag per packed triangle (these use the three-segment fallback).
     degenerate: Vec<bool>,
@@ -45,6 +54,14 @@ pub struct SurfaceDistanceIndex {
     slots: Vec<u32>,
     /// Unit face normals by original face index (zero for degenerate faces).
     normals: Vec<Vec3>,
+}
+
+/// A closest point in frame units: the distance and the face.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrameHit {
+    pub distance: f64,
+    pub point: DVec3,
+    pub face: u32,
 }
 
 impl std::fmt::Debug for SurfaceDistanceIndex {
@@ -61,9 +78,20 @@ impl SurfaceDistanceIndex {
     /// point). Fails when the mesh has no triangles, bad indices or non-finite coordinates.
     pub fn new(mesh: &TriMesh) -> Result<SurfaceDistanceIndex, MetricsError> {
         crate::validate_mesh(mesh, "target")?;
+        SurfaceDistanceIndex::in_frame(mesh, Frame::of_mesh(mesh))
+    }
+
+    /// Indexes `mesh` (already validated) held in `frame`, e.g. the frame of the other mesh of
+    /// a pair, so both directions of a distance are measured in one frame. The caller checks
+    /// that the mesh lies within [`crate::frame::MAX_SPAN`] of the frame.
+    pub(crate) fn in_frame(
+        mesh: &TriMesh,
+        frame: Frame,
+    ) -> Result<SurfaceDistanceIndex, MetricsError> {
         if mesh.triangles.is_empty() {
             return Err(MetricsError::NoTriangles { mesh: "target" });
         }
+        let mesh = &frame.apply(mesh);
         let boxes: Vec<BvhAabb> = (0..mesh.triangles.len())
             .map(|f| {
                 let [a, b, c] = mesh.triangle(f);
@@ -97,6 +125,7 @@ impl SurfaceDistanceIndex {
             slots[face as usize] = slot as u32;
         }
         Ok(SurfaceDistanceIndex {
+            frame,
             faces: bvh.primitive_indices.clone(),
             bvh,
             triangles,
@@ -116,20 +145,52 @@ impl SurfaceDistanceIndex {
         self.normals[face as usize]
     }
 
+    /// The frame the index measures in.
+    pub(crate) fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// A frame hit in model units.
+    fn to_model(&self, hit: FrameHit) -> ClosestPoint {
+        ClosestPoint {
+            distance: hit.distance * self.frame.scale(),
+            point: self.frame.to_model(hit.point),
+            face: hit.face,
+        }
+    }
+
+    /// The nearest slot to frame point `q` by the f32 search, or by an exact scan of every
+    /// triangle when the search finds none (a point beyond the f32 range of the frame).
+    fn nearest_or_scan(&self, q: DVec3, hint: u32, stack: &mut Vec<(u32, f32)>) -> u32 {
+        let slot = self.nearest_slot(Vec3A::from(q.as_vec3()), hint, f32::INFINITY, stack);
+        if slot != NO_SLOT {
+            return slot;
+        }
+        (0..self.triangles.len() as u32)
+            .min_by(|&a, &b| {
+                self.exact(q, a)
+                    .distance
+                    .total_cmp(&self.exact(q, b).distance)
+            })
+            .unwrap_or(0)
+    }
+
     /// Closest point on the surface to `p`.
     pub fn closest(&self, p: Vec3) -> ClosestPoint {
         let mut stack = Vec::with_capacity(64);
-        let slot = self.nearest_slot(p.into(), NO_SLOT, f32::INFINITY, &mut stack);
-        self.exact(p.as_dvec3(), slot)
+        let q = self.frame.to_frame(p);
+        let slot = self.nearest_or_scan(q, NO_SLOT, &mut stack);
+        self.to_model(self.exact(q, slot))
     }
 
     /// Closest point on the surface to `p` if one lies within `max_distance`, else `None`.
     pub fn closest_within(&self, p: Vec3, max_distance: f64) -> Option<ClosestPoint> {
         let mut stack = Vec::with_capacity(64);
-        let bound = bound_f32(max_distance);
-        let slot = self.nearest_slot(p.into(), NO_SLOT, bound, &mut stack);
+        let bound = bound_f32(max_distance / self.frame.scale());
+        let q = self.frame.to_frame(p);
+        let slot = self.nearest_slot(Vec3A::from(q.as_vec3()), NO_SLOT, bound, &mut stack);
         (slot != NO_SLOT)
-            .then(|| self.exact(p.as_dvec3(), slot))
+            .then(|| self.to_model(self.exact(q, slot)))
             .filter(|c| c.distance <= max_distance)
     }
 
@@ -141,20 +202,21 @@ impl SurfaceDistanceIndex {
         points
             .iter()
             .map(|&p| {
-                hint = self.nearest_slot(p.into(), hint, f32::INFINITY, &mut stack);
-                self.exact(p.as_dvec3(), hint)
+                let q = self.frame.to_frame(p);
+                hint = self.nearest_or_scan(q, hint, &mut stack);
+                self.to_model(self.exact(q, hint))
             })
             .collect()
     }
 
-    /// Exact (f64) closest point on packed triangle `slot`.
+    /// Exact (f64) closest point on packed triangle `slot` to frame point `q`, in frame units.
     #[inline]
-    pub(crate) fn exact(&self, p: DVec3, slot: u32) -> ClosestPoint {
+    pub(crate) fn exact(&self, q: DVec3, slot: u32) -> FrameHit {
         let t = &self.triangles[slot as usize];
-        let q = closest_point_triangle(p, t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3());
-        ClosestPoint {
-            distance: (p - q).length(),
-            point: q,
+        let c = closest_point_triangle(q, t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3());
+        FrameHit {
+            distance: (q - c).length(),
+            point: c,
             face: self.faces[slot as usize],
         }
     }
@@ -170,8 +232,9 @@ impl SurfaceDistanceIndex {
         }
     }
 
-    /// Nearest packed triangle to `p` with squared distance below `bound2` (f32), starting from
-    /// `hint` (a packed slot or [`NO_SLOT`]); returns [`NO_SLOT`] when nothing is that close.
+    /// Nearest packed triangle to frame point `p` with squared distance (frame units) below
+    /// `bound2` (f32), starting from `hint` (a packed slot or [`NO_SLOT`]); returns [`NO_SLOT`]
+    /// when nothing is that close.
     pub(crate) fn nearest_slot(
         &self,
         p: Vec3A,

@@ -23,6 +23,7 @@
 //! ```
 
 mod closest;
+mod frame;
 mod hausdorff;
 mod index;
 pub mod paper;
@@ -30,6 +31,7 @@ mod quality;
 mod report;
 
 pub use closest::{closest_point_segment, closest_point_triangle};
+pub use frame::MAX_SPAN;
 pub use hausdorff::{
     DistanceStats, Hausdorff, HausdorffParams, MAX_SAMPLES_PER_DIRECTION, NormalDeviation,
     OneSided, SamplingPlan, hausdorff, hausdorff_indexed, one_sided,
@@ -61,18 +63,21 @@ pub enum MetricsError {
         /// Which mesh.
         mesh: &'static str,
     },
-    /// A referenced vertex lies so far out that squared distances would overflow the f32
-    /// closest-point search (|coordinate| above `limit`).
+    /// A vertex lies so far from the other mesh, measured in that mesh's size, that squared
+    /// distances would overflow the f32 closest-point search of the frame distances are measured
+    /// in (see [`MAX_SPAN`]): more than `limit` bounding-box diagonals of the other mesh (the
+    /// original in a pair) away.
     #[error(
-        "the {mesh} mesh has vertex {vertex} with a coordinate beyond ±{limit:e}; distances that \
-         large cannot be measured (rescale the model)"
+        "the {mesh} mesh has vertex {vertex} more than {limit:e} times the other mesh's \
+         bounding-box diagonal away from it; distances across such a span cannot be measured \
+         (are the two meshes in the same units?)"
     )]
     CoordinateRange {
         /// Which mesh.
         mesh: &'static str,
         /// The offending vertex.
         vertex: usize,
-        /// Largest accepted |coordinate|, model units.
+        /// Largest accepted distance, in (power-of-two rounded) bounding-box diagonals.
         limit: f64,
     },
     /// A parameter is out of range.
@@ -101,27 +106,27 @@ pub enum MetricsError {
     },
 }
 
-/// Largest |coordinate| the distance computations accept, model units: the closest-point
-/// search compares squared distances in f32 (max ≈ 3.4e38), so two points may be at most about
-/// 1.8e19 apart; 1e18 leaves room for three axes and rounding.
-pub const MAX_COORDINATE: f64 = 1e18;
-
-/// Checks indices and coordinates of `mesh`, naming it `which` in the error.
+/// Checks indices and that referenced coordinates are finite, naming the mesh `which` in the
+/// error. Any finite f32 coordinate is accepted: distances are searched in a frame scaled to
+/// the original (see [`MAX_SPAN`] for how far apart two meshes may be).
 pub(crate) fn validate_mesh(mesh: &TriMesh, which: &'static str) -> Result<(), MetricsError> {
     mesh::sampling::validate(mesh).map_err(|problem| MetricsError::Invalid {
         mesh: which,
         problem,
-    })?;
-    let limit = MAX_COORDINATE as f32;
-    for &v in mesh.triangles.iter().flatten() {
-        let p = mesh.positions[v as usize];
-        if p.abs().max_element() > limit {
-            return Err(MetricsError::CoordinateRange {
-                mesh: which,
-                vertex: v as usize,
-                limit: MAX_COORDINATE,
-            });
-        }
+    })
+}
+
+/// Checks that every vertex record of `mesh`, unreferenced ones included, is finite (what a
+/// plan sampling every vertex, [`SamplingPlan::MeshLab`], needs).
+pub(crate) fn validate_all_vertices(
+    mesh: &TriMesh,
+    which: &'static str,
+) -> Result<(), MetricsError> {
+    match mesh.positions.iter().position(|p| !p.is_finite()) {
+        Some(vertex) => Err(MetricsError::Invalid {
+            mesh: which,
+            problem: SamplingError::NonFinite { vertex },
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }

@@ -1,5 +1,6 @@
 //! The GNG3D paper's error measures: vertex-to-nearest-vertex E_avg/E_max and area difference E_sur.
 
+use crate::frame::Frame;
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
@@ -15,51 +16,76 @@ pub struct VertexErrors {
     pub e_max: f64,
 }
 
-/// A kd-tree over simplified vertices, reusable for many E_avg/E_max evaluations.
+/// A kd-tree over simplified vertices, reusable for many E_avg/E_max evaluations. The tree
+/// holds the points scaled by a power of two near their diagonal (and centred when they lie
+/// off the origin), so its f32 squared distances neither underflow nor overflow at any model
+/// scale.
 pub struct NearestVertexIndex {
+    frame: Frame,
+    points: Vec<Vec3>,
     tree: Option<ImmutableKdTree<f32, 3>>,
 }
 
 impl NearestVertexIndex {
     /// Index the given simplified vertex positions.
     pub fn new(simplified: &[Vec3]) -> NearestVertexIndex {
-        let points: Vec<[f32; 3]> = simplified.iter().map(|p| p.to_array()).collect();
-        // Construction only fails for an empty slice, which is represented as `None`.
-        let tree = ImmutableKdTree::new_from_slice(&points).ok();
-        NearestVertexIndex { tree }
+        NearestVertexIndex::in_frame(simplified, Frame::of_points(simplified, &[]))
     }
 
-    /// Squared distance from `p` to the nearest indexed vertex and that vertex's index
-    /// (`None` when the index is empty).
+    /// Index `simplified` held in `frame`.
+    fn in_frame(simplified: &[Vec3], frame: Frame) -> NearestVertexIndex {
+        let local: Vec<[f32; 3]> = simplified
+            .iter()
+            .map(|&p| frame.to_frame(p).as_vec3().to_array())
+            .collect();
+        // Construction only fails for an empty slice, which is represented as `None`.
+        let tree = ImmutableKdTree::new_from_slice(&local).ok();
+        NearestVertexIndex {
+            frame,
+            points: simplified.to_vec(),
+            tree,
+        }
+    }
+
+    /// Squared distance from `p` to the nearest indexed vertex (model units², computed in f64
+    /// from the two f32 points) and that vertex's index (`None` when the index is empty).
     pub fn nearest(&self, p: Vec3) -> Option<(f64, u32)> {
+        let q = self.frame.to_frame(p).as_vec3();
         let n = self
             .tree
             .as_ref()?
-            .query(&p.to_array())
+            .query(&q.to_array())
             .nearest_one::<SquaredEuclidean<f32>>()
             .execute();
-        Some((n.distance as f64, n.item))
+        let d2 = |i: usize| (p.as_dvec3() - self.points[i].as_dvec3()).length_squared();
+        let item = if n.distance.is_finite() {
+            n.item as usize
+        } else {
+            // Beyond the f32 range of the frame: an exact scan.
+            (0..self.points.len()).min_by(|&a, &b| d2(a).total_cmp(&d2(b)))?
+        };
+        Some((d2(item), item as u32))
     }
 }
 
 /// E_avg and E_max of `original` vertices against `simplified` vertices (both plain point sets).
 ///
 /// Returns `None` when either set is empty. Distances are exact squared Euclidean distances
-/// between f32 points, accumulated in f64; the result is independent of thread count.
+/// between f32 points, accumulated in f64; the result is independent of thread count. The
+/// nearest vertices are searched in a frame scaled to the original's extent, so the figures
+/// hold at any model scale.
 pub fn vertex_errors(original: &[Vec3], simplified: &[Vec3]) -> Option<VertexErrors> {
     if original.is_empty() || simplified.is_empty() {
         return None;
     }
-    let index = NearestVertexIndex::new(simplified);
+    let index = NearestVertexIndex::in_frame(simplified, Frame::of_points(original, simplified));
     let (sum, max) = original
         .par_chunks(4096)
         .map(|chunk| {
             let mut sum = 0.0f64;
             let mut max = 0.0f64;
             for &p in chunk {
-                let q = simplified[index.nearest(p)?.1 as usize];
-                // Recompute in f64 from the chosen vertex so accumulation is exact and stable.
-                let d = (p.as_dvec3() - q.as_dvec3()).length_squared();
+                let (d, _) = index.nearest(p)?;
                 sum += d;
                 max = max.max(d);
             }

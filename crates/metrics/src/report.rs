@@ -6,8 +6,15 @@
 //! rule of [`crate::HausdorffParams`] (`samples: None` = 10 × the larger face count, capped at
 //! [`crate::MAX_SAMPLES_PER_DIRECTION`] / 2), so the same pair and parameters give the same
 //! numbers in every front end.
+//!
+//! Distances are searched in the original's frame (scaled by a power of two near its bounding-box
+//! diagonal, centred when it lies off the origin), so a pair gives the same figures relative to
+//! its size in 1e-25 or in 1e15 model units; every figure is reported in model units (squared
+//! for E_avg/E_max and areas). A simplified mesh more than [`crate::MAX_SPAN`] original diagonals
+//! away is refused ([`MetricsError::CoordinateRange`]).
 
 use crate::SurfaceDistanceIndex;
+use crate::frame::Frame;
 use crate::hausdorff::{
     Hausdorff, HausdorffParams, NormalDeviation, hausdorff_full, hausdorff_pipelined,
 };
@@ -144,6 +151,8 @@ fn summary(mesh: &TriMesh, referenced: usize) -> MeshSummary {
 /// ```
 pub struct Evaluator {
     original: std::sync::Arc<TriMesh>,
+    /// The original's frame, which every evaluation measures in.
+    frame: Frame,
     index: SurfaceDistanceIndex,
     points: Vec<Vec3>,
     quality: TriangleQuality,
@@ -169,8 +178,9 @@ impl Evaluator {
         if points.is_empty() {
             return Err(MetricsError::NoTriangles { mesh: "original" });
         }
+        let frame = Frame::of_mesh(&original);
         let (index, (quality, topology)) = rayon::join(
-            || SurfaceDistanceIndex::new(&original),
+            || SurfaceDistanceIndex::in_frame(&original, frame),
             || (triangle_quality(&original), analyze(&original)),
         );
         let index = index.map_err(|e| match e {
@@ -180,6 +190,7 @@ impl Evaluator {
         let summary = summary(&original, points.len());
         Ok(Evaluator {
             original,
+            frame,
             index,
             points,
             quality,
@@ -200,7 +211,8 @@ impl Evaluator {
     }
 
     /// Every metric of `simplified` against the original. `simplified` needs at least one
-    /// triangle, valid indices and coordinates within ±[`crate::MAX_COORDINATE`].
+    /// triangle, valid indices, finite coordinates, and every vertex within
+    /// [`crate::MAX_SPAN`] bounding-box diagonals of the original.
     pub fn evaluate(&self, simplified: &TriMesh) -> Result<Evaluation, MetricsError> {
         let start = Instant::now();
         validate_mesh(simplified, "simplified")?;
@@ -208,10 +220,14 @@ impl Evaluator {
         if simplified_points.is_empty() {
             return Err(MetricsError::NoTriangles { mesh: "simplified" });
         }
-        let simplified_index = SurfaceDistanceIndex::new(simplified).map_err(|e| match e {
-            MetricsError::NoTriangles { .. } => MetricsError::NoTriangles { mesh: "simplified" },
-            other => other,
-        })?;
+        self.frame.check_span(simplified, "simplified", false)?;
+        let simplified_index =
+            SurfaceDistanceIndex::in_frame(simplified, self.frame).map_err(|e| match e {
+                MetricsError::NoTriangles { .. } => {
+                    MetricsError::NoTriangles { mesh: "simplified" }
+                }
+                other => other,
+            })?;
         let (distances, (quality_s, topology_s)) = rayon::join(
             || {
                 hausdorff_full(
@@ -251,7 +267,8 @@ impl Evaluator {
 
 /// Computes every metric of `simplified` against `original` (one-off [`Evaluator`]).
 ///
-/// Both meshes need at least one triangle, valid indices and finite coordinates.
+/// Both meshes need at least one triangle, valid indices and finite coordinates, and the
+/// simplified mesh must lie within [`crate::MAX_SPAN`] bounding-box diagonals of the original.
 pub fn evaluate(
     original: &TriMesh,
     simplified: &TriMesh,

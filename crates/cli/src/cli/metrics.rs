@@ -16,8 +16,10 @@ pub struct MetricsArgs {
     /// default: 10 × the larger face count, as Metro); 1 to 50,000,000.
     #[arg(long)]
     pub samples: Option<usize>,
-    /// MeshLab's sampling plan: every vertex, plus --samples edge samples, plus --samples face
-    /// samples per direction (MeshLab's `samplenum`), instead of --samples in total.
+    /// MeshLab's sampling plan: every vertex record (unreferenced ones too, as MeshLab samples
+    /// them; a random --samples of them when there are more), plus --samples edge samples, plus
+    /// --samples face samples per direction (MeshLab's `samplenum`), instead of --samples in
+    /// total.
     #[arg(long)]
     pub meshlab: bool,
     /// Seed of the surface sampler.

@@ -193,7 +193,11 @@ impl FaceGrid {
                 .map(|d| d as usize + 1)
         };
         let mut dims = dims_for(cell);
-        while dims.iter().product::<usize>() > 4 * n + 64 {
+        // Counted in f64: three dimensions of up to 2^32 cells each (a cell size far below
+        // the extent, from near-zero-area faces) overflowed the usize product to 0 and left
+        // the grid without cells (found by the CLI fuzz).
+        let cell_count = |dims: [usize; 3]| dims.iter().map(|&d| d as f64).product::<f64>();
+        while cell_count(dims) > (4 * n + 64) as f64 {
             cell *= 1.5;
             dims = dims_for(cell);
         }
@@ -433,5 +437,46 @@ fn split_edge_of(
     });
     for v in [m, eb, c] {
         vf[v as usize].push(id);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Faces of almost no area spread over a large extent gave a cell size so small that the
+    /// cell count overflowed (a panic found by the CLI fuzz); the grid stays bounded and finds
+    /// the nearest face.
+    #[test]
+    fn face_grid_survives_near_zero_area_faces() {
+        let nodes = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0e6, 0.0, 0.0),
+            Vec3::new(0.0, 1.0e-30, 0.0),
+            Vec3::new(0.0, 0.0, 1.0e6),
+            Vec3::new(1.0e-30, 0.0, 1.0e6),
+        ];
+        let faces = vec![
+            Candidate {
+                tri: [0, 1, 2],
+                support: 1,
+            },
+            Candidate {
+                tri: [3, 4, 0],
+                support: 1,
+            },
+        ];
+        let mut grid = FaceGrid::new(&faces, &nodes);
+        let cells: usize = grid.dims.iter().product();
+        assert!(
+            cells >= 1 && cells <= 4 * faces.len() + 64,
+            "{:?}",
+            grid.dims
+        );
+        let (d, f, _) = grid
+            .nearest(DVec3::new(5.0e5, 1.0, 0.0), &faces, &nodes, |_| true)
+            .expect("a face");
+        assert_eq!(f, 0);
+        assert!((d - 1.0).abs() < 1e-6, "{d}");
     }
 }
