@@ -2,6 +2,10 @@
 //! input and target, armadillo and igea at 10 % and 1 % of the faces. Before the criterion groups
 //! it prints a summary with the best-of-N time ratio qem / meshopt measured in the same run.
 //! Meshes come from `GNG3D_MESHES`.
+//!
+//! Group `hostile-fan` (issue 33, generated, needs no shared mesh): a flat fan of 1,000,000
+//! triangles around one hub next to an ordinary grid of the same size (999,698 faces), both at
+//! 10 %; the summary prints the time ratio fan / grid (`cargo bench -p qem -- hostile`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesh::TriMesh;
@@ -53,6 +57,29 @@ fn best_of(runs: usize, mut f: impl FnMut() -> usize) -> (Duration, usize) {
     (best, out)
 }
 
+/// Issue 33: the 1M-triangle fan against a grid of the same size, both at 10 %.
+fn bench_fan(c: &mut Criterion) {
+    let fan = mesh::procedural::fan(1_000_000);
+    let grid = mesh::procedural::unit_square_grid(707); // 999,698 faces
+    let (tf, ff) = best_of(5, || run_qem(&fan, fan.face_count() / 10));
+    let (tg, fg) = best_of(5, || run_qem(&grid, grid.face_count() / 10));
+    println!(
+        "qem on a fan of {} triangles around one hub vs a grid of {} (best of 5, 10 %): fan {:.4} s ({ff} faces), grid {:.4} s ({fg} faces), ratio {:.2}",
+        fan.face_count(),
+        grid.face_count(),
+        tf.as_secs_f64(),
+        tg.as_secs_f64(),
+        tf.as_secs_f64() / tg.as_secs_f64()
+    );
+    let mut group = c.benchmark_group("hostile-fan-10pct");
+    group.sample_size(10);
+    for (name, m) in [("fan-1m", &fan), ("grid-1m", &grid)] {
+        let faces = m.face_count() / 10;
+        group.bench_function(name, |b| b.iter(|| run_qem(black_box(m), faces)));
+    }
+    group.finish();
+}
+
 fn bench(c: &mut Criterion) {
     let inputs = inputs();
     println!("qem vs meshopt (best of 5, same process):");
@@ -89,5 +116,5 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench_fan, bench);
 criterion_main!(benches);

@@ -622,3 +622,71 @@ fn edge_length_weight_keeps_the_vertices_of_a_flat_plane_evenly_spread() {
         assert!(e.contains("edge length weight"), "{e}");
     }
 }
+
+/// Best-of-3 wall time of `simplify` at `target`, with the last result.
+fn timed(m: &TriMesh, target: Target) -> (f64, TriMesh, qem::QemReport) {
+    let mut best = f64::INFINITY;
+    let mut last = None;
+    for _ in 0..3 {
+        let started = std::time::Instant::now();
+        let out = qem::simplify(m, &params(target)).unwrap();
+        best = best.min(started.elapsed().as_secs_f64());
+        last = Some(out);
+    }
+    let (out, report) = last.expect("three runs");
+    (best, out, report)
+}
+
+/// Issue 33, row 1: a flat fan of 200,000 triangles around one hub, the fan-triangulated cap of
+/// CAD exports, took more than 300 s at 10 % (every candidate on the hub walked its whole face
+/// list, in the prefetch stages and in the check: quadratic). Measured against an ordinary grid
+/// of the same size in the same process: within 20× (1.8× on the 2-core VM; the quadratic walk
+/// was more than 1000×).
+#[test]
+fn a_fan_around_one_hub_costs_about_what_a_grid_of_its_size_does() {
+    let fan = mesh::procedural::fan(200_000);
+    let plain = grid(316); // 199,712 faces
+    let target = Target::Ratio(0.1);
+    let (t_grid, _, r_grid) = timed(&plain, target);
+    let (t_fan, out, report) = timed(&fan, target);
+    eprintln!(
+        "fan 200,000 at 10 %: {t_fan:.3} s, grid {}: {t_grid:.3} s, ratio {:.1}",
+        plain.face_count(),
+        t_fan / t_grid
+    );
+    assert!(r_grid.target_reached, "{r_grid:?}");
+    assert!(report.target_reached, "{report:?}");
+    assert_eq!(out.face_count(), 20_000, "{report:?}");
+    assert_valid(&out);
+    // Still the flat unit disk: a convex polygon on the circle, no face turned over.
+    let topology = analyze(&out);
+    assert!(
+        topology.manifold && topology.components == 1,
+        "{topology:?}"
+    );
+    assert!(out.positions.iter().all(|p| p.z == 0.0));
+    let normals = out.face_normals();
+    assert!(normals.iter().all(|n| n.z > 0.0));
+    assert!(
+        (out.area() - std::f64::consts::PI).abs() < 1e-3,
+        "{}",
+        out.area()
+    );
+    assert!(
+        t_fan <= 20.0 * t_grid,
+        "fan {t_fan:.3} s vs grid {t_grid:.3} s: the hub's candidates are quadratic again"
+    );
+}
+
+/// Issue 33: the closed cylinder with a fan cap of 16,384 triangles at each end (65,536 faces)
+/// simplifies to 1 % as a closed genus-0 manifold.
+#[test]
+fn a_fan_capped_cylinder_stays_a_closed_manifold() {
+    let m = mesh::procedural::fan_capped_cylinder(16_384);
+    let (_, out, report) = timed(&m, Target::Ratio(0.01));
+    assert!(report.target_reached, "{report:?}");
+    assert_valid(&out);
+    let topology = analyze(&out);
+    assert!(topology.closed && topology.manifold, "{topology:?}");
+    assert_eq!(topology.genus, Some(0));
+}

@@ -38,6 +38,19 @@ const PARALLEL_MIN: usize = 32_768;
 /// Items per parallel task.
 const PARALLEL_CHUNK: usize = 8_192;
 
+/// A pair whose kept end has a face list longer than this is *heavy*: its check
+/// ([`Engine::allowed`]) walks the whole list, and a hub's candidates come back after every
+/// contraction around it. Ordinary meshes have lists of 6-20 entries; a fan-triangulated cap
+/// has one vertex with as many faces as the cap has segments.
+const HEAVY_LIST: u32 = 256;
+/// Checks of heavy pairs per kept end and pass, after which that vertex's further heavy pairs
+/// are dropped for the pass, as a rejected pair is (they come back when a contraction touches an
+/// end, or in a rebuild). Without a bound a flat fan of N triangles spent O(N) per rejected hub
+/// pair on about N rejections (issue 33: 131,072 triangles 84 s at 10 %, 200,000 past 300 s);
+/// with it a pass spends at most `HEAVY_TRIES ×` the list on a hub. The pass after a rebuild has
+/// no bound, so that [`StopReason::NoValidPairs`] still means that every pair failed its check.
+const HEAVY_TRIES: u32 = 4;
+
 thread_local! {
     /// Set while this thread simplifies one part of a partitioned run: the parts already occupy
     /// the pool, and nested splitting would only add memory (per-chunk buffers, more arenas).
@@ -65,8 +78,8 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let prepared = prepare::prepare(input)?;
     let input_faces = prepared.faces.len();
     let input_vertices = prepared.pos.len();
-    let run = if partition::worth_it(&prepared, params) {
-        partition::run(prepared, params)
+    let run = if let Some(plan) = partition::plan(&prepared, params) {
+        partition::run(prepared, params, plan)
     } else {
         simplify_prepared(prepared, params, None).0
     };
@@ -176,6 +189,11 @@ fn simplify_prepared(
             cap,
             max_error,
             goal: &goal,
+            heavy_tries: if rebuilt_without_progress {
+                u32::MAX
+            } else {
+                HEAVY_TRIES
+            },
         };
         let outcome = schedule.one_pass(&mut e, &rule);
         totals.done += outcome.done;
@@ -277,12 +295,14 @@ impl Goal {
 }
 
 /// What a pass may do: its number (the `touched` stamp of the vertices it merges), the cost cap
-/// past which it stops (after at least one contraction), the run's error bound and its goal.
+/// past which it stops (after at least one contraction), the run's error bound, its goal and the
+/// checks of heavy pairs it may spend per vertex ([`HEAVY_TRIES`]).
 struct PassRule<'a> {
     pass: u32,
     cap: f32,
     max_error: f64,
     goal: &'a Goal,
+    heavy_tries: u32,
 }
 
 /// What a pass did (and, summed, the whole run).
@@ -298,6 +318,8 @@ struct PassOutcome {
     consumed: usize,
     /// Set when the run must stop (the next contraction exceeds `max_error`).
     stop: Option<StopReason>,
+    /// Checks of heavy pairs ([`HEAVY_LIST`]) in this pass, per kept end.
+    heavy: std::collections::HashMap<u32, u32>,
 }
 
 /// The sorted candidate list and the buffers the passes reuse (kept for the whole run: no
@@ -475,6 +497,7 @@ fn visit(
         cap,
         max_error,
         goal,
+        heavy_tries,
     } = *rule;
     let (a, b) = (c.a as usize, c.b as usize);
     if out.done > 0 && key_cost(c.key) > cap {
@@ -492,6 +515,13 @@ fn visit(
     } else {
         (a, b)
     };
+    if e.vx[a].len > HEAVY_LIST {
+        let tries = out.heavy.entry(a as u32).or_default();
+        if *tries >= heavy_tries {
+            return Continue(());
+        }
+        *tries += 1;
+    }
     if !e.allowed(a, b, p) {
         // Dropped; the pair comes back when a neighbouring contraction touches an endpoint, or
         // in a full rebuild.

@@ -22,12 +22,51 @@ pub(super) const PARTITION_MIN_FACES: usize = 500_000;
 /// At most this many parts (more parts mean more locked border and a longer final pass).
 const MAX_PARTS: usize = 8;
 
-/// Whether `prepared` is simplified by parts with `params`: large enough, more than one thread,
-/// and no non-edge pairs (those could cross a cut).
-pub(super) fn worth_it(prepared: &Prepared, params: &QemParams) -> bool {
-    prepared.faces.len() >= PARTITION_MIN_FACES
+/// How [`run`] cuts a mesh: the number of parts, the range of faces of each part (`bounds[k]..
+/// bounds[k + 1]`) and, per vertex, the parts that reference it (bit `k`: part `k`).
+pub(super) struct Plan {
+    parts: usize,
+    bounds: Vec<usize>,
+    mask: Vec<u8>,
+}
+
+/// The cut of `prepared` if it is simplified by parts with `params`: large enough, more than one
+/// thread, no non-edge pairs (those could cross a cut), and at most half of the faces in the
+/// parts' locked bands. A part cannot touch the faces around the vertices it shares, so where
+/// the bands are most of the mesh the parts are pure overhead before the sequential run: on a
+/// fan of 1,000,000 triangles around one hub every face has the shared hub (issue 33: 1.01 s on
+/// two threads against 0.87 s on one; igea-1m's bands are about 1 % of its faces).
+pub(super) fn plan(prepared: &Prepared, params: &QemParams) -> Option<Plan> {
+    let worth_it = prepared.faces.len() >= PARTITION_MIN_FACES
         && params.pair_threshold <= 0.0
-        && rayon::current_num_threads() > 1
+        && rayon::current_num_threads() > 1;
+    if !worth_it {
+        return None;
+    }
+    let parts = rayon::current_num_threads().clamp(2, MAX_PARTS);
+    let (faces, n) = (&prepared.faces, prepared.pos.len());
+    let smallest = |t: &[u32; 3]| t[0].min(t[1]).min(t[2]) as usize;
+    let bounds: Vec<usize> = (0..=parts)
+        .map(|k| faces.partition_point(|t| smallest(t) < n * k / parts))
+        .collect();
+    let mut mask = vec![0u8; n];
+    for k in 0..parts {
+        for t in &faces[bounds[k]..bounds[k + 1]] {
+            for &v in t {
+                mask[v as usize] |= 1 << k;
+            }
+        }
+    }
+    let shared = |v: u32| mask[v as usize].count_ones() > 1;
+    let band = faces
+        .iter()
+        .filter(|t| t.iter().any(|&v| shared(v)))
+        .count();
+    (2 * band <= faces.len()).then_some(Plan {
+        parts,
+        bounds,
+        mask,
+    })
 }
 
 /// One part: its vertices (global indices, increasing) and their positions, its faces over local
@@ -40,11 +79,10 @@ struct Part {
     locked: Vec<bool>,
 }
 
-/// Simplify `prepared` by parts, then finish the borders sequentially.
-pub(super) fn run(prepared: Prepared, params: &QemParams) -> Run {
+/// Simplify `prepared` by parts as `plan` cuts it, then finish the borders sequentially.
+pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
     let n = prepared.pos.len();
     let input_faces = prepared.faces.len();
-    let parts_count = rayon::current_num_threads().clamp(2, MAX_PARTS);
     let target_faces = match params.target {
         Target::Faces(f) => f,
         Target::Ratio(r) => ((input_faces as f64) * r).round() as usize,
@@ -60,7 +98,7 @@ pub(super) fn run(prepared: Prepared, params: &QemParams) -> Run {
     drop((refs, face_start)); // each part builds its own face lists
     // Each part copies its positions here, so that the global ones are gone before the parts
     // run (they used to copy them at their start: 24 B a vertex more at the two-thread peak).
-    let parts = split(&pos, &faces, parts_count);
+    let parts = split(&pos, &faces, plan);
     drop((faces, pos));
     release_freed_memory();
     let results: Vec<(Run, Vec<u32>)> = parts
@@ -167,23 +205,15 @@ fn release_freed_memory() {
     }
 }
 
-/// Cut the vertex range `0..n` into `parts` equal blocks; a face belongs to the block of its smallest
-/// vertex (the faces are sorted by it, so each part's faces are a contiguous range).
-fn split(pos: &[DVec3], faces: &[[u32; 3]], parts: usize) -> Vec<Part> {
+/// Cut the vertex range `0..n` into `plan.parts` equal blocks; a face belongs to the block of its
+/// smallest vertex (the faces are sorted by it, so each part's faces are a contiguous range).
+fn split(pos: &[DVec3], faces: &[[u32; 3]], plan: Plan) -> Vec<Part> {
     let n = pos.len();
-    let smallest = |t: &[u32; 3]| t[0].min(t[1]).min(t[2]) as usize;
-    let bounds: Vec<usize> = (0..=parts)
-        .map(|k| faces.partition_point(|t| smallest(t) < n * k / parts))
-        .collect();
-    // Which parts reference each vertex (bit k: part k; at most 8 parts).
-    let mut mask = vec![0u8; n];
-    for k in 0..parts {
-        for t in &faces[bounds[k]..bounds[k + 1]] {
-            for &v in t {
-                mask[v as usize] |= 1 << k;
-            }
-        }
-    }
+    let Plan {
+        parts,
+        bounds,
+        mask,
+    } = plan;
     (0..parts)
         .into_par_iter()
         .map(|k| {
