@@ -58,12 +58,17 @@ pub struct QemParams {
     /// squared distance, the same units as [`QemReport::max_error`]).
     pub max_error: Option<f64>,
     /// Pair distance threshold `t` in model units: 0 contracts edges only, `t > 0` also contracts
-    /// non-edge vertex pairs closer than `t` (aggregation of nearby parts, found with a uniform
-    /// grid of cell size `t`). With `preserve_topology` a non-edge pair is only merged when the two
+    /// non-edge vertex pairs closer than `t` (aggregation of nearby parts): each vertex is paired
+    /// with its [`max_pairs_per_vertex`](Self::max_pairs_per_vertex) closest vertices within `t`,
+    /// found with a k-d tree, so the search costs about the same for any `t`. At most the
+    /// bounding-box diagonal of the mesh's referenced vertices: larger values are refused with
+    /// [`QemError::InvalidParameter`] naming that limit (beyond it every vertex is within `t` of
+    /// every other). With `preserve_topology` a non-edge pair is only merged when the two
     /// vertices share no neighbour (so no non-manifold edge appears); the merge itself joins parts
-    /// at a vertex, i.e. it changes topology by design. Cost of the search grows quickly with `t`.
+    /// at a vertex, i.e. it changes topology by design.
     pub pair_threshold: f64,
-    /// At most this many non-edge pairs (the closest ones) per vertex when `pair_threshold > 0`.
+    /// At most this many non-edge pairs (the closest ones) per vertex when `pair_threshold > 0`;
+    /// at most 64 (refused above: the search and the pairs' memory grow with it).
     pub max_pairs_per_vertex: usize,
     /// Add perpendicular constraint planes along boundary edges.
     pub preserve_boundary: bool,

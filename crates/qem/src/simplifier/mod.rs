@@ -76,6 +76,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     let started = Instant::now();
     validate(params)?;
     let prepared = prepare::prepare(input)?;
+    check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
     let input_faces = prepared.faces.len();
     let input_vertices = prepared.pos.len();
     let run = if let Some(plan) = partition::plan(&prepared, params) {
@@ -541,6 +542,40 @@ fn visit(
     Continue(())
 }
 
+/// The largest pair threshold, in units of the bounding-box diagonal of the referenced vertices
+/// (the normalised frame's unit): beyond it every vertex is within `t` of every other, so larger
+/// values (a typo such as `1e30`) mean nothing more and are refused.
+const MAX_PAIR_THRESHOLD: f64 = 1.0;
+/// The largest `max_pairs_per_vertex`: the pair search and the pairs' memory grow with it.
+const MAX_PAIRS_PER_VERTEX: usize = 64;
+
+/// Refuse a pair threshold above [`MAX_PAIR_THRESHOLD`] diagonals of a mesh whose frame has
+/// `scale` (1 / diagonal), naming the limit in model units (rounded down, so that the value shown
+/// is accepted).
+fn check_pair_threshold(t: f64, scale: f64) -> Result<(), QemError> {
+    if t * scale <= MAX_PAIR_THRESHOLD {
+        return Ok(());
+    }
+    let limit = MAX_PAIR_THRESHOLD / scale;
+    // Six significant digits, rounded down.
+    let digits = 5 - limit.log10().floor() as i32;
+    let shown = if (0..=15).contains(&digits) {
+        let unit = 10f64.powi(digits);
+        format!("{:.*}", digits as usize, (limit * unit).floor() / unit)
+    } else {
+        format!("{limit:e}")
+    };
+    let t = if t >= 1e6 {
+        format!("{t:e}")
+    } else {
+        t.to_string()
+    };
+    Err(QemError::InvalidParameter(format!(
+        "pair threshold {t} is above the limit {shown}, the bounding-box diagonal of the mesh \
+         (beyond it every vertex is paired with every other)"
+    )))
+}
+
 fn validate(p: &QemParams) -> Result<(), QemError> {
     let bad = |s: String| Err(QemError::InvalidParameter(s));
     if let Target::Ratio(r) = p.target
@@ -552,6 +587,12 @@ fn validate(p: &QemParams) -> Result<(), QemError> {
         return bad(format!(
             "pair threshold {} must be finite and >= 0",
             p.pair_threshold
+        ));
+    }
+    if p.max_pairs_per_vertex > MAX_PAIRS_PER_VERTEX {
+        return bad(format!(
+            "max pairs per vertex {} is above the limit {MAX_PAIRS_PER_VERTEX}",
+            p.max_pairs_per_vertex
         ));
     }
     if !(p.boundary_weight >= 0.0 && p.boundary_weight.is_finite()) {

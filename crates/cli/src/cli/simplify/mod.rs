@@ -34,7 +34,9 @@ pub struct SimplifyArgs {
     /// Target as a fraction of the input (vertices for GNG, faces for QEM), in (0, 1].
     #[arg(long, group = "target")]
     pub ratio: Option<f64>,
-    /// QEM pair distance threshold t in model units (0: edges only).
+    /// QEM pair distance threshold t in model units (0: edges only): also contract each vertex
+    /// with its 8 closest vertices within t. At most the mesh's bounding-box diagonal (larger
+    /// values are refused, naming the limit).
     #[arg(long, default_value_t = 0.0)]
     pub threshold: f64,
     /// GNG3D maximum running time in seconds: training and every step after it, from the start
