@@ -3,7 +3,10 @@
 //! igea.ply and igea-1m.ply from `GNG3D_MESHES` (failing under `CI` without them), else a
 //! 327,680-face icosphere.
 //!
-//! Run: `GNG3D_MESHES=/work/shared/meshes cargo bench -p mesh --bench topology`.
+//! Run: `GNG3D_MESHES=/work/shared/meshes cargo bench -p gng3d-mesh --bench topology`.
+
+// Published as gng3d-mesh; this file keeps the workspace's name for it.
+extern crate gng3d_mesh as mesh;
 
 // The crate's own `fixtures` module (behind the `fixtures` feature for other crates).
 #[path = "../src/fixtures.rs"]

@@ -2,15 +2,16 @@
 //! not in the shared set (issue 33's hostile inputs):
 //!
 //! ```text
-//! cargo run --release -p mesh --example generate -- fan 1000000 fan-1m.ply
-//! cargo run --release -p mesh --example generate -- fan-capped-cylinder 16384 cyl.ply
-//! cargo run --release -p mesh --example generate -- icosphere 7 sphere.ply
-//! cargo run --release -p mesh --example generate -- grid 707 grid.ply
+//! cargo run --release -p gng3d-mesh --example generate -- fan 1000000 fan-1m.ply
+//! cargo run --release -p gng3d-mesh --example generate -- fan-capped-cylinder 16384 cyl.ply
+//! cargo run --release -p gng3d-mesh --example generate -- icosphere 7 sphere.ply
+//! cargo run --release -p gng3d-mesh --example generate -- grid 707 grid.ply
 //! ```
 //!
-//! `fan N`: N triangles around one hub ([`mesh::procedural::fan`]); `fan-capped-cylinder N`: a
-//! closed cylinder of N segments with a fan cap at each end (4N faces); `icosphere S`: S
-//! subdivisions (20 · 4^S faces); `grid N`: the unit square as N × N squares (2N² faces).
+//! `fan N`: N triangles around one hub ([`gng3d_mesh::procedural::fan`]);
+//! `fan-capped-cylinder N`: a closed cylinder of N segments with a fan cap at each end (4N
+//! faces); `icosphere S`: S subdivisions (20 · 4^S faces); `grid N`: the unit square as N × N
+//! squares (2N² faces).
 
 use std::process::ExitCode;
 
@@ -25,16 +26,16 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     };
     let m = match kind.as_str() {
-        "fan" => mesh::procedural::fan(size),
-        "fan-capped-cylinder" => mesh::procedural::fan_capped_cylinder(size),
-        "icosphere" => mesh::procedural::icosphere(size.min(9)),
-        "grid" => mesh::procedural::unit_square_grid(size),
+        "fan" => gng3d_mesh::procedural::fan(size),
+        "fan-capped-cylinder" => gng3d_mesh::procedural::fan_capped_cylinder(size),
+        "icosphere" => gng3d_mesh::procedural::icosphere(size.min(9)),
+        "grid" => gng3d_mesh::procedural::unit_square_grid(size),
         _ => {
             eprintln!("unknown model {kind}");
             return ExitCode::FAILURE;
         }
     };
-    if let Err(e) = mesh::io::save(&m, std::path::Path::new(out)) {
+    if let Err(e) = gng3d_mesh::io::save(&m, std::path::Path::new(out)) {
         eprintln!("{out}: {e}");
         return ExitCode::FAILURE;
     }

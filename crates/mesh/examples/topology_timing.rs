@@ -1,6 +1,6 @@
 //! Times the phases of `gng3d info` on one mesh: load, edge table, topology analysis.
 //!
-//! Usage: `cargo run --release -p mesh --example topology_timing -- MESH [REPEATS]`.
+//! Usage: `cargo run --release -p gng3d-mesh --example topology_timing -- MESH [REPEATS]`.
 //! Prints the minimum wall time of each phase over REPEATS runs (default 5), in seconds.
 
 use std::path::PathBuf;
@@ -14,11 +14,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut report = None;
     for _ in 0..repeats {
         let t0 = Instant::now();
-        let loaded = mesh::io::load(&path)?;
+        let loaded = gng3d_mesh::io::load(&path)?;
         let t1 = Instant::now();
-        let edges = mesh::topology::EdgeTable::new(&loaded.mesh);
+        let edges = gng3d_mesh::topology::EdgeTable::new(&loaded.mesh);
         let t2 = Instant::now();
-        let r = mesh::topology::analyze_with(&loaded.mesh, &edges);
+        let r = gng3d_mesh::topology::analyze_with(&loaded.mesh, &edges);
         let t3 = Instant::now();
         load = load.min((t1 - t0).as_secs_f64());
         table = table.min((t2 - t1).as_secs_f64());

@@ -34,7 +34,7 @@ pub fn is_degenerate(a: DVec3, b: DVec3, c: DVec3) -> bool {
 ///
 /// ```
 /// use glam::DVec3;
-/// use mesh::geometry::{box_distance2, closest_point_triangle};
+/// use gng3d_mesh::geometry::{box_distance2, closest_point_triangle};
 /// let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
 /// let p = DVec3::new(2.0, 0.5, 1.0);
 /// assert_eq!(box_distance2(p, a, b, c), 2.0); // 1 in x, 1 in z

@@ -2,7 +2,7 @@
 //! procedural models. Every algorithm crate takes and returns a [`TriMesh`].
 //!
 //! ```
-//! use mesh::{TriMesh, clean, io, procedural, topology};
+//! use gng3d_mesh::{TriMesh, clean, io, procedural, topology};
 //! let sphere = procedural::icosphere(2); // 162 vertices, 320 faces, closed, genus 0
 //! let report = topology::analyze(&sphere);
 //! assert_eq!((report.boundary_edges, report.genus), (0, Some(0)));

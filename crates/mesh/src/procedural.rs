@@ -74,7 +74,7 @@ pub fn icosphere(subdivisions: u32) -> TriMesh {
 /// (`(n + 1)²` vertices, row by row; `n` at least 1). An open, flat test surface.
 ///
 /// ```
-/// let g = mesh::procedural::unit_square_grid(4);
+/// let g = gng3d_mesh::procedural::unit_square_grid(4);
 /// assert_eq!((g.vertex_count(), g.face_count()), (25, 32));
 /// ```
 pub fn unit_square_grid(n: u32) -> TriMesh {
@@ -103,7 +103,7 @@ pub fn unit_square_grid(n: u32) -> TriMesh {
 /// `n` (issue 33's hostile input for the simplifiers).
 ///
 /// ```
-/// let f = mesh::procedural::fan(100);
+/// let f = gng3d_mesh::procedural::fan(100);
 /// assert_eq!((f.vertex_count(), f.face_count()), (101, 100));
 /// ```
 pub fn fan(n: u32) -> TriMesh {
@@ -125,7 +125,7 @@ pub fn fan(n: u32) -> TriMesh {
 /// exports (issue 33).
 ///
 /// ```
-/// let c = mesh::procedural::fan_capped_cylinder(16);
+/// let c = gng3d_mesh::procedural::fan_capped_cylinder(16);
 /// assert_eq!((c.vertex_count(), c.face_count()), (34, 64));
 /// ```
 pub fn fan_capped_cylinder(segments: u32) -> TriMesh {
@@ -157,7 +157,7 @@ pub fn fan_capped_cylinder(segments: u32) -> TriMesh {
 /// for feature preservation tests (`n` at least 1).
 ///
 /// ```
-/// let c = mesh::procedural::grid_cube(4);
+/// let c = gng3d_mesh::procedural::grid_cube(4);
 /// assert_eq!((c.vertex_count(), c.face_count()), (98, 192));
 /// ```
 pub fn grid_cube(n: u32) -> TriMesh {

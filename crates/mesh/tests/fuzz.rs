@@ -7,8 +7,11 @@
 //! simplifiers' side of the property (every mutant that loads gives a loadable non-empty mesh or
 //! a typed error from both QEM and GNG3D, through the CLI's code path) lives in
 //! `crates/cli/tests/fuzz.rs`, so that `mesh` does not depend on the algorithm crates.
-//! `long_mutation_run` (ignored) runs many more cases: `cargo test -p mesh --release --test fuzz
-//! -- --ignored`.
+//! `long_mutation_run` (ignored) runs many more cases: `cargo test -p gng3d-mesh --release
+//! --test fuzz -- --ignored`.
+
+// Published as gng3d-mesh; this file keeps the workspace's name for it.
+extern crate gng3d_mesh as mesh;
 
 // The crate's own `fixtures` module (behind the `fixtures` feature for other crates).
 #[path = "../src/fixtures.rs"]
@@ -104,7 +107,7 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 200_000, ..ProptestConfig::default() })]
 
-    /// The long variant: `cargo test -p mesh --release --test fuzz -- --ignored`.
+    /// The long variant: `cargo test -p gng3d-mesh --release --test fuzz -- --ignored`.
     #[test]
     #[ignore = "long: ~200k mutants"]
     fn long_mutation_run(which in 0usize..SEEDS, edits in prop::collection::vec(mutation(), 1..12)) {

@@ -10,7 +10,7 @@
 //!   [`MetricsReport`] (alias [`Evaluation`]), with the original indexed once.
 //!
 //! ```
-//! use metrics::{HausdorffParams, hausdorff, surface_error, vertex_errors};
+//! use gng3d_metrics::{HausdorffParams, hausdorff, surface_error, vertex_errors};
 //! let fine = mesh::procedural::icosphere(4);
 //! let coarse = mesh::procedural::icosphere(2);
 //! // The paper's errors: squared vertex-to-nearest-vertex distances, and the area lost.

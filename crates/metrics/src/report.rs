@@ -138,7 +138,7 @@ fn summary(mesh: &TriMesh, referenced: usize) -> MeshSummary {
 /// one per loaded model on a worker thread.
 ///
 /// ```
-/// use metrics::{Evaluator, HausdorffParams, MetricsParams};
+/// use gng3d_metrics::{Evaluator, HausdorffParams, MetricsParams};
 /// let original = mesh::procedural::icosphere(3);
 /// let simplified = mesh::procedural::icosphere(1);
 /// let params = MetricsParams { hausdorff: HausdorffParams::with_samples(20_000) };

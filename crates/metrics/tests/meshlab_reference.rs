@@ -10,6 +10,9 @@
 //! The reference folder comes from `GNG3D_REFERENCE`, else `$GNG3D_MESHES/../reference`. When
 //! it is missing the test fails under `CI` and is skipped (with a message) otherwise.
 
+// Published as gng3d-metrics; this file keeps the workspace's name for it.
+extern crate gng3d_metrics as metrics;
+
 use metrics::{HausdorffParams, OneSided, SurfaceDistanceIndex, one_sided};
 use std::path::{Path, PathBuf};
 

@@ -5,6 +5,9 @@
 //!
 //! Row 16 (MeshLab's plan samples unreferenced vertices) is tested at the end.
 
+// Published as gng3d-metrics; this file keeps the workspace's name for it.
+extern crate gng3d_metrics as metrics;
+
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
 use metrics::{

@@ -5,7 +5,10 @@
 //!
 //! Group `hostile-fan` (issue 33, generated, needs no shared mesh): a flat fan of 1,000,000
 //! triangles around one hub next to an ordinary grid of the same size (999,698 faces), both at
-//! 10 %; the summary prints the time ratio fan / grid (`cargo bench -p qem -- hostile`).
+//! 10 %; the summary prints the time ratio fan / grid (`cargo bench -p gng3d-qem -- hostile`).
+
+// Published as gng3d-qem; this file keeps the workspace's name for it.
+extern crate gng3d_qem as qem;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesh::TriMesh;

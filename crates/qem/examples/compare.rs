@@ -1,6 +1,7 @@
 //! Time `qem::simplify` against `meshopt::simplify` on one mesh:
-//! `REPS=N cargo run --release -p qem --example compare -- MESH RATIO [OUT.obj]`; the two alternate
-//! call by call and best / median wall times, their ratios and per-thread on-CPU times are printed.
+//! `REPS=N cargo run --release -p gng3d-qem --example compare -- MESH RATIO [OUT.obj]`; the two
+//! alternate call by call and best / median wall times, their ratios and per-thread on-CPU times
+//! are printed.
 
 use std::time::Instant;
 
@@ -27,7 +28,7 @@ fn main() {
     let loaded = mesh::io::load(path).expect("load");
     let (m, _) = mesh::clean::prepare(&loaded.mesh);
     let target = ((m.face_count() as f64) * ratio).round() as usize;
-    let params = qem::QemParams::with_target(qem::Target::Faces(target));
+    let params = gng3d_qem::QemParams::with_target(gng3d_qem::Target::Faces(target));
     let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
     let adapter = meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0)
         .expect("adapter");
@@ -39,7 +40,7 @@ fn main() {
     for _ in 0..reps {
         let t = Instant::now();
         let c = cpu_seconds();
-        let r = qem::simplify(&m, &params).expect("qem");
+        let r = gng3d_qem::simplify(&m, &params).expect("qem");
         wall.push(t.elapsed().as_secs_f64());
         best_cpu = best_cpu.min(cpu_seconds() - c);
         result = Some(r);

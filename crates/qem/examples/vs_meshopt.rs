@@ -2,7 +2,7 @@
 //! C++ library as the Python `meshoptimizer` package) on the same input in the same layout:
 //!
 //! ```sh
-//! cargo build --release -p qem --example vs_meshopt
+//! cargo build --release -p gng3d-qem --example vs_meshopt
 //! # alternate one process per call, REPS calls each; prints best / median wall, whole-process
 //! # CPU (getrusage RUSAGE_SELF: all threads) and peak RSS, and the ratios qem / meshopt:
 //! REPS=7 target/release/examples/vs_meshopt bench MESH RATIO [SUBDIVISIONS]
@@ -87,8 +87,11 @@ fn run(method: &str, path: &str, ratio: f64, subdivisions: usize) {
     let t = Instant::now();
     let faces = match method {
         "qem" => {
-            let params = qem::QemParams::with_target(qem::Target::Faces(target));
-            qem::simplify(&m, &params).expect("qem").0.face_count()
+            let params = gng3d_qem::QemParams::with_target(gng3d_qem::Target::Faces(target));
+            gng3d_qem::simplify(&m, &params)
+                .expect("qem")
+                .0
+                .face_count()
         }
         "meshopt" => {
             let adapter =

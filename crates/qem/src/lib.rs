@@ -18,7 +18,7 @@
 //! sequential engine runs and the output is the same for every thread count.
 //!
 //! ```
-//! use qem::{QemParams, Target, simplify};
+//! use gng3d_qem::{QemParams, Target, simplify};
 //! let sphere = mesh::procedural::icosphere(4); // 2,562 vertices, 5,120 faces
 //! let params = QemParams::with_target(Target::Vertices(500));
 //! let (coarse, report) = simplify(&sphere, &params).unwrap();
@@ -162,13 +162,14 @@ impl QemReport {
     /// contraction keeps the mesh's topology or passes the normal check".
     ///
     /// ```
-    /// use qem::{QemParams, Target};
+    /// use gng3d_qem::{QemParams, Target};
     /// let ico = mesh::procedural::icosphere(0); // 12 vertices, closed: 4 at best (a tetrahedron)
     /// let target = Target::Vertices(3);
-    /// let (out, report) = qem::simplify(&ico, &QemParams::with_target(target)).unwrap();
+    /// let (out, report) = gng3d_qem::simplify(&ico, &QemParams::with_target(target)).unwrap();
     /// let note = report.shortfall(target).unwrap();
     /// assert!(note.starts_with(&format!("QEM stopped at {} of 3 vertices", out.vertex_count())));
-    /// let (_, reached) = qem::simplify(&ico, &QemParams::with_target(Target::Vertices(6))).unwrap();
+    /// let params = QemParams::with_target(Target::Vertices(6));
+    /// let (_, reached) = gng3d_qem::simplify(&ico, &params).unwrap();
     /// assert_eq!(reached.shortfall(Target::Vertices(6)), None);
     /// ```
     pub fn shortfall(&self, target: Target) -> Option<String> {

@@ -1,5 +1,8 @@
 //! Integration tests of `qem::simplify` on procedural and shared meshes (GNG3D_MESHES).
 
+// Published as gng3d-qem; this file keeps the workspace's name for it.
+extern crate gng3d_qem as qem;
+
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
 use mesh::topology::analyze;
