@@ -45,30 +45,116 @@ fn position_key(p: Vec3) -> [u32; 3] {
     ]
 }
 
-/// Merge vertices with exactly equal positions (first occurrence wins, order kept) and remap
-/// the faces. Returns the welded mesh and the number of vertices merged away. Faces may become
-/// degenerate; see [`drop_degenerate_and_duplicate_faces`]. O(V log V).
+/// Merge vertices with exactly equal positions where the surface continues across them, and
+/// remap the faces; returns the welded mesh and the number of vertices merged away.
+///
+/// Two copies of a position are merged when they are the ends of a seam: an edge of one and an
+/// edge of the other lie on the same two positions and are the only two open edges there (a
+/// triangle soup, an STL file, the UV or normal seams of an OBJ), or when they are corners of
+/// one face (which then collapses; see [`drop_degenerate_and_duplicate_faces`]). Copies that
+/// merely touch (two sheets meeting at a point, a closed model whose surface pinches against
+/// itself) stay apart, so a manifold input stays manifold; so do open edges where three or more
+/// meet (merging them would make a non-manifold edge). Faces that repeat another face's
+/// positions are left out of the seam count. The first index of each merged set is kept, in
+/// order. O(V log V + F log F).
 pub fn weld_exact(mesh: &TriMesh) -> (TriMesh, usize) {
     let n = mesh.positions.len();
+    // Step 1: each vertex's position group (the smallest index at its position).
     let mut order: Vec<u32> = (0..n as u32).collect();
     let keys: Vec<[u32; 3]> = mesh.positions.iter().map(|&p| position_key(p)).collect();
     order.sort_unstable_by_key(|&i| (keys[i as usize], i));
-    // representative[i] = smallest original index with the same position.
-    let mut representative: Vec<u32> = (0..n as u32).collect();
+    let mut group: Vec<u32> = (0..n as u32).collect();
+    let mut shared = false;
     let mut group_start = 0;
     for k in 1..=n {
         if k == n || keys[order[k] as usize] != keys[order[group_start] as usize] {
             let rep = order[group_start];
             for &i in &order[group_start..k] {
-                representative[i as usize] = rep;
+                group[i as usize] = rep;
             }
+            shared |= k - group_start > 1;
             group_start = k;
         }
+    }
+    let mut sets = crate::topology::UnionFind::new(n);
+    if shared {
+        let valid = |v: u32| (v as usize) < n;
+        // Step 2: corners of one face at one position.
+        for t in &mesh.triangles {
+            if !t.iter().all(|&v| valid(v)) {
+                continue;
+            }
+            for (i, j) in [(0, 1), (1, 2), (0, 2)] {
+                if group[t[i] as usize] == group[t[j] as usize] {
+                    sets.union(t[i], t[j]);
+                }
+            }
+        }
+        // Step 3: open edges (one face, by index) of the faces that do not repeat an earlier
+        // face's positions, keyed by their positions.
+        let mut seen_faces: std::collections::HashSet<[u32; 3]> = Default::default();
+        let mut edges: Vec<([u32; 2], [u32; 2])> = Vec::with_capacity(3 * mesh.triangles.len());
+        for t in &mesh.triangles {
+            if !t.iter().all(|&v| valid(v)) {
+                continue;
+            }
+            let mut g = t.map(|v| group[v as usize]);
+            g.sort_unstable();
+            if g[0] == g[1] || g[1] == g[2] || !seen_faces.insert(g) {
+                continue;
+            }
+            for i in 0..3 {
+                let (u, v) = (t[i], t[(i + 1) % 3]);
+                edges.push(([u.min(v), u.max(v)], [0, 0]));
+            }
+        }
+        edges.sort_unstable();
+        let mut open: Vec<([u32; 2], [u32; 2])> = Vec::new();
+        let mut k = 0;
+        while k < edges.len() {
+            let mut m = k + 1;
+            while m < edges.len() && edges[m].0 == edges[k].0 {
+                m += 1;
+            }
+            if m - k == 1 {
+                let [u, v] = edges[k].0;
+                let (gu, gv) = (group[u as usize], group[v as usize]);
+                let key = if gu <= gv { [gu, gv] } else { [gv, gu] };
+                open.push((key, [u, v]));
+            }
+            k = m;
+        }
+        // Step 4: a position pair with exactly two open edges is a seam: merge their ends.
+        open.sort_unstable();
+        let mut k = 0;
+        while k < open.len() {
+            let mut m = k + 1;
+            while m < open.len() && open[m].0 == open[k].0 {
+                m += 1;
+            }
+            if m - k == 2 {
+                let ([a, b], [c, d]) = (open[k].1, open[k + 1].1);
+                let (c, d) = if group[a as usize] == group[c as usize] {
+                    (c, d)
+                } else {
+                    (d, c)
+                };
+                sets.union(a, c);
+                sets.union(b, d);
+            }
+            k = m;
+        }
+    }
+    // Step 5: the smallest index of each merged set represents it, in the original order.
+    let mut smallest = vec![u32::MAX; n];
+    for i in 0..n as u32 {
+        let root = sets.find(i) as usize;
+        smallest[root] = smallest[root].min(i);
     }
     let mut new_index = vec![u32::MAX; n];
     let mut positions = Vec::with_capacity(n);
     for i in 0..n {
-        if representative[i] == i as u32 {
+        if smallest[sets.find(i as u32) as usize] == i as u32 {
             new_index[i] = positions.len() as u32;
             positions.push(mesh.positions[i]);
         }
@@ -77,7 +163,15 @@ pub fn weld_exact(mesh: &TriMesh) -> (TriMesh, usize) {
     let triangles = mesh
         .triangles
         .iter()
-        .map(|t| t.map(|v| new_index[representative[v as usize] as usize]))
+        .map(|t| {
+            t.map(|v| {
+                if (v as usize) < n {
+                    new_index[smallest[sets.find(v) as usize] as usize]
+                } else {
+                    v
+                }
+            })
+        })
         .collect();
     (TriMesh::new(positions, triangles), merged)
 }
@@ -288,6 +382,48 @@ mod tests {
         for f in 0..sphere.triangles.len() {
             assert_eq!(welded.triangle(f), sphere.triangle(f));
         }
+    }
+
+    /// Two closed spheres touching at one point (a pinch): as an indexed mesh with the point
+    /// twice, and as a triangle soup. The weld restores each sphere but keeps the two copies of
+    /// the touching point apart, so the result is two manifold spheres, not one non-manifold
+    /// vertex; three sheets on one edge are not zipped into a non-manifold edge either.
+    #[test]
+    fn weld_keeps_touching_points_apart() {
+        let sphere = icosphere(1);
+        // The second sphere's vertex 0 lands on the first's vertex 0's mirror point.
+        let p0 = sphere.positions[0];
+        let n = sphere.positions.len() as u32;
+        let mut positions = sphere.positions.clone();
+        positions.extend(sphere.positions.iter().map(|&p| 2.0 * p0 - p));
+        let mut triangles = sphere.triangles.clone();
+        // Mirrored: flip the orientation back outward.
+        triangles.extend(
+            sphere
+                .triangles
+                .iter()
+                .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
+        );
+        let pinched = TriMesh::new(positions, triangles);
+        assert_eq!(pinched.positions[0], pinched.positions[n as usize]);
+        for input in [pinched.clone(), unwelded(&pinched)] {
+            let (welded, _) = weld_exact(&input);
+            assert_eq!(welded.positions.len(), 2 * sphere.positions.len());
+            let r = crate::topology::analyze(&welded);
+            assert!(r.manifold && r.closed && r.components == 2, "{r:?}");
+        }
+        // Three triangles on one edge (a soup): the edge stays open rather than non-manifold.
+        let fin = |z: f32, y: f32| [Vec3::ZERO, Vec3::X, Vec3::new(0.5, y, z)];
+        let soup: Vec<Vec3> = [fin(0.0, 1.0), fin(0.0, -1.0), fin(1.0, 0.0)].concat();
+        let (welded, merged) =
+            weld_exact(&TriMesh::new(soup, vec![[0, 1, 2], [4, 3, 5], [6, 7, 8]]));
+        assert_eq!(merged, 0, "{:?}", welded.triangles);
+        // Two of them alone are a seam, and are zipped.
+        let soup: Vec<Vec3> = [fin(0.0, 1.0), fin(0.0, -1.0)].concat();
+        let (welded, merged) = weld_exact(&TriMesh::new(soup, vec![[0, 1, 2], [4, 3, 5]]));
+        assert_eq!(merged, 2);
+        let r = crate::topology::analyze(&welded);
+        assert!(r.manifold && r.boundary_edges == 4, "{r:?}");
     }
 
     #[test]
