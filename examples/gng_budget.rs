@@ -27,7 +27,7 @@ fn main() {
                 ..GngOptions::for_target(GngTarget::Vertices(target))
             };
             if b == "paper" {
-                p.epochs = Some(gng3d_core::PAPER_EPOCHS);
+                p.epochs = Some(gng3d_core::tuning::PAPER_EPOCHS);
             } else {
                 p.max_signals = Some((b.parse::<f64>().expect("spn") * target as f64) as u64);
             }

@@ -262,7 +262,8 @@ fn relaxation_after_the_decimation_wins_e_avg_back_at_a_small_cost_in_distance()
     // without it: cow and armadillo at 10 % (1.034 / 1.023× QEM's); with it 0.995 / 0.978×.
     // Same trained network and decimation with and without the step (seeded), so the faces
     // are the same and only the positions differ.
-    use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+    use gng3d::gng3d_core::tuning::DEFAULT_OVERSAMPLE;
+    use gng3d::gng3d_core::{GngOptions, GngTarget};
     let Some(m) = shared("cow.obj") else {
         return;
     };
@@ -311,7 +312,8 @@ fn deviation_repair_lowers_the_output_to_original_maximum_at_no_cost_in_mean_dis
     // neighbours (5.5e-3, twice the original → output maximum). Measured with the repair
     // (200k samples): output → original max 5.53e-3 → 2.78e-3, mean distance +0.7 %. Same
     // trained network, reconstruction and decimation with and without it (seeded).
-    use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+    use gng3d::gng3d_core::tuning::DEFAULT_OVERSAMPLE;
+    use gng3d::gng3d_core::{GngOptions, GngTarget};
     let Some(m) = shared("gargoyle-10k.obj") else {
         return;
     };
@@ -367,7 +369,8 @@ fn oversampled_gngq_is_closer_to_the_surface_at_exactly_the_target() {
     // (gng3d_core::simplify). Against the same options without oversampling, on two meshes at
     // 10 %: exactly N vertices, closed and manifold where the input is, and the symmetric mean
     // surface distance clearly lower (measured, 50k samples: cow 10 % −19 %, spot 10 % −17 %).
-    use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+    use gng3d::gng3d_core::tuning::DEFAULT_OVERSAMPLE;
+    use gng3d::gng3d_core::{GngOptions, GngTarget};
     for name in ["cow.obj", "spot.obj"] {
         let Some(m) = shared(name) else {
             return;
@@ -428,7 +431,8 @@ fn thin_parts_stay_attached_at_low_vertex_counts() {
     // topology repair of oversampled runs (ReconstructionParams::split_bad_cells) splits those
     // cells. Measured (this test, without -> with the repair): cow 5 / 10 / 25 % 4 / 9 / 1
     // pieces -> 1 / 1 / 1; knight 10 % 5 -> 1.
-    use gng3d::gng3d_core::{DEFAULT_OVERSAMPLE, GngOptions, GngTarget};
+    use gng3d::gng3d_core::tuning::DEFAULT_OVERSAMPLE;
+    use gng3d::gng3d_core::{GngOptions, GngTarget};
     for (name, ratio) in [
         ("cow.obj", 0.05),
         ("cow.obj", 0.1),
@@ -538,7 +542,7 @@ fn a_closed_input_never_returns_an_open_mesh_without_a_warning() {
             for paper in [false, true] {
                 let mut options = GngOptions {
                     seed,
-                    ..GngOptions::for_target(GngTarget::Ratio(ratio))
+                    ..GngOptions::for_target(GngTarget::VertexRatio(ratio))
                 };
                 if paper {
                     options.reconstruction = ReconstructionParams::paper();

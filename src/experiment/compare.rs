@@ -23,8 +23,8 @@ pub struct CompareParams {
 
 impl CompareParams {
     /// Defaults for both methods at `target_vertices`; the oversampling follows the placement
-    /// (`oversample: None`: [`gng3d_core::DEFAULT_OVERSAMPLE`] for GNG3D-Q, off for the paper's
-    /// placement, as `gng3d simplify --method gng`).
+    /// (`oversample: None`: [`GngOptions::default_oversample`] of the placement, 1.5 for
+    /// GNG3D-Q, off for the paper's placement, as `gng3d simplify --method gng`).
     pub fn new(target_vertices: usize) -> CompareParams {
         CompareParams {
             target_vertices,

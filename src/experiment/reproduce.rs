@@ -208,12 +208,7 @@ pub fn reproduce(
     let gng_rows: Vec<(u64, usize, PaperRow)> = snapshots
         .par_iter()
         .map(|snap| {
-            let rec = gng3d_core::reconstruct(
-                original,
-                &snap.positions,
-                &snap.edges,
-                &params.gng.reconstruction,
-            );
+            let rec = snap.reconstruct(original, &params.gng.reconstruction);
             let row = evaluator.evaluate(&rec.mesh)?;
             tick(Stage::Evaluating, evaluations);
             Ok((snap.signals, snap.positions.len(), row))

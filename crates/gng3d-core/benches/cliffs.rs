@@ -40,7 +40,7 @@ fn bench(c: &mut Criterion) {
     group.measurement_time(Duration::from_secs(30));
     let options = GngOptions {
         seed: 1,
-        ..GngOptions::for_target(GngTarget::Ratio(0.5))
+        ..GngOptions::for_target(GngTarget::VertexRatio(0.5))
     };
     for (name, input) in [
         (

@@ -1,4 +1,4 @@
-//! GNG3D-Q's decimation ([`crate::pipeline::Step::Decimate`]): the oversampled network's mesh
+//! GNG3D-Q's decimation ([`crate::Step::Decimate`]): the oversampled network's mesh
 //! goes down to the output count with Garland–Heckbert QEM (the `qem` crate) plus a small
 //! edge-length term. Quadrics come from the network's mesh, which after quadric placement and
 //! the refit lies on the original surface.
@@ -32,17 +32,14 @@ pub const RELAXED_NORMAL_COS: [f64; 2] = [0.0, -0.5];
 /// vertices), the remainder is contracted with that check relaxed in the steps of
 /// [`RELAXED_NORMAL_COS`], so that the count is met; the link condition (manifoldness, genus)
 /// is never relaxed. What still cannot be contracted (holes need three vertices each) is left
-/// to the caller's warning. The error is a sentence for the user.
-pub fn decimate(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh, String> {
+/// to the caller's warning.
+pub(crate) fn decimate(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh, qem::QemError> {
     let params = qem::QemParams {
         edge_length_weight: EDGE_LENGTH_WEIGHT,
         ..qem::QemParams::with_target(qem::Target::Vertices(target_vertices))
     };
-    let simplify = |mesh: &TriMesh, params: &qem::QemParams| {
-        qem::simplify(mesh, params)
-            .map(|(m, _)| m)
-            .map_err(|e| e.to_string())
-    };
+    let simplify =
+        |mesh: &TriMesh, params: &qem::QemParams| qem::simplify(mesh, params).map(|(m, _)| m);
     let mut out = simplify(mesh, &params)?;
     for min_normal_cos in RELAXED_NORMAL_COS {
         if out.vertex_count() <= target_vertices {

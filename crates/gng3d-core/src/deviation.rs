@@ -447,22 +447,24 @@ enum Item {
 
 /// Moves spike vertices of the output (`positions`, `triangles`) onto the `original` and flips
 /// bridging edges (module docs).
-pub fn repair(
+#[cfg(test)]
+fn repair(
     positions: &mut [Vec3],
     triangles: &mut [[u32; 3]],
     original: &TriMesh,
 ) -> DeviationStats {
-    repair_until(positions, triangles, original, None)
+    repair_until(positions, triangles, original, None, 2)
 }
 
 /// [`repair`] that starts no new round after `deadline` (a time-limited run shortens the step
 /// rather than overrunning: a round costs up to 40 µs per output vertex on CAD-like meshes at
 /// 10 %).
-pub fn repair_until(
+pub(crate) fn repair_until(
     positions: &mut [Vec3],
     triangles: &mut [[u32; 3]],
     original: &TriMesh,
     deadline: Option<std::time::Instant>,
+    threads: usize,
 ) -> DeviationStats {
     let n = positions.len();
     let mut stats = DeviationStats::default();
@@ -486,7 +488,6 @@ pub fn repair_until(
         fan,
         opening_flips: 0,
     };
-    let threads = crate::parallel::threads();
     // Distances of the last round, kept where nothing moved: a vertex's depends on its position
     // alone and an edge midpoint's on its ends' (rounds 2 and 3 measured everything again,
     // although a round moves at most 5 % of the vertices).

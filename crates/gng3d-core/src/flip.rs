@@ -210,11 +210,12 @@ fn nearer_of(p: DVec3, t1: [u32; 3], t2: [u32; 3], pos: &[DVec3]) -> (f64, bool)
 /// Flip edges of the mesh (`positions`, `triangles`) toward the surface whose sample points are
 /// `points` (the original vertices), `owner[i]` being the output vertex of point `i`
 /// (`u32::MAX`: none). Faces keep their slots; only `triangles` changes.
-pub fn flip_edges(
+pub(crate) fn flip_edges(
     positions: &[Vec3],
     triangles: &mut [[u32; 3]],
     points: &[Vec3],
     owner: &[u32],
+    threads: usize,
 ) -> FlipStats {
     let mut stats = FlipStats::default();
     let n = positions.len();
@@ -236,7 +237,7 @@ pub fn flip_edges(
         let search = crate::fan_search::FanSearch::new(&fan, triangles, &pos);
         crate::parallel::map_indexed(
             owner.len().div_ceil(stride),
-            crate::parallel::threads(),
+            threads,
             MIN_POINTS_PER_THREAD,
             |k| {
                 let (i, o) = (k * stride, owner[k * stride]);
@@ -449,7 +450,7 @@ mod tests {
             .map(|i| Vec3::new(0.0, 1.0, 1.0).lerp(Vec3::new(1.0, 0.0, 1.0), i as f32 / 10.0))
             .collect();
         let owner: Vec<u32> = (0..points.len() as u32).map(|i| i % 4).collect();
-        let s = flip_edges(&positions, &mut tris, &points, &owner);
+        let s = flip_edges(&positions, &mut tris, &points, &owner, 2);
         assert_eq!(s.flips, 1);
         assert!(s.error_after < 1e-10 && s.error_before > 0.1);
         assert_eq!(tris, vec![[2, 0, 3], [3, 1, 2]]);
@@ -471,7 +472,7 @@ mod tests {
             .map(|i| Vec3::new(0.2 + 0.13 * i as f32, 0.02 * (i % 5) as f32 - 0.04, 0.0))
             .collect();
         let owner: Vec<u32> = (0..points.len() as u32).map(|i| i % 4).collect();
-        let s = flip_edges(&positions, &mut tris, &points, &owner);
+        let s = flip_edges(&positions, &mut tris, &points, &owner, 2);
         assert_eq!(s.flips, 1);
         assert_eq!(tris, vec![[2, 0, 3], [3, 1, 2]]);
         assert!(s.error_after <= s.error_before + 1e-12);
@@ -495,7 +496,7 @@ mod tests {
             })
             .collect();
         let owner: Vec<u32> = (0..points.len() as u32).map(|i| i % 4).collect();
-        let s = flip_edges(&valley, &mut tris, &points, &owner);
+        let s = flip_edges(&valley, &mut tris, &points, &owner, 2);
         assert_eq!((s.flips, tris), (0, vec![[0, 1, 2], [1, 0, 3]]));
     }
 }

@@ -1,15 +1,17 @@
 //! GNG3D mesh simplification (Álvarez, Noguera, Tortosa, Zamora 2007): a Growing Neural Gas is
 //! trained on signals drawn from the original mesh (phase 1, [`Trainer`]), then the simplified
-//! faces are rebuilt by labelling every original vertex with its nearest node (phase 2,
-//! [`reconstruct`]).
+//! faces are rebuilt by labelling every original vertex with its nearest node (phase 2, the
+//! [`Plan`] of [`Step`]s that [`finish`] runs).
 //!
 //! Training is fast in the manner of Fišer, Faigl and Kulich 2013: nearest and second-nearest
 //! nodes come from a uniform grid that grows with the network, errors decay lazily through a
 //! global scale factor, edge ages are derived from win counters, and nodes live in flat arrays
 //! with a free list and inline adjacency, so a signal costs no allocation and no O(|A|) work.
 //!
-//! One call does both phases with the options the `gng3d` CLI has (GNG3D-Q: quadric placement,
-//! an oversampled network decimated by QEM to exactly the vertex count asked for):
+//! # One call
+//!
+//! [`simplify`] does both phases with the options the `gng3d` CLI has (GNG3D-Q: quadric
+//! placement, an oversampled network decimated by QEM to exactly the vertex count asked for):
 //!
 //! ```
 //! use gng3d_core::{GngOptions, GngTarget, simplify};
@@ -23,7 +25,61 @@
 //! }
 //! ```
 //!
-//! Step-wise use, e.g. for a viewer that draws the network while it learns:
+//! # Options and parameters
+//!
+//! Two structs describe a run, one for people and one for the algorithm:
+//!
+//! - [`GngOptions`] is what a front end exposes (the `gng3d` CLI's `simplify`, `compare` and
+//!   `reproduce`, the viewer, headless runs), in user units: a [`GngTarget`] (a vertex count or
+//!   a share of the input's vertices), seconds as `f64`, a seed, a budget, the oversampling
+//!   factor. Every field left at `None` takes the library's default when the options are
+//!   resolved.
+//! - [`GngParams`] is every knob of the algorithm ([`Trainer::new`] takes it): the paper's
+//!   λ, ε_b, ε_n, α, d, a_max and μ, the signal budget, the [`SignalSource`], the nearest-node
+//!   search, the reconstruction's options ([`ReconstructionParams`], with the [`Placement`] of
+//!   the output vertices) and the oversampled network's size.
+//!
+//! [`GngOptions::resolve`] is the one place that turns options into parameters, against the
+//! input mesh (ratios and epochs are shares of its vertices): it validates every option up
+//! front (NaN, negative or zero time limits, ratios outside (0, 1], zero λ, zero budgets,
+//! out-of-range targets) and returns one [`GngError::Parameter`] naming the offending one
+//! ([`GngParameter`]) before any training starts, then applies the rules that depend on the
+//! input: the oversampling (1.5× the output's vertices for GNG3D-Q, decimated back by QEM), the
+//! detail rounds (outputs of at least 5 % of the input's vertices), the relaxation (outputs of
+//! at most 30 %) and the training of large pieces as two halves (pieces of at least 512 nodes).
+//! Fields that [`GngOptions`] does not expose keep the [`GngParams`] defaults.
+//!
+//! ```
+//! use gng3d_core::{GngError, GngOptions, GngParameter, GngTarget, Placement};
+//! let sphere = mesh::procedural::icosphere(3); // 642 vertices
+//! let options = GngOptions {
+//!     target: GngTarget::VertexRatio(0.25), // a quarter of the input's vertices
+//!     time_limit_seconds: Some(2.0),
+//!     ..GngOptions::default()
+//! };
+//! let params = options.resolve(&sphere).unwrap();
+//! assert_eq!(params.target_vertices, 161);
+//! assert_eq!(params.network_vertices, Some(242)); // GNG3D-Q: trained 1.5x, decimated to 161
+//! assert_eq!(params.reconstruction.placement, Placement::Quadric);
+//!
+//! // The published method: node placement, 30 epochs, no oversampling.
+//! let paper = GngOptions::paper(GngTarget::Vertices(161)).resolve(&sphere).unwrap();
+//! assert_eq!((paper.network_vertices, paper.max_signals), (None, Some(30 * 642)));
+//! assert_eq!(paper.reconstruction.placement, Placement::Node);
+//!
+//! let bad = GngOptions { time_limit_seconds: Some(-1.0), ..GngOptions::default() };
+//! let err = bad.resolve(&sphere).unwrap_err();
+//! assert!(matches!(err, GngError::Parameter { parameter: GngParameter::TimeLimit, .. }));
+//! assert!(err.to_string().contains("time limit"));
+//! ```
+//!
+//! [`GngParams::paper`] and [`GngOptions::paper`] give the published GNG3D (its budget and its
+//! reconstruction, [`ReconstructionParams::paper`]); the defaults of both structs are GNG3D-Q.
+//!
+//! # Step by step
+//!
+//! A viewer that draws the network while it learns drives the [`Trainer`] itself, then calls
+//! [`finish`] for what [`simplify`] gives:
 //!
 //! ```
 //! use gng3d_core::{GngParams, Trainer};
@@ -41,45 +97,55 @@
 //! let result = gng3d_core::finish(&trainer, |step| println!("{} done", step.step)).unwrap();
 //! assert_eq!(result.mesh.vertex_count(), 300);
 //! ```
+//!
+//! # Threads
+//!
+//! A run uses at most [`GngOptions::threads`] threads, the caller's included (training rounds
+//! of the pieces, the steps after training, a helper that builds the original's tables while
+//! training runs): by default the machine's available parallelism, at most 4; `Some(1)` starts
+//! none. The output is the same for any count. The QEM decimation of GNG3D-Q runs in rayon's
+//! global pool (set it with `RAYON_NUM_THREADS`, or call [`simplify`] inside
+//! `rayon::ThreadPool::install`).
+//!
+//! # Features
+//!
+//! - `serde` (default): `Serialize`/`Deserialize` for the options, the parameters and the
+//!   snapshots, `Serialize` for the reports.
+//!
+//! glam, whose `Vec3` is in the API, is re-exported as [`glam`].
 
-pub mod decimate;
-pub mod deviation;
+mod decimate;
+mod deviation;
 mod domain;
 mod error;
 mod fan_search;
-pub mod features;
-pub mod flip;
+mod features;
+mod flip;
 mod grid;
 mod network;
 mod options;
 mod parallel;
 mod params;
-pub mod pipeline;
-pub mod placement;
+mod pipeline;
+mod placement;
 mod reconstruct;
-pub mod refit;
-pub mod relax;
+mod refit;
+mod relax;
 mod report;
 mod trainer;
+#[doc(hidden)]
+pub mod tuning;
 
-pub use domain::{MIN_COMPONENT_NODES, SPLIT_MIN_NODES, STRAY_RADII};
-pub use error::GngError;
-pub use options::{
-    DEFAULT_DETAIL_ROUNDS, DEFAULT_OVERSAMPLE, DETAIL_MIN_RATIO, GngOptions, GngTarget,
-    MAX_DETAIL_ROUNDS, MAX_SIGNALS, MAX_SURFACE_NODES_PER_VERTEX, RELAX_MAX_RATIO,
-};
+pub use error::{GngError, GngParameter};
+pub use glam;
+pub use options::{GngOptions, GngTarget};
 pub use params::{
-    DEFAULT_SIGNALS_PER_NODE, GngParams, OppositeFaces, PAPER_EPOCHS, Placement,
-    ReconstructionParams, SearchStrategy, SignalSource,
+    GngParams, OppositeFaces, Placement, ReconstructionParams, SearchStrategy, SignalSource,
 };
-pub use pipeline::{Plan, Step, StepRecord};
-pub use reconstruct::{
-    Reconstruction, ReconstructionReport, label_vertices, label_vertices_by_component, reconstruct,
-};
+pub use pipeline::{Plan, PlannedStep, Step, StepRecord};
+pub use reconstruct::{Reconstruction, ReconstructionReport};
 pub use report::{GngReport, GngWarning};
-pub use trainer::{
-    CancelToken, GROWTH_SHARE_OF_TIME_LIMIT, Progress, Snapshot, StopReason, Trainer, TrainingStats,
-};
+pub use trainer::{CancelToken, Progress, Snapshot, StopReason, Trainer, TrainingStats};
 
 use glam::Vec3;
 use mesh::TriMesh;
@@ -115,7 +181,7 @@ pub fn simplify(mesh: &TriMesh, options: &GngOptions) -> Result<GngResult, GngEr
 }
 
 /// The run after training, on a trained (or stopped) `trainer`: the steps of its
-/// [`Trainer::plan`] ([`pipeline`]), the checks and the warnings. `on_step` sees each step as it
+/// [`Trainer::plan`] (see [`Step`]), the checks and the warnings. `on_step` sees each step as it
 /// finishes (a front end's progress). Front ends that drive the trainer themselves (progress
 /// bars, viewers) call this to get what [`simplify`] gives.
 ///

@@ -6,33 +6,25 @@
 //! limits, ratios outside (0, 1], zero λ, zero budgets, out-of-range targets — and returns one
 //! [`GngError`] naming the offending option, before any training starts. Fields not exposed to
 //! users keep the [`GngParams`] defaults.
-//!
-//! ```
-//! use gng3d_core::{GngOptions, GngTarget};
-//! let sphere = mesh::procedural::icosphere(3); // 642 vertices
-//! let options = GngOptions {
-//!     target: GngTarget::Ratio(0.25),
-//!     time_limit_seconds: Some(2.0),
-//!     ..GngOptions::default()
-//! };
-//! let params = options.resolve(&sphere).unwrap();
-//! assert_eq!(params.target_vertices, 161);
-//! let bad = GngOptions { time_limit_seconds: Some(-1.0), ..GngOptions::default() };
-//! assert!(bad.resolve(&sphere).unwrap_err().to_string().contains("time limit"));
-//! ```
+//! The crate's front page has the whole story with an example.
 
-use crate::{GngError, GngParams, ReconstructionParams, SignalSource};
+use crate::{GngError, GngParameter, GngParams, ReconstructionParams, SignalSource};
 use mesh::TriMesh;
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
 
-/// How the user states the output size.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// How the user states the output size: always in vertices (GNG nodes). Note that the `qem`
+/// crate's `Target::Ratio` is a share of the input's *faces*; for a closed mesh that is about
+/// the same share of vertices, but not for open or unwelded ones.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum GngTarget {
     /// Exactly this many output vertices (GNG nodes).
     Vertices(usize),
-    /// This fraction of the input's referenced vertices, in (0, 1], rounded to the nearest count.
-    Ratio(f64),
+    /// This share of the input's referenced vertices, in (0, 1], rounded to the nearest count.
+    #[cfg_attr(feature = "serde", serde(alias = "Ratio"))]
+    VertexRatio(f64),
 }
 
 impl Default for GngTarget {
@@ -43,7 +35,8 @@ impl Default for GngTarget {
 
 /// Every GNG3D knob a front end exposes, in user units (seconds as `f64`, targets as counts or
 /// ratios). `Default` gives the library defaults; set the public fields, then [`Self::resolve`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct GngOptions {
     /// Output size.
     pub target: GngTarget,
@@ -74,13 +67,20 @@ pub struct GngOptions {
     /// resolved: 1.5 for GNG3D-Q, 1 (off) for the paper's placement, whatever the order in
     /// which the fields were set. The library, the CLI and the viewer share this default.
     pub oversample: Option<f64>,
-    /// Rounds of detail nodes in oversampled runs (reconstruction option (g), at most
-    /// [`MAX_DETAIL_ROUNDS`]); `None`: [`crate::GngOptions::resolve`]'s rule
-    /// ([`DEFAULT_DETAIL_ROUNDS`] for outputs of at least [`DETAIL_MIN_RATIO`] of the input's
-    /// vertices, 0 below). Runs that are not oversampled have none (the nodes they add would
-    /// break the exact count).
-    #[serde(default)]
+    /// Rounds of detail nodes in oversampled runs (reconstruction option (g), at most 8);
+    /// `None`: [`GngOptions::resolve`]'s rule (3 rounds for outputs of at least 5 % of the
+    /// input's vertices, 0 below). Runs that are not oversampled have none (the nodes they add
+    /// would break the exact count).
+    #[cfg_attr(feature = "serde", serde(default))]
     pub detail_rounds: Option<usize>,
+    /// Most threads the run uses, the caller's included (≥ 1; [`GngParams::threads`]); `None`:
+    /// the machine's available parallelism, at most 4. `Some(1)` starts no thread. The output
+    /// is the same for any count.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub threads: Option<usize>,
 }
 
 /// The oversampling factor of GNG3D-Q in the front ends (`gng3d simplify --method gng`,
@@ -144,13 +144,18 @@ impl Default for GngOptions {
             reconstruction: p.reconstruction,
             oversample: None,
             detail_rounds: None,
+            threads: None,
         }
     }
 }
 
-/// An out-of-range option, named for the user.
-fn bad(name: &'static str, value: f64) -> GngError {
-    GngError::Parameter { name, value }
+/// An out-of-range option and the rule it breaks.
+fn bad(parameter: GngParameter, value: f64, rule: &'static str) -> GngError {
+    GngError::Parameter {
+        parameter,
+        value,
+        rule,
+    }
 }
 
 /// Number of vertices referenced by at least one triangle.
@@ -173,8 +178,20 @@ impl GngOptions {
         }
     }
 
+    /// The published GNG3D (Álvarez et al. 2007) for this target: a budget of 30 epochs and
+    /// the paper's reconstruction ([`ReconstructionParams::paper`]: vertices at the trained
+    /// nodes, no flips, refit, relaxation or repair), so no oversampling either; it resolves to
+    /// [`GngParams::paper`] of the target. Other fields are the defaults.
+    pub fn paper(target: GngTarget) -> GngOptions {
+        GngOptions {
+            epochs: Some(crate::params::PAPER_EPOCHS),
+            reconstruction: ReconstructionParams::paper(),
+            ..GngOptions::for_target(target)
+        }
+    }
+
     /// The oversampling factor a front end with a decimator uses when the user gave none:
-    /// [`DEFAULT_OVERSAMPLE`] for GNG3D-Q ([`crate::Placement::Quadric`]), 1 (off) for the
+    /// 1.5 for GNG3D-Q ([`crate::Placement::Quadric`]), 1 (off) for the
     /// paper's node placement and for projection, so that `--placement node` stays the paper.
     pub fn default_oversample(placement: crate::Placement) -> f64 {
         if placement == crate::Placement::Quadric {
@@ -193,66 +210,81 @@ impl GngOptions {
 
     /// Checks every option without a mesh (what can be checked before loading the input).
     pub fn validate(&self) -> Result<(), GngError> {
-        if let GngTarget::Ratio(r) = self.target
+        if let GngTarget::VertexRatio(r) = self.target
             && !(r > 0.0 && r <= 1.0)
         {
-            return Err(bad("target ratio (must be in (0, 1])", r));
+            return Err(bad(GngParameter::TargetRatio, r, "must be in (0, 1]"));
         }
         if let Some(s) = self.time_limit_seconds
             && (!(s > 0.0 && s.is_finite()) || Duration::try_from_secs_f64(s).is_err())
         {
             return Err(bad(
-                "time limit (must be a finite number of seconds > 0)",
+                GngParameter::TimeLimit,
                 s,
+                "must be a finite number of seconds > 0",
             ));
         }
         if self.max_signals == Some(0) {
-            return Err(bad("signal budget (must be at least 1 signal)", 0.0));
+            return Err(bad(
+                GngParameter::MaxSignals,
+                0.0,
+                "must be at least 1 signal",
+            ));
         }
         if let Some(m) = self.max_signals
             && m > MAX_SIGNALS
         {
             return Err(bad(
-                "signal budget (must be at most 1e10 signals)",
+                GngParameter::MaxSignals,
                 m as f64,
+                "must be at most 1e10 signals",
             ));
         }
         if let Some(e) = self.epochs
             && !(e > 0.0 && e.is_finite())
         {
-            return Err(bad("epochs (must be a finite number > 0)", e));
+            return Err(bad(GngParameter::Epochs, e, "must be a finite number > 0"));
         }
         if self.epochs.is_some() && self.max_signals.is_some() {
             return Err(bad(
-                "signal budget (give epochs or max_signals, not both)",
+                GngParameter::MaxSignals,
                 self.max_signals.unwrap_or(0) as f64,
+                "give epochs or max_signals, not both",
             ));
         }
         if self.lambda == Some(0) {
             return Err(bad(
-                "lambda (signals between insertions, must be >= 1)",
+                GngParameter::Lambda,
                 0.0,
+                "signals between insertions, must be >= 1",
             ));
         }
         if let Some(k) = self.oversample
             && !(1.0..=4.0).contains(&k)
         {
-            return Err(bad("oversample (must be in [1, 4])", k));
+            return Err(bad(GngParameter::Oversample, k, "must be in [1, 4]"));
         }
         if let Some(r) = self.detail_rounds
             && r > MAX_DETAIL_ROUNDS
         {
-            return Err(bad("detail rounds (must be at most 8)", r as f64));
+            return Err(bad(
+                GngParameter::DetailRounds,
+                r as f64,
+                "must be at most 8",
+            ));
         }
-        for (name, eps) in [
-            ("eps_winner (must be in [0, 1])", self.eps_winner),
-            ("eps_neighbour (must be in [0, 1])", self.eps_neighbour),
+        for (parameter, eps) in [
+            (GngParameter::EpsWinner, self.eps_winner),
+            (GngParameter::EpsNeighbour, self.eps_neighbour),
         ] {
             if let Some(e) = eps
                 && !((0.0..=1.0).contains(&e))
             {
-                return Err(bad(name, e as f64));
+                return Err(bad(parameter, e as f64, "must be in [0, 1]"));
             }
+        }
+        if self.threads == Some(0) {
+            return Err(bad(GngParameter::Threads, 0.0, "must be at least 1"));
         }
         Ok(())
     }
@@ -268,7 +300,7 @@ impl GngOptions {
         self.validate()?;
         let n = match self.target {
             GngTarget::Vertices(n) => n,
-            GngTarget::Ratio(r) => ((available as f64) * r).round() as usize,
+            GngTarget::VertexRatio(r) => ((available as f64) * r).round() as usize,
         };
         let vertex_bound = self.signal_source == SignalSource::Vertices;
         if n < 3 || (vertex_bound && n > available) {
@@ -279,16 +311,18 @@ impl GngOptions {
         }
         if !vertex_bound && n > available.saturating_mul(MAX_SURFACE_NODES_PER_VERTEX) {
             return Err(bad(
-                "target vertices (with surface signals at most 16 times the input's vertices)",
+                GngParameter::TargetVertices,
                 n as f64,
+                "with surface signals at most 16 times the input's vertices",
             ));
         }
         if let Some(e) = self.epochs
             && e * available as f64 > MAX_SIGNALS as f64
         {
             return Err(bad(
-                "epochs (the signal budget, epochs x vertices, must be at most 1e10 signals)",
+                GngParameter::Epochs,
                 e,
+                "the signal budget, epochs x vertices, must be at most 1e10 signals",
             ));
         }
         Ok(n)
@@ -322,6 +356,7 @@ impl GngOptions {
             time_limit: self.time_limit_seconds.map(Duration::from_secs_f64),
             seed: self.seed,
             signal_source: self.signal_source,
+            threads: self.threads,
             reconstruction: self.reconstruction.clone(),
             ..defaults
         }
@@ -423,7 +458,7 @@ mod tests {
     #[test]
     fn ratio_and_epochs_follow_the_input() {
         let opts = GngOptions {
-            target: GngTarget::Ratio(0.5),
+            target: GngTarget::VertexRatio(0.5),
             epochs: Some(30.0),
             seed: 9,
             lambda: Some(7),
@@ -471,15 +506,15 @@ mod tests {
                 "time limit",
             ),
             (
-                GngOptions::for_target(GngTarget::Ratio(0.0)),
+                GngOptions::for_target(GngTarget::VertexRatio(0.0)),
                 "target ratio",
             ),
             (
-                GngOptions::for_target(GngTarget::Ratio(f64::NAN)),
+                GngOptions::for_target(GngTarget::VertexRatio(f64::NAN)),
                 "target ratio",
             ),
             (
-                GngOptions::for_target(GngTarget::Ratio(1.5)),
+                GngOptions::for_target(GngTarget::VertexRatio(1.5)),
                 "target ratio",
             ),
             (
@@ -556,7 +591,7 @@ mod tests {
 
     #[test]
     fn resolved_params_train() {
-        let opts = GngOptions::for_target(GngTarget::Ratio(0.5));
+        let opts = GngOptions::for_target(GngTarget::VertexRatio(0.5));
         let m = sphere();
         let r = crate::simplify(&m, &opts).unwrap();
         assert_eq!(r.mesh.vertex_count(), 81);

@@ -4,10 +4,14 @@
 //! ([`sum_over_groups`]). No pool and no dependency: a scoped thread start (~20-50 µs) is noise
 //! next to the chunks it is used for.
 
-/// Threads phase 2 forks into: the machine's parallelism, at most four (the chunks are memory
-/// bound beyond that).
-pub(crate) fn threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get().min(4))
+/// Threads a run uses, the caller's included: `setting` ([`crate::GngParams::threads`], at
+/// least 1), or by default the machine's parallelism, at most four (the chunks are memory bound
+/// beyond that).
+pub(crate) fn threads(setting: Option<usize>) -> usize {
+    setting.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get().min(4)),
+        |n| n.max(1),
+    )
 }
 
 /// `(0..len).map(f)` on up to `threads` threads, each taking at least `min_per_thread` indices.

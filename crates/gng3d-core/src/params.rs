@@ -1,6 +1,7 @@
 //! Parameters of GNG3D training (phase 1) and reconstruction (phase 2), with documented defaults.
 
-use crate::error::GngError;
+use crate::error::{GngError, GngParameter};
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
 
@@ -26,7 +27,8 @@ pub const DEFAULT_SIGNALS_PER_NODE: f64 = 150.0;
 pub const PAPER_EPOCHS: f64 = 30.0;
 
 /// Where training signals come from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum SignalSource {
     /// Uniformly from the distinct referenced vertex positions (the GNG3D paper; exact duplicate
     /// positions count once, so unwelded input behaves like welded input).
@@ -36,13 +38,14 @@ pub enum SignalSource {
     /// proportional to its area, then a uniform point inside it).
     Surface,
     /// Like `Surface`, with each face's area weighted up by the curvature the surface has over
-    /// one output edge length (bounded to at most 4×; [`crate::features`]), so curved parts and
+    /// one output edge length (bounded to at most 4×), so curved parts and
     /// creases get more nodes (GNG3D-Q option).
     Curvature,
 }
 
 /// Nearest/second-nearest node search used during training.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum SearchStrategy {
     /// Growing uniform grid (Fišer et al. 2013); near O(1) per query.
     #[default]
@@ -53,7 +56,8 @@ pub enum SearchStrategy {
 
 /// How faces from the original mesh that map to the same node triple in opposite orientations
 /// are resolved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum OppositeFaces {
     /// Keep one face, oriented like the majority of the original faces that mapped to it.
     #[default]
@@ -65,7 +69,8 @@ pub enum OppositeFaces {
 /// Phase-2 (reconstruction) options. The defaults give the "concordance" rule plus the cleanup
 /// pass, quadric placement and edge flips (GNG3D-Q); [`ReconstructionParams::paper`] is the
 /// published method.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct ReconstructionParams {
     /// Make every node's cell edge-connected on the original mesh before mapping faces (vertices
     /// cut off from the part of the cell nearest to the node join an adjacent cell). This
@@ -98,34 +103,35 @@ pub struct ReconstructionParams {
     /// oversampled runs, whose decimation brings the count back: [`crate::GngOptions::resolve`]
     /// sets it, on when it oversamples and off otherwise (so that un-decimated runs keep the
     /// exact count). Default `false`.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub split_bad_cells: bool,
     /// (g) Rounds of detail nodes: build the mesh, add a node at the original vertex farthest
     /// from it in each of the worst cells (at most 5 % of the mesh's vertices a round), build
     /// again. It adds nodes like (f), so it is for oversampled runs: [`crate::GngOptions::resolve`]
-    /// sets it ([`crate::DEFAULT_DETAIL_ROUNDS`] when it oversamples for an output of at least
-    /// [`crate::DETAIL_MIN_RATIO`] of the input's vertices, 0 otherwise). Default 0 (off).
-    #[serde(default)]
+    /// sets it (3 when it oversamples for an output of at least 5 % of the input's vertices, 0
+    /// otherwise). Default 0 (off).
+    #[cfg_attr(feature = "serde", serde(default))]
     pub detail_rounds: usize,
     /// (h) Tangential relaxation of the decimated mesh (oversampled runs only, after the
-    /// decimation; [`crate::relax`]): each vertex moves half-way toward the centroid of the
+    /// decimation, [`crate::Step::Relax`]): each vertex moves half-way toward the centroid of the
     /// original vertices nearest to it, along the directions in which their faces are flat, so
     /// that it stands for them as the paper's nodes do (E_avg). Default `true`; it does
     /// nothing without a decimation, and [`crate::GngOptions::resolve`] turns it off for outputs of
-    /// more than [`crate::RELAX_MAX_RATIO`] of the input's vertices.
-    #[serde(default = "default_true")]
+    /// more than 30 % of the input's vertices.
+    #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub relax: bool,
     /// (i) Deviation repair of the decimated mesh (oversampled runs only, after the decimation
-    /// and the relaxation; [`crate::deviation`]): vertices standing off the original surface
-    /// move back onto it and edges spanning a groove of it flip, where the output is farthest
-    /// from the original. Default `true`; it does nothing without a decimation, and
-    /// [`crate::GngOptions::resolve`] turns it off for outputs of less than
-    /// [`crate::DETAIL_MIN_RATIO`] of the input's vertices (like the detail rounds).
-    #[serde(default = "default_true")]
+    /// and the relaxation, [`crate::Step::RepairDeviations`]): vertices standing off the
+    /// original surface move back onto it and edges spanning a groove of it flip, where the
+    /// output is farthest from the original. Default `true`; it does nothing without a decimation, and
+    /// [`crate::GngOptions::resolve`] turns it off for outputs of less than 5 % of the input's
+    /// vertices (like the detail rounds).
+    #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub repair_deviations: bool,
 }
 
 /// Serde default of fields added after `true`-defaulted files were written.
+#[cfg(feature = "serde")]
 fn default_true() -> bool {
     true
 }
@@ -133,7 +139,8 @@ fn default_true() -> bool {
 // --- GNG3D-Q (placement + flips) -------------------------------------------------------------
 
 /// Where the output vertex of each node is placed (reconstruction option (c)).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum Placement {
     /// At the trained node (GNG3D as published: the centroid of its signals, which lies inside
     /// curved surfaces and off creases).
@@ -188,7 +195,8 @@ impl Default for ReconstructionParams {
 }
 
 /// GNG3D parameters. Use [`GngParams::for_target`] and adjust fields as needed.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct GngParams {
     /// The output's vertex count N. The network holds N nodes (or
     /// [`GngParams::network_vertices`] when oversampled) and every one is an output vertex. At
@@ -219,8 +227,10 @@ pub struct GngParams {
     /// 30 epochs above 20 % of the vertices, where 30 epochs starve the network).
     pub epochs: Option<f64>,
     /// Wall-clock limit of the whole run, from [`crate::Trainer::new`] to the returned mesh
-    /// (training, reconstruction and every step after it; see [`crate::pipeline`] for how the
-    /// time is shared). Default none.
+    /// (training, reconstruction and every step after it). The steps after training are
+    /// estimated first and training gets what they leave; optional steps, then the
+    /// oversampling, are left out when the time is short
+    /// ([`crate::GngWarning::StepSkippedForTime`]), never the exact vertex count. Default none.
     pub time_limit: Option<Duration>,
     /// Seed of the PCG random generator; equal seeds give identical results. Default 1.
     pub seed: u64,
@@ -235,12 +245,24 @@ pub struct GngParams {
     /// `target_vertices`. `None` (default): the network has `target_vertices` nodes and its mesh
     /// is the output. Set through [`crate::GngOptions::oversample`].
     pub network_vertices: Option<usize>,
-    /// Train each piece of at least [`crate::SPLIT_MIN_NODES`] nodes as two networks, one per
+    /// Train each piece of at least 512 nodes as two networks, one per
     /// half of its points (cut at the median of its longest axis), on two threads where the
     /// machine has them; the result is the same for any thread count. The reconstruction
     /// labels across the cut, so the output has no seam. Default `false` (one network per
     /// piece, as published); [`crate::GngOptions::resolve`] (GNG3D-Q) turns it on.
     pub split_training: bool,
+    /// Most threads a run uses, the caller's included ([`crate::GngOptions::threads`]): training
+    /// rounds, the steps after training and the helper that builds the original's tables while
+    /// training runs. `None` (default): the machine's available parallelism, at most 4 (the
+    /// steps are memory bound beyond that); `Some(1)`: no thread is started, all work runs on
+    /// the caller's thread. The output is the same for any count. GNG3D-Q's QEM decimation
+    /// runs in rayon's global pool, which this does not bound (`RAYON_NUM_THREADS`, or call
+    /// inside `rayon::ThreadPool::install`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub threads: Option<usize>,
 }
 
 impl Default for GngParams {
@@ -263,6 +285,7 @@ impl Default for GngParams {
             reconstruction: ReconstructionParams::default(),
             network_vertices: None,
             split_training: false,
+            threads: None,
         }
     }
 }
@@ -287,53 +310,95 @@ impl GngParams {
         self.network_vertices.is_some()
     }
 
-    /// The paper's protocol: defaults with a budget of 30 epochs ([`PAPER_EPOCHS`]).
+    /// The published GNG3D (Álvarez et al. 2007) for `target_vertices` output vertices: a
+    /// signal budget of 30 epochs of the input's vertices and the paper's reconstruction
+    /// ([`ReconstructionParams::paper`]: vertices at the trained nodes, no flips, refit,
+    /// relaxation or repair), one network of exactly that many nodes (no oversampling). What
+    /// `gng3d reproduce` runs for the paper's columns; [`GngParams::for_target`] is GNG3D-Q's
+    /// defaults without the oversampling that [`crate::GngOptions::resolve`] adds.
     pub fn paper(target_vertices: usize) -> GngParams {
         GngParams {
             epochs: Some(PAPER_EPOCHS),
+            reconstruction: ReconstructionParams::paper(),
             ..GngParams::for_target(target_vertices)
         }
     }
 
     /// Check every parameter on its own (finite, positive, in range); the error names the
-    /// field. Checks that need the mesh (target against the vertex count) are done by
-    /// [`crate::Trainer::new`], which also calls this.
+    /// parameter ([`GngParameter`]). Checks that need the mesh (target against the vertex
+    /// count) are done by [`crate::Trainer::new`], which also calls this.
     pub fn validate(&self) -> Result<(), GngError> {
-        let bad = |name: &'static str, value: f64| Err(GngError::Parameter { name, value });
-        check_range("eps_winner", self.eps_winner as f64, 0.0, 1.0)?;
-        check_range("eps_neighbour", self.eps_neighbour as f64, 0.0, 1.0)?;
-        check_range("alpha", self.alpha, 0.0, 1.0)?;
-        check_range("error_decay", self.error_decay, f64::MIN_POSITIVE, 1.0)?;
-        check_range("removal_window", self.removal_window, 0.0, f64::MAX)?;
+        let bad = |parameter, value: f64, rule| {
+            Err(GngError::Parameter {
+                parameter,
+                value,
+                rule,
+            })
+        };
+        let unit = "must be in [0, 1]";
+        check_range(
+            GngParameter::EpsWinner,
+            self.eps_winner as f64,
+            0.0,
+            1.0,
+            unit,
+        )?;
+        check_range(
+            GngParameter::EpsNeighbour,
+            self.eps_neighbour as f64,
+            0.0,
+            1.0,
+            unit,
+        )?;
+        check_range(GngParameter::Alpha, self.alpha, 0.0, 1.0, unit)?;
+        check_range(
+            GngParameter::ErrorDecay,
+            self.error_decay,
+            f64::MIN_POSITIVE,
+            1.0,
+            "must be in (0, 1]",
+        )?;
+        check_range(
+            GngParameter::RemovalWindow,
+            self.removal_window,
+            0.0,
+            f64::MAX,
+            "must be a finite number >= 0",
+        )?;
         if self.lambda == Some(0) {
-            return bad("lambda", 0.0);
+            return bad(GngParameter::Lambda, 0.0, "must be at least 1");
         }
         if self.max_edge_age == 0 {
-            return bad("max_edge_age", 0.0);
+            return bad(GngParameter::MaxEdgeAge, 0.0, "must be at least 1");
         }
         if let Some(n) = self.network_vertices
             && n < self.target_vertices
         {
             return bad(
-                "network_vertices (must be at least target_vertices)",
+                GngParameter::NetworkVertices,
                 n as f64,
+                "must be at least target_vertices",
             );
         }
         if self.max_signals == Some(0) {
-            return bad("max_signals", 0.0);
+            return bad(GngParameter::MaxSignals, 0.0, "must be at least 1 signal");
         }
         if let Some(e) = self.epochs
             && !(e.is_finite() && e > 0.0)
         {
-            return bad("epochs", e);
+            return bad(GngParameter::Epochs, e, "must be a finite number > 0");
         }
         if self.time_limit.is_some_and(|t| t.is_zero()) {
-            return bad("time_limit", 0.0);
+            return bad(GngParameter::TimeLimit, 0.0, "must be more than 0 seconds");
+        }
+        if self.threads == Some(0) {
+            return bad(GngParameter::Threads, 0.0, "must be at least 1");
         }
         if self.reconstruction.max_hole_edges > 1 << 20 {
             return bad(
-                "reconstruction.max_hole_edges",
+                GngParameter::MaxHoleEdges,
                 self.reconstruction.max_hole_edges as f64,
+                "must be at most 2^20",
             );
         }
         Ok(())
@@ -341,10 +406,20 @@ impl GngParams {
 }
 
 /// `Ok` when `value` is finite and within `[lo, hi]`, else a [`GngError::Parameter`].
-fn check_range(name: &'static str, value: f64, lo: f64, hi: f64) -> Result<(), GngError> {
+fn check_range(
+    parameter: GngParameter,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    rule: &'static str,
+) -> Result<(), GngError> {
     if value.is_finite() && value >= lo && value <= hi {
         Ok(())
     } else {
-        Err(GngError::Parameter { name, value })
+        Err(GngError::Parameter {
+            parameter,
+            value,
+            rule,
+        })
     }
 }

@@ -1,24 +1,9 @@
 //! Phase 2 and everything after it, written once: a [`Plan`] (the ordered [`Step`]s, built
 //! from the parameters in one place, [`Plan::of`]) and one driver that runs it, one line per
 //! step. The trainer hands over its network and stops there; [`crate::finish`], the viewer's
-//! previews and [`crate::reconstruct`] all run this driver.
+//! previews and [`crate::Snapshot::reconstruct`] all run this driver.
 //!
-//! The steps, in the order they run (those a plan leaves out are named in [`Plan::of`]):
-//!
-//! | step | what it does |
-//! |---|---|
-//! | [`Step::Label`] | every original vertex takes its nearest node of its own piece |
-//! | [`Step::ConnectCells`] | each node's cell (its vertices) is made edge-connected |
-//! | [`Step::MapFaces`] | original faces become label triples; duplicates merged, orientation voted, fins removed, small holes filled |
-//! | [`Step::SplitBadCells`] | cells that are not discs or line a new hole get new nodes; faces mapped again (≤ 8 rounds) |
-//! | [`Step::Attach`] | nodes no face uses are inserted into the nearest face; unused nodes compacted away |
-//! | [`Step::Place`] | output vertices placed (node, projection or cell quadric) |
-//! | [`Step::Flip`] | edges flipped toward the original surface |
-//! | [`Step::Refit`] | vertices refitted so the triangles, not only the corners, fit the surface |
-//! | [`Step::DetailRound`] | new nodes where the mesh stays farthest from the original; the build steps above run again |
-//! | [`Step::Decimate`] | the oversampled network's mesh is decimated (QEM) to the output count |
-//! | [`Step::Relax`] | decimated vertices relax toward the original vertices they stand for |
-//! | [`Step::RepairDeviations`] | vertices standing off the original move back; edges across grooves flip |
+//! The steps are listed, in the order they run, on [`Step`].
 //!
 //! Each step that ran is a [`StepRecord`] in [`crate::GngReport::steps`] (and in `gng3d
 //! simplify --json`): its time and what it changed.
@@ -30,13 +15,34 @@ use crate::report::GngWarning;
 use glam::Vec3;
 use mesh::TriMesh;
 use mesh::quadric::Quadric;
+#[cfg(feature = "serde")]
 use serde::Serialize;
 use std::borrow::Cow;
 use std::time::{Duration, Instant};
 
-/// One step of the pipeline after training.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// One step of the pipeline after training ([`crate::finish`],
+/// [`crate::Trainer::reconstruct`]).
+///
+/// The steps, in the order they run (those a plan leaves out are named in [`Plan::of`]; each
+/// that ran is a [`StepRecord`] in [`crate::GngReport::steps`] and in `gng3d simplify --json`):
+///
+/// | step | what it does |
+/// |---|---|
+/// | [`Step::Label`] | every original vertex takes its nearest node of its own piece |
+/// | [`Step::ConnectCells`] | each node's cell (its vertices) is made edge-connected |
+/// | [`Step::MapFaces`] | original faces become label triples; duplicates merged, orientation voted, fins removed, small holes filled |
+/// | [`Step::SplitBadCells`] | cells that are not discs or line a new hole get new nodes; faces mapped again (≤ 8 rounds) |
+/// | [`Step::Attach`] | nodes no face uses are inserted into the nearest face; unused nodes compacted away |
+/// | [`Step::Place`] | output vertices placed (node, projection or cell quadric) |
+/// | [`Step::Flip`] | edges flipped toward the original surface |
+/// | [`Step::Refit`] | vertices refitted so the triangles, not only the corners, fit the surface |
+/// | [`Step::DetailRound`] | new nodes where the mesh stays farthest from the original; the build steps above run again |
+/// | [`Step::Decimate`] | the oversampled network's mesh is decimated (QEM) to the output count |
+/// | [`Step::Relax`] | decimated vertices relax toward the original vertices they stand for |
+/// | [`Step::RepairDeviations`] | vertices standing off the original move back; edges across grooves flip |
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 #[non_exhaustive]
 pub enum Step {
     /// Label every original vertex with its nearest node (component-aware).
@@ -111,7 +117,7 @@ impl Step {
     }
 
     /// Whether every run needs this step for an exact vertex count (the rest may be left out
-    /// when time runs short, in [`CUT_ORDER`]).
+    /// when time runs short: [`crate::GngWarning::StepSkippedForTime`]).
     pub fn is_required(self) -> bool {
         matches!(
             self,
@@ -170,7 +176,7 @@ impl Step {
 /// 4. the deviation repair (9 %; ×1.004, ×1.35), the relaxation and the cell splits (≤ 2 %
 ///    each: the relaxation is what wins E_avg, the splits keep thin parts attached);
 /// 5. then the oversampling (72 %; ×1.60, ×2.67).
-pub const CUT_ORDER: [Cut; 8] = [
+pub(crate) const CUT_ORDER: [Cut; 8] = [
     Cut::DetailBuilds,
     Cut::Step(Step::DetailRound),
     Cut::Step(Step::Flip),
@@ -184,7 +190,7 @@ pub const CUT_ORDER: [Cut; 8] = [
 /// One cut of [`CUT_ORDER`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
-pub enum Cut {
+pub(crate) enum Cut {
     /// The flips and refits of every build but the last.
     DetailBuilds,
     /// Every run of an optional step; for [`Step::DetailRound`] the last round.
@@ -202,7 +208,8 @@ impl std::fmt::Display for Step {
 /// A step of a [`Plan`] with the build it belongs to: round 0 is the first build, round r the
 /// build after the r-th [`Step::DetailRound`] (the decimation and what follows it belong to the
 /// last).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct PlannedStep {
     /// The step.
     pub step: Step,
@@ -211,7 +218,8 @@ pub struct PlannedStep {
 }
 
 /// The ordered steps of a run after training.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Plan {
     steps: Vec<PlannedStep>,
 }
@@ -532,7 +540,8 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
 }
 
 /// A step that ran: how long it took and what it changed.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct StepRecord {
     /// The step.
     pub step: Step,
@@ -560,6 +569,8 @@ pub(crate) struct Input<'a> {
     pub params: &'a ReconstructionParams,
     /// The output count of an oversampled run (the decimation's target).
     pub decimate_to: Option<usize>,
+    /// Most threads the steps use, the caller's included ([`crate::parallel::threads`]).
+    pub threads: usize,
 }
 
 /// The pipeline's result.
@@ -602,7 +613,7 @@ pub(crate) fn run(
     plan: &Plan,
     deadline: Option<Instant>,
     mut on_step: impl FnMut(&StepRecord),
-) -> Result<Output, String> {
+) -> Result<Output, qem::QemError> {
     let start = Instant::now();
     let mut work = Work::new(input);
     let mut steps = Vec::with_capacity(plan.steps().len());
@@ -715,6 +726,8 @@ struct Work<'a> {
     gng_edges: &'a [[u32; 2]],
     params: &'a ReconstructionParams,
     decimate_to: Option<usize>,
+    /// Most threads the steps use, the caller's included.
+    threads: usize,
     /// Node of each original vertex (`u32::MAX`: none).
     labels: Vec<u32>,
     /// Piece of each node.
@@ -755,6 +768,7 @@ impl<'a> Work<'a> {
             gng_edges: input.edges,
             params: input.params,
             decimate_to: input.decimate_to,
+            threads: input.threads,
             labels: Vec::new(),
             node_comp: Vec::new(),
             nodes: input.nodes.to_vec(),
@@ -781,8 +795,12 @@ impl<'a> Work<'a> {
         let (original, pieces) = (self.original, self.pieces);
         let (nodes, edges) = (&self.nodes[..], self.gng_edges);
         let (labels, node_comp) = if self.tables.is_some() {
-            let threads = crate::parallel::threads();
-            reconstruct::labels_and_node_components(original, pieces, nodes, edges, threads)
+            reconstruct::labels_and_node_components(original, pieces, nodes, edges, self.threads)
+        } else if self.threads <= 1 {
+            let labelled =
+                reconstruct::labels_and_node_components(original, pieces, nodes, edges, 1);
+            self.tables = Some(Cow::Owned(OriginalTables::of(original)));
+            labelled
         } else {
             let (labelled, tables) = std::thread::scope(|scope| {
                 let tables = scope.spawn(|| OriginalTables::of(original));
@@ -933,6 +951,7 @@ impl<'a> Work<'a> {
             self.params.placement,
             &self.attachments,
             &mut self.positions,
+            self.threads,
         );
         self.quadrics = placed.quadrics;
         self.report.placed_vertices = placed.moved;
@@ -946,6 +965,7 @@ impl<'a> Work<'a> {
             &mut self.triangles,
             &self.original.positions,
             &self.owner,
+            self.threads,
         );
         self.report.flipped_edges = flips.flips;
         flips.flips
@@ -963,6 +983,7 @@ impl<'a> Work<'a> {
             &tables.edges,
             &self.owner,
             &self.quadrics,
+            self.threads,
         );
         self.report.refit_moves = refit.moves;
         refit.moves
@@ -981,6 +1002,7 @@ impl<'a> Work<'a> {
             &self.positions,
             &self.triangles,
             budget,
+            self.threads,
         );
         if chosen.is_empty() {
             return 0;
@@ -1016,7 +1038,7 @@ impl<'a> Work<'a> {
 
     /// [`Step::Decimate`]: error first down to the output count, when the network's mesh has
     /// more vertices.
-    fn decimate(&mut self) -> Result<usize, String> {
+    fn decimate(&mut self) -> Result<usize, qem::QemError> {
         let Some(n) = self.decimate_to else {
             return Ok(0);
         };
@@ -1045,7 +1067,12 @@ impl<'a> Work<'a> {
         if !self.decimated {
             return 0;
         }
-        let relaxed = crate::relax::relax(&mut self.positions, &self.triangles, self.original);
+        let relaxed = crate::relax::relax(
+            &mut self.positions,
+            &self.triangles,
+            self.original,
+            self.threads,
+        );
         self.report.relaxed_vertices = relaxed.moves;
         relaxed.moves
     }
@@ -1060,6 +1087,7 @@ impl<'a> Work<'a> {
             &mut self.triangles,
             self.original,
             self.step_deadline,
+            self.threads,
         );
         self.report.deviation_moves = repaired.moves;
         self.report.deviation_flips = repaired.flips;

@@ -135,6 +135,7 @@ pub(crate) fn place(
     placement: Placement,
     attached: &[Attachment],
     positions: &mut [Vec3],
+    threads: usize,
 ) -> Placed {
     let mut placed = Placed {
         moved: 0,
@@ -165,7 +166,6 @@ pub(crate) fn place(
         }
     }
     // Per output vertex and independent: on all cores (same result for any count).
-    let threads = crate::parallel::threads();
     let projected: Vec<Option<DVec3>> = {
         let positions = &*positions;
         crate::parallel::map_indexed(positions.len(), threads, MIN_VERTICES_PER_THREAD, |o| {

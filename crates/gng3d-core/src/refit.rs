@@ -127,13 +127,14 @@ pub struct RefitStats {
 /// Refits `positions` (output vertices with faces `triangles`) to `original`; `owner[i]` is the
 /// output vertex of original vertex `i` (or `u32::MAX`), `edges` the original's edge table and
 /// `anchor[v]` vertex `v`'s placement quadric (zero for vertices without a cell).
-pub fn refit(
+pub(crate) fn refit(
     positions: &mut [Vec3],
     triangles: &[[u32; 3]],
     original: &TriMesh,
     edges: &EdgeTable,
     owner: &[u32],
     anchor: &[Quadric],
+    threads: usize,
 ) -> RefitStats {
     let n = positions.len();
     if n == 0 || triangles.is_empty() {
@@ -150,7 +151,6 @@ pub fn refit(
     let anchor: Vec<Quadric> = anchor.iter().map(|q| scaled(*q, ANCHOR_WEIGHT)).collect();
 
     let mut pos: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
-    let threads = crate::parallel::threads();
     let mut on_faces: Vec<Option<(u32, DVec3)>> = Vec::new();
     for iteration in 0..ITERATIONS {
         // Step 2: assignments, independent per sample. The fans are searched in the first
@@ -560,6 +560,7 @@ mod tests {
             &edges,
             &owner,
             &anchor,
+            2,
         );
         (positions, stats)
     }

@@ -58,7 +58,12 @@ pub struct RelaxStats {
 
 /// Relaxes the output vertices `positions` (faces `triangles`) toward the centroids of the
 /// `original`'s vertices nearest to them, along the surface.
-pub fn relax(positions: &mut [Vec3], triangles: &[[u32; 3]], original: &TriMesh) -> RelaxStats {
+pub(crate) fn relax(
+    positions: &mut [Vec3],
+    triangles: &[[u32; 3]],
+    original: &TriMesh,
+    threads: usize,
+) -> RelaxStats {
     let n = positions.len();
     if n == 0 || triangles.is_empty() {
         return RelaxStats::default();
@@ -70,8 +75,7 @@ pub fn relax(positions: &mut [Vec3], triangles: &[[u32; 3]], original: &TriMesh)
         .div_ceil(MAX_VERTICES_PER_CELL * n)
         .max(1);
     let labelled: Vec<Vec3> = original.positions.iter().step_by(stride).copied().collect();
-    let strided =
-        crate::reconstruct::label_with_threads(&labelled, positions, crate::parallel::threads());
+    let strided = crate::reconstruct::label_with_threads(&labelled, positions, threads);
     let mut label = vec![u32::MAX; original.positions.len()];
     for (k, l) in strided.into_iter().enumerate() {
         label[k * stride] = l;
@@ -184,7 +188,7 @@ mod tests {
         }
         let before = e_sum(&original, &positions);
         let shifted = positions.clone();
-        let stats = relax(&mut positions, &coarse.triangles, &original);
+        let stats = relax(&mut positions, &coarse.triangles, &original, 2);
         // All 9 interior vertices move; the 16 border vertices stay.
         assert_eq!(stats.moves, 9);
         let centroids = centroids(&original, &shifted);
@@ -234,7 +238,7 @@ mod tests {
         assert_eq!(positions[v], Vec3::new(0.5, 0.5, 0.0));
         positions[v] = Vec3::new(0.5, 0.56, 0.0);
         let on_crease = positions[v];
-        relax(&mut positions, &coarse.triangles, &original);
+        relax(&mut positions, &coarse.triangles, &original, 2);
         let p = positions[v];
         // It came back toward y = 1/2 (its cell's centroid) ...
         assert!(p.y < on_crease.y - 0.01, "{on_crease:?} -> {p:?}");

@@ -4,23 +4,25 @@
 
 use crate::reconstruct::ReconstructionReport;
 use crate::trainer::TrainingStats;
+#[cfg(feature = "serde")]
 use serde::Serialize;
 use std::fmt;
 
 /// Why the output differs from the request (or what was left out of it). Serialised with a
 /// `"kind"` tag in snake case, e.g. `{"kind":"dropped_components","components":3,...}`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
 #[non_exhaustive]
 pub enum GngWarning {
-    /// Vertices farther than [`crate::STRAY_RADII`] robust radii from their component's median
-    /// gave no training signal (scanner outliers, corrupted coordinates).
+    /// Vertices farther than 1000 robust radii from their component's median gave no training
+    /// signal (scanner outliers, corrupted coordinates).
     StrayVertices {
         /// Distinct vertices left out.
         vertices: usize,
     },
-    /// Components too small for [`crate::MIN_COMPONENT_NODES`] nodes of the target were
-    /// dropped; their share went to the kept ones.
+    /// Components too small for 3 nodes of the target (a triangle) were dropped; their share
+    /// went to the kept ones.
     DroppedComponents {
         /// Components dropped.
         components: usize,
@@ -52,7 +54,7 @@ pub enum GngWarning {
         nodes: usize,
     },
     /// The time limit is below the minimum a run needs (the set-up, the fastest growth to N
-    /// nodes and the required steps after it, as estimated: [`crate::pipeline`]); the run is
+    /// nodes and the required steps after it, as estimated); the run is
     /// the fastest one that gives N vertices, and it takes longer than the limit.
     TimeLimitBelowMinimum {
         /// The time limit, seconds.
@@ -64,7 +66,7 @@ pub enum GngWarning {
     /// the time limit.
     StepSkippedForTime {
         /// The step.
-        step: crate::pipeline::Step,
+        step: crate::Step,
         /// Runs left out.
         skipped: usize,
         /// Runs the run would have had without a time limit.
@@ -101,7 +103,7 @@ impl fmt::Display for GngWarning {
             GngWarning::StrayVertices { vertices } => write!(
                 f,
                 "{vertices} stray vertices (over {} robust radii from their piece) were ignored",
-                crate::STRAY_RADII
+                crate::domain::STRAY_RADII
             ),
             GngWarning::DroppedComponents {
                 components,
@@ -110,7 +112,7 @@ impl fmt::Display for GngWarning {
             } => write!(
                 f,
                 "{components} small components ({vertices} vertices) were too small for {} nodes and were dropped; {kept} kept",
-                crate::MIN_COMPONENT_NODES
+                crate::domain::MIN_COMPONENT_NODES
             ),
             GngWarning::TargetAboveCapacity { target, capacity } => write!(
                 f,
@@ -162,7 +164,8 @@ impl fmt::Display for GngWarning {
 }
 
 /// Report of a [`crate::simplify`] run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct GngReport {
     /// Phase-1 counters.
     pub training: TrainingStats,
@@ -178,7 +181,7 @@ pub struct GngReport {
     /// Output face count.
     pub faces: usize,
     /// Every step after training that ran, in order, with its time and what it changed.
-    pub steps: Vec<crate::pipeline::StepRecord>,
+    pub steps: Vec<crate::StepRecord>,
     /// Wall time of the whole run, seconds, from [`crate::Trainer::new`] to the result.
     pub seconds: f64,
     /// Everything that was dropped or kept the output from `target_vertices` vertices.

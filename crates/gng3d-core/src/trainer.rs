@@ -26,6 +26,7 @@ use mesh::sampling::AreaSampler;
 use rand::Rng;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
+#[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -82,7 +83,8 @@ impl CancelToken {
 }
 
 /// Why training ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum StopReason {
     /// The signal budget was used and the node count is at the target.
     Completed,
@@ -95,7 +97,8 @@ pub enum StopReason {
 }
 
 /// A copy of the network with compact indices, for drawing.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct Snapshot {
     /// Node positions, model units.
     pub positions: Vec<Vec3>,
@@ -110,7 +113,8 @@ pub struct Snapshot {
 }
 
 /// Training progress reported to [`Trainer::train`] observers.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Progress {
     /// Signals processed so far (the paper's iterations).
     pub signals: u64,
@@ -123,7 +127,8 @@ pub struct Progress {
 }
 
 /// Counters of a finished or running training.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct TrainingStats {
     /// Signals processed.
     pub signals: u64,
@@ -519,8 +524,8 @@ impl Part {
 
 /// Step-wise GNG3D trainer over one mesh. See the crate docs for an example.
 ///
-/// Every connected component of the input with enough mass for
-/// [`crate::MIN_COMPONENT_NODES`] nodes is trained by its own network in its own local frame
+/// Every connected component of the input with enough mass for 3 nodes (a triangle) is
+/// trained by its own network in its own local frame
 /// (see the `domain` module), so pieces never share nodes and far-away or huge coordinates do
 /// not spoil the grid or f32 precision. With [`GngParams::split_training`] a large component
 /// trains as two halves. The parts advance in rounds, side by side on threads, each with its
@@ -564,7 +569,8 @@ pub struct Trainer {
     peak_rate: f64,
     stop: Option<StopReason>,
     cancel: CancelToken,
-    /// Threads a round may use ([`crate::parallel::threads`]).
+    /// Threads a round and the steps after training may use ([`crate::parallel::threads`] of
+    /// [`GngParams::threads`]).
     threads: usize,
 }
 
@@ -587,8 +593,9 @@ impl Trainer {
         }
         // Phase 2's tables start now, on the core that the set-up below leaves idle, rather
         // than during training, whose two halves keep both cores busy.
+        let threads = crate::parallel::threads(params.threads);
         let original = Arc::new(mesh.clone());
-        let tables = Arc::new(BackgroundTables::start(&original));
+        let tables = Arc::new(BackgroundTables::start(&original, threads > 1));
         let input = Pieces::of(mesh);
         let domain = Domain::build(mesh, &input, &params)?;
         let n = params.network_target();
@@ -639,7 +646,7 @@ impl Trainer {
             peak_rate: 0.0,
             stop: None,
             cancel: CancelToken::default(),
-            threads: crate::parallel::threads(),
+            threads,
         })
     }
 
@@ -1002,6 +1009,7 @@ impl Trainer {
                 .params
                 .decimates()
                 .then_some(self.params.target_vertices),
+            threads: self.threads,
         }
     }
 
@@ -1034,8 +1042,8 @@ impl Trainer {
             });
         }
         let input = self.pipeline_input(snap, reconstruction);
-        let out = crate::pipeline::run(&input, plan, deadline, on_step)
-            .map_err(|reason| GngError::Decimation { reason })?;
+        let out =
+            crate::pipeline::run(&input, plan, deadline, on_step).map_err(GngError::Decimation)?;
         if out.report.vertices == 0 || out.mesh.face_count() == 0 {
             return Err(GngError::EmptyMesh {
                 nodes: snap.positions.len(),
@@ -1162,14 +1170,18 @@ struct BackgroundTables {
 }
 
 impl BackgroundTables {
-    /// Start building the tables of `original` (nothing when no thread can be started: phase 2
-    /// then builds them itself).
-    fn start(original: &Arc<TriMesh>) -> BackgroundTables {
+    /// Start building the tables of `original` on a helper thread when `spawn` (nothing when
+    /// not, or when no thread can be started: phase 2 then builds them itself).
+    fn start(original: &Arc<TriMesh>, spawn: bool) -> BackgroundTables {
         let mesh = Arc::clone(original);
-        let handle = std::thread::Builder::new()
-            .name("gng3d-tables".into())
-            .spawn(move || OriginalTables::of(&mesh))
-            .ok();
+        let handle = spawn
+            .then(|| {
+                std::thread::Builder::new()
+                    .name("gng3d-tables".into())
+                    .spawn(move || OriginalTables::of(&mesh))
+                    .ok()
+            })
+            .flatten();
         BackgroundTables {
             handle: Mutex::new(handle),
             tables: OnceLock::new(),
@@ -1321,7 +1333,7 @@ mod tests {
     #[test]
     fn a_network_below_the_split_size_trains_as_one_part() {
         let sphere = mesh::procedural::icosphere(4);
-        let split = trainer(&sphere, crate::SPLIT_MIN_NODES - 1, true, 2);
+        let split = trainer(&sphere, crate::domain::SPLIT_MIN_NODES - 1, true, 2);
         assert_eq!(split.parts.len(), 1);
         // And without the option a large one is one part as well.
         assert_eq!(trainer(&sphere, 1000, false, 2).parts.len(), 1);

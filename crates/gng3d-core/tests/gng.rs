@@ -2,7 +2,8 @@
 
 use glam::Vec3;
 use gng3d_core::{
-    GngError, GngOptions, GngParams, GngResult, GngTarget, SearchStrategy, StopReason, Trainer,
+    GngError, GngOptions, GngParameter, GngParams, GngResult, GngTarget, SearchStrategy,
+    StopReason, Trainer,
 };
 use mesh::TriMesh;
 use mesh::procedural::{icosphere, torus};
@@ -312,7 +313,7 @@ fn bad_inputs_give_errors() {
     assert!(matches!(
         simplify(&sphere, &p),
         Err(GngError::Parameter {
-            name: "eps_winner",
+            parameter: GngParameter::EpsWinner,
             ..
         })
     ));
@@ -602,13 +603,19 @@ fn validate_names_the_parameter() {
     p.epochs = Some(f64::NAN);
     assert!(matches!(
         p.validate(),
-        Err(GngError::Parameter { name: "epochs", .. })
+        Err(GngError::Parameter {
+            parameter: GngParameter::Epochs,
+            ..
+        })
     ));
     p.epochs = None;
     p.alpha = 1.5;
     assert!(matches!(
         p.validate(),
-        Err(GngError::Parameter { name: "alpha", .. })
+        Err(GngError::Parameter {
+            parameter: GngParameter::Alpha,
+            ..
+        })
     ));
     p.alpha = 0.5;
     p.removal_window = -1.0;
@@ -622,7 +629,7 @@ fn default_budget_follows_the_target_and_paper_budget_the_input() {
     let t = Trainer::new(&sphere, GngParams::for_target(100)).unwrap();
     assert_eq!(
         t.stats().max_signals,
-        (gng3d_core::DEFAULT_SIGNALS_PER_NODE * 100.0) as u64
+        (gng3d_core::tuning::DEFAULT_SIGNALS_PER_NODE * 100.0) as u64
     );
     let t = Trainer::new(&sphere, GngParams::paper(100)).unwrap();
     assert_eq!(t.stats().max_signals, 30 * 10242);
@@ -630,7 +637,7 @@ fn default_budget_follows_the_target_and_paper_budget_the_input() {
     let t = Trainer::new(&sphere, GngParams::for_target(9000)).unwrap();
     assert_eq!(
         t.stats().max_signals,
-        (gng3d_core::DEFAULT_SIGNALS_PER_NODE * 9000.0) as u64
+        (gng3d_core::tuning::DEFAULT_SIGNALS_PER_NODE * 9000.0) as u64
     );
     // Oversampled: the output's count sets it, the extra nodes share it.
     let mut p = GngParams::for_target(100);
@@ -638,15 +645,16 @@ fn default_budget_follows_the_target_and_paper_budget_the_input() {
     let t = Trainer::new(&sphere, p).unwrap();
     assert_eq!(
         t.stats().max_signals,
-        (gng3d_core::DEFAULT_SIGNALS_PER_NODE * 100.0) as u64
+        (gng3d_core::tuning::DEFAULT_SIGNALS_PER_NODE * 100.0) as u64
     );
 }
 
 #[test]
-fn trainer_reconstruction_equals_the_free_function() {
+fn trainer_reconstruction_equals_the_snapshots() {
     // The trainer hands phase 2 its distinct points, components and edge tables (built on a
-    // helper thread) and labels on all cores; the free function builds everything itself on
-    // one thread. Same network, same mesh, to the bit. 40,962 vertices: the labelling splits.
+    // helper thread) and labels on all cores; the snapshot's reconstruction builds everything
+    // itself, labelling on one thread. Same network, same mesh, to the bit. 40,962 vertices:
+    // the labelling splits.
     let sphere = icosphere(6);
     let mut params = GngParams::for_target(500);
     params.seed = 3;
@@ -657,11 +665,44 @@ fn trainer_reconstruction_equals_the_free_function() {
     let rp = gng3d_core::ReconstructionParams::default();
     let via_trainer = trainer.reconstruct(&rp);
     let snap = trainer.snapshot();
-    let free = gng3d_core::reconstruct(&sphere, &snap.positions, &snap.edges, &rp);
+    let free = snap.reconstruct(&sphere, &rp);
     assert_eq!(via_trainer.mesh.vertex_count(), 500);
     assert_eq!(via_trainer.mesh.positions, free.mesh.positions);
     assert_eq!(via_trainer.mesh.triangles, free.mesh.triangles);
     assert_eq!(via_trainer.node_of_vertex, free.node_of_vertex);
+}
+
+/// `threads` bounds the threads a run starts, not what it computes: one thread (no helper
+/// thread, no fork) gives the mesh of four, to the bit; 0 is refused.
+#[test]
+fn the_thread_count_does_not_change_the_output() {
+    let sphere = icosphere(6); // 40,962 vertices: the labelling and the steps fork
+    let run = |threads| {
+        let options = GngOptions {
+            threads,
+            seed: 5,
+            ..GngOptions::for_target(GngTarget::Vertices(2_000))
+        };
+        gng3d_core::simplify(&sphere, &options).unwrap().mesh
+    };
+    let one = run(Some(1));
+    assert_eq!(one.vertex_count(), 2_000);
+    for threads in [Some(4), None] {
+        let other = run(threads);
+        assert_eq!(one.positions, other.positions, "{threads:?}");
+        assert_eq!(one.triangles, other.triangles, "{threads:?}");
+    }
+    let zero = GngOptions {
+        threads: Some(0),
+        ..GngOptions::default()
+    };
+    assert!(matches!(
+        zero.validate(),
+        Err(GngError::Parameter {
+            parameter: GngParameter::Threads,
+            ..
+        })
+    ));
 }
 
 #[test]

@@ -165,7 +165,22 @@ fn eigen_truncation_keeps_cad_vertices_near_their_nodes_and_on_the_part() {
     let t = trained(&cube, 150, 5, SignalSource::Vertices);
     let snap = t.snapshot();
     let r = t.reconstruct(&rec(Placement::Quadric, false));
-    let labels = gng3d_core::label_vertices(&cube.positions, &snap.positions);
+    // Each original vertex's nearest node.
+    let labels: Vec<u32> = cube
+        .positions
+        .iter()
+        .map(|&p| {
+            (0..snap.positions.len() as u32)
+                .min_by(|&a, &b| {
+                    let (da, db) = (
+                        p.distance_squared(snap.positions[a as usize]),
+                        p.distance_squared(snap.positions[b as usize]),
+                    );
+                    da.total_cmp(&db)
+                })
+                .unwrap()
+        })
+        .collect();
     // Cell radius of each node over its plain nearest-node cell (connected cells only move
     // vertices to adjacent cells, so use the larger of the two radii as a loose bound).
     let mut radius = vec![0.0f64; snap.positions.len()];

@@ -15,7 +15,7 @@ pub type NetworkSnapshot = gng3d_core::Snapshot;
 /// One step of the pipeline after training (label, map faces, …, decimate).
 pub type PipelineStep = gng3d_core::Step;
 /// A step of the run's plan with its build round.
-pub type PlannedStep = gng3d_core::pipeline::PlannedStep;
+pub type PlannedStep = gng3d_core::PlannedStep;
 /// A finished step: its seconds and what it changed.
 pub type StepRecord = gng3d_core::StepRecord;
 
@@ -83,6 +83,7 @@ impl Engine {
             reconstruction: params.reconstruction.clone(),
             oversample: None,
             detail_rounds: None,
+            threads: params.threads,
         };
         let resolved = options
             .resolve(mesh)

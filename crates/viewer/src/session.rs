@@ -95,15 +95,17 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
     };
     // The library's one validation of GNG3D options (the CLI uses the same); the option name
     // the user typed is added here.
-    let flag = |e: &gng3d_core::GngError| match e {
-        gng3d_core::GngError::Parameter { name, .. } if name.starts_with("time limit") => {
-            "--time-limit"
+    let flag = |e: &gng3d_core::GngError| {
+        use gng3d_core::{GngError, GngParameter};
+        match e {
+            GngError::Parameter { parameter, .. } => match parameter {
+                GngParameter::TimeLimit => "--time-limit",
+                GngParameter::MaxSignals => "--max-signals",
+                GngParameter::Lambda => "--lambda",
+                _ => "--target",
+            },
+            _ => "--target",
         }
-        gng3d_core::GngError::Parameter { name, .. } if name.starts_with("signal budget") => {
-            "--max-signals"
-        }
-        gng3d_core::GngError::Parameter { name, .. } if name.starts_with("lambda") => "--lambda",
-        _ => "--target",
     };
     // The input's size is not known yet: the options are checked here (ratios are not offered,
     // so any count will do) and resolved against the mesh when a run starts (`Engine::new`).

@@ -233,7 +233,7 @@ fn controls_change_state() {
         return;
     };
     // Effectively unlimited training so Play/Pause have something to act on.
-    h.state_mut().session.params.max_signals = Some(gng3d_core::MAX_SIGNALS);
+    h.state_mut().session.params.max_signals = Some(gng3d_core::tuning::MAX_SIGNALS);
     h.state_mut().session.reset_training();
     step_until(&mut h, Duration::from_secs(30), "training to run", |a| {
         a.session.live().running && a.session.live().snapshot.signals > 0
@@ -307,7 +307,7 @@ fn plot_gains_points_as_training_runs() {
     let Some(mut h) = harness(fast(400)) else {
         return;
     };
-    h.state_mut().session.params.max_signals = Some(gng3d_core::MAX_SIGNALS);
+    h.state_mut().session.params.max_signals = Some(gng3d_core::tuning::MAX_SIGNALS);
     h.state_mut().session.reset_training();
     step_until(&mut h, Duration::from_secs(30), "first error points", |a| {
         a.session.history.errors.len() >= 2

@@ -67,6 +67,7 @@ pub(crate) fn farthest_vertices(
     positions: &[Vec3],
     triangles: &[[u32; 3]],
     budget: usize,
+    threads: usize,
 ) -> Vec<u32> {
     if budget == 0 || triangles.is_empty() {
         return Vec::new();
@@ -128,7 +129,6 @@ pub(crate) fn farthest_vertices(
         .max(1);
     let points = all_points.div_ceil(stride);
     let point = |k: usize| point(k * stride);
-    let threads = crate::parallel::threads();
     let upper = crate::parallel::map_indexed(points, threads, MIN_VERTICES_PER_THREAD, |k| {
         point(k).map_or(0.0, |(q, ends)| {
             let own = [owner[ends[0] as usize], owner[ends[1] as usize]];

@@ -22,6 +22,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
 use mesh::topology::TopologyReport;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+#[cfg(feature = "serde")]
 use serde::Serialize;
 
 pub(crate) mod attach;
@@ -52,7 +53,8 @@ pub struct Reconstruction {
 }
 
 /// Face counts removed or added by each reconstruction step, and the output topology.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct ReconstructionReport {
     /// Faces of the original mesh.
     pub original_faces: usize,
@@ -163,16 +165,12 @@ fn nearest(tree: &ImmutableKdTree<f64, 3>, p: Vec3) -> u32 {
         .item
 }
 
-/// Label each original vertex with its nearest node (`u32::MAX` when there are no nodes).
-pub fn label_vertices(original: &[Vec3], nodes: &[Vec3]) -> Vec<u32> {
-    label_with_threads(original, nodes, 1)
-}
-
 /// Below this many vertices per thread the labelling stays on one (a thread start costs more
 /// than it saves).
 const MIN_VERTICES_PER_LABEL_THREAD: usize = 16_384;
 
-/// [`label_vertices`] on up to `threads` threads (same labels for any count).
+/// Each original vertex's nearest node (`u32::MAX` when there are no nodes), on up to
+/// `threads` threads (same labels for any count).
 pub(crate) fn label_with_threads(original: &[Vec3], nodes: &[Vec3], threads: usize) -> Vec<u32> {
     let Some(tree) = kd_tree(nodes) else {
         return vec![u32::MAX; original.len()];
@@ -190,15 +188,7 @@ pub(crate) fn label_with_threads(original: &[Vec3], nodes: &[Vec3], threads: usi
 /// pieces when the trainer trains each piece on its own), and each vertex takes the nearest
 /// node of its own piece (`u32::MAX` for unreferenced vertices and pieces without nodes). Two
 /// nearby pieces then never share a node, and a piece's faces are never stitched to another's.
-pub fn label_vertices_by_component(
-    original: &TriMesh,
-    nodes: &[Vec3],
-    edges: &[[u32; 2]],
-) -> Vec<u32> {
-    labels_and_node_components(original, &Pieces::of(original), nodes, edges, 1).0
-}
-
-/// [`label_vertices_by_component`] plus the piece of each node.
+/// Returns the labels and the piece of each node.
 pub(crate) fn labels_and_node_components(
     original: &TriMesh,
     input: &Pieces,
@@ -280,7 +270,8 @@ pub(crate) fn labels_and_node_components(
 
 /// What phase 2 needs from the original alone: its edge table (borders, boundary quadrics) and
 /// its vertex adjacency (connected cells). A [`crate::Trainer`] builds them on a helper thread
-/// while the network trains; [`reconstruct`] builds them next to the labelling.
+/// while the network trains; [`crate::Snapshot::reconstruct`] builds them next to the
+/// labelling.
 #[derive(Debug, Clone)]
 pub(crate) struct OriginalTables {
     pub edges: mesh::topology::EdgeTable,
@@ -436,25 +427,25 @@ pub(crate) struct Candidate {
     pub support: u32,
 }
 
-/// Build the simplified mesh from trained `nodes` (and GNG `edges` between them) over the
-/// `original` mesh. See the module docs for the steps and [`ReconstructionParams`] for options.
-pub fn reconstruct(
-    original: &TriMesh,
-    nodes: &[Vec3],
-    edges: &[[u32; 2]],
-    params: &ReconstructionParams,
-) -> Reconstruction {
-    let pieces = Pieces::of(original);
-    let input = crate::pipeline::Input {
-        original,
-        pieces: &pieces,
-        tables: None,
-        nodes,
-        edges,
-        params,
-        decimate_to: None,
-    };
-    crate::pipeline::reconstruct_only(&input)
+impl crate::Snapshot {
+    /// Build the mesh of this network over the `original` mesh it was trained on (phase 2 with
+    /// these options as given: no decimation, no time limit), e.g. for checkpoints of a
+    /// training. The steps are [`crate::Step`]'s; [`crate::Trainer::reconstruct`] does the same
+    /// on the trainer's current network, reusing its tables of the original.
+    pub fn reconstruct(&self, original: &TriMesh, params: &ReconstructionParams) -> Reconstruction {
+        let pieces = Pieces::of(original);
+        let input = crate::pipeline::Input {
+            original,
+            pieces: &pieces,
+            tables: None,
+            nodes: &self.positions,
+            edges: &self.edges,
+            params,
+            decimate_to: None,
+            threads: crate::parallel::threads(None),
+        };
+        crate::pipeline::reconstruct_only(&input)
+    }
 }
 
 /// Map the original faces to label triples, merge duplicates, resolve orientation and run
@@ -595,6 +586,21 @@ fn half_edges(t: [u32; 3]) -> [(u32, u32); 3] {
 mod tests {
     use super::*;
     use crate::params::Placement;
+
+    /// Phase 2 of the network `nodes` (with GNG `edges`) over `original`.
+    fn reconstruct(
+        original: &TriMesh,
+        nodes: &[Vec3],
+        edges: &[[u32; 2]],
+        params: &ReconstructionParams,
+    ) -> Reconstruction {
+        let snap = crate::Snapshot {
+            positions: nodes.to_vec(),
+            edges: edges.to_vec(),
+            ..Default::default()
+        };
+        snap.reconstruct(original, params)
+    }
 
     #[test]
     fn identity_nodes_reproduce_the_mesh() {

@@ -69,7 +69,7 @@ struct Summary {
 fn options(args: &SimplifyArgs) -> anyhow::Result<GngOptions> {
     let target = match (args.vertices, args.ratio) {
         (Some(n), _) => GngTarget::Vertices(n),
-        (None, Some(r)) => GngTarget::Ratio(r),
+        (None, Some(r)) => GngTarget::VertexRatio(r),
         (None, None) => bail!("give a target with --vertices N or --ratio R"),
     };
     let mut options = GngOptions {
