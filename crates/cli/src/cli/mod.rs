@@ -89,35 +89,24 @@ pub(crate) struct GngVariantArgs {
     /// vertices are moved so that the triangles fit the original).
     #[arg(long)]
     pub no_refit: bool,
-    /// GNG3D-Q: skip the tangential relaxation after the decimation of oversampled runs (each
-    /// vertex moved half-way toward the centroid of the original vertices it stands for; on by
-    /// default for outputs of at most 30 % of the input's vertices).
-    #[arg(long)]
+    /// GNG3D-Q: skip the tangential relaxation (help text: [`help::no_relax`]).
+    #[arg(long, help = help::no_relax())]
     pub no_relax: bool,
-    /// GNG3D-Q: skip the deviation repair after the decimation of oversampled runs (vertices
-    /// standing off the original moved back onto it, edges spanning a groove of it flipped,
-    /// where the output is farthest from it; on by default for outputs of at least 5 % of the
-    /// input's vertices).
-    #[arg(long)]
+    /// GNG3D-Q: skip the deviation repair (help text: [`help::no_deviation_repair`]).
+    #[arg(long, help = help::no_deviation_repair())]
     pub no_deviation_repair: bool,
-    /// GNG3D signal budget in epochs of |V| signals (the paper's protocol: 30), instead of the
-    /// default budget 150 × N for N output vertices.
-    #[arg(long)]
+    /// GNG3D signal budget in epochs (help text: [`help::epochs`]).
+    #[arg(long, help = help::epochs())]
     pub epochs: Option<f64>,
     /// GNG3D training signals: vertices (the paper, default), surface (uniform over the area) or
     /// curvature (surface, weighted towards creases and curved parts).
     #[arg(long, value_enum)]
     pub signals: Option<SignalsArg>,
-    /// GNG3D-Q oversampling factor k in [1, 4]: train k × N nodes, then decimate the mesh to N
-    /// with QEM (error first). Default 1.5 with quadric placement, 1 (off) otherwise.
-    /// Oversampled runs train each piece of at least 512 nodes as two halves on two threads
-    /// (the same result on any number of cores).
-    #[arg(long)]
+    /// GNG3D-Q oversampling factor (help text: [`help::oversample`]).
+    #[arg(long, help = help::oversample())]
     pub oversample: Option<f64>,
-    /// GNG3D-Q rounds of detail nodes (0-8) in oversampled runs: nodes added where the mesh
-    /// stays farthest from the original, then the mesh rebuilt. Default 3 for outputs of at
-    /// least 5 % of the input's vertices, 0 below.
-    #[arg(long)]
+    /// GNG3D-Q rounds of detail nodes (help text: [`help::detail_rounds`]).
+    #[arg(long, help = help::detail_rounds())]
     pub detail_rounds: Option<usize>,
 }
 
@@ -297,4 +286,65 @@ pub(crate) fn save_checked(
 pub(crate) fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> {
     mesh::io::write_atomic(path, bytes)?;
     Ok(())
+}
+
+/// Help texts that quote the library's policy numbers, made from the constants themselves so
+/// the help cannot drift from what the code does.
+mod help {
+    use gng3d_core::tuning;
+
+    /// A share as a percentage ("30 %").
+    fn percent(share: f64) -> String {
+        format!("{} %", share * 100.0)
+    }
+
+    pub(super) fn no_relax() -> String {
+        format!(
+            "GNG3D-Q: skip the tangential relaxation after the decimation of oversampled runs \
+             (each vertex moved half-way toward the centroid of the original vertices it stands \
+             for; on by default for outputs of at most {} of the input's vertices)",
+            percent(tuning::RELAX_MAX_RATIO)
+        )
+    }
+
+    pub(super) fn no_deviation_repair() -> String {
+        format!(
+            "GNG3D-Q: skip the deviation repair after the decimation of oversampled runs \
+             (vertices standing off the original moved back onto it, edges spanning a groove of \
+             it flipped, where the output is farthest from it; on by default for outputs of at \
+             least {} of the input's vertices)",
+            percent(tuning::DETAIL_MIN_RATIO)
+        )
+    }
+
+    pub(super) fn epochs() -> String {
+        format!(
+            "GNG3D signal budget in epochs of |V| signals (the paper's protocol: {}), instead of \
+             the default budget {} × N for N output vertices",
+            tuning::PAPER_EPOCHS,
+            tuning::DEFAULT_SIGNALS_PER_NODE
+        )
+    }
+
+    pub(super) fn oversample() -> String {
+        format!(
+            "GNG3D-Q oversampling factor k in [1, 4]: train k × N nodes, then decimate the mesh \
+             to N with QEM (error first). Default {} with quadric placement, 1 (off) otherwise. \
+             Oversampled runs train each piece of at least {} nodes as two halves on two threads \
+             (the same result on any number of cores)",
+            tuning::DEFAULT_OVERSAMPLE,
+            tuning::SPLIT_MIN_NODES
+        )
+    }
+
+    pub(super) fn detail_rounds() -> String {
+        format!(
+            "GNG3D-Q rounds of detail nodes (0-{}) in oversampled runs: nodes added where the mesh \
+             stays farthest from the original, then the mesh rebuilt. Default {} for outputs of \
+             at least {} of the input's vertices, 0 below",
+            tuning::MAX_DETAIL_ROUNDS,
+            tuning::DEFAULT_DETAIL_ROUNDS,
+            percent(tuning::DETAIL_MIN_RATIO)
+        )
+    }
 }
