@@ -25,10 +25,10 @@ fn beats_meshlab_hausdorff_on_armadillo_at_ten_percent() {
     };
     let reference_path = dir.join("../reference/armadillo-meshlab-8648.obj");
     if !reference_path.exists() {
-        eprintln!(
-            "skipping: no MeshLab reference at {}",
+        mesh::fixtures::skip(&format!(
+            "no MeshLab reference at {}",
             reference_path.display()
-        );
+        ));
         return;
     }
     let reference = mesh::io::load(&reference_path).unwrap().mesh;

@@ -427,7 +427,7 @@ fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
 fn a_failing_stdout_is_an_error_not_a_panic() {
     let full = Path::new("/dev/full");
     if !full.exists() {
-        eprintln!("skipped: no /dev/full on this system");
+        mesh::fixtures::skip("no /dev/full on this system");
         return;
     }
     let dir = tempfile::tempdir().unwrap();

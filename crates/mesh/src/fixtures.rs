@@ -1,27 +1,106 @@
 //! Test and benchmark helpers (cargo feature `fixtures`; never needed by a product build).
 //!
 //! - [`shared_meshes_dir`]: locating the shared real meshes (`GNG3D_MESHES`) with the project's
-//!   rule: without them a test skips with a message, except under `CI`, where it fails.
+//!   rule: without them a test skips with a message, except under `CI`, where it fails
+//!   ([`find_shared_meshes`]: the same search, silent).
+//! - [`skip`] / [`skip_unless_ci`]: the message of a test that skips, one `SKIPPED <test>:
+//!   <reason>` line that a plain `cargo test` shows (docs/testing.md).
 //! - [`fuzz`]: the seed files and byte mutations shared by the loader fuzz tests (mesh) and the
 //!   CLI fuzz tests and driver (crates/cli).
 
-use std::path::PathBuf;
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
 
 /// Name of the environment variable that points at the shared meshes folder.
 pub const MESHES_ENV: &str = "GNG3D_MESHES";
 
 /// The folder named by `GNG3D_MESHES`, provided it holds the file `probe` (e.g. `"README.md"`,
-/// or the mesh a test needs). Otherwise `None` after a message on stderr, or a panic when the
-/// environment variable `CI` is set: tests that need the meshes must fail, not skip, in CI.
+/// or the mesh a test needs). Otherwise `None` after a [`skip`] line on stderr, or a panic when
+/// the environment variable `CI` is set: tests that need the meshes must fail, not skip, in CI.
+///
+/// A relative folder is looked up from the current folder and then from each folder above it:
+/// `cargo test` runs every test in its own package's folder, so `GNG3D_MESHES=../shared/meshes`
+/// set at the workspace root works for the tests of every crate.
 pub fn shared_meshes_dir(probe: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os(MESHES_ENV).map(PathBuf::from);
-    if let Some(d) = dir.as_ref().filter(|d| d.join(probe).is_file()) {
-        return Some(d.clone());
+    match find_shared_meshes(probe) {
+        Ok(dir) => Some(dir),
+        Err(reason) => {
+            skip_unless_ci(&reason);
+            None
+        }
     }
-    let problem = format!("{MESHES_ENV} ({dir:?}) does not hold {probe}");
-    assert!(std::env::var_os("CI").is_none(), "CI is set but {problem}");
-    eprintln!("{problem}: set {MESHES_ENV} to the shared meshes folder to use the real meshes");
-    None
+}
+
+/// The folder [`shared_meshes_dir`] returns, or why there is none (the reason it would report),
+/// without reporting anything: for a test that looks for something next to the meshes.
+pub fn find_shared_meshes(probe: &str) -> Result<PathBuf, String> {
+    let cwd = std::env::current_dir().ok();
+    locate(std::env::var_os(MESHES_ENV), cwd.as_deref(), probe)
+}
+
+/// [`find_shared_meshes`] for a given value of `GNG3D_MESHES` and current folder.
+fn locate(value: Option<OsString>, cwd: Option<&Path>, probe: &str) -> Result<PathBuf, String> {
+    let Some(value) = value else {
+        return Err(format!(
+            "{MESHES_ENV} not set (export {MESHES_ENV}=../shared/meshes to run it)"
+        ));
+    };
+    let dir = PathBuf::from(value);
+    let candidates: Vec<PathBuf> = match cwd {
+        Some(cwd) if dir.is_relative() => cwd.ancestors().map(|a| a.join(&dir)).collect(),
+        _ => vec![dir.clone()],
+    };
+    candidates
+        .into_iter()
+        .find(|d| d.join(probe).is_file())
+        .ok_or_else(|| format!("{MESHES_ENV}={} does not hold {probe}", dir.display()))
+}
+
+/// A requirement of the running test is missing (the shared meshes, a GPU adapter, a tool):
+/// under `CI` this panics with `reason`, since no test may skip there; otherwise it reports the
+/// skip with [`skip`] and the caller returns.
+pub fn skip_unless_ci(reason: &str) {
+    assert!(std::env::var_os("CI").is_none(), "CI is set but {reason}");
+    skip(reason);
+}
+
+/// Reports that the running test skips (all of it, or the part that needs what is missing):
+/// one line `SKIPPED <test>: <reason>` on the process's stderr, once per test. The line goes
+/// to stderr directly, not through `eprintln!`, which the test harness captures (and shows only
+/// for a failing test), so a plain `cargo test` shows every skip;
+/// `cargo test 2>&1 | grep -c 'SKIPPED '` counts them. `<test>` is the test's name (its
+/// thread's), or the executable's for a benchmark.
+pub fn skip(reason: &str) {
+    use std::io::Write;
+    static REPORTED: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let test = match std::thread::current().name() {
+        Some(name) if name != "main" => name.to_string(),
+        _ => executable_name(),
+    };
+    let mut reported = REPORTED.lock().unwrap_or_else(PoisonError::into_inner);
+    if reported.contains(&test) {
+        return;
+    }
+    let _ = writeln!(std::io::stderr().lock(), "SKIPPED {test}: {reason}");
+    reported.push(test);
+}
+
+/// This executable's name without cargo's hash suffix.
+fn executable_name() -> String {
+    let exe = std::env::args_os().next().unwrap_or_default();
+    let stem = Path::new(&exe).file_stem().unwrap_or_default();
+    without_hash(&stem.to_string_lossy()).to_string()
+}
+
+/// `topology-0123456789abcdef` -> `topology`; other names unchanged.
+fn without_hash(stem: &str) -> &str {
+    match stem.rsplit_once('-') {
+        Some((name, hash)) if hash.len() == 16 && hash.bytes().all(|b| b.is_ascii_hexdigit()) => {
+            name
+        }
+        _ => stem,
+    }
 }
 
 /// Seeds and mutations for fuzzing the loaders and everything behind them.
@@ -320,10 +399,41 @@ mod tests {
     fn missing_probe_is_none_outside_ci_and_a_panic_in_ci() {
         // The probe name cannot exist in any folder, so the outcome depends only on `CI`.
         let probe = "no such file \u{1}.obj";
-        let result = std::panic::catch_unwind(|| shared_meshes_dir(probe));
-        match std::env::var_os("CI") {
-            Some(_) => assert!(result.is_err(), "must panic under CI"),
-            None => assert_eq!(result.ok(), Some(None)),
+        let reason = find_shared_meshes(probe).unwrap_err();
+        assert!(reason.starts_with(MESHES_ENV), "{reason}");
+        if std::env::var_os("CI").is_some() {
+            let result = std::panic::catch_unwind(|| shared_meshes_dir(probe));
+            assert!(result.is_err(), "must panic under CI");
         }
+    }
+
+    #[test]
+    fn a_relative_folder_is_found_from_the_current_folder_or_a_parent() {
+        // Run in crates/mesh: `src` holds lib.rs right here, `crates/mesh/src` only seen from
+        // the workspace root two folders up; an absolute folder is taken as it is.
+        let cwd = std::env::current_dir().unwrap();
+        let src = cwd.join("src");
+        let found = |value: &str| locate(Some(value.into()), Some(&cwd), "lib.rs");
+        assert_eq!(found("src"), Ok(src.clone()));
+        let from_root = found("crates/mesh/src").unwrap();
+        assert_eq!(
+            from_root.canonicalize().unwrap(),
+            src.canonicalize().unwrap()
+        );
+        assert_eq!(found(src.to_str().unwrap()), Ok(src.clone()));
+        let missing = found("no such folder").unwrap_err();
+        assert_eq!(missing, "GNG3D_MESHES=no such folder does not hold lib.rs");
+        let unset = locate(None, Some(&cwd), "lib.rs").unwrap_err();
+        assert!(
+            unset.starts_with("GNG3D_MESHES not set (export GNG3D_MESHES="),
+            "{unset}"
+        );
+    }
+
+    #[test]
+    fn benchmark_names_lose_cargos_hash() {
+        assert_eq!(without_hash("topology-0123456789abcdef"), "topology");
+        assert_eq!(without_hash("hostile-fan"), "hostile-fan");
+        assert_eq!(without_hash("gng3d"), "gng3d");
     }
 }

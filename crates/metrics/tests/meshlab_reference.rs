@@ -18,17 +18,18 @@ use std::path::{Path, PathBuf};
 
 /// The reference folder, or `None` (after failing under CI) when it is not available.
 fn reference_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("GNG3D_REFERENCE")
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("GNG3D_MESHES").map(|m| Path::new(&m).join("../reference")));
+    let dir = match std::env::var_os("GNG3D_REFERENCE") {
+        Some(dir) => Ok(PathBuf::from(dir)),
+        None => mesh::fixtures::find_shared_meshes("README.md").map(|m| m.join("../reference")),
+    };
     match dir {
-        Some(d) if d.join("hausdorff.json").is_file() => Some(d),
+        Ok(d) if d.join("hausdorff.json").is_file() => Some(d),
         other => {
-            let msg = format!("MeshLab reference not found (looked at {other:?})");
-            if std::env::var_os("CI").is_some() {
-                panic!("{msg}; set GNG3D_MESHES or GNG3D_REFERENCE");
-            }
-            eprintln!("skipping: {msg}");
+            let why = match other {
+                Ok(d) => format!("no hausdorff.json in {} (set GNG3D_REFERENCE)", d.display()),
+                Err(why) => format!("GNG3D_REFERENCE not set and {why}"),
+            };
+            mesh::fixtures::skip_unless_ci(&format!("MeshLab reference not found: {why}"));
             None
         }
     }
@@ -36,9 +37,7 @@ fn reference_dir() -> Option<PathBuf> {
 
 /// The mesh folder holding the originals.
 fn meshes_dir(reference: &Path) -> PathBuf {
-    std::env::var_os("GNG3D_MESHES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| reference.join("../meshes"))
+    mesh::fixtures::find_shared_meshes("README.md").unwrap_or_else(|_| reference.join("../meshes"))
 }
 
 fn load(path: &Path) -> mesh::TriMesh {
