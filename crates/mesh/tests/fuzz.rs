@@ -30,7 +30,7 @@ const FORMATS: [(Format, &str); 3] = [
 ];
 
 /// Number of seeds (kept in sync with `seeds()`).
-const SEEDS: usize = 13;
+const SEEDS: usize = 18;
 
 /// The shared seeds, built once.
 fn seeds() -> Vec<(Format, Vec<u8>)> {
