@@ -121,6 +121,58 @@ pub fn load_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<LoadedMes
     validate(raw, path)
 }
 
+/// A mesh handed over in memory (positions and triangles with signed indices, as arrays from
+/// another language give them), checked and repaired as [`load`] checks a file: an index below
+/// 0 or beyond the vertices is a [`MeshError::IndexOutOfRange`], then the empty, non-finite and
+/// no-face checks and the dropped degenerate and duplicate faces of [`load`]. `name` stands for
+/// the file in the messages (e.g. `"faces"`), so a front end taking arrays reports the loader's
+/// sentences.
+///
+/// ```
+/// use gng3d_mesh::io::from_arrays;
+/// use glam::Vec3;
+/// use std::path::Path;
+/// let square = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)];
+/// let loaded = from_arrays(square.clone(), [[0, 1, 2], [1, 3, 2], [0, 1, 2]], Path::new("faces"));
+/// assert_eq!(loaded.unwrap().mesh.face_count(), 2); // the repeated face is dropped, as in `load`
+/// let err = from_arrays(square, [[0, 1, 4]], Path::new("faces")).unwrap_err();
+/// assert_eq!(err.to_string(), "faces: face 0 refers to vertex 4, but there are only 4 vertices");
+/// ```
+pub fn from_arrays(
+    positions: Vec<Vec3>,
+    triangles: impl IntoIterator<Item = [i64; 3]>,
+    name: &Path,
+) -> Result<LoadedMesh, MeshError> {
+    let vertex_count = positions.len();
+    let triangles = triangles.into_iter();
+    let mut checked = Vec::with_capacity(triangles.size_hint().0);
+    for (face, t) in triangles.enumerate() {
+        let mut corners = [0u32; 3];
+        for (corner, &index) in corners.iter_mut().zip(&t) {
+            *corner = match u32::try_from(index) {
+                Ok(i) if (i as usize) < vertex_count => i,
+                _ => {
+                    return Err(MeshError::IndexOutOfRange {
+                        path: name.to_path_buf(),
+                        face,
+                        index,
+                        vertex_count,
+                    });
+                }
+            };
+        }
+        checked.push(corners);
+    }
+    validate(
+        RawMesh {
+            positions,
+            triangles: checked,
+            ..RawMesh::default()
+        },
+        name,
+    )
+}
+
 /// Check for empty meshes, non-finite coordinates and point clouds; drop degenerate and
 /// duplicate faces with warnings.
 fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
