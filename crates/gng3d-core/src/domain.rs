@@ -182,34 +182,21 @@ pub(crate) fn distinct_ids(mesh: &TriMesh) -> (Vec<u32>, Vec<Vec3>) {
     (id, out)
 }
 
-/// Union-find root with path halving.
-pub(crate) fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let p = parent[parent[x as usize] as usize];
-        parent[x as usize] = p;
-        x = p;
-    }
-    x
-}
-
 /// Face-connected components over distinct ids: component of each distinct point (dense,
 /// numbered in first-seen order) and the component count.
 pub(crate) fn components(mesh: &TriMesh, ids: &[u32], distinct: usize) -> (Vec<u32>, usize) {
-    let mut parent: Vec<u32> = (0..distinct as u32).collect();
+    // Components are numbered by their first member below, whatever the roots are.
+    let mut parent = mesh::topology::UnionFind::new(distinct);
     for t in &mesh.triangles {
         let [a, b, c] = t.map(|v| ids[v as usize]);
-        for (x, y) in [(a, b), (b, c)] {
-            let (rx, ry) = (find(&mut parent, x), find(&mut parent, y));
-            if rx != ry {
-                parent[rx.max(ry) as usize] = rx.min(ry);
-            }
-        }
+        parent.union(a, b);
+        parent.union(b, c);
     }
     let mut dense = vec![u32::MAX; distinct];
     let mut comp = vec![0u32; distinct];
     let mut count = 0;
     for i in 0..distinct as u32 {
-        let r = find(&mut parent, i) as usize;
+        let r = parent.find(i) as usize;
         if dense[r] == u32::MAX {
             dense[r] = count;
             count += 1;

@@ -15,12 +15,13 @@
 //! when no trainer did. Labelling, placement and the flips' point assignment are independent per vertex and
 //! run on all cores ([`crate::parallel`]); every result is the same for any thread count.
 
-use crate::domain::{Pieces, find};
+use crate::domain::Pieces;
 use crate::params::{OppositeFaces, ReconstructionParams};
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
 use mesh::topology::TopologyReport;
+use mesh::topology::UnionFind;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 #[cfg(feature = "serde")]
 use serde::Serialize;
@@ -217,16 +218,15 @@ pub(crate) fn labels_and_node_components(
         .map(|&p| comp[nearest(&points, p) as usize])
         .collect();
     // Majority vote over GNG-connected groups (union-find over the edges).
-    let mut parent: Vec<u32> = (0..nodes.len() as u32).collect();
+    // Roots serve only as group keys, and the vote's tie rule does not depend on the order of
+    // the map, so any union order gives the same components.
+    let mut groups = UnionFind::new(nodes.len());
     for e in edges {
-        let (a, b) = (find(&mut parent, e[0]), find(&mut parent, e[1]));
-        if a != b {
-            parent[a.max(b) as usize] = a.min(b);
-        }
+        groups.union(e[0], e[1]);
     }
     let mut votes: HashMap<(u32, u32), u32> = HashMap::default();
     for (i, &c) in nearest_comp.iter().enumerate() {
-        *votes.entry((find(&mut parent, i as u32), c)).or_insert(0) += 1;
+        *votes.entry((groups.find(i as u32), c)).or_insert(0) += 1;
     }
     let mut group_comp: HashMap<u32, (u32, u32)> = HashMap::default();
     for (&(g, c), &n) in &votes {
@@ -238,7 +238,7 @@ pub(crate) fn labels_and_node_components(
     let mut by_comp: Vec<Vec<u32>> = vec![Vec::new(); count];
     let mut node_comp = vec![0u32; nodes.len()];
     for i in 0..nodes.len() as u32 {
-        let g = find(&mut parent, i);
+        let g = groups.find(i);
         let c = group_comp[&g].0;
         by_comp[c as usize].push(i);
         node_comp[i as usize] = c;
@@ -355,14 +355,11 @@ pub(crate) fn make_cells_connected(
     // the anchor's component of the edges whose ends share a label: union-find over the unique
     // edges visits each edge once, where a flood over the adjacency lists visits each twice per
     // face (igea: 19 → 6 ms). Vertices elsewhere are orphans.
-    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let mut parts = UnionFind::new(n);
     for &[a, b] in &tables.edges.edges {
         let l = labels[a as usize];
         if l != u32::MAX && l == labels[b as usize] {
-            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-            if ra != rb {
-                parent[ra.max(rb) as usize] = ra.min(rb);
-            }
+            parts.union(a, b);
         }
     }
     let mut keep = vec![false; n];
@@ -370,7 +367,7 @@ pub(crate) fn make_cells_connected(
         let l = labels[v];
         if l != u32::MAX {
             let a = anchor[l as usize].1;
-            keep[v] = a != u32::MAX && find(&mut parent, v as u32) == find(&mut parent, a);
+            keep[v] = a != u32::MAX && parts.find(v as u32) == parts.find(a);
         }
     }
     let mut queue: std::collections::VecDeque<u32> = std::collections::VecDeque::new();
