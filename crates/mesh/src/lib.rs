@@ -25,7 +25,7 @@ extern crate self as mesh;
 
 pub mod clean;
 pub mod error;
-/// Test and benchmark helper: the shared meshes folder (feature `fixtures`).
+// Test and benchmark helpers (feature `fixtures`), documented in the module.
 #[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 pub mod geometry;
