@@ -1,0 +1,110 @@
+"""Type stubs of the native module gng3d._gng3d (re-exported by the gng3d package)."""
+
+import os
+from typing import Any, Callable, Iterator, Literal, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+ArrayLike = npt.ArrayLike
+Vertices = npt.NDArray[np.float64]
+Faces = npt.NDArray[np.int64]
+PathLike = Union[str, "os.PathLike[str]"]
+Method = Literal["gng", "paper", "qem"]
+
+class Gng3dWarning(UserWarning):
+    """What kept a result from being exactly what was asked for."""
+
+class SimplifyResult:
+    """The result of :func:`simplify`; unpacks as ``(vertices, faces)``."""
+
+    @property
+    def vertices(self) -> Vertices: ...
+    @property
+    def faces(self) -> Faces: ...
+    @property
+    def report(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+    def __getitem__(self, index: int) -> Union[Vertices, Faces]: ...
+    def __iter__(self) -> Iterator[Union[Vertices, Faces]]: ...
+
+def simplify(
+    vertices: ArrayLike,
+    faces: ArrayLike,
+    *,
+    vertices_target: Optional[int] = None,
+    faces_target: Optional[int] = None,
+    ratio: Optional[float] = None,
+    method: Method = "gng",
+    time_limit: Optional[float] = None,
+    seed: int = 0,
+    weld: bool = True,
+    placement: Optional[Literal["node", "project", "quadric"]] = None,
+    flips: Optional[bool] = None,
+    refit: Optional[bool] = None,
+    relax: Optional[bool] = None,
+    deviation_repair: Optional[bool] = None,
+    epochs: Optional[float] = None,
+    signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
+    oversample: Optional[float] = None,
+    detail_rounds: Optional[int] = None,
+    threshold: Optional[float] = None,
+) -> SimplifyResult:
+    """Simplify a mesh; ``ratio`` is a share of the input's vertices for every method."""
+
+def metrics(
+    v0: ArrayLike,
+    f0: ArrayLike,
+    v1: ArrayLike,
+    f1: ArrayLike,
+    *,
+    samples: Optional[int] = None,
+    meshlab: bool = False,
+    seed: int = 1,
+) -> dict[str, Any]:
+    """The fields of ``gng3d metrics --json`` for an original and a simplified mesh."""
+
+def load(path: PathLike) -> Tuple[Vertices, Faces]:
+    """Read an OBJ, PLY or STL file as ``(vertices, faces)``."""
+
+def save(path: PathLike, vertices: ArrayLike, faces: ArrayLike) -> None:
+    """Write an OBJ, PLY or STL file atomically."""
+
+class Trainer:
+    """GNG3D step by step."""
+
+    def __init__(
+        self,
+        vertices: ArrayLike,
+        faces: ArrayLike,
+        *,
+        vertices_target: Optional[int] = None,
+        ratio: Optional[float] = None,
+        method: Literal["gng", "paper"] = "gng",
+        time_limit: Optional[float] = None,
+        seed: int = 0,
+        weld: bool = True,
+        placement: Optional[Literal["node", "project", "quadric"]] = None,
+        flips: Optional[bool] = None,
+        refit: Optional[bool] = None,
+        relax: Optional[bool] = None,
+        deviation_repair: Optional[bool] = None,
+        epochs: Optional[float] = None,
+        signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
+        oversample: Optional[float] = None,
+        detail_rounds: Optional[int] = None,
+    ) -> None: ...
+    def step(self, signals: int = 10000) -> dict[str, Any]: ...
+    def train(
+        self,
+        callback: Optional[Callable[[dict[str, Any]], Optional[bool]]] = None,
+        every: Optional[int] = None,
+    ) -> dict[str, Any]: ...
+    @property
+    def progress(self) -> dict[str, Any]: ...
+    @property
+    def finished(self) -> bool: ...
+    def snapshot(self) -> Tuple[Vertices, npt.NDArray[np.int64]]: ...
+    def errors(self) -> dict[str, float]: ...
+    def stop(self) -> None: ...
+    def mesh(self) -> SimplifyResult: ...

@@ -1,0 +1,396 @@
+//! `gng3d._gng3d`, the native module of the `gng3d` Python package (PyO3): numpy meshes in and
+//! out of the workspace's libraries, with the options checked by the libraries themselves and
+//! the GIL released while they work. The package (python/gng3d) re-exports it; its docstrings
+//! are the doc comments here.
+
+mod convert;
+mod run;
+mod trainer;
+
+use convert::{mesh_error, mesh_from};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyUserWarning, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use run::{GngKeywords, Method, Outcome, Size};
+use std::path::PathBuf;
+
+pyo3::create_exception!(
+    gng3d,
+    Gng3dWarning,
+    PyUserWarning,
+    "What kept a result from being exactly what was asked for (the CLI's `warning:` lines)."
+);
+
+/// Raises each sentence as a `gng3d.Gng3dWarning`.
+fn warn_all(py: Python<'_>, messages: &[String]) -> PyResult<()> {
+    let category = py.get_type::<Gng3dWarning>();
+    for m in messages {
+        PyErr::warn(py, &category, &std::ffi::CString::new(m.as_str())?, 1)?;
+    }
+    Ok(())
+}
+
+/// A JSON value as the Python object `json.loads` makes of it.
+fn to_python<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    py.import("json")?
+        .call_method1("loads", (value.to_string(),))
+}
+
+/// The result of :func:`gng3d.simplify` and :meth:`gng3d.Trainer.mesh`.
+///
+/// Attributes:
+///     vertices: float64 array of shape (n, 3).
+///     faces: int64 array of shape (m, 3), counter-clockwise seen from outside.
+///     report: dict with the fields of ``gng3d simplify --json`` (``warnings`` included, each
+///         with its ``message``).
+///
+/// Unpacks as a pair: ``vertices, faces = gng3d.simplify(...)``.
+#[pyclass(module = "gng3d", frozen)]
+struct SimplifyResult {
+    vertices: Py<PyAny>,
+    faces: Py<PyAny>,
+    report: Py<PyAny>,
+}
+
+#[pymethods]
+impl SimplifyResult {
+    /// float64 array of shape (n, 3): the simplified mesh's vertex positions.
+    #[getter]
+    fn vertices(&self, py: Python<'_>) -> Py<PyAny> {
+        self.vertices.clone_ref(py)
+    }
+
+    /// int64 array of shape (m, 3): the simplified mesh's triangles.
+    #[getter]
+    fn faces(&self, py: Python<'_>) -> Py<PyAny> {
+        self.faces.clone_ref(py)
+    }
+
+    /// dict: the fields of ``gng3d simplify --json``.
+    #[getter]
+    fn report(&self, py: Python<'_>) -> Py<PyAny> {
+        self.report.clone_ref(py)
+    }
+
+    fn __len__(&self) -> usize {
+        2
+    }
+
+    fn __getitem__(&self, py: Python<'_>, index: isize) -> PyResult<Py<PyAny>> {
+        match index {
+            0 | -2 => Ok(self.vertices.clone_ref(py)),
+            1 | -1 => Ok(self.faces.clone_ref(py)),
+            _ => Err(pyo3::exceptions::PyIndexError::new_err(
+                "SimplifyResult unpacks as (vertices, faces)",
+            )),
+        }
+    }
+
+    fn __iter__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let pair = PyTuple::new(py, [self.vertices.clone_ref(py), self.faces.clone_ref(py)])?;
+        Ok(pair.as_any().try_iter()?.into_any())
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let report = self.report.bind(py);
+        let get = |k: &str| -> PyResult<String> { Ok(report.get_item(k)?.str()?.to_string()) };
+        Ok(format!(
+            "SimplifyResult(method={}, vertices={}, faces={}, seconds={}, warnings={})",
+            report.get_item("method")?.repr()?,
+            get("vertices")?,
+            get("faces")?,
+            get("seconds")?,
+            report.get_item("warnings")?.len()?
+        ))
+    }
+}
+
+impl SimplifyResult {
+    /// The Python result of a finished run; its warnings are raised as `Gng3dWarning`s.
+    fn new(py: Python<'_>, outcome: Outcome) -> PyResult<SimplifyResult> {
+        warn_all(py, &outcome.warnings)?;
+        Ok(SimplifyResult {
+            vertices: convert::positions_array(py, &outcome.mesh.positions)
+                .into_any()
+                .unbind(),
+            faces: convert::index_array(py, &outcome.mesh.triangles)
+                .into_any()
+                .unbind(),
+            report: to_python(py, &outcome.report)?.unbind(),
+        })
+    }
+}
+
+/// The input of a run: checked as the loader checks a file, then welded and cleaned as the CLI
+/// prepares what it loads (`mesh::clean::prepare`) unless `weld` is false.
+fn prepared(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    weld: bool,
+) -> PyResult<mesh::TriMesh> {
+    let (input, warnings) = mesh_from(vertices, faces, "input")?;
+    let sentences: Vec<String> = warnings.iter().map(|w| format!("input: {w}")).collect();
+    warn_all(py, &sentences)?;
+    if !weld {
+        return Ok(input);
+    }
+    Ok(py.detach(|| mesh::clean::prepare(&input).0))
+}
+
+/// Simplify a triangle mesh with GNG3D-Q (default), the paper's GNG3D or QEM.
+///
+/// Args:
+///     vertices: array-like of shape (n, 3), any real dtype (read as float32, as the mesh
+///         files are).
+///     faces: integer array-like of shape (m, 3), zero-based vertex indices.
+///     vertices_target: the output's vertex count (GNG3D gives exactly this many).
+///     faces_target: the output's face count (method="qem" only).
+///     ratio: the share of the input's vertices to keep, in (0, 1], for every method
+///         (0.1 keeps a tenth of the vertices). It is *not* a reduction (fast_simplification's
+///         ``target_reduction=0.9`` is ``ratio=0.1`` here) and not a share of faces (the CLI's
+///         ``--ratio`` with ``--method qem`` is one of faces: use ``faces_target`` for that).
+///         Give exactly one of the three targets.
+///     method: "gng" (GNG3D-Q, the CLI's ``--method gng``), "paper" (the published GNG3D:
+///         node placement, 30 epochs) or "qem" (Garland-Heckbert).
+///     time_limit: GNG3D's most seconds for the whole run (steps are left out to keep it;
+///         each is a warning); the vertex count stays exact.
+///     seed: GNG3D's random seed (the CLI's default is 1; the same seed gives the same mesh
+///         as ``gng3d simplify --method gng --seed S``).
+///     weld: weld exact duplicate positions and drop degenerate faces and unreferenced
+///         vertices first, as the CLI does (``weld=False`` is its ``--no-weld``).
+///     placement, flips, refit, relax, deviation_repair, epochs, signals, oversample,
+///         detail_rounds: GNG3D's variant, as the CLI's flags (``flips=False`` is
+///         ``--no-flips``, ``placement="node"`` is ``--placement node``).
+///     threshold: QEM's pair distance threshold in model units (0: edges only).
+///
+/// Returns:
+///     SimplifyResult: ``.vertices`` (float64, (n, 3)), ``.faces`` (int64, (m, 3)),
+///     ``.report`` (dict, the fields of ``gng3d simplify --json``); it unpacks as
+///     ``(vertices, faces)``. What kept the result from the request (a target above what
+///     the mesh holds, a time limit) is in ``report["warnings"]`` and raised as
+///     :class:`gng3d.Gng3dWarning`.
+///
+/// Raises:
+///     ValueError: bad input (wrong shape, NaN, an index out of range, no faces) or options,
+///         with the library's message.
+///     RuntimeError: a run that ended without a mesh (e.g. a time limit too short to train).
+///     KeyboardInterrupt: Ctrl-C during GNG3D training.
+///
+/// The GIL is released while the mesh is simplified, so threads run in parallel.
+///
+/// Example:
+///     >>> import gng3d, numpy as np
+///     >>> v, f = gng3d.load("bunny.ply")                      # doctest: +SKIP
+///     >>> result = gng3d.simplify(v, f, ratio=0.1, seed=1)    # doctest: +SKIP
+///     >>> result.report["vertices"] == round(0.1 * len(v))    # doctest: +SKIP
+///     True
+///     >>> v2, f2 = gng3d.simplify(v, f, faces_target=5000, method="qem")  # doctest: +SKIP
+#[pyfunction]
+#[pyo3(signature = (
+    vertices, faces, *, vertices_target=None, faces_target=None, ratio=None, method="gng",
+    time_limit=None, seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
+    deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
+    threshold=None
+))]
+#[allow(clippy::too_many_arguments)]
+fn simplify(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    vertices_target: Option<usize>,
+    faces_target: Option<usize>,
+    ratio: Option<f64>,
+    method: &str,
+    time_limit: Option<f64>,
+    seed: u64,
+    weld: bool,
+    placement: Option<String>,
+    flips: Option<bool>,
+    refit: Option<bool>,
+    relax: Option<bool>,
+    deviation_repair: Option<bool>,
+    epochs: Option<f64>,
+    signals: Option<String>,
+    oversample: Option<f64>,
+    detail_rounds: Option<usize>,
+    threshold: Option<f64>,
+) -> PyResult<SimplifyResult> {
+    let method = Method::parse(method)?;
+    let size = Size::from_keywords(vertices_target, faces_target, ratio)?;
+    let gng = GngKeywords {
+        time_limit,
+        placement,
+        flips,
+        refit,
+        relax,
+        deviation_repair,
+        epochs,
+        signals,
+        oversample,
+        detail_rounds,
+    };
+    let outcome = if method == Method::Qem {
+        gng.refuse_for_qem()?;
+        let input = prepared(py, vertices, faces, weld)?;
+        let target = run::qem_target(size, &input)?;
+        py.detach(|| run::run_qem(&input, target, threshold.unwrap_or(0.0)))?
+    } else {
+        if threshold.is_some() {
+            return Err(PyValueError::new_err(
+                "threshold applies to method 'qem' only",
+            ));
+        }
+        // Everything that does not need the mesh is checked before reading it, as the CLI does.
+        let options = gng.options(method, size, seed)?;
+        let input = prepared(py, vertices, faces, weld)?;
+        let run = py.detach(|| {
+            run::run_gng(&input, &options, method, || {
+                Python::attach(|py| py.check_signals().is_err())
+            })
+        });
+        match run {
+            Ok(outcome) => outcome,
+            Err(Some(e)) => return Err(run::gng_error(e)),
+            Err(None) => {
+                return Err(PyKeyboardInterrupt::new_err("GNG3D training interrupted"));
+            }
+        }
+    };
+    SimplifyResult::new(py, outcome)
+}
+
+/// Compare an original and a simplified mesh: the paper's errors, the symmetric surface
+/// (Hausdorff) distance, normal deviation, triangle quality and topology.
+///
+/// Args:
+///     v0, f0: the original mesh (array-likes as for :func:`simplify`).
+///     v1, f1: the simplified mesh.
+///     samples: surface samples per direction (default: 10 x the larger face count, as
+///         Metro); 1 to 50,000,000.
+///     meshlab: MeshLab's sampling plan (every vertex, plus ``samples`` edge and ``samples``
+///         face samples per direction) instead of ``samples`` in total.
+///     seed: the surface sampler's seed (the CLI's default, 1).
+///
+/// Returns:
+///     dict: the fields of ``gng3d metrics --json`` (``hausdorff``, ``e_avg``, ``e_max``,
+///     ``e_sur_signed``, ``normal_deviation``, ``quality``, ``topology``, ...).
+///
+/// The meshes are measured as given (as the CLI measures files: not welded). The GIL is
+/// released while measuring.
+///
+/// Example:
+///     >>> v, f = gng3d.load("bunny.ply")                          # doctest: +SKIP
+///     >>> v2, f2 = gng3d.simplify(v, f, ratio=0.05)               # doctest: +SKIP
+///     >>> m = gng3d.metrics(v, f, v2, f2, samples=100_000)        # doctest: +SKIP
+///     >>> m["hausdorff"]["max"], m["hausdorff"]["mean"]           # doctest: +SKIP
+#[pyfunction(name = "metrics")]
+#[pyo3(signature = (v0, f0, v1, f1, *, samples=None, meshlab=false, seed=1))]
+#[allow(clippy::too_many_arguments)]
+fn measure<'py>(
+    py: Python<'py>,
+    v0: &Bound<'py, PyAny>,
+    f0: &Bound<'py, PyAny>,
+    v1: &Bound<'py, PyAny>,
+    f1: &Bound<'py, PyAny>,
+    samples: Option<usize>,
+    meshlab: bool,
+    seed: u64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = metrics::MetricsParams {
+        hausdorff: metrics::HausdorffParams {
+            samples,
+            seed,
+            plan: if meshlab {
+                metrics::SamplingPlan::MeshLab
+            } else {
+                metrics::SamplingPlan::Budget
+            },
+            ..Default::default()
+        },
+    };
+    params
+        .hausdorff
+        .validate()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let (original, w0) = mesh_from(v0, f0, "original")?;
+    let (simplified, w1) = mesh_from(v1, f1, "simplified")?;
+    let sentences: Vec<String> = w0
+        .iter()
+        .map(|w| format!("original: {w}"))
+        .chain(w1.iter().map(|w| format!("simplified: {w}")))
+        .collect();
+    warn_all(py, &sentences)?;
+    let report = py
+        .detach(|| metrics::evaluate(&original, &simplified, &params))
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let value = serde_json::to_value(&report).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    to_python(py, &value)
+}
+
+/// Read a mesh file (OBJ, PLY or STL, by extension) as ``(vertices, faces)``.
+///
+/// Returns every vertex record in file order (float64, (n, 3)) and the triangles (int64,
+/// (m, 3)); polygons are fan-triangulated, degenerate and duplicate faces dropped with a
+/// :class:`gng3d.Gng3dWarning`, as the CLI loads files. Not welded: :func:`simplify` welds.
+///
+/// Raises:
+///     FileNotFoundError / OSError: the file cannot be read.
+///     ValueError: the content is malformed (the message names the file and the line).
+///
+/// Example:
+///     >>> v, f = gng3d.load("bunny.ply")   # doctest: +SKIP
+///     >>> v.shape, f.shape                 # doctest: +SKIP
+///     ((35947, 3), (69451, 3))
+#[pyfunction]
+fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyTuple>> {
+    let loaded = py.detach(|| mesh::io::load(&path)).map_err(mesh_error)?;
+    let sentences: Vec<String> = loaded
+        .warnings
+        .iter()
+        .map(|w| format!("{}: {w}", path.display()))
+        .collect();
+    warn_all(py, &sentences)?;
+    convert::mesh_tuple(py, &loaded.mesh)
+}
+
+/// Write a mesh file (OBJ, binary PLY or binary STL, by extension) atomically.
+///
+/// The mesh is checked as a loaded file is (no NaN, indices in range, at least one face;
+/// degenerate and duplicate faces are dropped with a warning), then written to a temporary
+/// file in the same folder and renamed over ``path``, so a failed write never leaves a partial
+/// file. Coordinates are stored as float32, as the mesh files are read.
+///
+/// Raises:
+///     ValueError: bad arrays or an unknown extension.
+///     OSError: the file cannot be written.
+///
+/// Example:
+///     >>> gng3d.save("out.ply", *gng3d.simplify(v, f, ratio=0.1))   # doctest: +SKIP
+#[pyfunction]
+fn save(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+) -> PyResult<()> {
+    let name = path.to_string_lossy().into_owned();
+    let (mesh, warnings) = mesh_from(vertices, faces, &name)?;
+    let sentences: Vec<String> = warnings.iter().map(|w| format!("{name}: {w}")).collect();
+    warn_all(py, &sentences)?;
+    py.detach(|| mesh::io::save(&mesh, &path))
+        .map_err(mesh_error)
+}
+
+/// The module: functions, classes and the warning category.
+#[pymodule]
+fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(simplify, m)?)?;
+    m.add_function(wrap_pyfunction!(measure, m)?)?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(save, m)?)?;
+    m.add_class::<SimplifyResult>()?;
+    m.add_class::<trainer::Trainer>()?;
+    m.add("Gng3dWarning", m.py().get_type::<Gng3dWarning>())?;
+    Ok(())
+}

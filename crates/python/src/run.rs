@@ -1,0 +1,452 @@
+//! The runs behind `gng3d.simplify` and `gng3d.Trainer`: the options a Python call gives, mapped
+//! onto the library's own (`gng3d_core::GngOptions`, `qem::QemParams`), which validate them; the
+//! same steps as `gng3d simplify` after loading; and the report its `--json` prints.
+
+use gng3d_core::{GngError, GngOptions, GngTarget, GngWarning, Placement, SignalSource, Trainer};
+use mesh::TriMesh;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use serde::Serialize;
+use serde_json::Value;
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+/// The method a call asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// GNG3D-Q (the library's and the CLI's default GNG3D).
+    Gng,
+    /// The published GNG3D (`GngOptions::paper`).
+    Paper,
+    /// Garland–Heckbert QEM.
+    Qem,
+}
+
+impl Method {
+    /// The method named `name`, or a ValueError listing the names.
+    pub fn parse(name: &str) -> PyResult<Method> {
+        match name {
+            "gng" => Ok(Method::Gng),
+            "paper" => Ok(Method::Paper),
+            "qem" => Ok(Method::Qem),
+            _ => Err(PyValueError::new_err(format!(
+                "method must be 'gng', 'paper' or 'qem', got {name:?}"
+            ))),
+        }
+    }
+
+    /// The name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Gng => "gng",
+            Method::Paper => "paper",
+            Method::Qem => "qem",
+        }
+    }
+}
+
+/// The size a call asks for (exactly one of the three keywords).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Size {
+    /// `vertices_target=N`.
+    Vertices(usize),
+    /// `faces_target=N` (QEM only).
+    Faces(usize),
+    /// `ratio=R`: a share of the input's vertices, for every method.
+    Ratio(f64),
+}
+
+impl Size {
+    /// The one target given, or a ValueError.
+    pub fn from_keywords(
+        vertices: Option<usize>,
+        faces: Option<usize>,
+        ratio: Option<f64>,
+    ) -> PyResult<Size> {
+        match (vertices, faces, ratio) {
+            (Some(n), None, None) => Ok(Size::Vertices(n)),
+            (None, Some(n), None) => Ok(Size::Faces(n)),
+            (None, None, Some(r)) => Ok(Size::Ratio(r)),
+            (None, None, None) => Err(PyValueError::new_err(
+                "give a target: vertices_target=N, faces_target=N (QEM) or ratio=R",
+            )),
+            _ => Err(PyValueError::new_err(
+                "give one target: vertices_target, faces_target or ratio, not several",
+            )),
+        }
+    }
+}
+
+/// The GNG3D keywords of a call (the CLI's `--placement`, `--no-flips`, … flags); `None`: not
+/// given, the library's default.
+#[derive(Debug, Clone, Default)]
+pub struct GngKeywords {
+    /// `time_limit` (seconds).
+    pub time_limit: Option<f64>,
+    /// `placement`: "node", "project" or "quadric".
+    pub placement: Option<String>,
+    /// `flips`.
+    pub flips: Option<bool>,
+    /// `refit`.
+    pub refit: Option<bool>,
+    /// `relax`.
+    pub relax: Option<bool>,
+    /// `deviation_repair`.
+    pub deviation_repair: Option<bool>,
+    /// `epochs`.
+    pub epochs: Option<f64>,
+    /// `signals`: "vertices", "surface" or "curvature".
+    pub signals: Option<String>,
+    /// `oversample`.
+    pub oversample: Option<f64>,
+    /// `detail_rounds`.
+    pub detail_rounds: Option<usize>,
+}
+
+impl GngKeywords {
+    /// The names of the keywords that were given (they apply to GNG3D only).
+    fn given(&self) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        let mut note = |given: bool, name| {
+            if given {
+                names.push(name);
+            }
+        };
+        note(self.time_limit.is_some(), "time_limit");
+        note(self.placement.is_some(), "placement");
+        note(self.flips.is_some(), "flips");
+        note(self.refit.is_some(), "refit");
+        note(self.relax.is_some(), "relax");
+        note(self.deviation_repair.is_some(), "deviation_repair");
+        note(self.epochs.is_some(), "epochs");
+        note(self.signals.is_some(), "signals");
+        note(self.oversample.is_some(), "oversample");
+        note(self.detail_rounds.is_some(), "detail_rounds");
+        names
+    }
+
+    /// `GngOptions` for `size` and `seed`, as `gng3d simplify --method gng` builds them from
+    /// its flags (`paper`: `GngOptions::paper`), validated by the library
+    /// (`GngOptions::validate`) before the mesh is looked at.
+    pub fn options(&self, method: Method, size: Size, seed: u64) -> PyResult<GngOptions> {
+        let target = match size {
+            Size::Vertices(n) => GngTarget::Vertices(n),
+            Size::Ratio(r) => GngTarget::VertexRatio(r),
+            Size::Faces(_) => {
+                return Err(PyValueError::new_err(format!(
+                    "faces_target applies to method 'qem' only; use vertices_target or ratio with method '{}'",
+                    method.name()
+                )));
+            }
+        };
+        let mut options = match method {
+            Method::Paper => GngOptions::paper(target),
+            _ => GngOptions::for_target(target),
+        };
+        options.seed = seed;
+        options.time_limit_seconds = self.time_limit;
+        if let Some(p) = &self.placement {
+            options.reconstruction.placement = match p.as_str() {
+                "node" => Placement::Node,
+                "project" => Placement::Project,
+                "quadric" => Placement::Quadric,
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "placement must be 'node', 'project' or 'quadric', got {p:?}"
+                    )));
+                }
+            };
+        }
+        if let Some(s) = &self.signals {
+            options.signal_source = match s.as_str() {
+                "vertices" => SignalSource::Vertices,
+                "surface" => SignalSource::Surface,
+                "curvature" => SignalSource::Curvature,
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "signals must be 'vertices', 'surface' or 'curvature', got {s:?}"
+                    )));
+                }
+            };
+        }
+        if let Some(f) = self.flips {
+            options.reconstruction.flip_edges = f;
+        }
+        if let Some(r) = self.refit {
+            options.reconstruction.refit = r;
+        }
+        if let Some(r) = self.relax {
+            options.reconstruction.relax = r;
+        }
+        if let Some(r) = self.deviation_repair {
+            options.reconstruction.repair_deviations = r;
+        }
+        if self.epochs.is_some() {
+            options.epochs = self.epochs;
+            options.max_signals = None;
+        }
+        if self.oversample.is_some() {
+            options.oversample = self.oversample;
+        }
+        if self.detail_rounds.is_some() {
+            options.detail_rounds = self.detail_rounds;
+        }
+        options.validate().map_err(gng_error)?;
+        Ok(options)
+    }
+
+    /// A ValueError when GNG3D keywords were given to QEM (as the CLI refuses its GNG3D flags
+    /// with `--method qem`).
+    pub fn refuse_for_qem(&self) -> PyResult<()> {
+        let given = self.given();
+        if given.is_empty() {
+            return Ok(());
+        }
+        Err(PyValueError::new_err(format!(
+            "{} apply to method 'gng' and 'paper' only, not 'qem'",
+            given.join(", ")
+        )))
+    }
+}
+
+/// A library error as a Python exception: what the input or the options make impossible is a
+/// ValueError, a run that ended without a mesh a RuntimeError; the message is the library's.
+pub fn gng_error(e: GngError) -> PyErr {
+    match e {
+        GngError::TooFewNodes { .. } | GngError::EmptyMesh { .. } | GngError::Decimation(_) => {
+            PyRuntimeError::new_err(e.to_string())
+        }
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// `gng3d simplify --method gng --json`'s summary (crates/cli/src/cli/simplify/gng.rs), field
+/// for field; the binding adds a `message` to each warning.
+#[derive(Debug, Serialize)]
+struct GngSummary {
+    method: &'static str,
+    vertices: usize,
+    faces: usize,
+    iterations: u64,
+    seconds: f64,
+    training_seconds: f64,
+    target_vertices: usize,
+    nodes: usize,
+    oversample: f64,
+    network_vertices: usize,
+    placement: Placement,
+    signals: SignalSource,
+    flips: bool,
+    refit: bool,
+    detail_rounds: usize,
+    detail_nodes: usize,
+    relax: bool,
+    relaxed_vertices: usize,
+    repair_deviations: bool,
+    deviation_moves: usize,
+    deviation_flips: usize,
+    steps: Vec<gng3d_core::StepRecord>,
+    warnings: Vec<GngWarning>,
+    closed: bool,
+    manifold: bool,
+    genus: Option<i64>,
+    boundary_edges: usize,
+    non_manifold_edges: usize,
+}
+
+/// A finished run: the mesh, the `--json` report and the warnings' sentences.
+pub struct Outcome {
+    /// The simplified mesh.
+    pub mesh: TriMesh,
+    /// The CLI's `--json` fields.
+    pub report: Value,
+    /// One sentence per warning (what the CLI prints on stderr).
+    pub warnings: Vec<String>,
+}
+
+/// `report`'s `warnings` with each one's sentence added as `message`.
+fn with_messages(report: &mut Value, messages: &[String]) {
+    if let Some(Value::Array(list)) = report.get_mut("warnings") {
+        for (w, m) in list.iter_mut().zip(messages) {
+            if let Value::Object(fields) = w {
+                fields.insert("message".into(), Value::String(m.clone()));
+            }
+        }
+    }
+}
+
+/// The steps after training on `trainer` and the summary, as the CLI does them; `started` is
+/// when the run began (the report's `seconds`).
+pub fn finish_gng(
+    trainer: &Trainer,
+    options: &GngOptions,
+    method: Method,
+    started: Instant,
+) -> Result<Outcome, GngError> {
+    let result = gng3d_core::finish(trainer, |_| {})?;
+    Ok(summarize(trainer, options, method, started, result))
+}
+
+/// The outcome of `result`, a mesh of `trainer`'s network (finished, or a preview).
+pub fn summarize(
+    trainer: &Trainer,
+    options: &GngOptions,
+    method: Method,
+    started: Instant,
+    result: gng3d_core::GngResult,
+) -> Outcome {
+    let params = trainer.params();
+    let seconds = started.elapsed().as_secs_f64();
+    let stats = trainer.stats();
+    let r = &result.report.reconstruction;
+    let t = &r.topology;
+    let summary = GngSummary {
+        method: method.name(),
+        vertices: result.mesh.vertex_count(),
+        faces: result.mesh.face_count(),
+        iterations: stats.signals,
+        seconds,
+        training_seconds: stats.seconds,
+        target_vertices: result.report.target_vertices,
+        nodes: trainer.node_count(),
+        oversample: options.oversample_factor(),
+        network_vertices: result.report.network_vertices,
+        placement: params.reconstruction.placement,
+        signals: params.signal_source,
+        flips: params.reconstruction.flip_edges,
+        refit: params.reconstruction.refits(),
+        detail_rounds: params.reconstruction.detail_rounds,
+        detail_nodes: r.detail_nodes,
+        relax: params.reconstruction.relax,
+        relaxed_vertices: r.relaxed_vertices,
+        repair_deviations: params.reconstruction.repair_deviations,
+        deviation_moves: r.deviation_moves,
+        deviation_flips: r.deviation_flips,
+        steps: result.report.steps.clone(),
+        warnings: result.report.warnings.clone(),
+        closed: t.closed,
+        manifold: t.manifold,
+        genus: t.genus,
+        boundary_edges: t.boundary_edges,
+        non_manifold_edges: t.non_manifold_edges,
+    };
+    let warnings: Vec<String> = result
+        .report
+        .warnings
+        .iter()
+        .map(|w| w.to_string())
+        .collect();
+    let mut report = serde_json::to_value(&summary).unwrap_or(Value::Null);
+    with_messages(&mut report, &warnings);
+    Outcome {
+        mesh: result.mesh,
+        report,
+        warnings,
+    }
+}
+
+/// A GNG3D run on a prepared input, as `gng3d simplify --method gng` runs it (the same training
+/// rounds between progress reports, so the same mesh for the same options and seed).
+/// `interrupted` is asked between rounds (a Python KeyboardInterrupt): `Err(None)` then.
+pub fn run_gng(
+    input: &TriMesh,
+    options: &GngOptions,
+    method: Method,
+    mut interrupted: impl FnMut() -> bool,
+) -> Result<Outcome, Option<GngError>> {
+    let params = options.resolve(input)?;
+    let started = Instant::now();
+    let mut trainer = Trainer::new(input, params)?;
+    let budget = trainer.stats().max_signals;
+    let mut stopped = false;
+    trainer.train((budget / 20).clamp(1_000, 2_000_000), |_| {
+        if interrupted() {
+            stopped = true;
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    if stopped {
+        return Err(None);
+    }
+    Ok(finish_gng(&trainer, options, method, started)?)
+}
+
+/// `gng3d simplify --method qem --json`'s summary (crates/cli/src/cli/simplify/qem.rs), plus the
+/// warning the CLI prints when the target was not reached.
+#[derive(Debug, Serialize)]
+struct QemSummary {
+    method: &'static str,
+    vertices: usize,
+    faces: usize,
+    seconds: f64,
+    report: qem::QemReport,
+    warnings: Vec<QemWarning>,
+}
+
+/// A QEM run that stopped short of its target.
+#[derive(Debug, Serialize)]
+struct QemWarning {
+    kind: &'static str,
+    message: String,
+}
+
+/// The QEM target of `size` on `input`: `ratio` is a share of the input's (referenced)
+/// vertices here as for GNG3D, rounded as GNG3D rounds it; its range is checked by the library
+/// (`GngOptions::validate`, the same rule and sentence as for GNG3D).
+pub fn qem_target(size: Size, input: &TriMesh) -> PyResult<qem::Target> {
+    Ok(match size {
+        Size::Vertices(n) => qem::Target::Vertices(n),
+        Size::Faces(n) => qem::Target::Faces(n),
+        Size::Ratio(r) => {
+            GngOptions::for_target(GngTarget::VertexRatio(r))
+                .validate()
+                .map_err(gng_error)?;
+            let mut used = vec![false; input.vertex_count()];
+            for &v in input.triangles.iter().flatten() {
+                used[v as usize] = true;
+            }
+            let referenced = used.iter().filter(|&&u| u).count();
+            qem::Target::Vertices((referenced as f64 * r).round() as usize)
+        }
+    })
+}
+
+/// A QEM run with the library's parameters for `target` and `threshold`, as
+/// `gng3d simplify --method qem` runs it.
+pub fn run_qem(input: &TriMesh, target: qem::Target, threshold: f64) -> PyResult<Outcome> {
+    let params = qem::QemParams {
+        target,
+        pair_threshold: threshold,
+        ..qem::QemParams::default()
+    };
+    let (simplified, report) =
+        qem::simplify(input, &params).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    if simplified.face_count() == 0 {
+        return Err(PyRuntimeError::new_err(format!(
+            "QEM produced an empty mesh ({} vertices, no triangles)",
+            simplified.vertex_count()
+        )));
+    }
+    let warnings: Vec<String> = report.shortfall(target).into_iter().collect();
+    let summary = QemSummary {
+        method: "qem",
+        vertices: report.vertices,
+        faces: report.faces,
+        seconds: report.seconds,
+        warnings: warnings
+            .iter()
+            .map(|m| QemWarning {
+                kind: "target_not_reached",
+                message: m.clone(),
+            })
+            .collect(),
+        report,
+    };
+    Ok(Outcome {
+        mesh: simplified,
+        report: serde_json::to_value(&summary).unwrap_or(Value::Null),
+        warnings,
+    })
+}

@@ -1,0 +1,271 @@
+//! `gng3d.Trainer`: GNG3D step by step, for notebooks that draw the network and the paper's
+//! error curves while it learns.
+
+use crate::convert;
+use crate::run::{self, GngKeywords, Method, Size};
+use crate::{SimplifyResult, prepared};
+use gng3d_core::GngOptions;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// The trainer and what its summary needs.
+struct State {
+    trainer: gng3d_core::Trainer,
+    options: GngOptions,
+    method: Method,
+    started: Instant,
+}
+
+/// GNG3D step by step: train in chunks, look at the network, rebuild the mesh at any time.
+///
+/// Takes the arguments of :func:`gng3d.simplify` for ``method="gng"`` or ``"paper"``. The
+/// clock of ``time_limit`` starts when the trainer is made.
+///
+/// Example (a live plot of the paper's error curves):
+///     >>> t = gng3d.Trainer(v, f, vertices_target=2000, method="paper")   # doctest: +SKIP
+///     >>> while not t.finished:                                            # doctest: +SKIP
+///     ...     p = t.step(20_000)
+///     ...     e = t.errors()
+///     ...     print(p["signals"], p["nodes"], e["e_avg"], e["e_max"])
+///     >>> result = t.mesh()                                                # doctest: +SKIP
+///
+/// Every method releases the GIL while it works; one call at a time runs on a trainer (a
+/// second thread waits for the first).
+#[pyclass(module = "gng3d", frozen)]
+pub struct Trainer {
+    state: Mutex<State>,
+    /// Stops training from any thread, also while a call holds the state.
+    cancel: gng3d_core::CancelToken,
+}
+
+impl Trainer {
+    /// Runs `f` on the state without the GIL (waiting for another thread's call to end).
+    fn with<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&mut State) -> T + Send) -> T {
+        py.detach(|| {
+            let mut state = match self.state.lock() {
+                Ok(s) => s,
+                Err(poisoned) => poisoned.into_inner(),
+            };
+            f(&mut state)
+        })
+    }
+}
+
+/// The progress dict of `state`.
+fn progress_dict<'py>(py: Python<'py>, t: &gng3d_core::Trainer) -> PyResult<Bound<'py, PyDict>> {
+    let p = t.progress();
+    let stats = t.stats();
+    let d = PyDict::new(py);
+    d.set_item("signals", p.signals)?;
+    d.set_item("nodes", p.nodes)?;
+    d.set_item("edges", p.edges)?;
+    d.set_item("seconds", p.elapsed.as_secs_f64())?;
+    d.set_item("budget", stats.max_signals)?;
+    d.set_item("target", t.node_target())?;
+    d.set_item("finished", t.is_finished())?;
+    d.set_item("stop", stats.stop.map(|s| format!("{s:?}")))?;
+    Ok(d)
+}
+
+#[pymethods]
+impl Trainer {
+    #[new]
+    #[pyo3(signature = (
+        vertices, faces, *, vertices_target=None, ratio=None, method="gng", time_limit=None,
+        seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
+        deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        vertices: &Bound<'_, PyAny>,
+        faces: &Bound<'_, PyAny>,
+        vertices_target: Option<usize>,
+        ratio: Option<f64>,
+        method: &str,
+        time_limit: Option<f64>,
+        seed: u64,
+        weld: bool,
+        placement: Option<String>,
+        flips: Option<bool>,
+        refit: Option<bool>,
+        relax: Option<bool>,
+        deviation_repair: Option<bool>,
+        epochs: Option<f64>,
+        signals: Option<String>,
+        oversample: Option<f64>,
+        detail_rounds: Option<usize>,
+    ) -> PyResult<Trainer> {
+        let method = Method::parse(method)?;
+        if method == Method::Qem {
+            return Err(PyValueError::new_err(
+                "Trainer runs GNG3D: method must be 'gng' or 'paper' (use gng3d.simplify for 'qem')",
+            ));
+        }
+        let size = Size::from_keywords(vertices_target, None, ratio)?;
+        let options = GngKeywords {
+            time_limit,
+            placement,
+            flips,
+            refit,
+            relax,
+            deviation_repair,
+            epochs,
+            signals,
+            oversample,
+            detail_rounds,
+        }
+        .options(method, size, seed)?;
+        let input = prepared(py, vertices, faces, weld)?;
+        let started = Instant::now();
+        let trainer = py
+            .detach(|| {
+                let params = options.resolve(&input)?;
+                gng3d_core::Trainer::new(&input, params)
+            })
+            .map_err(run::gng_error)?;
+        Ok(Trainer {
+            cancel: trainer.cancel_token(),
+            state: Mutex::new(State {
+                trainer,
+                options,
+                method,
+                started,
+            }),
+        })
+    }
+
+    /// Train ``signals`` more signals (fewer when the budget or the time limit ends training
+    /// first); returns :attr:`progress`.
+    #[pyo3(signature = (signals=10_000))]
+    fn step<'py>(&self, py: Python<'py>, signals: u64) -> PyResult<Bound<'py, PyDict>> {
+        self.with(py, |s| {
+            s.trainer.step(signals);
+        });
+        self.progress(py)
+    }
+
+    /// Train to the end. With ``callback``, call it with :attr:`progress` every ``every``
+    /// signals (default: 5 % of the budget); a callback that returns ``False`` stops training
+    /// there (the network keeps what it learnt; :meth:`mesh` rebuilds from it). Ctrl-C stops
+    /// it too, raising KeyboardInterrupt.
+    #[pyo3(signature = (callback=None, every=None))]
+    fn train<'py>(
+        &self,
+        py: Python<'py>,
+        callback: Option<Bound<'py, PyAny>>,
+        every: Option<u64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let budget = self.with(py, |s| s.trainer.stats().max_signals);
+        let every = every
+            .unwrap_or((budget / 20).clamp(1_000, 2_000_000))
+            .max(1);
+        loop {
+            let finished = self.with(py, |s| {
+                s.trainer.step(every);
+                s.trainer.is_finished()
+            });
+            py.check_signals()
+                .map_err(|_| PyKeyboardInterrupt::new_err("GNG3D training interrupted"))?;
+            let progress = self.progress(py)?;
+            if let Some(cb) = &callback {
+                let answer = cb.call1((progress.clone(),))?;
+                if let Ok(false) = answer.extract::<bool>() {
+                    break;
+                }
+            }
+            if finished {
+                break;
+            }
+        }
+        self.progress(py)
+    }
+
+    /// dict: ``signals``, ``nodes``, ``edges``, ``seconds`` (training time), ``budget``
+    /// (signals the run may use), ``target`` (nodes the network aims for), ``finished``,
+    /// ``stop`` (why training ended, or None).
+    #[getter]
+    fn progress<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let state = self
+            .state
+            .try_lock()
+            .map_err(|_| PyRuntimeError::new_err("the trainer is busy in another thread"))?;
+        progress_dict(py, &state.trainer)
+    }
+
+    /// Whether training has ended (budget, time limit or a stop).
+    #[getter]
+    fn finished(&self, py: Python<'_>) -> bool {
+        self.with(py, |s| s.trainer.is_finished())
+    }
+
+    /// The network now: ``(positions, edges)``, float64 (k, 3) and int64 (e, 2).
+    fn snapshot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let snap = self.with(py, |s| s.trainer.snapshot());
+        PyTuple::new(
+            py,
+            [
+                convert::positions_array(py, &snap.positions).into_any(),
+                convert::index_array(py, &snap.edges).into_any(),
+            ],
+        )
+    }
+
+    /// The paper's errors of the network now against the original vertices (squared
+    /// distances): dict with ``e_avg`` and ``e_max``.
+    fn errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let errors = self
+            .with(py, |s| {
+                let snap = s.trainer.snapshot();
+                metrics::vertex_errors(&s.trainer.original().positions, &snap.positions)
+            })
+            .ok_or_else(|| PyRuntimeError::new_err("the network has no nodes yet"))?;
+        let d = PyDict::new(py);
+        d.set_item("e_avg", errors.e_avg)?;
+        d.set_item("e_max", errors.e_max)?;
+        Ok(d)
+    }
+
+    /// Stop training (from another thread, or before :meth:`mesh` to take the network as it
+    /// is).
+    fn stop(&self) {
+        self.cancel.cancel();
+    }
+
+    /// The mesh of the network: once training has ended, what :func:`gng3d.simplify` gives
+    /// (same report, same warnings); before, a preview (the run's steps without the detail
+    /// rounds, no warnings).
+    fn mesh(&self, py: Python<'_>) -> PyResult<SimplifyResult> {
+        let outcome = self
+            .with(py, |s| {
+                let result = if s.trainer.is_finished() {
+                    gng3d_core::finish(&s.trainer, |_| {})
+                } else {
+                    s.trainer.preview()
+                }?;
+                Ok(run::summarize(
+                    &s.trainer, &s.options, s.method, s.started, result,
+                ))
+            })
+            .map_err(run::gng_error)?;
+        SimplifyResult::new(py, outcome)
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        self.with(py, |s| {
+            let p = s.trainer.progress();
+            format!(
+                "Trainer(method={:?}, nodes={}/{}, signals={}/{}, finished={})",
+                s.method.name(),
+                p.nodes,
+                s.trainer.node_target(),
+                p.signals,
+                s.trainer.stats().max_signals,
+                s.trainer.is_finished()
+            )
+        })
+    }
+}
