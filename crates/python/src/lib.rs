@@ -163,6 +163,10 @@ fn prepared(
 ///         detail_rounds: GNG3D's variant, as the CLI's flags (``flips=False`` is
 ///         ``--no-flips``, ``placement="node"`` is ``--placement node``).
 ///     threshold: QEM's pair distance threshold in model units (0: edges only).
+///     threads: most threads the run uses (default: the machine's cores, GNG3D's training at
+///         most 4); ``threads=1`` for many runs side by side (:mod:`gng3d.batch` does). The
+///         mesh is the same for any count, except QEM on 500,000 faces or more (split into
+///         parts on more than one thread).
 ///
 /// Returns:
 ///     SimplifyResult: ``.vertices`` (float64, (n, 3)), ``.faces`` (int64, (m, 3)),
@@ -191,7 +195,7 @@ fn prepared(
     vertices, faces, *, vertices_target=None, faces_target=None, ratio=None, method="gng",
     time_limit=None, seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
     deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
-    threshold=None
+    threshold=None, threads=None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn simplify(
@@ -215,6 +219,7 @@ fn simplify(
     oversample: Option<f64>,
     detail_rounds: Option<usize>,
     threshold: Option<f64>,
+    threads: Option<usize>,
 ) -> PyResult<SimplifyResult> {
     let method = Method::parse(method)?;
     let size = Size::from_keywords(vertices_target, faces_target, ratio)?;
@@ -229,12 +234,14 @@ fn simplify(
         signals,
         oversample,
         detail_rounds,
+        threads: None,
     };
+    let pool = run::pool(threads)?;
     let outcome = if method == Method::Qem {
         gng.refuse_for_qem()?;
         let input = prepared(py, vertices, faces, weld)?;
         let target = run::qem_target(size, &input)?;
-        py.detach(|| run::run_qem(&input, target, threshold.unwrap_or(0.0)))?
+        py.detach(|| run::run_qem(&input, target, threshold.unwrap_or(0.0), pool.as_ref()))?
     } else {
         if threshold.is_some() {
             return Err(PyValueError::new_err(
@@ -242,10 +249,10 @@ fn simplify(
             ));
         }
         // Everything that does not need the mesh is checked before reading it, as the CLI does.
-        let options = gng.options(method, size, seed)?;
+        let options = GngKeywords { threads, ..gng }.options(method, size, seed)?;
         let input = prepared(py, vertices, faces, weld)?;
         let run = py.detach(|| {
-            run::run_gng(&input, &options, method, || {
+            run::run_gng(&input, &options, method, pool.as_ref(), || {
                 Python::attach(|py| py.check_signals().is_err())
             })
         });

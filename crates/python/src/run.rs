@@ -101,6 +101,8 @@ pub struct GngKeywords {
     pub oversample: Option<f64>,
     /// `detail_rounds`.
     pub detail_rounds: Option<usize>,
+    /// `threads`: most threads of the run (GNG3D and QEM alike, not refused for QEM).
+    pub threads: Option<usize>,
 }
 
 impl GngKeywords {
@@ -191,6 +193,7 @@ impl GngKeywords {
         if self.detail_rounds.is_some() {
             options.detail_rounds = self.detail_rounds;
         }
+        options.threads = self.threads;
         options.validate().map_err(gng_error)?;
         Ok(options)
     }
@@ -206,6 +209,33 @@ impl GngKeywords {
             "{} apply to method 'gng' and 'paper' only, not 'qem'",
             given.join(", ")
         )))
+    }
+}
+
+/// The pool the QEM steps of a run use: `threads` threads (checked by the library's rule for
+/// `GngOptions::threads`), or `None` for rayon's global pool (the machine's cores).
+pub fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
+    let Some(n) = threads else {
+        return Ok(None);
+    };
+    GngOptions {
+        threads,
+        ..GngOptions::default()
+    }
+    .validate()
+    .map_err(gng_error)?;
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map(Some)
+        .map_err(|e| PyRuntimeError::new_err(format!("starting {n} threads failed: {e}")))
+}
+
+/// `f` in `pool` when there is one.
+pub fn in_pool<T: Send>(pool: Option<&rayon::ThreadPool>, f: impl FnOnce() -> T + Send) -> T {
+    match pool {
+        Some(p) => p.install(f),
+        None => f(),
     }
 }
 
@@ -282,8 +312,9 @@ pub fn finish_gng(
     options: &GngOptions,
     method: Method,
     started: Instant,
+    pool: Option<&rayon::ThreadPool>,
 ) -> Result<Outcome, GngError> {
-    let result = gng3d_core::finish(trainer, |_| {})?;
+    let result = in_pool(pool, || gng3d_core::finish(trainer, |_| {}))?;
     Ok(summarize(trainer, options, method, started, result))
 }
 
@@ -352,6 +383,7 @@ pub fn run_gng(
     input: &TriMesh,
     options: &GngOptions,
     method: Method,
+    pool: Option<&rayon::ThreadPool>,
     mut interrupted: impl FnMut() -> bool,
 ) -> Result<Outcome, Option<GngError>> {
     let params = options.resolve(input)?;
@@ -370,7 +402,7 @@ pub fn run_gng(
     if stopped {
         return Err(None);
     }
-    Ok(finish_gng(&trainer, options, method, started)?)
+    Ok(finish_gng(&trainer, options, method, started, pool)?)
 }
 
 /// `gng3d simplify --method qem --json`'s summary (crates/cli/src/cli/simplify/qem.rs), plus the
@@ -415,14 +447,19 @@ pub fn qem_target(size: Size, input: &TriMesh) -> PyResult<qem::Target> {
 
 /// A QEM run with the library's parameters for `target` and `threshold`, as
 /// `gng3d simplify --method qem` runs it.
-pub fn run_qem(input: &TriMesh, target: qem::Target, threshold: f64) -> PyResult<Outcome> {
+pub fn run_qem(
+    input: &TriMesh,
+    target: qem::Target,
+    threshold: f64,
+    pool: Option<&rayon::ThreadPool>,
+) -> PyResult<Outcome> {
     let params = qem::QemParams {
         target,
         pair_threshold: threshold,
         ..qem::QemParams::default()
     };
-    let (simplified, report) =
-        qem::simplify(input, &params).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let (simplified, report) = in_pool(pool, || qem::simplify(input, &params))
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     if simplified.face_count() == 0 {
         return Err(PyRuntimeError::new_err(format!(
             "QEM produced an empty mesh ({} vertices, no triangles)",

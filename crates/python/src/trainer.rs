@@ -17,6 +17,8 @@ struct State {
     options: GngOptions,
     method: Method,
     started: Instant,
+    /// `threads=`: the pool of the QEM steps after training.
+    pool: Option<rayon::ThreadPool>,
 }
 
 /// GNG3D step by step: train in chunks, look at the network, rebuild the mesh at any time.
@@ -76,7 +78,8 @@ impl Trainer {
     #[pyo3(signature = (
         vertices, faces, *, vertices_target=None, ratio=None, method="gng", time_limit=None,
         seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
-        deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None
+        deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
+        threads=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -98,6 +101,7 @@ impl Trainer {
         signals: Option<String>,
         oversample: Option<f64>,
         detail_rounds: Option<usize>,
+        threads: Option<usize>,
     ) -> PyResult<Trainer> {
         let method = Method::parse(method)?;
         if method == Method::Qem {
@@ -117,8 +121,10 @@ impl Trainer {
             signals,
             oversample,
             detail_rounds,
+            threads,
         }
         .options(method, size, seed)?;
+        let pool = run::pool(threads)?;
         let input = prepared(py, vertices, faces, weld)?;
         let started = Instant::now();
         let trainer = py
@@ -134,6 +140,7 @@ impl Trainer {
                 options,
                 method,
                 started,
+                pool,
             }),
         })
     }
@@ -241,11 +248,14 @@ impl Trainer {
     fn mesh(&self, py: Python<'_>) -> PyResult<SimplifyResult> {
         let outcome = self
             .with(py, |s| {
-                let result = if s.trainer.is_finished() {
-                    gng3d_core::finish(&s.trainer, |_| {})
-                } else {
-                    s.trainer.preview()
-                }?;
+                let trainer = &s.trainer;
+                let result = run::in_pool(s.pool.as_ref(), || {
+                    if trainer.is_finished() {
+                        gng3d_core::finish(trainer, |_| {})
+                    } else {
+                        trainer.preview()
+                    }
+                })?;
                 Ok(run::summarize(
                     &s.trainer, &s.options, s.method, s.started, result,
                 ))

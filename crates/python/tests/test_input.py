@@ -102,6 +102,8 @@ BAD_OPTIONS = [
      r"^invalid parameter: pair threshold -1 must be finite and >= 0$"),
     (dict(ratio=0.1, method="qem", threshold=1e30),
      r"^invalid parameter: pair threshold 1e30 is above the limit"),
+    (dict(ratio=0.1, threads=0), r"^parameter threads = 0 is out of range: must be at least 1$"),
+    (dict(ratio=0.1, method="qem", threads=0), r"^parameter threads = 0 is out of range"),
     (dict(ratio=0.1, method="QEM"), r"^method must be 'gng', 'paper' or 'qem', got \"QEM\"$"),
     (dict(ratio=0.1, placement="nodes"), r"^placement must be 'node', 'project' or 'quadric'"),
     (dict(ratio=0.1, signals="edges"), r"^signals must be 'vertices', 'surface' or 'curvature'"),

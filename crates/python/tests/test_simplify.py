@@ -179,3 +179,12 @@ def test_same_mesh_as_the_cli(tmp_path, name, method, cli_args, py_args):
     ours = tmp_path / "py-out.ply"
     gng3d.save(ours, result.vertices, result.faces)
     assert ours.read_bytes() == (tmp_path / "cli-out.ply").read_bytes()
+
+
+@pytest.mark.parametrize("method", ["gng", "qem"])
+def test_thread_count_does_not_change_the_mesh(small_torus, method):
+    v, f = small_torus
+    one = gng3d.simplify(v, f, vertices_target=300, method=method, threads=1)
+    default = gng3d.simplify(v, f, vertices_target=300, method=method)
+    np.testing.assert_array_equal(one.vertices, default.vertices)
+    np.testing.assert_array_equal(one.faces, default.faces)

@@ -49,6 +49,7 @@ def simplify(
     oversample: Optional[float] = None,
     detail_rounds: Optional[int] = None,
     threshold: Optional[float] = None,
+    threads: Optional[int] = None,
 ) -> SimplifyResult:
     """Simplify a mesh; ``ratio`` is a share of the input's vertices for every method."""
 
@@ -93,6 +94,7 @@ class Trainer:
         signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
         oversample: Optional[float] = None,
         detail_rounds: Optional[int] = None,
+        threads: Optional[int] = None,
     ) -> None: ...
     def step(self, signals: int = 10000) -> dict[str, Any]: ...
     def train(

@@ -225,7 +225,8 @@ def simplify_files(
         out_dir: the output folder (created); each result keeps its input's name (``suffix``,
             e.g. ``".ply"``, changes the format).
         method, vertices_target, faces_target, ratio, seed, **options: as for
-            :func:`gng3d.simplify` (checked once before any file is read).
+            :func:`gng3d.simplify` (checked once before any file is read); ``threads``
+            defaults to the cores shared out among the processes (1 on Dask).
         client: a ``dask.distributed.Client``: the files run as tasks on its workers
             (about ``tasks_per_worker`` tasks per worker, no retries). ``None``: a local pool of
             ``jobs`` processes (default: the number of cores).
@@ -250,6 +251,10 @@ def simplify_files(
         seed=seed,
         **options,
     )
+    if "threads" not in simplify_options:
+        # One file per core: each run on one thread (the same meshes as on any count).
+        cores = os.cpu_count() or 1
+        simplify_options["threads"] = 1 if client is not None else max(1, cores // (jobs or cores))
     _check_options(simplify_options)
     outputs = [output_path(p, out_dir, suffix) for p in files]
     seen: Dict[Path, Path] = {}
