@@ -1,41 +1,44 @@
 """Type stubs of the native module gng3d._gng3d (re-exported by the gng3d package)."""
 
 import os
-from typing import Any, Callable, Iterator, Literal, Optional, Tuple, Union
+from typing import Any, Callable, Iterator, Literal, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
-ArrayLike = npt.ArrayLike
-Vertices = npt.NDArray[np.float64]
-Faces = npt.NDArray[np.int64]
-PathLike = Union[str, "os.PathLike[str]"]
-Method = Literal["gng", "paper", "qem"]
+__all__ = ["Gng3dWarning", "SimplifyResult", "Trainer", "load", "metrics", "save", "simplify"]
+
+_ArrayLike = npt.ArrayLike
+_Vertices = npt.NDArray[np.float64]
+_Faces = npt.NDArray[np.int64]
+_PathLike = Union[str, "os.PathLike[str]"]
+_Method = Literal["gng", "paper", "qem"]
 
 class Gng3dWarning(UserWarning):
     """What kept a result from being exactly what was asked for."""
 
+@final
 class SimplifyResult:
     """The result of :func:`simplify`; unpacks as ``(vertices, faces)``."""
 
     @property
-    def vertices(self) -> Vertices: ...
+    def vertices(self) -> _Vertices: ...
     @property
-    def faces(self) -> Faces: ...
+    def faces(self) -> _Faces: ...
     @property
     def report(self) -> dict[str, Any]: ...
     def __len__(self) -> int: ...
-    def __getitem__(self, index: int) -> Union[Vertices, Faces]: ...
-    def __iter__(self) -> Iterator[Union[Vertices, Faces]]: ...
+    def __getitem__(self, index: int, /) -> Union[_Vertices, _Faces]: ...
+    def __iter__(self) -> Iterator[Union[_Vertices, _Faces]]: ...
 
 def simplify(
-    vertices: ArrayLike,
-    faces: ArrayLike,
+    vertices: _ArrayLike,
+    faces: _ArrayLike,
     *,
     vertices_target: Optional[int] = None,
     faces_target: Optional[int] = None,
     ratio: Optional[float] = None,
-    method: Method = "gng",
+    method: _Method = "gng",
     time_limit: Optional[float] = None,
     seed: int = 0,
     weld: bool = True,
@@ -54,10 +57,10 @@ def simplify(
     """Simplify a mesh; ``ratio`` is a share of the input's vertices for every method."""
 
 def metrics(
-    v0: ArrayLike,
-    f0: ArrayLike,
-    v1: ArrayLike,
-    f1: ArrayLike,
+    v0: _ArrayLike,
+    f0: _ArrayLike,
+    v1: _ArrayLike,
+    f1: _ArrayLike,
     *,
     samples: Optional[int] = None,
     meshlab: bool = False,
@@ -65,19 +68,20 @@ def metrics(
 ) -> dict[str, Any]:
     """The fields of ``gng3d metrics --json`` for an original and a simplified mesh."""
 
-def load(path: PathLike) -> Tuple[Vertices, Faces]:
+def load(path: _PathLike) -> Tuple[_Vertices, _Faces]:
     """Read an OBJ, PLY or STL file as ``(vertices, faces)``."""
 
-def save(path: PathLike, vertices: ArrayLike, faces: ArrayLike) -> None:
+def save(path: _PathLike, vertices: _ArrayLike, faces: _ArrayLike) -> None:
     """Write an OBJ, PLY or STL file atomically."""
 
+@final
 class Trainer:
     """GNG3D step by step."""
 
-    def __init__(
-        self,
-        vertices: ArrayLike,
-        faces: ArrayLike,
+    def __new__(
+        cls,
+        vertices: _ArrayLike,
+        faces: _ArrayLike,
         *,
         vertices_target: Optional[int] = None,
         ratio: Optional[float] = None,
@@ -95,7 +99,7 @@ class Trainer:
         oversample: Optional[float] = None,
         detail_rounds: Optional[int] = None,
         threads: Optional[int] = None,
-    ) -> None: ...
+    ) -> "Trainer": ...
     def step(self, signals: int = 10000) -> dict[str, Any]: ...
     def train(
         self,
@@ -106,7 +110,7 @@ class Trainer:
     def progress(self) -> dict[str, Any]: ...
     @property
     def finished(self) -> bool: ...
-    def snapshot(self) -> Tuple[Vertices, npt.NDArray[np.int64]]: ...
+    def snapshot(self) -> Tuple[_Vertices, npt.NDArray[np.int64]]: ...
     def errors(self) -> dict[str, float]: ...
     def stop(self) -> None: ...
     def mesh(self) -> SimplifyResult: ...
