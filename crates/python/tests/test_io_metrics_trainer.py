@@ -133,7 +133,9 @@ def test_gil_is_released_while_simplifying():
 def test_two_threads_run_in_parallel():
     """Two simplifications in two threads take clearly less wall time than one after another
     (QEM below 500,000 faces runs on one thread, so two runs can use two cores)."""
-    if os.getloadavg()[0] > (os.cpu_count() or 1):
+    # The 1-minute load average lags: after a build it stays near the core count for a while
+    # although the cores are free; well above it, other work holds them.
+    if os.getloadavg()[0] > 1.5 * (os.cpu_count() or 1):
         pytest.skip("the machine is busy with other work: no core is free to measure with")
     meshes = [torus(600, 300), torus(599, 301)]
 
