@@ -1,7 +1,7 @@
 //! Closest-point queries: the exact f64 primitives live in [`mesh::geometry`] (re-exported
 //! here); this module adds their f32 twins for the distance index's hot loop.
 
-use glam::Vec3A;
+use glam::{DVec3, Vec3A};
 pub use mesh::geometry::{closest_point_segment, closest_point_triangle, is_degenerate};
 
 /// A triangle prepared for fast f32 distance tests.
@@ -60,6 +60,55 @@ pub(crate) fn squared_distance_f32(p: Vec3A, t: &PackedTriangle) -> f32 {
         return squared_distance_segments_f32(p, t);
     }
     // Distance to the plane: cheaper and better conditioned than reconstructing the point.
+    let n = ab.cross(ac);
+    let h = ap.dot(n);
+    h * h / n.length_squared()
+}
+
+/// Squared distance from `p` to a non-degenerate triangle in f64, for slivers, where the f32
+/// routine's region tests and plane fail (see the index's `Scoring::Exact`): the regions of
+/// [`closest_point_triangle`], and in the face region the distance to the plane, which is
+/// exactly zero for a point on an axis-aligned plane (a search there stops at the first face
+/// holding the point).
+#[inline]
+pub(crate) fn squared_distance_f64(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return ap.length_squared();
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return bp.length_squared();
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return (p - (a + ab * (d1 / (d1 - d3)))).length_squared();
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return cp.length_squared();
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return (p - (a + ac * (d2 / (d2 - d6)))).length_squared();
+    }
+    let va = d3 * d6 - d5 * d4;
+    let e = d4 - d3;
+    let f = d5 - d6;
+    if va <= 0.0 && e >= 0.0 && f >= 0.0 {
+        return (p - (b + (c - b) * (e / (e + f)))).length_squared();
+    }
+    if (va + vb + vc).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return (p - closest_point_triangle(p, a, b, c)).length_squared();
+    }
     let n = ab.cross(ac);
     let h = ap.dot(n);
     h * h / n.length_squared()
@@ -221,6 +270,43 @@ mod tests {
                 let ds = squared_distance_segments_f32(p.as_vec3a(), &packed).sqrt() as f64;
                 assert!((ds - r).abs() <= 1e-5 * (1.0 + r));
             }
+        }
+    }
+
+    #[test]
+    fn f64_scoring_matches_closest_point() {
+        let mut rng = Pcg64Mcg::seed_from_u64(23);
+        for _ in 0..20_000 {
+            let (a, b, c) = (
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+                random_point(&mut rng, 1.0),
+            );
+            if is_degenerate(a, b, c) {
+                continue;
+            }
+            let p = random_point(&mut rng, 2.0);
+            let exact = (p - closest_point_triangle(p, a, b, c)).length();
+            let scored = squared_distance_f64(p, a, b, c).sqrt();
+            assert!(
+                (scored - exact).abs() <= 1e-12 * (1.0 + exact),
+                "{scored} vs {exact}"
+            );
+        }
+        // A sliver of a fan (length 2, 1e-3 wide) and points just beside it, in its plane: the
+        // f32 routine called such points inside.
+        let (a, b, c) = (
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1e-3, 0.0),
+        );
+        for k in 1..100 {
+            let x = -1.0 + 0.02 * k as f64;
+            let inside = DVec3::new(x, 0.25e-3 * (x + 1.0), 0.0);
+            assert_eq!(squared_distance_f64(inside, a, b, c), 0.0);
+            let beside = DVec3::new(x, -1e-5, 0.0);
+            let d = squared_distance_f64(beside, a, b, c).sqrt();
+            assert!((d - 1e-5).abs() < 1e-12, "{d}");
         }
     }
 

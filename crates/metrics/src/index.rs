@@ -3,7 +3,12 @@
 //! obvhs 0.4 only offers ray/box/point traversals, so the index walks obvhs's public `Bvh2`
 //! node array itself: nearest child first, subtrees pruned when their box is farther than the
 //! best triangle found so far. Candidates are scored in f32 with the exact region-based
-//! point–triangle routine; the winner is re-evaluated in f64.
+//! point–triangle routine (slivers in f64, see [`Scoring`]); the winner is re-evaluated in f64.
+//!
+//! The slivers of a fan-like mesh (many long thin triangles whose boxes overlap, e.g. 100k
+//! triangles around one hub) are held in a second tree bounded by oriented slabs as well as
+//! boxes ([`crate::sliver`]), searched after the box tree; an ordinary mesh has no such tree,
+//! and its searches and answers are those of the box tree alone.
 //!
 //! The index holds its mesh in a [`Frame`] (centred, scaled by a power of two near the
 //! diagonal), so the f32 search neither underflows on a model in 1e-25 units nor overflows on
@@ -12,9 +17,10 @@
 use crate::MetricsError;
 use crate::closest::{
     PackedTriangle, closest_point_triangle, is_degenerate, squared_distance_f32,
-    squared_distance_segments_f32,
+    squared_distance_f64, squared_distance_segments_f32,
 };
 use crate::frame::Frame;
+use crate::sliver::{SliverTree, sliver_faces};
 use glam::{DVec3, Vec3, Vec3A};
 use mesh::TriMesh;
 use obvhs::aabb::Aabb as BvhAabb;
@@ -43,17 +49,68 @@ pub struct ClosestPoint {
 pub struct SurfaceDistanceIndex {
     /// The frame the triangles are held in.
     frame: Frame,
-    bvh: Bvh2,
+    /// The box tree over the ordinary triangles (all of an ordinary mesh's); `None` when all are
+    /// slivers.
+    bvh: Option<Bvh2>,
+    /// The tree over the slivers of a fan-like mesh (see [`crate::sliver`]), after the box
+    /// tree's slots.
+    slivers: Option<SliverTree>,
     /// Triangles in BVH primitive order (leaf ranges are contiguous), in frame coordinates.
     triangles: Vec<PackedTriangle>,
-    /// Degenerate flag per packed triangle (these use the three-segment fallback).
-    degenerate: Vec<bool>,
+    /// How each packed triangle is scored in the search (see [`Scoring`]).
+    scoring: Vec<Scoring>,
     /// Original face index of each packed triangle.
     faces: Vec<u32>,
     /// Packed slot of each original face.
     slots: Vec<u32>,
     /// Unit face normals by original face index (zero for degenerate faces).
     normals: Vec<Vec3>,
+}
+
+/// How the search scores a triangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scoring {
+    /// The f32 region-based routine.
+    Regions,
+    /// Degenerate: the closest of its three edges, in f32.
+    Segments,
+    /// A sliver: in f64 ([`squared_distance_f64`]). The f32 routine's region tests and plane
+    /// lose precision with the triangle's aspect `κ = L² / (2·area)` (`L`: its longest edge):
+    /// its worst error at points near random slivers of length 1 was 1.4e-7 at κ = 4, 2.1e-6
+    /// at 64, 8.7e-6 at 256, 3.4e-5 at 1024 and 1.9e-4 at 4096; on the slivers of a 100k fan
+    /// (QEM's hub on the rim: length 2, 1e-3 wide) a point 2e-3 beside a triangle scored as
+    /// inside it (squared distance 0), the search kept that triangle, and the fan's Hausdorff
+    /// distance came out 3.4e-3 instead of 2.9e-6.
+    Exact,
+}
+
+/// Triangles with `κ > SLIVER_ASPECT` are scored in f64: below it the f32 routine stays within
+/// the 2e-5 of the triangle's length that it is tested to (`f32_path_agrees_with_f64`). No
+/// triangle of the shared meshes or of their QEM 10 % outputs comes above it (casting's and
+/// fandisk's 10 % have one each above 256, igea's seven above 64), so their results are
+/// unchanged; a fan of 3,300 triangles or more around a centred hub is all above it.
+const SLIVER_ASPECT: f64 = 512.0;
+
+/// The limit of `κ` in a mesh with a sliver tree (a fan-like mesh; the tree's own slivers are
+/// all scored in f64): the f32 routine's errors stay below 5.3e-7 of the triangle's length.
+const FAN_ASPECT: f64 = 16.0;
+
+impl Scoring {
+    /// The scoring of triangle `abc`: f64 above aspect `limit`.
+    fn of(a: DVec3, b: DVec3, c: DVec3, limit: f64) -> Scoring {
+        if is_degenerate(a, b, c) {
+            return Scoring::Segments;
+        }
+        let longest2 = (b - a)
+            .length_squared()
+            .max((c - b).length_squared())
+            .max((a - c).length_squared());
+        if longest2 > limit * (b - a).cross(c - a).length() {
+            Scoring::Exact
+        } else {
+            Scoring::Regions
+        }
+    }
 }
 
 /// A closest point in frame units: the distance and the face.
@@ -68,7 +125,11 @@ impl std::fmt::Debug for SurfaceDistanceIndex {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SurfaceDistanceIndex")
             .field("faces", &self.faces.len())
-            .field("nodes", &self.bvh.nodes.len())
+            .field("nodes", &self.bvh.as_ref().map_or(0, |b| b.nodes.len()))
+            .field(
+                "sliver_nodes",
+                &self.slivers.as_ref().map_or(0, SliverTree::node_count),
+            )
             .finish()
     }
 }
@@ -92,44 +153,89 @@ impl SurfaceDistanceIndex {
             return Err(MetricsError::NoTriangles { mesh: "target" });
         }
         let mesh = &frame.apply(mesh);
-        let boxes: Vec<BvhAabb> = (0..mesh.triangles.len())
-            .map(|f| {
-                let [a, b, c] = mesh.triangle(f);
-                BvhAabb::new(Vec3A::from(a.min(b).min(c)), Vec3A::from(a.max(b).max(c)))
-            })
-            .collect();
-        let indices: Vec<u32> = (0..boxes.len() as u32).collect();
-        let mut bvh = PlocBuilder::with_capacity(boxes.len()).build(
-            PlocSearchDistance::Low,
-            &boxes,
-            indices,
-            SortPrecision::U64,
-            2,
-        );
-        ReinsertionOptimizer::default().run(&mut bvh, 0.02, None);
-        // One triangle per leaf: collapsing leaves cost more build time than it saved in
-        // queries (measured on igea: leaves of 1, 2, 4, 8 gave the same query time within 10 %).
+        // Fans of long thin triangles get their own tree (see `sliver`); the rest, all of an
+        // ordinary mesh, the box tree.
+        let slivers = sliver_faces((0..mesh.triangles.len()).map(|f| mesh.triangle(f)));
+        let ordinary: Vec<u32> = if slivers.is_empty() {
+            (0..mesh.triangles.len() as u32).collect()
+        } else {
+            let mut is_sliver = vec![false; mesh.triangles.len()];
+            for &f in &slivers {
+                is_sliver[f as usize] = true;
+            }
+            (0..mesh.triangles.len() as u32)
+                .filter(|&f| !is_sliver[f as usize])
+                .collect()
+        };
+        let bvh = (!ordinary.is_empty()).then(|| {
+            let boxes: Vec<BvhAabb> = ordinary
+                .iter()
+                .map(|&f| {
+                    let [a, b, c] = mesh.triangle(f as usize);
+                    BvhAabb::new(Vec3A::from(a.min(b).min(c)), Vec3A::from(a.max(b).max(c)))
+                })
+                .collect();
+            let indices: Vec<u32> = (0..boxes.len() as u32).collect();
+            let mut bvh = PlocBuilder::with_capacity(boxes.len()).build(
+                PlocSearchDistance::Low,
+                &boxes,
+                indices,
+                SortPrecision::U64,
+                2,
+            );
+            ReinsertionOptimizer::default().run(&mut bvh, 0.02, None);
+            // One triangle per leaf: collapsing leaves cost more build time than it saved in
+            // queries (measured on igea: leaves of 1, 2, 4, 8 gave the same query time within
+            // 10 %).
+            bvh
+        });
+        // Faces in slot order: the box tree's leaves, then the sliver tree's.
+        let mut faces: Vec<u32> = bvh.as_ref().map_or_else(Vec::new, |bvh| {
+            bvh.primitive_indices
+                .iter()
+                .map(|&i| ordinary[i as usize])
+                .collect()
+        });
+        let sliver_tree = (!slivers.is_empty()).then(|| {
+            let triangles: Vec<[Vec3; 3]> =
+                slivers.iter().map(|&f| mesh.triangle(f as usize)).collect();
+            let (tree, order) = SliverTree::build(&triangles, faces.len() as u32);
+            faces.extend(order.iter().map(|&i| slivers[i as usize]));
+            tree
+        });
 
-        let n = bvh.primitive_indices.len();
+        let n = faces.len();
+        // A fan-like mesh is measured against itself or a flat copy, at distances a million
+        // times below its slivers' length: its slivers, and any thin triangle, are scored in
+        // f64 (see `Scoring`).
+        let (aspect_limit, first_sliver) = match sliver_tree {
+            None => (SLIVER_ASPECT, n),
+            Some(_) => (FAN_ASPECT, n - slivers.len()),
+        };
         let mut triangles = Vec::with_capacity(n);
-        let mut degenerate = Vec::with_capacity(n);
+        let mut scoring = Vec::with_capacity(n);
         let mut slots = vec![NO_SLOT; mesh.triangles.len()];
-        for (slot, &face) in bvh.primitive_indices.iter().enumerate() {
+        for (slot, &face) in faces.iter().enumerate() {
             let [a, b, c] = mesh.triangle(face as usize);
             triangles.push(PackedTriangle {
                 a: a.into(),
                 b: b.into(),
                 c: c.into(),
             });
-            degenerate.push(is_degenerate(a.as_dvec3(), b.as_dvec3(), c.as_dvec3()));
+            scoring.push(if slot >= first_sliver {
+                Scoring::of(a.as_dvec3(), b.as_dvec3(), c.as_dvec3(), 0.0)
+            } else {
+                Scoring::of(a.as_dvec3(), b.as_dvec3(), c.as_dvec3(), aspect_limit)
+            });
             slots[face as usize] = slot as u32;
         }
         Ok(SurfaceDistanceIndex {
             frame,
-            faces: bvh.primitive_indices.clone(),
+            faces,
             bvh,
+            slivers: sliver_tree,
             triangles,
-            degenerate,
+            scoring,
             slots,
             normals: mesh.face_normals(),
         })
@@ -225,10 +331,13 @@ impl SurfaceDistanceIndex {
     #[inline(always)]
     fn triangle_d2(&self, p: Vec3A, slot: usize) -> f32 {
         let t = &self.triangles[slot];
-        if self.degenerate[slot] {
-            squared_distance_segments_f32(p, t)
-        } else {
-            squared_distance_f32(p, t)
+        match self.scoring[slot] {
+            Scoring::Regions => squared_distance_f32(p, t),
+            Scoring::Segments => squared_distance_segments_f32(p, t),
+            Scoring::Exact => {
+                let (a, b, c) = (t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3());
+                squared_distance_f64(p.as_dvec3(), a, b, c) as f32
+            }
         }
     }
 
@@ -242,7 +351,6 @@ impl SurfaceDistanceIndex {
         bound2: f32,
         stack: &mut Vec<(u32, f32)>,
     ) -> u32 {
-        let nodes = &self.bvh.nodes;
         let mut best = NO_SLOT;
         let mut best_d2 = bound2;
         if hint != NO_SLOT {
@@ -252,6 +360,29 @@ impl SurfaceDistanceIndex {
                 best = hint;
             }
         }
+        if let Some(bvh) = &self.bvh {
+            (best, best_d2) = self.search_boxes(bvh, p, best, best_d2, stack);
+        }
+        if let Some(tree) = &self.slivers {
+            tree.search(p, &mut best, &mut best_d2, stack, |slot| {
+                self.triangle_d2(p, slot)
+            });
+        }
+        best
+    }
+
+    /// The box tree's part of [`Self::nearest_slot`]: the nearest slot closer than `best_d2`,
+    /// else `best`, with its squared distance.
+    #[inline(always)]
+    fn search_boxes(
+        &self,
+        bvh: &Bvh2,
+        p: Vec3A,
+        mut best: u32,
+        mut best_d2: f32,
+        stack: &mut Vec<(u32, f32)>,
+    ) -> (u32, f32) {
+        let nodes = &bvh.nodes;
         stack.clear();
         let box_d2 = |i: usize| {
             let b = nodes[i].aabb();
@@ -259,7 +390,7 @@ impl SurfaceDistanceIndex {
             d.length_squared()
         };
         if box_d2(0) >= best_d2 {
-            return best;
+            return (best, best_d2);
         }
         let mut current = 0usize;
         loop {
@@ -294,7 +425,7 @@ impl SurfaceDistanceIndex {
             // Pop the next subtree that can still hold something closer.
             loop {
                 match stack.pop() {
-                    None => return best,
+                    None => return (best, best_d2),
                     Some((node, d2)) if d2 < best_d2 => {
                         current = node as usize;
                         break;
@@ -364,12 +495,122 @@ mod tests {
         }
     }
 
+    /// A fan of `n` slivers (hub at the centre, rim on the unit circle), optionally with its
+    /// hub on the rim (where QEM's collapses leave it: slivers twice as long, to the far side)
+    /// and tilted out of the axis planes.
+    fn fan_mesh(n: u32, hub_on_rim: bool, tilted: bool) -> TriMesh {
+        let mut m = mesh::procedural::fan(n);
+        if hub_on_rim {
+            m.positions[0] = m.positions[1];
+            m.triangles.retain(|t| !t.contains(&1));
+        }
+        if tilted {
+            let r = glam::Mat3::from_euler(glam::EulerRot::XYZ, 0.3, 0.7, 1.1);
+            for p in &mut m.positions {
+                *p = r * *p + Vec3::new(0.25, -0.5, 0.125);
+            }
+        }
+        m
+    }
+
+    /// Points on the faces of `m` (the samples of a distance measure on an identical or
+    /// coplanar mesh), some lifted off it, and some anywhere around it.
+    fn points_on(m: &TriMesh, count: usize, rng: &mut Pcg64Mcg) -> Vec<Vec3> {
+        (0..count)
+            .map(|i| {
+                let [a, b, c] = m.triangle(rng.random_range(0..m.face_count()));
+                let (mut u, mut v) = (rng.random_range(0.0..1.0f32), rng.random_range(0.0..1.0));
+                if u + v > 1.0 {
+                    (u, v) = (1.0 - u, 1.0 - v);
+                }
+                let on = a + (b - a) * u + (c - a) * v;
+                match i % 4 {
+                    0 | 1 => on,
+                    2 => on + Vec3::new(1e-4, -2e-4, 3e-4),
+                    _ => Vec3::new(
+                        rng.random_range(-1.5..1.5),
+                        rng.random_range(-1.5..1.5),
+                        rng.random_range(-1.5..1.5),
+                    ),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn fans_match_brute_force() {
+        // Slivers of aspect 1270 and more: the f32 scoring called points up to 1e-3 beside
+        // such a sliver inside it (a 100k fan's metrics were 1000 times the true distance),
+        // and their boxes overlap (the sliver tree).
+        let mut rng = Pcg64Mcg::seed_from_u64(7);
+        let mut meshes = Vec::new();
+        for hub_on_rim in [false, true] {
+            for tilted in [false, true] {
+                meshes.push(fan_mesh(8000, hub_on_rim, tilted));
+            }
+        }
+        // Both trees: the caps' slivers and the sides (upright: ordinary boxes).
+        meshes.push(mesh::procedural::fan_capped_cylinder(8000));
+        for mesh in meshes {
+            let index = SurfaceDistanceIndex::new(&mesh).unwrap();
+            assert!(index.slivers.is_some());
+            // (A fan's slivers along the axes have thin boxes: the box tree takes them.)
+            assert!(
+                index.bvh.is_some() || mesh.face_count() < 32_000,
+                "{index:?}"
+            );
+            assert!(index.scoring.iter().all(|&s| s != Scoring::Regions));
+            let points = points_on(&mesh, 1500, &mut rng);
+            let many = index.closest_many(&points);
+            for (p, hit) in points.iter().zip(&many) {
+                let b = brute(&mesh, *p);
+                let single = index.closest(*p);
+                assert!(
+                    (single.distance - b).abs() <= 1e-7 * (1.0 + b),
+                    "{single:?} vs {b}"
+                );
+                assert!(
+                    (hit.distance - b).abs() <= 1e-7 * (1.0 + b),
+                    "{hit:?} vs {b}"
+                );
+                let [x, y, z] = mesh.triangle_f64(single.face as usize);
+                assert!(
+                    (closest_point_triangle(single.point, x, y, z) - single.point).length() < 1e-9
+                );
+                assert!(index.closest_within(*p, b * 0.99 - 1e-9).is_none());
+                assert!(index.closest_within(*p, b * 1.01 + 1e-9).is_some());
+            }
+        }
+    }
+
+    #[test]
+    fn ordinary_meshes_have_no_sliver_tree() {
+        for mesh in [
+            icosphere(4),
+            torus(1.0, 0.3, 40, 16),
+            mesh::procedural::fan(12),
+        ] {
+            let index = SurfaceDistanceIndex::new(&mesh).unwrap();
+            assert!(index.slivers.is_none() && index.bvh.is_some());
+            assert!(index.scoring.iter().all(|&s| s == Scoring::Regions));
+        }
+    }
+
     #[test]
     fn single_triangle_and_empty_mesh() {
         let tri = TriMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
         let index = SurfaceDistanceIndex::new(&tri).unwrap();
         let c = index.closest(Vec3::new(0.25, 0.25, 2.0));
         assert!((c.distance - 2.0).abs() < 1e-12);
+        // One sliver on the diagonal: the sliver tree alone, one leaf.
+        let sliver = TriMesh::new(
+            vec![Vec3::ZERO, Vec3::ONE, Vec3::new(1.0, 1.0, 0.999)],
+            vec![[0, 1, 2]],
+        );
+        let index = SurfaceDistanceIndex::new(&sliver).unwrap();
+        assert!(index.bvh.is_none() && index.slivers.is_some());
+        let c = index.closest(Vec3::new(1.0, 0.0, 0.0));
+        assert!((c.distance - brute(&sliver, Vec3::X)).abs() < 1e-9, "{c:?}");
         let empty = TriMesh::new(vec![Vec3::ZERO], vec![]);
         assert!(SurfaceDistanceIndex::new(&empty).is_err());
     }

@@ -29,6 +29,7 @@ mod index;
 pub mod paper;
 mod quality;
 mod report;
+mod sliver;
 
 pub use closest::{closest_point_segment, closest_point_triangle};
 pub use frame::MAX_SPAN;
