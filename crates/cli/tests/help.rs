@@ -48,3 +48,30 @@ fn simplify_help_quotes_the_library_policy_numbers() {
         );
     }
 }
+
+/// The text result lines say what a user needs in words: GNG3D's stop reason in lowercase
+/// (not the Rust variant), and QEM's line the output's topology as GNG3D's does (issue 37).
+#[test]
+fn result_lines_speak_words_and_give_the_topology() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.ply");
+    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    let run = |method: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_gng3d"))
+            .args(["simplify", input.to_str().unwrap()])
+            .arg(dir.path().join(format!("{method}.ply")))
+            .args(["--method", method, "--vertices", "100"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{method}: {out:?}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let gng = run("gng");
+    assert!(gng.contains("(completed)"), "{gng}");
+    assert!(!gng.contains("Completed"), "{gng}");
+    let qem = run("qem");
+    assert!(
+        qem.contains("closed: true, manifold: true, genus: 0"),
+        "{qem}"
+    );
+}

@@ -96,6 +96,18 @@ pub enum StopReason {
     SignalCap,
 }
 
+impl std::fmt::Display for StopReason {
+    /// In words, lowercase, as the CLI and the viewer print it ("completed", "time limit").
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StopReason::Completed => "completed",
+            StopReason::TimeLimit => "time limit",
+            StopReason::Cancelled => "cancelled",
+            StopReason::SignalCap => "signal cap",
+        })
+    }
+}
+
 /// A copy of the network with compact indices, for drawing.
 #[derive(Debug, Clone, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]

@@ -163,7 +163,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         return crate::cli::print_json(&summary);
     }
     outln!(
-        "{} -> {}: {} vertices, {} faces, {} signals in {:.3} s ({:?}); closed: {}, manifold: {}, genus: {}",
+        "{} -> {}: {} vertices, {} faces, {} signals in {:.3} s ({}); closed: {}, manifold: {}, genus: {}",
         args.input.display(),
         args.output.display(),
         summary.vertices,

@@ -64,15 +64,19 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         if let Some(shortfall) = report.shortfall(target) {
             eprintln!("warning: {shortfall}");
         }
+        let t = mesh::topology::analyze(&simplified);
         outln!(
-            "qem: {} -> {} vertices, {} -> {} faces, {} collapses in {:.3} s -> {}",
+            "qem: {} -> {} vertices, {} -> {} faces, {} collapses in {:.3} s -> {}; closed: {}, manifold: {}, genus: {}",
             report.input_vertices,
             report.vertices,
             report.input_faces,
             report.faces,
             report.collapses,
             report.seconds,
-            args.output.display()
+            args.output.display(),
+            t.closed,
+            t.manifold,
+            t.genus.map_or("undefined".into(), |g| g.to_string()),
         );
     }
     Ok(())
