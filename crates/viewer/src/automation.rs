@@ -11,6 +11,24 @@ use std::time::{Duration, Instant};
 /// What a pending screenshot delivers: the saved path or the error.
 type ScreenshotSlot = Arc<Mutex<Option<crate::error::Result<PathBuf>>>>;
 
+/// Why a scripted run (`--quit-after` with `--screenshot`) failed, for [`crate::run`] to turn
+/// into a non-zero exit once the window has closed.
+static SCRIPTED_FAILURE: Mutex<Option<String>> = Mutex::new(None);
+
+fn scripted_failure(message: String) {
+    *SCRIPTED_FAILURE
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner) = Some(message);
+}
+
+/// The failure of the scripted run that just ended, if any.
+pub(crate) fn take_scripted_failure() -> Option<String> {
+    SCRIPTED_FAILURE
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .take()
+}
+
 /// Screenshot-and-quit state.
 #[derive(Default)]
 pub struct Automation {
@@ -52,7 +70,12 @@ impl ViewerApp {
         if let Some(result) = finished_shot {
             match result {
                 Ok(path) => self.session.info(format!("saved {}", path.display())),
-                Err(e) => self.session.error(format!("screenshot failed: {e}")),
+                Err(e) => {
+                    if self.automation.screenshot_requested {
+                        scripted_failure(format!("screenshot failed: {e}"));
+                    }
+                    self.session.error(format!("screenshot failed: {e}"));
+                }
             }
             if self.automation.screenshot_requested {
                 self.automation.screenshot_requested = false;
@@ -68,6 +91,7 @@ impl ViewerApp {
                 .screenshot_since
                 .is_some_and(|t| t.elapsed() > Duration::from_secs(10))
         {
+            scripted_failure("screenshot timed out after 10 s".into());
             self.session.error("screenshot timed out after 10 s");
             self.automation.screenshot_requested = false;
             self.close(ctx);

@@ -109,5 +109,10 @@ pub fn run(options: ViewerOptions) -> error::Result<()> {
             Ok(Box::new(app))
         }),
     )
-    .map_err(|e| ViewerError::Window(e.to_string()))
+    .map_err(|e| ViewerError::Window(e.to_string()))?;
+    // A scripted run whose screenshot failed ends with an error (non-zero exit), not 0.
+    match automation::take_scripted_failure() {
+        Some(message) => Err(ViewerError::Window(message)),
+        None => Ok(()),
+    }
 }

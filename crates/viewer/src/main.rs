@@ -111,6 +111,10 @@ fn main() {
         eprintln!("error: {e}");
         std::process::exit(1);
     }
+    if args.headless && options.screenshot.is_some() {
+        eprintln!("error: invalid option --screenshot: --headless has no window to capture");
+        std::process::exit(1);
+    }
     if args.headless {
         match viewer::run_headless(&options) {
             Ok(summary) => println!("{summary}"),

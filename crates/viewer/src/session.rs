@@ -132,6 +132,36 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
     {
         return Err(invalid("--quit-after", format!("{v} (seconds >= 0)")));
     }
+    // A scripted screenshot that cannot happen is an error before any window opens, not a
+    // message in a window that then exits 0.
+    if let Some(path) = &options.screenshot {
+        let shown = path.display();
+        if options.quit_after.is_none() {
+            return Err(invalid(
+                "--screenshot",
+                format!("{shown}: needs --quit-after SECS (it is taken just before quitting)"),
+            ));
+        }
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        {
+            return Err(invalid(
+                "--screenshot",
+                format!("{shown}: screenshots are PNG files (give a .png path)"),
+            ));
+        }
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        if !dir.is_dir() {
+            return Err(invalid(
+                "--screenshot",
+                format!("{shown}: the folder {} does not exist", dir.display()),
+            ));
+        }
+    }
     Ok(params)
 }
 

@@ -113,6 +113,46 @@ fn gl_backend_renders_both_viewports() {
     smoke("gl", "Gl");
 }
 
+/// A scripted screenshot that cannot happen is an error naming `--screenshot`, with exit 1,
+/// before any window opens (no X server needed): no `--quit-after`, a folder that does not
+/// exist, a format other than PNG, or `--headless` (no window to capture). Issue 37: these
+/// printed "screenshot failed" and exited 0, or were ignored.
+#[test]
+fn impossible_screenshots_fail_before_the_window() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("z.png");
+    let missing = dir.path().join("no/such/folder/z.png");
+    let jpg = dir.path().join("z.jpg");
+    let (png, missing, jpg) = (
+        png.to_str().unwrap(),
+        missing.to_str().unwrap(),
+        jpg.to_str().unwrap(),
+    );
+    for (args, says) in [
+        (vec!["--screenshot", png], "--quit-after"),
+        (
+            vec!["--quit-after", "1", "--screenshot", missing],
+            "does not exist",
+        ),
+        (vec!["--quit-after", "1", "--screenshot", jpg], ".png"),
+        (
+            vec!["--headless", "--quit-after", "1", "--screenshot", png],
+            "--headless",
+        ),
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_viewer"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("--screenshot") && stderr.contains(says),
+            "{args:?}: {stderr}"
+        );
+    }
+}
+
 /// A mesh given on the command line that cannot be read is an error naming the file, with a
 /// non-zero exit, before any window opens (no X server needed), in window and headless mode.
 #[test]
