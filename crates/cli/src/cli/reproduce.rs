@@ -172,8 +172,12 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
                 .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
             let rows = (|| {
                 let original = load_prepared(path, false)?;
-                if args.max_faces.is_some_and(|m| original.face_count() > m) {
-                    return Ok(Vec::new());
+                if let Some(m) = args.max_faces.filter(|&m| original.face_count() > m) {
+                    // Said, not silently left out of the table.
+                    anyhow::bail!(
+                        "skipped: {} faces, more than --max-faces {m}",
+                        original.face_count()
+                    );
                 }
                 survey_mesh(&name, &original, &params)
                     .with_context(|| format!("surveying {}", path.display()))
