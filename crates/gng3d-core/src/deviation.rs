@@ -46,10 +46,10 @@
 use crate::fan_search::LargeLists;
 use crate::flip::{apply_flip, faces_on_edge, has_edge, oriented};
 use crate::placement::{CellFaces, cell_faces, closest_on_faces};
+use crate::soundness::min_angle_sin2;
 use glam::{DVec3, Vec3};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
-use mesh::geometry::is_degenerate;
 use std::num::NonZeroUsize;
 
 /// Rounds of measure, choose and repair. Over the survey's 42 runs below igea-1m (GNG3D-Q / QEM
@@ -240,14 +240,10 @@ fn faces_sound(old: &[[DVec3; 3]], new: &[[DVec3; 3]]) -> bool {
     };
     let old_sin2 = old
         .iter()
-        .map(|&[a, b, c]| crate::flip::min_angle_sin2(a, b, c))
+        .map(|&[a, b, c]| min_angle_sin2(a, b, c))
         .fold(f64::INFINITY, f64::min);
-    let keep = old_sin2.min(KEEP_ANGLE_DEGREES.to_radians().sin().powi(2));
-    new.iter().all(|&[a, b, c]| {
-        !is_degenerate(a, b, c)
-            && (b - a).cross(c - a).normalize_or_zero().dot(mean) >= MIN_NORMAL_COS
-            && crate::flip::min_angle_sin2(a, b, c) >= keep
-    })
+    new.iter()
+        .all(|&face| crate::soundness::DEVIATION.accepts(face, mean, old_sin2))
 }
 
 impl Work<'_> {
@@ -681,10 +677,7 @@ mod tests {
         for t in &triangles {
             let [p, q, r] = t.map(|u| moved[u as usize].as_dvec3());
             assert!((q - p).cross(r - p).z > 0.0, "{t:?}");
-            let degrees = crate::flip::min_angle_sin2(p, q, r)
-                .sqrt()
-                .asin()
-                .to_degrees();
+            let degrees = min_angle_sin2(p, q, r).sqrt().asin().to_degrees();
             assert!(degrees > 6.0, "{t:?}: {degrees:.1}°");
         }
     }

@@ -28,6 +28,7 @@
 //! tests per point of its quad (each fan face and each second new face is first tested by its
 //! bounding box, [`mesh::geometry::box_distance2`]); no allocation in the loop.
 
+use crate::soundness::{FaceRule, min_angle_sin2};
 use glam::{DVec3, Vec3};
 use mesh::geometry::{box_distance2, closest_point_triangle, is_degenerate};
 
@@ -88,35 +89,10 @@ pub struct FlipStats {
     pub error_after: f64,
 }
 
-/// Squared sine of the smallest interior angle of a triangle (0 for degenerate ones). The
-/// smallest angle (≤ 60°) sits between the two longest edges, so
-/// `sin² = |cross|² / (|e₁|²·|e₂|²)` over those two; monotone in the angle, no trigonometry.
-#[inline]
-pub(crate) fn min_angle_sin2(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let cross = (b - a).cross(c - a).length_squared();
-    let (x, y, z) = (
-        (b - a).length_squared(),
-        (c - b).length_squared(),
-        (a - c).length_squared(),
-    );
-    let shortest = x.min(y).min(z);
-    let denom = x * y * z / shortest;
-    if denom > 0.0 && denom.is_finite() {
-        cross / denom
-    } else {
-        0.0
-    }
-}
-
-/// The faces around each of `n` vertices, in face order (shared with [`crate::refit`]).
+/// The faces around each of `n` vertices, in face order, as lists a pass can edit (flips
+/// change them as they go); shared by every pass that walks fans.
 pub(crate) fn fans(triangles: &[[u32; 3]], n: usize) -> Vec<Vec<u32>> {
-    let mut fan: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for (f, t) in triangles.iter().enumerate() {
-        for &v in t {
-            fan[v as usize].push(f as u32);
-        }
-    }
-    fan
+    mesh::topology::VertexFaces::new(triangles, n).to_lists()
 }
 
 /// The faces on edge `a b`, found in the smaller fan of `a` and `b` (a hub of thousands of
@@ -286,7 +262,8 @@ pub(crate) fn flip_edges(
     // Step 2: passes. After the first, only edges of faces near a flip (faces of the fans of
     // its four corners) are looked at again: an edge's verdict depends only on its two faces,
     // their points and the fans of its corners.
-    let keep_sin2 = KEEP_ANGLE_DEGREES.to_radians().sin().powi(2);
+    let rule = crate::soundness::FLIP;
+    let keep_sin2 = rule.keep_sin2();
     let mut dirty = vec![true; triangles.len()];
     let mut next_dirty = vec![false; triangles.len()];
     for _ in 0..MAX_PASSES {
@@ -334,8 +311,8 @@ pub(crate) fn flip_edges(
                     let (o1, o2) = (o1.normalize_or_zero(), o2.normalize_or_zero());
                     let n1 = (pa - pc).cross(pd - pc).normalize_or_zero();
                     let n2 = (pb - pd).cross(pc - pd).normalize_or_zero();
-                    if n1.dot(old_n) < MIN_NORMAL_COS
-                        || n2.dot(old_n) < MIN_NORMAL_COS
+                    if !rule.normal_agrees(n1, old_n)
+                        || !rule.normal_agrees(n2, old_n)
                         || n1.dot(n2) < MIN_FOLD_COS
                     {
                         continue;
@@ -346,7 +323,8 @@ pub(crate) fn flip_edges(
                     // shape (smallest angle clearly larger, error and fold not worse). Neither
                     // can undo the other: a shape flip never raises the error, and undoing it
                     // would not lower the error by GAIN.
-                    let for_error = e_old > 0.0 && new_angle >= old_angle.min(keep_sin2);
+                    let for_error =
+                        e_old > 0.0 && FaceRule::keeps_shape(new_angle, old_angle, keep_sin2);
                     let for_shape =
                         new_angle > SHAPE_GAIN * old_angle && n1.dot(n2) >= o1.dot(o2) && {
                             // Bend of the quad: the flip moves the surface across the

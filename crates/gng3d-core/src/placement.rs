@@ -48,20 +48,8 @@ const MIN_VERTICES_PER_THREAD: usize = 512;
 /// borders stay where the original's are.
 pub const BOUNDARY_WEIGHT: f64 = 1000.0;
 
-/// Original faces touching each output vertex's cell, as CSR lists.
-pub(crate) struct CellFaces {
-    /// `start[o]..start[o + 1]` indexes `faces` for output vertex `o`.
-    pub start: Vec<u32>,
-    /// Original face indices.
-    pub faces: Vec<u32>,
-}
-
-impl CellFaces {
-    /// The original faces of output vertex `o`'s cell.
-    pub(crate) fn of(&self, o: usize) -> &[u32] {
-        &self.faces[self.start[o] as usize..self.start[o + 1] as usize]
-    }
-}
+/// The original faces of each output vertex's cell: `of(o)` (see [`cell_faces`]).
+pub(crate) type CellFaces = mesh::topology::VertexFaces;
 
 /// Output vertex of each original vertex (`u32::MAX` when its node is not in the output).
 pub(crate) fn owners(labels: &[u32], node_of_vertex: &[u32], node_count: usize) -> Vec<u32> {
@@ -78,40 +66,9 @@ pub(crate) fn owners(labels: &[u32], node_of_vertex: &[u32], node_count: usize) 
 /// Step 1: the original faces with a corner owned by each output vertex (each face once per
 /// distinct owner), grouped by a counting sort over the owners.
 pub(crate) fn cell_faces(original: &TriMesh, owner: &[u32], outputs: usize) -> CellFaces {
-    let distinct = |t: &[u32; 3]| {
-        let o = t.map(|v| owner[v as usize]);
-        [
-            o[0],
-            if o[1] != o[0] { o[1] } else { u32::MAX },
-            if o[2] != o[0] && o[2] != o[1] {
-                o[2]
-            } else {
-                u32::MAX
-            },
-        ]
-    };
-    let mut start = vec![0u32; outputs + 1];
-    for t in &original.triangles {
-        for o in distinct(t) {
-            if o != u32::MAX {
-                start[o as usize + 1] += 1;
-            }
-        }
-    }
-    for o in 0..outputs {
-        start[o + 1] += start[o];
-    }
-    let mut fill = start.clone();
-    let mut faces = vec![0u32; start[outputs] as usize];
-    for (f, t) in original.triangles.iter().enumerate() {
-        for o in distinct(t) {
-            if o != u32::MAX {
-                faces[fill[o as usize] as usize] = f as u32;
-                fill[o as usize] += 1;
-            }
-        }
-    }
-    CellFaces { start, faces }
+    CellFaces::grouped(outputs, original.triangles.len(), |f| {
+        original.triangles[f].map(|v| owner[v as usize])
+    })
 }
 
 /// What [`place`] did.

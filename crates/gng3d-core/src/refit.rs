@@ -38,6 +38,7 @@
 //! thread count, and the quadrics are summed in sample order.
 
 use crate::fan_search::FanSearch;
+use crate::soundness::{FaceRule, min_angle_sin2};
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
 use mesh::geometry::closest_point_triangle;
@@ -277,15 +278,19 @@ pub(crate) fn move_fits(
     pos: &[DVec3],
     keep_shape: bool,
 ) -> bool {
-    let keep_sin2 = KEEP_ANGLE_DEGREES.to_radians().sin().powi(2);
+    let rule = crate::soundness::REFIT;
+    let keep_sin2 = rule.keep_sin2();
     fan.iter().all(|&f| {
         let t = triangles[f as usize];
-        let turns_little = normal(t, old).dot(normal(t, pos)) >= MAX_TURN_COS;
+        let turns_little = rule.normal_agrees(normal(t, old), normal(t, pos));
         let keeps_shape = !keep_shape || {
             let [a0, b0, c0] = t.map(|u| old[u as usize]);
             let [a1, b1, c1] = t.map(|u| pos[u as usize]);
-            crate::flip::min_angle_sin2(a1, b1, c1)
-                >= crate::flip::min_angle_sin2(a0, b0, c0).min(keep_sin2)
+            FaceRule::keeps_shape(
+                min_angle_sin2(a1, b1, c1),
+                min_angle_sin2(a0, b0, c0),
+                keep_sin2,
+            )
         };
         turns_little && keeps_shape
     })
@@ -593,10 +598,7 @@ mod tests {
         let before = mean_distance(&original, &coarse.positions, &coarse.triangles);
         let angle = |pos: &[Vec3], t: &[u32; 3]| {
             let [a, b, c] = t.map(|v| pos[v as usize].as_dvec3());
-            crate::flip::min_angle_sin2(a, b, c)
-                .sqrt()
-                .asin()
-                .to_degrees()
+            min_angle_sin2(a, b, c).sqrt().asin().to_degrees()
         };
         let angles_before: Vec<f64> = coarse
             .triangles

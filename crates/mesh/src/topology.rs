@@ -48,6 +48,20 @@ impl UnionFind {
         x
     }
 
+    /// Make `into`'s set the representative of `from`'s: after it `find(from) == find(into)`
+    /// and the root of `into` stays a root (for callers whose representative must be a given
+    /// vertex, as in pair contraction). True when they were different.
+    #[inline(always)]
+    pub fn merge_into(&mut self, into: u32, from: u32) -> bool {
+        let (ra, rb) = (self.find(into), self.find(from));
+        if ra == rb {
+            return false;
+        }
+        self.parent[rb as usize] = ra;
+        self.size[ra as usize] += self.size[rb as usize];
+        true
+    }
+
     /// Merge the sets of `a` and `b`; true when they were different.
     #[inline(always)]
     pub fn union(&mut self, a: u32, b: u32) -> bool {
@@ -61,6 +75,99 @@ impl UnionFind {
         self.parent[rb as usize] = ra;
         self.size[ra as usize] += self.size[rb as usize];
         true
+    }
+}
+
+/// The faces around each vertex in CSR form: vertex `v`'s faces are
+/// `faces[start[v]..start[v + 1]]`, in face order. The one vertex → face builder of the
+/// workspace (QEM's preparation, GNG3D-Q's fans and cells).
+///
+/// ```
+/// use gng3d_mesh::{procedural, topology::VertexFaces};
+/// let sphere = procedural::icosphere(1);
+/// let around = VertexFaces::new(&sphere.triangles, sphere.positions.len());
+/// // every face is listed once at each of its three corners
+/// assert_eq!(around.faces.len(), 3 * sphere.triangles.len());
+/// assert!(around.of(0).iter().all(|&f| sphere.triangles[f as usize].contains(&0)));
+/// ```
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct VertexFaces {
+    /// Start of each vertex's list in `faces` (length: vertex count + 1).
+    pub start: Vec<u32>,
+    /// Face indices, grouped by vertex.
+    pub faces: Vec<u32>,
+}
+
+impl VertexFaces {
+    /// The faces around each of `vertex_count` vertices (every index must be below it).
+    pub fn new(triangles: &[[u32; 3]], vertex_count: usize) -> VertexFaces {
+        VertexFaces::grouped(vertex_count, triangles.len(), |f| triangles[f])
+    }
+
+    /// Faces `0..face_count` grouped by the keys `keys(f)` (each below `key_count`), in face
+    /// order: a face is listed under each distinct key of its three, and `u32::MAX` keys are
+    /// skipped. With `keys(f)` a face's corners this is [`VertexFaces::new`]; with the corners'
+    /// owners (a vertex → cell map) it gives the faces touching each cell.
+    pub fn grouped(
+        key_count: usize,
+        face_count: usize,
+        keys: impl Fn(usize) -> [u32; 3],
+    ) -> VertexFaces {
+        let distinct = |f: usize| {
+            let k = keys(f);
+            [
+                k[0],
+                if k[1] != k[0] { k[1] } else { u32::MAX },
+                if k[2] != k[0] && k[2] != k[1] {
+                    k[2]
+                } else {
+                    u32::MAX
+                },
+            ]
+        };
+        let mut start = vec![0u32; key_count + 1];
+        for f in 0..face_count {
+            for k in distinct(f) {
+                if k != u32::MAX {
+                    start[k as usize + 1] += 1;
+                }
+            }
+        }
+        for k in 0..key_count {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut faces = vec![0u32; start[key_count] as usize];
+        for f in 0..face_count {
+            for k in distinct(f) {
+                if k != u32::MAX {
+                    faces[fill[k as usize] as usize] = f as u32;
+                    fill[k as usize] += 1;
+                }
+            }
+        }
+        VertexFaces { start, faces }
+    }
+
+    /// The faces of vertex (or key) `v`.
+    #[inline]
+    pub fn of(&self, v: usize) -> &[u32] {
+        &self.faces[self.start[v] as usize..self.start[v + 1] as usize]
+    }
+
+    /// Number of vertices (keys).
+    pub fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    /// True for no vertices.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// One editable list per vertex (for passes that change faces as they go).
+    pub fn to_lists(&self) -> Vec<Vec<u32>> {
+        (0..self.len()).map(|v| self.of(v).to_vec()).collect()
     }
 }
 
@@ -385,6 +492,39 @@ mod tests {
     use crate::fixtures::previous_topology;
     use crate::procedural::{icosphere, torus};
     use glam::Vec3;
+
+    #[test]
+    fn vertex_faces_match_a_scan() {
+        // Independent computation: for each vertex, scan every face for it.
+        let mesh = torus(1.0, 0.3, 12, 8);
+        let around = VertexFaces::new(&mesh.triangles, mesh.positions.len());
+        assert_eq!(around.len(), mesh.positions.len());
+        for v in 0..mesh.positions.len() {
+            let scan: Vec<u32> = (0..mesh.triangles.len() as u32)
+                .filter(|&f| mesh.triangles[f as usize].contains(&(v as u32)))
+                .collect();
+            assert_eq!(around.of(v), &scan[..], "vertex {v}");
+        }
+        // Grouped by keys: repeated keys list a face once, u32::MAX keys are skipped.
+        let keys = [[0, 0, 1], [2, u32::MAX, 2], [1, 2, 0]];
+        let grouped = VertexFaces::grouped(3, keys.len(), |f| keys[f]);
+        assert_eq!(grouped.of(0), &[0, 2]);
+        assert_eq!(grouped.of(1), &[0, 2]);
+        assert_eq!(grouped.of(2), &[1, 2]);
+        assert_eq!(grouped.to_lists(), vec![vec![0, 2], vec![0, 2], vec![1, 2]]);
+    }
+
+    #[test]
+    fn merge_into_keeps_the_given_representative() {
+        let mut sets = UnionFind::new(6);
+        // Union by size would make 1's root (the larger set) the representative.
+        assert!(sets.union(1, 2));
+        assert!(sets.merge_into(0, 1));
+        assert_eq!((sets.find(1), sets.find(2)), (0, 0));
+        assert!(sets.merge_into(5, 0));
+        assert!((0..3).all(|v| sets.find(v) == 5));
+        assert!(!sets.merge_into(2, 5));
+    }
 
     #[test]
     fn icosphere_is_closed_genus_zero() {

@@ -160,7 +160,7 @@ impl<'a> KdTree<'a> {
 /// Linked lists of the non-edge pairs of each (representative) vertex, plus a union-find that
 /// resolves the vertex a pair's far end has been merged into.
 pub(crate) struct VirtualPairs {
-    parent: Vec<u32>,
+    merged: mesh::topology::UnionFind,
     /// First node of each vertex's list ([`NONE`] when empty).
     pub(crate) head: Vec<u32>,
     tail: Vec<u32>,
@@ -174,7 +174,7 @@ impl VirtualPairs {
     /// The lists of `pairs` over `vertices` vertices, each vertex its own representative.
     pub(crate) fn new(vertices: usize, pairs: &[[u32; 2]]) -> Self {
         let mut vp = VirtualPairs {
-            parent: (0..vertices as u32).collect(),
+            merged: mesh::topology::UnionFind::new(vertices),
             head: vec![NONE; vertices],
             tail: vec![NONE; vertices],
             next: vec![NONE; pairs.len() * 2],
@@ -205,18 +205,13 @@ impl VirtualPairs {
     }
 
     /// The vertex `v` has been merged into (itself if it is alive), with path halving.
-    pub(crate) fn find(&mut self, mut v: u32) -> u32 {
-        while self.parent[v as usize] != v {
-            let g = self.parent[self.parent[v as usize] as usize];
-            self.parent[v as usize] = g;
-            v = g;
-        }
-        v
+    pub(crate) fn find(&mut self, v: u32) -> u32 {
+        self.merged.find(v)
     }
 
     /// Vertex `b` merged into `a`: union, and concatenate `b`'s list onto `a`'s.
     pub(crate) fn merge(&mut self, a: usize, b: usize) {
-        self.parent[b] = a as u32;
+        self.merged.merge_into(a as u32, b as u32);
         if self.head[b] == NONE {
             return;
         }

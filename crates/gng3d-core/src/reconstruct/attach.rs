@@ -85,12 +85,8 @@ pub(crate) fn attach_unreferenced(
         n.dedup();
     }
     // Faces around each node, kept up to date by the splits.
-    let mut vf: Vec<Vec<u32>> = vec![Vec::new(); nodes.len()];
-    for (f, c) in faces.iter().enumerate() {
-        for &v in &c.tri {
-            vf[v as usize].push(f as u32);
-        }
-    }
+    let mut vf =
+        mesh::topology::VertexFaces::grouped(nodes.len(), faces.len(), |f| faces[f].tri).to_lists();
     let mut pending: Vec<u32> = missing;
     let mut candidates: Vec<u32> = Vec::new();
     // The nearest face of the node's piece, over all of them, for the nodes whose

@@ -130,9 +130,10 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
                 target,
                 ..params.clone()
             };
-            let face_len = prepare::faces_per_vertex(part_pos.len(), &faces);
-            let (face_start, refs) = prepare::vertex_face_lists(&faces, &face_len);
-            drop(face_len);
+            let mesh::topology::VertexFaces {
+                start: face_start,
+                faces: refs,
+            } = mesh::topology::VertexFaces::new(&faces, part_pos.len());
             let sub = Prepared {
                 pos: part_pos,
                 faces,

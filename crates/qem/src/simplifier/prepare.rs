@@ -42,7 +42,7 @@ pub(super) struct Prepared {
     pub(super) faces: Vec<[u32; 3]>,
     /// Vertex → face lists: vertex `v`'s faces are `refs[face_start[v]..face_start[v + 1]]`.
     pub(super) refs: Vec<u32>,
-    /// Start of each vertex's list in `refs`.
+    /// Start of each vertex's list in `refs` (length: vertices + 1).
     pub(super) face_start: Vec<u32>,
     /// The frame `pos` is in.
     pub(super) frame: Frame,
@@ -56,7 +56,10 @@ pub(super) fn prepare(input: &TriMesh) -> Result<Prepared, QemError> {
     let (pos, face_len, new_index) = morton_renumbering(&input.positions, face_len, &frame);
     let faces = sort_faces(&faces, &new_index, pos.len());
     drop(new_index);
-    let (face_start, refs) = vertex_face_lists(&faces, &face_len);
+    let mesh::topology::VertexFaces {
+        start: face_start,
+        faces: refs,
+    } = mesh::topology::VertexFaces::new(&faces, face_len.len());
     Ok(Prepared {
         pos,
         faces,
@@ -96,7 +99,7 @@ fn usable_faces(input: &TriMesh) -> Result<Vec<[u32; 3]>, QemError> {
 }
 
 /// Number of faces around each of the `n` vertices (0: unreferenced).
-pub(super) fn faces_per_vertex(n: usize, faces: &[[u32; 3]]) -> Vec<u32> {
+fn faces_per_vertex(n: usize, faces: &[[u32; 3]]) -> Vec<u32> {
     let mut face_len = vec![0u32; n];
     for t in faces {
         for &v in t {
@@ -189,24 +192,4 @@ fn sort_faces(faces: &[[u32; 3]], new_index: &[u32], n: usize) -> Vec<[u32; 3]> 
         *s += 1;
     }
     sorted
-}
-
-/// Vertex → face lists in CSR form: `(face_start, refs)`, each vertex's faces in face order.
-pub(super) fn vertex_face_lists(faces: &[[u32; 3]], face_len: &[u32]) -> (Vec<u32>, Vec<u32>) {
-    let n = face_len.len();
-    let mut face_start = vec![0u32; n];
-    let mut acc = 0u32;
-    for v in 0..n {
-        face_start[v] = acc;
-        acc += face_len[v];
-    }
-    let mut refs = vec![0u32; acc as usize];
-    let mut fill = face_start.clone();
-    for (f, t) in faces.iter().enumerate() {
-        for &v in t {
-            refs[fill[v as usize] as usize] = f as u32;
-            fill[v as usize] += 1;
-        }
-    }
-    (face_start, refs)
 }

@@ -62,8 +62,7 @@ pub(super) fn vertex_setup(
         for (k, slot) in out.iter_mut().enumerate() {
             let u = first + k;
             let uu = u as u32;
-            let end = face_start.get(u + 1).map_or(refs.len(), |&e| e as usize);
-            let list = &refs[face_start[u] as usize..end];
+            let list = &refs[face_start[u] as usize..face_start[u + 1] as usize];
             let mut q = Quadric::default();
             ring.clear();
             for &f in list {
