@@ -12,106 +12,119 @@ pub(crate) struct PackedTriangle {
     pub c: Vec3A,
 }
 
-/// Squared distance from `p` to a non-degenerate packed triangle, in f32 (same regions as
-/// [`closest_point_triangle`]; used to pick candidates, the winner is re-evaluated in f64).
-#[inline(always)]
-pub(crate) fn squared_distance_f32(p: Vec3A, t: &PackedTriangle) -> f32 {
-    let (a, b, c) = (t.a, t.b, t.c);
-    let ab = b - a;
-    let ac = c - a;
-    let ap = p - a;
-    let d1 = ab.dot(ap);
-    let d2 = ac.dot(ap);
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return ap.length_squared();
-    }
-    let bp = p - b;
-    let d3 = ab.dot(bp);
-    let d4 = ac.dot(bp);
-    if d3 >= 0.0 && d4 <= d3 {
-        return bp.length_squared();
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let q = a + ab * (d1 / (d1 - d3));
-        return (p - q).length_squared();
-    }
-    let cp = p - c;
-    let d5 = ab.dot(cp);
-    let d6 = ac.dot(cp);
-    if d6 >= 0.0 && d5 <= d6 {
-        return cp.length_squared();
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let q = a + ac * (d2 / (d2 - d6));
-        return (p - q).length_squared();
-    }
-    let va = d3 * d6 - d5 * d4;
-    let e = d4 - d3;
-    let f = d5 - d6;
-    if va <= 0.0 && e >= 0.0 && f >= 0.0 {
-        let q = b + (c - b) * (e / (e + f));
-        return (p - q).length_squared();
-    }
-    let denom = va + vb + vc;
-    if denom.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        // Rounding made a thin sliver look flat: take the closest of the three edges.
-        return squared_distance_segments_f32(p, t);
-    }
-    // Distance to the plane: cheaper and better conditioned than reconstructing the point.
-    let n = ab.cross(ac);
-    let h = ap.dot(n);
-    h * h / n.length_squared()
+/// The vector operations the region walk of [`squared_distance`] needs, for glam's f32
+/// ([`Vec3A`]) and f64 ([`DVec3`]) vectors: one routine, two precisions.
+pub(crate) trait Vector:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Self::Scalar, Output = Self>
+{
+    /// `f32` or `f64`.
+    type Scalar: Copy
+        + Default
+        + PartialOrd
+        + std::ops::Add<Output = Self::Scalar>
+        + std::ops::Sub<Output = Self::Scalar>
+        + std::ops::Mul<Output = Self::Scalar>
+        + std::ops::Div<Output = Self::Scalar>;
+    fn dot(self, other: Self) -> Self::Scalar;
+    fn cross(self, other: Self) -> Self;
+    fn length_squared(self) -> Self::Scalar;
 }
 
-/// Squared distance from `p` to a non-degenerate triangle in f64, for slivers, where the f32
-/// routine's region tests and plane fail (see the index's `Scoring::Exact`): the regions of
-/// [`closest_point_triangle`], and in the face region the distance to the plane, which is
-/// exactly zero for a point on an axis-aligned plane (a search there stops at the first face
-/// holding the point).
-#[inline]
-pub(crate) fn squared_distance_f64(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+macro_rules! vector {
+    ($v:ty, $s:ty) => {
+        impl Vector for $v {
+            type Scalar = $s;
+            #[inline(always)]
+            fn dot(self, other: Self) -> $s {
+                <$v>::dot(self, other)
+            }
+            #[inline(always)]
+            fn cross(self, other: Self) -> Self {
+                <$v>::cross(self, other)
+            }
+            #[inline(always)]
+            fn length_squared(self) -> $s {
+                <$v>::length_squared(self)
+            }
+        }
+    };
+}
+vector!(Vec3A, f32);
+vector!(DVec3, f64);
+
+/// Squared distance from `p` to the non-degenerate triangle `abc`: the regions of
+/// [`closest_point_triangle`] (Ericson's walk), and in the face region the distance to the
+/// plane, which is cheaper and better conditioned than reconstructing the point (and exactly
+/// zero for a point on an axis-aligned plane, so a search there stops at the first face holding
+/// the point). When rounding makes a thin sliver look flat (the barycentric denominator is not
+/// positive), `flat()` gives the answer.
+#[inline(always)]
+fn squared_distance<V: Vector>(
+    p: V,
+    [a, b, c]: [V; 3],
+    flat: impl FnOnce() -> V::Scalar,
+) -> V::Scalar {
+    let zero = V::Scalar::default();
     let ab = b - a;
     let ac = c - a;
     let ap = p - a;
     let d1 = ab.dot(ap);
     let d2 = ac.dot(ap);
-    if d1 <= 0.0 && d2 <= 0.0 {
+    if d1 <= zero && d2 <= zero {
         return ap.length_squared();
     }
     let bp = p - b;
     let d3 = ab.dot(bp);
     let d4 = ac.dot(bp);
-    if d3 >= 0.0 && d4 <= d3 {
+    if d3 >= zero && d4 <= d3 {
         return bp.length_squared();
     }
     let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+    if vc <= zero && d1 >= zero && d3 <= zero {
         return (p - (a + ab * (d1 / (d1 - d3)))).length_squared();
     }
     let cp = p - c;
     let d5 = ab.dot(cp);
     let d6 = ac.dot(cp);
-    if d6 >= 0.0 && d5 <= d6 {
+    if d6 >= zero && d5 <= d6 {
         return cp.length_squared();
     }
     let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+    if vb <= zero && d2 >= zero && d6 <= zero {
         return (p - (a + ac * (d2 / (d2 - d6)))).length_squared();
     }
     let va = d3 * d6 - d5 * d4;
     let e = d4 - d3;
     let f = d5 - d6;
-    if va <= 0.0 && e >= 0.0 && f >= 0.0 {
+    if va <= zero && e >= zero && f >= zero {
         return (p - (b + (c - b) * (e / (e + f)))).length_squared();
     }
-    if (va + vb + vc).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        return (p - closest_point_triangle(p, a, b, c)).length_squared();
+    if (va + vb + vc).partial_cmp(&zero) != Some(std::cmp::Ordering::Greater) {
+        return flat();
     }
     let n = ab.cross(ac);
     let h = ap.dot(n);
     h * h / n.length_squared()
+}
+
+/// Squared distance from `p` to a non-degenerate packed triangle, in f32 (used to pick
+/// candidates, the winner is re-evaluated in f64). A sliver that rounding makes look flat
+/// gets the closest of its three edges.
+#[inline(always)]
+pub(crate) fn squared_distance_f32(p: Vec3A, t: &PackedTriangle) -> f32 {
+    squared_distance(p, [t.a, t.b, t.c], || squared_distance_segments_f32(p, t))
+}
+
+/// The same in f64, for slivers, where the f32 routine's region tests and plane fail (see the
+/// index's `Scoring::Exact`); a flat-looking one falls back to [`closest_point_triangle`].
+#[inline]
+pub(crate) fn squared_distance_f64(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    squared_distance(p, [a, b, c], || {
+        (p - closest_point_triangle(p, a, b, c)).length_squared()
+    })
 }
 
 /// Squared distance from `p` to the closest of the three edges of `t` (f32).
