@@ -96,12 +96,12 @@ fn shared_meshes_match_the_readme_table() {
     for e in &table {
         let loaded = mesh::io::load(&dir.join(&e.file)).unwrap_or_else(|err| panic!("{err}"));
         let m = &loaded.mesh;
-        assert!(
-            loaded.warnings.is_empty(),
-            "{}: {:?}",
-            e.file,
-            loaded.warnings
-        );
+        // Data the loader does not read (many_small_holes.ply's vertex `quality`) is named in a
+        // warning; nothing is repaired or dropped from the mesh itself.
+        let repairs: Vec<_> = (loaded.warnings.iter())
+            .filter(|w| !matches!(w, mesh::error::MeshWarning::IgnoredData { .. }))
+            .collect();
+        assert!(repairs.is_empty(), "{}: {:?}", e.file, loaded.warnings);
         let t = mesh::topology::analyze(m);
         let got = (
             t.vertices,

@@ -2,6 +2,7 @@
 //! unreferenced vertices. [`prepare`] does all of it and is what algorithms get by default.
 
 use crate::TriMesh;
+use crate::attributes::Attributes;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -58,6 +59,14 @@ fn position_key(p: Vec3) -> [u32; 3] {
 /// positions are left out of the seam count. The first index of each merged set is kept, in
 /// order. O(V log V + F log F).
 pub fn weld_exact(mesh: &TriMesh) -> (TriMesh, usize) {
+    let (welded, _) = weld_exact_map(mesh);
+    let merged = mesh.positions.len() - welded.positions.len();
+    (welded, merged)
+}
+
+/// [`weld_exact`], returning for each input vertex its index in the welded mesh instead of the
+/// count (so per-vertex data, e.g. [`Attributes`], can follow).
+pub fn weld_exact_map(mesh: &TriMesh) -> (TriMesh, Vec<u32>) {
     let n = mesh.positions.len();
     // Step 1: each vertex's position group (the smallest index at its position).
     let mut order: Vec<u32> = (0..n as u32).collect();
@@ -159,21 +168,15 @@ pub fn weld_exact(mesh: &TriMesh) -> (TriMesh, usize) {
             positions.push(mesh.positions[i]);
         }
     }
-    let merged = n - positions.len();
+    let map: Vec<u32> = (0..n as u32)
+        .map(|v| new_index[smallest[sets.find(v) as usize] as usize])
+        .collect();
     let triangles = mesh
         .triangles
         .iter()
-        .map(|t| {
-            t.map(|v| {
-                if (v as usize) < n {
-                    new_index[smallest[sets.find(v) as usize] as usize]
-                } else {
-                    v
-                }
-            })
-        })
+        .map(|t| t.map(|v| if (v as usize) < n { map[v as usize] } else { v }))
         .collect();
-    (TriMesh::new(positions, triangles), merged)
+    (TriMesh::new(positions, triangles), map)
 }
 
 /// Drop vertices that no face references, keeping the order of the rest and remapping faces.
@@ -223,6 +226,12 @@ pub fn drop_degenerate_and_duplicate_faces(mesh: &TriMesh) -> (TriMesh, DroppedF
 /// grouped by their smallest vertex with a counting sort and only those small groups are
 /// sorted, so this is O(F + V) apart from the per-group sorts.
 pub fn drop_degenerate_and_duplicate_faces_in_place(mesh: &mut TriMesh) -> DroppedFaces {
+    drop_faces_with_mask(mesh).0
+}
+
+/// [`drop_degenerate_and_duplicate_faces_in_place`], also returning which of the input faces
+/// were kept (`None` when all were), so per-face data (attributes) can follow.
+pub fn drop_faces_with_mask(mesh: &mut TriMesh) -> (DroppedFaces, Option<Vec<bool>>) {
     let mut dropped = DroppedFaces::default();
     let n = mesh
         .triangles
@@ -258,7 +267,7 @@ pub fn drop_degenerate_and_duplicate_faces_in_place(mesh: &mut TriMesh) -> Dropp
     }
     drop(fill);
     if dropped.degenerate == 0 && packed.is_empty() {
-        return dropped;
+        return (dropped, None);
     }
     let mut keep = vec![true; mesh.triangles.len()];
     for v in 0..n {
@@ -275,11 +284,14 @@ pub fn drop_degenerate_and_duplicate_faces_in_place(mesh: &mut TriMesh) -> Dropp
         }
     }
     if dropped.degenerate + dropped.duplicate > 0 {
+        for (k, t) in keep.iter_mut().zip(&mesh.triangles) {
+            *k &= !is_degenerate(t);
+        }
         let mut faces = keep.iter();
-        mesh.triangles
-            .retain(|t| *faces.next().unwrap_or(&false) && !is_degenerate(t));
+        mesh.triangles.retain(|_| *faces.next().unwrap_or(&false));
+        return (dropped, Some(keep));
     }
-    dropped
+    (dropped, None)
 }
 
 /// Weld exact duplicates, drop degenerate and duplicate faces, remove unreferenced vertices.
@@ -298,6 +310,46 @@ pub fn prepare(mesh: &TriMesh) -> (TriMesh, CleanReport) {
         faces: out.triangles.len(),
     };
     (out, report)
+}
+
+/// [`prepare`] for a mesh with attributes: the wedges follow the weld and the renumbering,
+/// the corners and materials follow the dropped faces, and wedges no corner uses (or that
+/// repeat another wedge of their vertex) are dropped.
+pub fn prepare_with_attributes(
+    mesh: &TriMesh,
+    attributes: &Attributes,
+) -> (TriMesh, Attributes, CleanReport) {
+    let (mut welded, weld_map) = weld_exact_map(mesh);
+    let welded_vertices = mesh.positions.len() - welded.positions.len();
+    let mut attributes = attributes.clone();
+    attributes.remap_vertices(&weld_map);
+    let (dropped, mask) = drop_faces_with_mask(&mut welded);
+    if let Some(mask) = mask {
+        attributes = attributes.select_faces(&mask);
+    }
+    let before = welded.positions.len();
+    let mut triangles = welded.triangles;
+    let kept = compact_vertex_indices(&mut triangles, before);
+    let mut map = vec![u32::MAX; before];
+    for (new, &old) in kept.iter().enumerate() {
+        map[old as usize] = new as u32;
+    }
+    let positions: Vec<Vec3> = kept.iter().map(|&i| welded.positions[i as usize]).collect();
+    let out = TriMesh::new(positions, triangles);
+    // Wedges of dropped vertices are unused by any corner: compact drops them before remapping.
+    attributes.compact();
+    attributes.remap_vertices(&map);
+    let report = CleanReport {
+        input_vertices: mesh.positions.len(),
+        input_faces: mesh.triangles.len(),
+        welded_vertices,
+        degenerate_faces: dropped.degenerate,
+        duplicate_faces: dropped.duplicate,
+        unreferenced_vertices: before - out.positions.len(),
+        vertices: out.positions.len(),
+        faces: out.triangles.len(),
+    };
+    (out, attributes, report)
 }
 
 #[cfg(test)]

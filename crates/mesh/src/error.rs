@@ -6,6 +6,7 @@ use std::path::PathBuf;
 /// Everything that can go wrong reading, validating or writing a mesh file; every variant names
 /// the file.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum MeshError {
     /// The file is missing or could not be read.
     #[error("{}: cannot read file", path.display())]
@@ -107,9 +108,10 @@ impl MeshError {
     }
 }
 
-/// Non-fatal problems found while loading; the offending elements were dropped.
+/// Non-fatal problems found while loading or saving: what was dropped, repaired or not kept.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum MeshWarning {
     /// Faces with a repeated vertex index, dropped.
     DegenerateFaces {
@@ -138,6 +140,34 @@ pub enum MeshWarning {
         header_triangles: u64,
         /// Size of the file in bytes.
         file_bytes: u64,
+    },
+    /// Data in the file that this project does not read (e.g. a PLY vertex property
+    /// `quality`, OBJ `vp` records); it is not carried to any output.
+    IgnoredData {
+        /// What was ignored, as the file names it (e.g. "PLY vertex property quality").
+        what: String,
+    },
+    /// Some triangle corners lack an attribute that others have (an OBJ face corner without
+    /// `vt` in a file with texture coordinates); they were given zeros.
+    MissingCornerAttribute {
+        /// The attribute (`uv0`, `normals`, `colors`).
+        attribute: String,
+        /// Corners (or vertices) without it.
+        count: usize,
+    },
+    /// Attributes of the mesh that the output format or the method cannot keep, dropped.
+    AttributesDropped {
+        /// The attributes dropped (e.g. "uv0, materials").
+        attributes: String,
+        /// Why (e.g. "STL stores positions only").
+        reason: String,
+    },
+    /// A material library or a texture it names could not be copied next to the output.
+    MaterialFileNotCopied {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
     },
 }
 
@@ -174,6 +204,21 @@ impl fmt::Display for MeshWarning {
                      ignored the rest",
                     84 + 50 * header_triangles
                 )
+            }
+            MeshWarning::IgnoredData { what } => {
+                write!(f, "ignored {what} (not read, not written to any output)")
+            }
+            MeshWarning::MissingCornerAttribute { attribute, count } => {
+                write!(
+                    f,
+                    "{count} corner(s) lack {attribute} that other corners have; set to zero"
+                )
+            }
+            MeshWarning::AttributesDropped { attributes, reason } => {
+                write!(f, "dropped {attributes}: {reason}")
+            }
+            MeshWarning::MaterialFileNotCopied { path, reason } => {
+                write!(f, "material file {} not copied: {reason}", path.display())
             }
         }
     }

@@ -23,6 +23,7 @@
 // name this crate `mesh` from inside and outside.
 extern crate self as mesh;
 
+pub mod attributes;
 pub mod clean;
 pub mod error;
 // Test and benchmark helpers (feature `fixtures`), documented in the module.
@@ -34,6 +35,7 @@ pub mod procedural;
 pub mod quadric;
 pub mod sampling;
 pub mod topology;
+pub mod transfer;
 mod trimesh;
 
 pub use trimesh::{Aabb, TriMesh};

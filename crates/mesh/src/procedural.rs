@@ -69,6 +69,88 @@ pub fn icosphere(subdivisions: u32) -> TriMesh {
     TriMesh::new(positions, triangles)
 }
 
+/// A unit UV sphere (`stacks` ≥ 2 bands from pole to pole, `slices` ≥ 3 around) with texture
+/// coordinates and normals: u = longitude / 2π, v = 1 at the top pole to 0 at the bottom, so
+/// the meridian at u = 0 / 1 is a UV seam (its vertices have two wedges) and each pole has one
+/// wedge per slice. Closed, genus 0: a test model with real seams.
+pub fn textured_sphere(stacks: u32, slices: u32) -> (TriMesh, crate::attributes::Attributes) {
+    use glam::Vec2;
+    let (stacks, slices) = (stacks.max(2), slices.max(3));
+    let mut positions = vec![Vec3::Z, -Vec3::Z];
+    let mut wedge_vertex: Vec<u32> = Vec::new();
+    let mut uv: Vec<Vec2> = Vec::new();
+    let mut normals: Vec<Vec3> = Vec::new();
+    let ring = |i: u32, j: u32| 2 + (i - 1) * slices + (j % slices);
+    for i in 1..stacks {
+        let theta = std::f32::consts::PI * i as f32 / stacks as f32;
+        for j in 0..slices {
+            let phi = std::f32::consts::TAU * j as f32 / slices as f32;
+            positions.push(Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            ));
+        }
+    }
+    // Wedge of ring vertex (i, j) for j in 0..=slices (j = slices: the seam's u = 1 side).
+    let mut ring_wedge = HashMap::new();
+    for i in 1..stacks {
+        for j in 0..=slices {
+            let v = ring(i, j);
+            ring_wedge.insert((i, j), wedge_vertex.len() as u32);
+            wedge_vertex.push(v);
+            uv.push(Vec2::new(
+                j as f32 / slices as f32,
+                1.0 - i as f32 / stacks as f32,
+            ));
+            normals.push(positions[v as usize]);
+        }
+    }
+    let mut triangles = Vec::new();
+    let mut corners = Vec::new();
+    let mut pole_wedge = |pole: u32, j: u32, v: f32| {
+        wedge_vertex.push(pole);
+        uv.push(Vec2::new((j as f32 + 0.5) / slices as f32, v));
+        normals.push(positions[pole as usize]);
+        wedge_vertex.len() as u32 - 1
+    };
+    for j in 0..slices {
+        let top = pole_wedge(0, j, 1.0);
+        triangles.push([0, ring(1, j), ring(1, j + 1)]);
+        corners.push([top, ring_wedge[&(1, j)], ring_wedge[&(1, j + 1)]]);
+        for i in 1..stacks - 1 {
+            let (a, b, c, d) = (
+                ring(i, j),
+                ring(i + 1, j),
+                ring(i + 1, j + 1),
+                ring(i, j + 1),
+            );
+            let (wa, wb, wc, wd) = (
+                ring_wedge[&(i, j)],
+                ring_wedge[&(i + 1, j)],
+                ring_wedge[&(i + 1, j + 1)],
+                ring_wedge[&(i, j + 1)],
+            );
+            triangles.push([a, b, c]);
+            corners.push([wa, wb, wc]);
+            triangles.push([a, c, d]);
+            corners.push([wa, wc, wd]);
+        }
+        let bottom = pole_wedge(1, j, 0.0);
+        let last = stacks - 1;
+        triangles.push([1, ring(last, j + 1), ring(last, j)]);
+        corners.push([bottom, ring_wedge[&(last, j + 1)], ring_wedge[&(last, j)]]);
+    }
+    let attributes = crate::attributes::Attributes {
+        wedge_vertex,
+        corners,
+        normals: Some(normals),
+        uv0: Some(uv),
+        ..Default::default()
+    };
+    (TriMesh::new(positions, triangles), attributes)
+}
+
 /// The unit square `[0, 1]²` in the plane z = 0 as an `n × n` grid of squares, each split
 /// along its diagonal from `(i, j)` to `(i + 1, j + 1)` into two counter-clockwise triangles
 /// (`(n + 1)²` vertices, row by row; `n` at least 1). An open, flat test surface.

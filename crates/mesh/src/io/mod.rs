@@ -12,9 +12,10 @@ mod ply;
 mod stl;
 
 use crate::TriMesh;
-use crate::clean::drop_degenerate_and_duplicate_faces_in_place;
+use crate::attributes::{Attributes, Materials};
+use crate::clean::drop_faces_with_mask;
 use crate::error::{MeshError, MeshWarning};
-use glam::Vec3;
+use glam::{Vec2, Vec3, Vec4};
 use std::path::{Path, PathBuf};
 
 /// A mesh file format.
@@ -51,6 +52,11 @@ pub struct LoadedMesh {
     pub warnings: Vec<MeshWarning>,
     /// Per-vertex normals from the file, when it has them (same length as positions).
     pub vertex_normals: Option<Vec<Vec3>>,
+    /// Normals, texture coordinates, colours and materials of the corners, when the file has
+    /// any (OBJ `vt`/`vn`/vertex colours/`usemtl`, PLY `nx ny nz`, `s t`, `red green blue`).
+    pub attributes: Option<Attributes>,
+    /// The materials the file names (OBJ `usemtl` names and `mtllib` files).
+    pub materials: Option<Materials>,
 }
 
 /// What a format parser hands back before validation.
@@ -62,6 +68,14 @@ pub(crate) struct RawMesh {
     pub triangles: Vec<[u32; 3]>,
     /// Per-vertex normals, when the file stores them.
     pub normals: Option<Vec<Vec3>>,
+    /// Per-vertex texture coordinates (PLY `s t`).
+    pub vertex_uvs: Option<Vec<Vec2>>,
+    /// Per-vertex colours (PLY `red green blue [alpha]`).
+    pub vertex_colors: Option<Vec<Vec4>>,
+    /// Per-corner attributes (OBJ), one corner triple per entry of `triangles`.
+    pub attributes: Option<Attributes>,
+    /// Material names and libraries.
+    pub materials: Option<Materials>,
     /// Number of polygons with more than three corners that were split.
     pub polygons: usize,
     /// Number of face records with fewer than three corners that were ignored.
@@ -200,7 +214,20 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
     }
     let vertex_count = raw.positions.len();
     let mut mesh = TriMesh::new(raw.positions, raw.triangles);
-    let dropped = drop_degenerate_and_duplicate_faces_in_place(&mut mesh);
+    let (dropped, kept) = drop_faces_with_mask(&mut mesh);
+    let mut attributes = raw.attributes;
+    if let (Some(a), Some(kept)) = (attributes.as_mut(), kept) {
+        *a = a.select_faces(&kept);
+    }
+    if attributes.is_none()
+        && (raw.normals.is_some() || raw.vertex_uvs.is_some() || raw.vertex_colors.is_some())
+    {
+        let mut a = Attributes::per_vertex(&mesh);
+        a.normals = raw.normals.clone();
+        a.uv0 = raw.vertex_uvs;
+        a.colors = raw.vertex_colors;
+        attributes = Some(a);
+    }
     if dropped.degenerate > 0 {
         warnings.push(MeshWarning::DegenerateFaces {
             count: dropped.degenerate,
@@ -221,6 +248,8 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
         mesh,
         warnings,
         vertex_normals: raw.normals,
+        attributes,
+        materials: raw.materials,
     })
 }
 
@@ -246,6 +275,150 @@ pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, Me
             message: e.to_string(),
         })?,
     })
+}
+
+/// The bytes [`save_with_attributes`] writes for `mesh` with `attributes` in `format`, and what
+/// the format cannot keep (as warnings): OBJ keeps normals, texture coordinates (`uv0`), colours
+/// (per vertex) and materials; PLY keeps normals, `uv0` and colours, one vertex record per wedge
+/// (seams as split vertices, which the weld joins again on loading); STL keeps positions only.
+/// Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the problem.
+pub fn encode_with_attributes(
+    mesh: &TriMesh,
+    attributes: &Attributes,
+    materials: Option<&Materials>,
+    format: Format,
+    path: &Path,
+) -> Result<(Vec<u8>, Vec<MeshWarning>), MeshError> {
+    attributes
+        .validate(mesh)
+        .map_err(|message| MeshError::Write {
+            path: path.to_path_buf(),
+            message: format!("the attributes do not fit the mesh: {message}"),
+        })?;
+    let plain = encode(mesh, format, path)?;
+    let mut warnings = Vec::new();
+    let mut dropped = |names: Vec<&str>, reason: &str| {
+        if !names.is_empty() {
+            warnings.push(MeshWarning::AttributesDropped {
+                attributes: names.join(", "),
+                reason: reason.to_string(),
+            });
+        }
+    };
+    let bytes = match format {
+        Format::Stl => {
+            dropped(attributes.names(), "STL stores positions only");
+            plain
+        }
+        Format::Obj => {
+            let mut not = Vec::new();
+            if attributes.uv1.is_some() {
+                not.push("uv1");
+            }
+            dropped(not, "OBJ has one set of texture coordinates");
+            obj::write_with_attributes(mesh, attributes, materials, &mut warnings)
+        }
+        Format::Ply => {
+            let mut not = Vec::new();
+            if attributes.uv1.is_some() {
+                not.push("uv1");
+            }
+            if attributes.face_material.is_some() {
+                not.push("materials");
+            }
+            dropped(
+                not,
+                "PLY stores one set of texture coordinates and no materials",
+            );
+            ply::write_with_attributes(mesh, attributes)
+        }
+    };
+    Ok((bytes, warnings))
+}
+
+/// [`save`] with attributes ([`encode_with_attributes`]); for OBJ, the material libraries of
+/// `materials` and the texture files they name are copied next to `path` when they are not
+/// there yet (an existing file of that name is left alone). Returns what was not kept or not
+/// copied, as warnings.
+pub fn save_with_attributes(
+    mesh: &TriMesh,
+    attributes: &Attributes,
+    materials: Option<&Materials>,
+    path: &Path,
+) -> Result<Vec<MeshWarning>, MeshError> {
+    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
+    let (bytes, mut warnings) = encode_with_attributes(mesh, attributes, materials, format, path)?;
+    write_atomic(path, &bytes)?;
+    if format == Format::Obj
+        && attributes.face_material.is_some()
+        && let Some(m) = materials
+    {
+        warnings.extend(copy_material_files(m, path));
+    }
+    Ok(warnings)
+}
+
+/// Copies each material library of `materials` and the texture files it names (`map_*`,
+/// `bump`, `disp`, `decal`, `refl`, `norm` lines; paths relative to the library) next to
+/// `output`, keeping their relative paths; files already there are left alone.
+pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
+    let mut warnings = Vec::new();
+    let out_dir = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let mut copy = |from: &Path, to: &Path| {
+        if to.exists() {
+            return;
+        }
+        if let Some(parent) = to.parent()
+            && let Err(e) = std::fs::create_dir_all(parent)
+        {
+            warnings.push(MeshWarning::MaterialFileNotCopied {
+                path: from.to_path_buf(),
+                reason: e.to_string(),
+            });
+            return;
+        }
+        match std::fs::read(from) {
+            Ok(bytes) => {
+                if let Err(e) = write_atomic(to, &bytes) {
+                    warnings.push(MeshWarning::MaterialFileNotCopied {
+                        path: from.to_path_buf(),
+                        reason: e.to_string(),
+                    });
+                }
+            }
+            Err(e) => warnings.push(MeshWarning::MaterialFileNotCopied {
+                path: from.to_path_buf(),
+                reason: e.to_string(),
+            }),
+        }
+    };
+    for library in &materials.libraries {
+        let Some(name) = library.file_name() else {
+            continue;
+        };
+        copy(library, &out_dir.join(name));
+        let lib_dir = library.parent().unwrap_or(Path::new("."));
+        if let Ok(text) = std::fs::read(library) {
+            for texture in obj::mtl_textures(&text) {
+                let relative = Path::new(&texture);
+                // Absolute paths and paths leaving the folder are referenced as they are.
+                if relative.is_absolute()
+                    || relative
+                        .components()
+                        .any(|c| matches!(c, std::path::Component::ParentDir))
+                {
+                    continue;
+                }
+                copy(&lib_dir.join(relative), &out_dir.join(relative));
+            }
+        }
+    }
+    warnings
 }
 
 /// Write `mesh` to `path` (OBJ, binary little-endian PLY or binary STL, by extension).
@@ -437,6 +610,8 @@ fn remove_stale_temporaries(path: &Path) {
     }
 }
 
+#[cfg(test)]
+mod attribute_tests;
 #[cfg(test)]
 mod oracle_tests;
 #[cfg(test)]

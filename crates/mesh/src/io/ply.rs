@@ -1,14 +1,17 @@
 //! Stanford PLY reader (ASCII, binary little- and big-endian) and binary little-endian writer.
 //!
 //! A hand-written reader over the raw bytes: it reads `x y z` (any scalar type), optional
-//! `nx ny nz`, skips any other vertex property (e.g. `uchar red`) and any other element, and
+//! `nx ny nz`, texture coordinates (`s t`, `u v`, `texture_u texture_v`) and colours (`red green
+//! blue [alpha]`, integers scaled to [0, 1]), skips any other vertex property and any other
+//! element with a warning naming them, and
 //! takes the face list property `vertex_indices` / `vertex_index` with any integer count and
 //! index types; polygons are fan-triangulated. Header counts are never trusted for allocation.
 
 use super::RawMesh;
 use crate::TriMesh;
-use crate::error::MeshError;
-use glam::Vec3;
+use crate::attributes::Attributes;
+use crate::error::{MeshError, MeshWarning};
+use glam::{Vec2, Vec3, Vec4};
 use std::path::Path;
 
 /// A PLY scalar type.
@@ -168,6 +171,88 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, MeshError> {
 struct VertexLayout {
     position: [usize; 3],
     normal: Option<[usize; 3]>,
+    /// `s t`, `u v`, `texture_u texture_v` or `texture_s texture_t`.
+    uv: Option<[usize; 2]>,
+    /// `red green blue [alpha]` (alpha 1 when absent) and the factor to [0, 1].
+    color: Option<([usize; 3], Option<usize>, f64)>,
+}
+
+/// The colour factor to [0, 1] for a channel of type `ty`.
+fn color_scale(ty: Scalar) -> f64 {
+    match ty {
+        Scalar::U8 | Scalar::I8 => 1.0 / 255.0,
+        Scalar::U16 | Scalar::I16 => 1.0 / 65535.0,
+        Scalar::U32 | Scalar::I32 => 1.0 / 4294967295.0,
+        Scalar::F32 | Scalar::F64 => 1.0,
+    }
+}
+
+/// The vertex properties this reader reads.
+const VERTEX_PROPERTIES: [&str; 16] = [
+    "x",
+    "y",
+    "z",
+    "nx",
+    "ny",
+    "nz",
+    "s",
+    "t",
+    "u",
+    "v",
+    "texture_u",
+    "texture_v",
+    "red",
+    "green",
+    "blue",
+    "alpha",
+];
+
+/// Warnings for what the header declares and this reader skips: vertex properties it does not
+/// read, face properties other than the index list, other elements.
+fn ignored_data(header: &Header) -> Vec<MeshWarning> {
+    let mut out = Vec::new();
+    let mut seen_vertex = false;
+    for element in &header.elements {
+        let names = |skip: &dyn Fn(&str) -> bool| -> Vec<String> {
+            element
+                .properties
+                .iter()
+                .map(|p| match p {
+                    Property::Scalar(n, _) | Property::List(n, _, _) => n.clone(),
+                })
+                .filter(|n| !skip(n))
+                .collect()
+        };
+        let (what, list) = match element.name.as_str() {
+            "vertex" if !seen_vertex => {
+                seen_vertex = true;
+                (
+                    "vertex",
+                    names(&|n| {
+                        VERTEX_PROPERTIES.contains(&n) || n == "texture_s" || n == "texture_t"
+                    }),
+                )
+            }
+            "face" => (
+                "face",
+                names(&|n| n == "vertex_indices" || n == "vertex_index"),
+            ),
+            _ => {
+                if element.count > 0 {
+                    out.push(MeshWarning::IgnoredData {
+                        what: format!("PLY element {} ({} records)", element.name, element.count),
+                    });
+                }
+                continue;
+            }
+        };
+        if !list.is_empty() && element.count > 0 {
+            out.push(MeshWarning::IgnoredData {
+                what: format!("PLY {what} properties {}", list.join(", ")),
+            });
+        }
+    }
+    out
 }
 
 fn vertex_layout(element: &Element, path: &Path) -> Result<VertexLayout, MeshError> {
@@ -191,7 +276,30 @@ fn vertex_layout(element: &Element, path: &Path) -> Result<VertexLayout, MeshErr
         (Some(x), Some(y), Some(z)) => Some([x, y, z]),
         _ => None,
     };
-    Ok(VertexLayout { position, normal })
+    let uv = [
+        ("s", "t"),
+        ("u", "v"),
+        ("texture_u", "texture_v"),
+        ("texture_s", "texture_t"),
+    ]
+    .iter()
+    .find_map(|(a, b)| Some([find(a)?, find(b)?]));
+    let color = match (find("red"), find("green"), find("blue")) {
+        (Some(r), Some(g), Some(b)) => {
+            let scale = match &element.properties[r] {
+                Property::Scalar(_, ty) => color_scale(*ty),
+                Property::List(..) => 1.0,
+            };
+            Some(([r, g, b], find("alpha"), scale))
+        }
+        _ => None,
+    };
+    Ok(VertexLayout {
+        position,
+        normal,
+        uv,
+        color,
+    })
 }
 
 fn face_list_index(element: &Element) -> Option<usize> {
@@ -204,7 +312,10 @@ fn face_list_index(element: &Element) -> Option<usize> {
 pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
     let header = parse_header(bytes, path)?;
     let body = &bytes[header.body..];
-    let mut raw = RawMesh::default();
+    let mut raw = RawMesh {
+        warnings: ignored_data(&header),
+        ..RawMesh::default()
+    };
     match header.encoding {
         Encoding::Ascii => parse_ascii(&header, body, path, &mut raw)?,
         Encoding::BinaryLe => parse_binary::<false>(&header, body, path, &mut raw)?,
@@ -324,6 +435,22 @@ fn parse_ascii(
                             values[c] as f32,
                         ));
                     }
+                    if let Some([s, t]) = layout.uv {
+                        raw.vertex_uvs
+                            .get_or_insert_with(Vec::new)
+                            .push(Vec2::new(values[s] as f32, values[t] as f32));
+                    }
+                    if let Some(([r, g, b], alpha, scale)) = layout.color {
+                        let a = alpha.map_or(1.0, |a| values[a] * scale);
+                        raw.vertex_colors
+                            .get_or_insert_with(Vec::new)
+                            .push(Vec4::new(
+                                (values[r] * scale) as f32,
+                                (values[g] * scale) as f32,
+                                (values[b] * scale) as f32,
+                                a as f32,
+                            ));
+                    }
                 }
                 Role::Face(_) => raw.push_polygon(&poly),
                 Role::Other => {}
@@ -433,6 +560,42 @@ fn parse_binary<const BE: bool>(
                     }
                 }
                 raw.normals = normals;
+                // Texture coordinates and colours, when present, in their own loops (the
+                // positions' loop stays as it was for the files without them).
+                if let Some(uv) = layout.uv {
+                    let [s, t] = uv.map(|i| offsets[i]);
+                    raw.vertex_uvs = Some(
+                        (0..element.count)
+                            .map(|r| {
+                                let base = r * stride;
+                                let get = |(o, ty): (usize, Scalar)| {
+                                    read_scalar::<BE>(data, base + o, ty) as f32
+                                };
+                                Vec2::new(get(s), get(t))
+                            })
+                            .collect(),
+                    );
+                }
+                if let Some((rgb, alpha, scale)) = layout.color {
+                    let rgb = rgb.map(|i| offsets[i]);
+                    let alpha = alpha.map(|i| offsets[i]);
+                    raw.vertex_colors = Some(
+                        (0..element.count)
+                            .map(|r| {
+                                let base = r * stride;
+                                let get = |(o, ty): (usize, Scalar)| {
+                                    (read_scalar::<BE>(data, base + o, ty) * scale) as f32
+                                };
+                                Vec4::new(
+                                    get(rgb[0]),
+                                    get(rgb[1]),
+                                    get(rgb[2]),
+                                    alpha.map_or(1.0, get),
+                                )
+                            })
+                            .collect(),
+                    );
+                }
                 at += need;
             }
             (Role::Other, Some(offsets)) => {
@@ -536,6 +699,62 @@ pub(crate) fn write(mesh: &TriMesh) -> Vec<u8> {
         out.push(3);
         for &i in t {
             out.extend_from_slice(&(i as i32).to_le_bytes());
+        }
+    }
+    out
+}
+
+/// Binary little-endian PLY for `mesh` with `attributes` (checked to fit): one vertex record per
+/// wedge (`float x y z`, then `float nx ny nz`, `float s t`, `uchar red green blue alpha` as
+/// present) and the corners as faces, so a seam is two vertex records at one position.
+pub(crate) fn write_with_attributes(mesh: &TriMesh, attributes: &Attributes) -> Vec<u8> {
+    let mut header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment written by gng3d\n\
+         element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
+        attributes.wedge_count()
+    );
+    if attributes.normals.is_some() {
+        header.push_str("property float nx\nproperty float ny\nproperty float nz\n");
+    }
+    if attributes.uv0.is_some() {
+        header.push_str("property float s\nproperty float t\n");
+    }
+    if attributes.colors.is_some() {
+        header.push_str(
+            "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n",
+        );
+    }
+    header.push_str(&format!(
+        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        attributes.corners.len()
+    ));
+    let mut out = Vec::with_capacity(
+        header.len() + attributes.wedge_count() * 36 + attributes.corners.len() * 13,
+    );
+    out.extend_from_slice(header.as_bytes());
+    let floats = |out: &mut Vec<u8>, values: &[f32]| {
+        for c in values {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    };
+    for (w, &v) in attributes.wedge_vertex.iter().enumerate() {
+        floats(&mut out, &mesh.positions[v as usize].to_array());
+        if let Some(n) = &attributes.normals {
+            floats(&mut out, &n[w].to_array());
+        }
+        if let Some(uv) = &attributes.uv0 {
+            floats(&mut out, &uv[w].to_array());
+        }
+        if let Some(colors) = &attributes.colors {
+            for c in colors[w].to_array() {
+                out.push((c.clamp(0.0, 1.0) * 255.0).round() as u8);
+            }
+        }
+    }
+    for c in &attributes.corners {
+        out.push(3);
+        for &w in c {
+            out.extend_from_slice(&(w as i32).to_le_bytes());
         }
     }
     out

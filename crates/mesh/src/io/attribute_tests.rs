@@ -1,0 +1,257 @@
+//! Attributes through the readers and writers: round trips, materials, warnings, errors.
+
+use super::*;
+use crate::attributes::Attributes;
+use crate::procedural::textured_sphere;
+use std::fs;
+
+/// The values of every corner (uv0, normal, colour) in triangle order, for comparing two
+/// attribute sets of the same triangles whatever their wedge numbering.
+fn corner_values(a: &Attributes) -> Vec<[f32; 9]> {
+    let mut out = Vec::new();
+    for c in &a.corners {
+        for &w in c {
+            let w = w as usize;
+            let uv = a.uv0.as_ref().map_or(Vec2::ZERO, |v| v[w]);
+            let n = a.normals.as_ref().map_or(Vec3::ZERO, |v| v[w]);
+            let col = a.colors.as_ref().map_or(Vec4::ZERO, |v| v[w]);
+            out.push([uv.x, uv.y, n.x, n.y, n.z, col.x, col.y, col.z, col.w]);
+        }
+    }
+    out
+}
+
+fn assert_values_close(a: &Attributes, b: &Attributes, tol: f32) {
+    let (va, vb) = (corner_values(a), corner_values(b));
+    assert_eq!(va.len(), vb.len());
+    for (i, (x, y)) in va.iter().zip(&vb).enumerate() {
+        for k in 0..9 {
+            assert!(
+                (x[k] - y[k]).abs() <= tol,
+                "corner {i} value {k}: {x:?} vs {y:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn obj_round_trip_keeps_uvs_normals_and_seams() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, attributes) = textured_sphere(8, 16);
+    let path = dir.path().join("sphere.obj");
+    let warnings = save_with_attributes(&mesh, &attributes, None, &path).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let back = load(&path).unwrap();
+    assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+    assert_eq!(back.mesh, mesh);
+    let a = back.attributes.expect("attributes read back");
+    a.validate(&back.mesh).unwrap();
+    assert_eq!(a.names(), vec!["normals", "uv0"]);
+    assert_eq!(a.wedge_count(), attributes.wedge_count());
+    assert_values_close(&a, &attributes, 0.0);
+    assert_eq!(a.seam_edges(&back.mesh), attributes.seam_edges(&mesh));
+    // Saved again and read again: the same bytes (wedges are numbered by first use).
+    let again = dir.path().join("again.obj");
+    save_with_attributes(&back.mesh, &a, None, &again).unwrap();
+    let third = dir.path().join("third.obj");
+    let reread = load(&again).unwrap();
+    let ra = reread.attributes.unwrap();
+    assert_values_close(&ra, &attributes, 0.0);
+    save_with_attributes(&reread.mesh, &ra, None, &third).unwrap();
+    assert!(fs::read(&third).unwrap() == fs::read(&again).unwrap());
+}
+
+#[test]
+fn ply_round_trip_keeps_normals_uvs_and_colours() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, mut attributes) = textured_sphere(6, 12);
+    let w = attributes.wedge_count();
+    // Colours that survive 8-bit storage exactly.
+    attributes.colors = Some(
+        (0..w)
+            .map(|i| {
+                let k = |j: usize| ((i * 37 + j * 11) % 256) as f64 / 255.0;
+                Vec4::new(k(0) as f32, k(1) as f32, k(2) as f32, 1.0)
+            })
+            .collect(),
+    );
+    let path = dir.path().join("sphere.ply");
+    assert!(
+        save_with_attributes(&mesh, &attributes, None, &path)
+            .unwrap()
+            .is_empty()
+    );
+    let back = load(&path).unwrap();
+    assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+    // One vertex record per wedge: the seam is split in the file ...
+    assert_eq!(back.mesh.vertex_count(), w);
+    let a = back.attributes.unwrap();
+    assert_eq!(a.names(), vec!["normals", "uv0", "colors"]);
+    assert_values_close(&a, &attributes, 1e-6);
+    // ... and the weld joins it again: the sphere's vertices, the same seams.
+    let (welded, wa, report) = crate::clean::prepare_with_attributes(&back.mesh, &a);
+    assert_eq!(welded.vertex_count(), mesh.vertex_count());
+    assert_eq!(report.faces, mesh.face_count());
+    wa.validate(&welded).unwrap();
+    assert_eq!(wa.wedge_count(), attributes.wedge_count());
+    assert_eq!(
+        wa.seam_edges(&welded).len(),
+        attributes.seam_edges(&mesh).len()
+    );
+    assert_values_close(&wa, &attributes, 1e-6);
+}
+
+#[test]
+fn obj_materials_are_read_written_and_copied() {
+    let src = tempfile::tempdir().unwrap();
+    fs::create_dir(src.path().join("tex")).unwrap();
+    fs::write(src.path().join("tex/wood.png"), b"not really a png").unwrap();
+    fs::write(
+        src.path().join("box.mtl"),
+        "newmtl wood\nKd 1 1 1\nmap_Kd -bm 1 tex/wood.png\nnewmtl red\nKd 1 0 0\n",
+    )
+    .unwrap();
+    let obj = "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+               usemtl wood\nf 1/1 2/2 3/3\nusemtl red\nf 1/1 3/3 4/4\n";
+    let path = src.path().join("box.obj");
+    fs::write(&path, obj).unwrap();
+    let loaded = load(&path).unwrap();
+    let materials = loaded.materials.clone().unwrap();
+    assert_eq!(materials.names, vec!["wood", "red"]);
+    assert_eq!(materials.libraries, vec![src.path().join("box.mtl")]);
+    let a = loaded.attributes.clone().unwrap();
+    assert_eq!(a.face_material, Some(vec![0, 1]));
+    assert_eq!(a.seam_edges(&loaded.mesh), vec![[0, 2]]);
+
+    let out = tempfile::tempdir().unwrap();
+    let to = out.path().join("copy.obj");
+    let warnings = save_with_attributes(&loaded.mesh, &a, Some(&materials), &to).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(
+        fs::read(out.path().join("box.mtl")).unwrap(),
+        fs::read(src.path().join("box.mtl")).unwrap()
+    );
+    assert_eq!(
+        fs::read(out.path().join("tex/wood.png")).unwrap(),
+        b"not really a png"
+    );
+    let back = load(&to).unwrap();
+    assert_eq!(back.materials.unwrap().names, vec!["wood", "red"]);
+    assert_eq!(back.attributes.unwrap().face_material, Some(vec![0, 1]));
+
+    // A library that is gone: the mesh is written, the copy is a warning naming the file.
+    fs::remove_file(src.path().join("box.mtl")).unwrap();
+    let out2 = tempfile::tempdir().unwrap();
+    let warnings = save_with_attributes(
+        &loaded.mesh,
+        &a,
+        Some(&materials),
+        &out2.path().join("c.obj"),
+    )
+    .unwrap();
+    assert!(
+        matches!(&warnings[..], [MeshWarning::MaterialFileNotCopied { path, .. }] if path.ends_with("box.mtl"))
+    );
+}
+
+#[test]
+fn unread_data_and_missing_corners_are_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+               property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n\
+               property float quality\nelement face 1\nproperty list uchar int vertex_indices\n\
+               property uchar flags\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n\
+               0 0 0 255 0 0 1\n1 0 0 0 255 0 1\n0 1 0 0 0 255 1\n3 0 1 2 7\n0 1\n";
+    let loaded = load(&write(dir.path(), "c.ply", ply.as_bytes())).unwrap();
+    let text: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        text,
+        vec![
+            "ignored PLY vertex properties quality (not read, not written to any output)",
+            "ignored PLY face properties flags (not read, not written to any output)",
+            "ignored PLY element edge (1 records) (not read, not written to any output)",
+        ]
+    );
+    let colors = loaded.attributes.unwrap().colors.unwrap();
+    assert_eq!(colors[1], Vec4::new(0.0, 1.0, 0.0, 1.0));
+
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvp 0.5\nf 1/1 2/1 3/1\nf 2 4 3\n";
+    let loaded = load(&write(dir.path(), "m.obj", obj.as_bytes())).unwrap();
+    assert!(
+        loaded
+            .warnings
+            .contains(&MeshWarning::MissingCornerAttribute {
+                attribute: "uv0".into(),
+                count: 3
+            })
+    );
+    assert!(
+        loaded
+            .warnings
+            .iter()
+            .any(|w| w.to_string().contains("1 OBJ vp"))
+    );
+
+    // Vertex colours in OBJ `v x y z r g b` (per vertex, no seams).
+    let obj = "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n";
+    let loaded = load(&write(dir.path(), "col.obj", obj.as_bytes())).unwrap();
+    assert!(loaded.warnings.is_empty());
+    let a = loaded.attributes.unwrap();
+    assert_eq!(a.colors.as_ref().unwrap()[2], Vec4::new(0.0, 0.0, 1.0, 1.0));
+    // STL keeps none of it: a warning says so.
+    let (_, warnings) =
+        encode_with_attributes(&loaded.mesh, &a, None, Format::Stl, Path::new("x.stl")).unwrap();
+    assert_eq!(
+        warnings[0].to_string(),
+        "dropped colors: STL stores positions only"
+    );
+}
+
+#[test]
+fn bad_attribute_references_name_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n";
+    let err = load(&write(dir.path(), "bad.obj", obj.as_bytes())).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "{}: parse error at line 5: face refers to texture coordinate 2, but 1 are defined before it",
+            dir.path().join("bad.obj").display()
+        )
+    );
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0\nf 1 2 3\n";
+    let err = load(&write(dir.path(), "n.obj", obj.as_bytes())).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("line 4: vertex normal needs 3 values")
+    );
+    // Attributes that do not fit the mesh are a write error, not a panic.
+    let (mesh, mut a) = textured_sphere(3, 4);
+    a.corners.pop();
+    let err = save_with_attributes(&mesh, &a, None, &dir.path().join("x.obj")).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("the attributes do not fit the mesh")
+    );
+}
+
+#[test]
+fn spot_loads_with_its_texture_coordinates() {
+    let Some(dir) = crate::fixtures::shared_meshes_dir("spot.obj") else {
+        return;
+    };
+    let loaded = load(&dir.join("spot.obj")).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let a = loaded.attributes.unwrap();
+    a.validate(&loaded.mesh).unwrap();
+    assert_eq!(a.names(), vec!["uv0"]);
+    assert_eq!(loaded.mesh.vertex_count(), 2930);
+    assert!(a.wedge_count() >= 3225, "{} wedges", a.wedge_count());
+    assert!(!a.seam_edges(&loaded.mesh).is_empty());
+}
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let p = dir.join(name);
+    fs::write(&p, bytes).unwrap();
+    p
+}
