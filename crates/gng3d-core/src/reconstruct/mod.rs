@@ -288,7 +288,8 @@ impl OriginalTables {
     }
 }
 
-/// Vertex adjacency of a mesh (CSR) from its triangle edges; duplicates are harmless.
+/// Vertex adjacency of a mesh (CSR): each vertex's neighbours through its faces
+/// ([`mesh::topology::VertexFaces`]); duplicates are harmless.
 #[derive(Debug, Clone)]
 pub(crate) struct VertexAdjacency {
     pub offset: Vec<usize>,
@@ -297,26 +298,15 @@ pub(crate) struct VertexAdjacency {
 
 impl VertexAdjacency {
     fn of(original: &TriMesh) -> VertexAdjacency {
-        let n = original.positions.len();
-        let mut degree = vec![0u32; n + 1];
-        for t in &original.triangles {
-            for &v in t {
-                degree[v as usize] += 2;
-            }
-        }
-        let mut offset = vec![0usize; n + 1];
-        for v in 0..n {
-            offset[v + 1] = offset[v] + degree[v] as usize;
-        }
-        let mut fill = offset.clone();
-        let mut nbrs = vec![0u32; offset[n]];
-        for t in &original.triangles {
-            for k in 0..3 {
-                let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-                for w in [b, c] {
-                    nbrs[fill[a as usize]] = w;
-                    fill[a as usize] += 1;
-                }
+        // Each face's other two corners, in corner order, around each vertex's faces.
+        let faces = mesh::topology::VertexFaces::new(&original.triangles, original.positions.len());
+        let offset: Vec<usize> = faces.start.iter().map(|&s| 2 * s as usize).collect();
+        let mut nbrs = Vec::with_capacity(2 * faces.faces.len());
+        for v in 0..faces.len() {
+            for &f in faces.of(v) {
+                let t = original.triangles[f as usize];
+                let k = t.iter().position(|&u| u as usize == v).unwrap_or(0);
+                nbrs.extend([t[(k + 1) % 3], t[(k + 2) % 3]]);
             }
         }
         VertexAdjacency { offset, nbrs }
