@@ -66,19 +66,24 @@ pub struct Panels {
     pub help: bool,
     /// Which of the plot columns are shown: vertex errors, E_sur, Hausdorff, table.
     pub columns: [bool; 4],
+    /// The window with every checkpoint of the run.
+    pub history: bool,
 }
 
 impl Panels {
-    /// Panels for a window `width` points wide: below 1100 points the parameter panel starts
-    /// closed, so the viewports keep at least half of the window (issue 13: down to 800×600).
+    /// Panels for a window `width` points wide: below 1350 points the parameter panel starts
+    /// closed (C opens it), so the viewports keep at least half of the window (issue 13: down
+    /// to 800×600) and the plots panel still has the height Table 1 and the plots need (issue
+    /// 37: at 1280×720 the open panel left the plots 92 points).
     pub fn for_width(width: f32) -> Panels {
         Panels {
-            controls: width >= 1100.0,
+            controls: width >= 1350.0,
             plots: true,
             steps: true,
             step_details: false,
             help: false,
             columns: [true; 4],
+            history: false,
         }
     }
 }
@@ -101,6 +106,8 @@ pub struct ViewerApp {
     pub(crate) automation: Automation,
     /// Screen rectangles of the two viewports in the last frame (GNG3D, QEM), in points.
     pub viewport_rects: [Option<egui::Rect>; 2],
+    /// Where Table 1 was laid out in the last frame (`None`: not shown).
+    pub table_layout: Option<crate::plots::TableLayout>,
     /// Height of the step strip in the last frame, points (the plots' height cap counts it).
     pub(crate) strip_height: f32,
     /// The model the camera was last framed on (re-framed when the session replaces it).
@@ -132,6 +139,7 @@ impl ViewerApp {
             started: Instant::now(),
             automation: Automation::default(),
             viewport_rects: [None, None],
+            table_layout: None,
             strip_height: crate::panels::STRIP_HEIGHT_GUESS,
             framed: None,
             automation_ctx: Some(ctx.clone()),
@@ -305,15 +313,16 @@ impl ViewerApp {
         let session = &self.session;
         let snapshot = &session.live().snapshot;
         let state = session.training_state().label();
+        let method = crate::engine::Method::of(session.applied_params()).name();
         let left = match session.reconstruction() {
             Some(m) => format!(
-                "GNG3D — {} nodes ({state}) · mesh {} V / {} F",
+                "{method} — {} nodes ({state}) · mesh {} V / {} F",
                 snapshot.positions.len(),
                 m.vertex_count(),
                 m.face_count()
             ),
             None => format!(
-                "GNG3D — {} nodes, {} edges ({state})",
+                "{method} — {} nodes, {} edges ({state})",
                 snapshot.positions.len(),
                 snapshot.edges.len()
             ),
@@ -335,14 +344,48 @@ impl ViewerApp {
             (None, false, Some(e)) => format!("QEM failed: {e} (original shown)"),
             (None, false, None) => "QEM".into(),
         };
+        let mut left_end = rects[0].min.x;
         for (rect, text) in rects.iter().zip([left, right]) {
-            painter.text(
+            let drawn = painter.text(
                 rect.min + egui::vec2(8.0, 6.0),
                 egui::Align2::LEFT_TOP,
                 text,
                 font.clone(),
                 Color32::from_gray(230),
             );
+            if left_end == rects[0].min.x {
+                left_end = drawn.max.x;
+            }
+        }
+        self.method_switch(ui, rects[0], left_end);
+    }
+
+    /// A one-click switch between the paper's GNG3D and GNG3D-Q under the left view's title:
+    /// sets the method's parameters and restarts the run with them (issue 37).
+    fn method_switch(&mut self, ui: &mut egui::Ui, view: egui::Rect, _title_end: f32) {
+        use crate::engine::Method;
+        let current = Method::of(self.session.applied_params());
+        let (other, text) = match current {
+            Method::Q => (Method::Paper, "Switch to the paper's GNG3D"),
+            Method::Paper | Method::Custom => (Method::Q, "Switch to GNG3D-Q"),
+        };
+        let at = egui::Rect::from_min_size(
+            view.min + egui::vec2(8.0, 26.0),
+            egui::vec2(view.width() - 16.0, 22.0),
+        );
+        let clicked = ui
+            .scope_builder(egui::UiBuilder::new().max_rect(at), |ui| {
+                ui.button(text)
+                    .on_hover_text(
+                        "GNG3D-Q: quadric placement, flips, refit, oversampled and decimated \
+                         (the library's default). Paper: vertices at the nodes, 30 epochs. \
+                         Restarts the run.",
+                    )
+                    .clicked()
+            })
+            .inner;
+        if clicked {
+            self.session.switch_method(other);
         }
     }
 

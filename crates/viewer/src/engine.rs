@@ -49,6 +49,60 @@ pub fn placement_label(placement: gng3d_core::Placement) -> &'static str {
         .map_or("?", |(_, l)| l)
 }
 
+/// Which method a run's parameters train: the paper's GNG3D, GNG3D-Q (the library's default),
+/// or neither (steps switched one by one in the panel).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// GNG3D as published: nodes are the vertices, no flips, refit, relaxation or repair, a
+    /// budget of 30 epochs (`GngParams::paper`, `gng3d compare --paper`).
+    Paper,
+    /// GNG3D-Q: the library's and the CLI's default (`gng3d simplify --method gng`).
+    Q,
+    /// Steps switched by hand: neither of the two.
+    Custom,
+}
+
+impl Method {
+    /// The method of `params`.
+    pub fn of(params: &TrainParams) -> Method {
+        let defaults = gng3d_core::GngParams::default();
+        if params.reconstruction == gng3d_core::ReconstructionParams::paper()
+            && params.epochs == Some(gng3d_core::tuning::PAPER_EPOCHS)
+        {
+            Method::Paper
+        } else if params.reconstruction == defaults.reconstruction && params.epochs.is_none() {
+            Method::Q
+        } else {
+            Method::Custom
+        }
+    }
+
+    /// Its name in titles and legends.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Paper => "GNG3D (paper)",
+            Method::Q => "GNG3D-Q",
+            Method::Custom => "GNG3D (custom)",
+        }
+    }
+
+    /// `params` switched to `self` (`Custom` leaves them as they are). A budget the user set
+    /// (`--max-signals`) wins over the paper's 30 epochs, as on the CLI.
+    pub fn apply(self, params: &mut TrainParams) {
+        match self {
+            Method::Paper => {
+                params.reconstruction = gng3d_core::ReconstructionParams::paper();
+                params.epochs = Some(gng3d_core::tuning::PAPER_EPOCHS);
+            }
+            Method::Q => {
+                params.reconstruction = gng3d_core::GngParams::default().reconstruction;
+                params.epochs = None;
+            }
+            Method::Custom => {}
+        }
+    }
+}
+
 /// Default parameters for `target_vertices` nodes.
 pub fn default_params(target_vertices: usize) -> TrainParams {
     TrainParams::for_target(target_vertices)
@@ -155,6 +209,18 @@ impl Engine {
     /// The run's time limit and its training limit, when it has a limit.
     pub fn limits(&self) -> Option<(std::time::Duration, std::time::Duration)> {
         self.time_limit().zip(self.training_limit())
+    }
+
+    /// Signals after which the network holds its nodes: λ × the node target (one insertion
+    /// every λ signals from a pair of nodes per part), at most the budget.
+    pub fn growth_signals(&self) -> u64 {
+        let lambda = self.trainer.stats().lambda.max(1);
+        (lambda.saturating_mul(self.trainer.node_target() as u64)).min(self.max_signals())
+    }
+
+    /// Nodes the network holds now, and the nodes it aims for.
+    pub fn nodes(&self) -> (usize, usize) {
+        (self.trainer.node_count(), self.trainer.node_target())
     }
 
     /// Whether the network holds the nodes it aims for (growth is over).
@@ -290,8 +356,11 @@ pub struct Evaluation {
     /// The paper's E_sur, signed like the CLI's: Area(original) − Area(simplified), squared
     /// model units (positive: the simplified mesh lost area).
     pub e_sur: f64,
-    /// Symmetric Hausdorff distance, model units (`None` when it could not be computed).
+    /// Symmetric Hausdorff distance (the larger of the two one-sided maxima), model units
+    /// (`None` when it could not be computed).
     pub hausdorff: Option<f64>,
+    /// Mean surface distance (Metro's mean of the two directions), model units.
+    pub hausdorff_mean: Option<f64>,
     /// Median over triangles of the smallest interior angle, degrees (60 = all equilateral).
     pub median_min_angle_degrees: f64,
     /// Share of triangles whose smallest angle is under 20°, 0–1.
@@ -308,6 +377,7 @@ impl Evaluation {
             e_max: e.e_max,
             e_sur: e.e_sur_signed,
             hausdorff: Some(e.hausdorff.max),
+            hausdorff_mean: Some(e.hausdorff.mean),
             median_min_angle_degrees: e.quality.simplified.median_min_angle_degrees,
             below_20_degrees: e.quality.simplified.below_20_degrees,
         }

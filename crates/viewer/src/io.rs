@@ -277,4 +277,21 @@ mod tests {
             .to_string();
         assert!(err.contains("/nonexistent-dir/x/shot.png"), "{err}");
     }
+
+    /// The in-app picker (egui_file 0.29) labels its title, buttons and entries with these
+    /// characters; each must have a glyph in the fonts the viewer bundles, not the missing-glyph
+    /// box (issue 37).
+    #[test]
+    fn the_fallback_pickers_icons_have_glyphs() {
+        let ctx = egui::Context::default();
+        let mut output = ctx.run_ui(egui::RawInput::default(), |_| {});
+        output.textures_delta.clear();
+        let missing: Vec<char> = "📁📂💾⬆⟲🗀🗋"
+            .chars()
+            .filter(|&c| {
+                !ctx.fonts_mut(|fonts| fonts.has_glyph(&egui::FontId::proportional(14.0), c))
+            })
+            .collect();
+        assert!(missing.is_empty(), "no glyph for {missing:?}");
+    }
 }

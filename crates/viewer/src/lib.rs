@@ -27,14 +27,16 @@ pub use app::ViewerApp;
 pub use error::ViewerError;
 pub use session::{Session, ViewerOptions};
 
-/// Train without a window for `options.quit_after` seconds (default 5) on the same worker thread
-/// the viewer uses, at full speed, and return a one-line summary with the mean signals/s (the
-/// headless baseline for the viewer's throughput target). Options are validated by the same
-/// [`session::train_params`] as in the window.
+/// Train without a window, at full speed, on the same worker thread and with the same defaults
+/// as the window (the vertex target of [`session::default_target`], a checkpoint every |V|
+/// signals), until the run's final mesh is built, or for `options.quit_after` seconds when
+/// given; return a one-line summary with the mean signals/s (the headless baseline for the
+/// viewer's throughput target). Options are validated by the same [`session::train_params`] as
+/// in the window.
 pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     use std::sync::Arc;
     use std::time::{Duration, Instant};
-    let params = session::train_params(options)?;
+    let mut params = session::train_params(options)?;
     let (name, mesh) = match &options.path {
         Some(path) => {
             let loaded = engine::load_mesh(path)?;
@@ -42,24 +44,42 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
         }
         None => engine::default_model(),
     };
+    let vertices = mesh.vertex_count();
+    if options.target.is_none() {
+        params.target_vertices = session::default_target(vertices);
+    }
+    let target = params.target_vertices;
     let trainer = worker::Trainer::spawn();
     trainer.send(worker::Command::Reset(Box::new(worker::TrainingJob {
         mesh: Arc::new(mesh),
         params,
-        checkpoint_every: None,
+        checkpoint_every: match options.checkpoint_every {
+            Some(0) => None,
+            Some(every) => Some(every),
+            None => Some(vertices as u64),
+        },
         autoplay: true,
     })));
-    let seconds = options.quit_after.unwrap_or(5.0);
+    let limit = options.quit_after.map(Duration::from_secs_f64);
     let start = Instant::now();
     let mut rates = Vec::new();
     let mut live = trainer.live();
-    while start.elapsed().as_secs_f64() < seconds {
+    let mut run_seconds = None;
+    let mut mesh_vertices = None;
+    while limit.is_none_or(|l| start.elapsed() < l) && mesh_vertices.is_none() {
         std::thread::sleep(Duration::from_millis(16));
         // A run that cannot start (a target above the vertex count) is an error, not a
         // summary of zero nodes with exit 0.
         for event in trainer.drain_events() {
-            if let worker::Event::Failed { message, .. } = event {
-                return Err(error::ViewerError::Gng(message));
+            match event {
+                worker::Event::Failed { message, .. } => {
+                    return Err(error::ViewerError::Gng(message));
+                }
+                worker::Event::PipelineDone { run_seconds: s, .. } => run_seconds = Some(s),
+                worker::Event::Reconstructed { mesh, .. } if run_seconds.is_some() => {
+                    mesh_vertices = Some(mesh.vertex_count());
+                }
+                _ => {}
             }
         }
         live = trainer.live();
@@ -75,11 +95,15 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     } else {
         0.0
     };
+    let shown = |v: Option<String>| v.unwrap_or_else(|| "none".into());
     Ok(format!(
-        "headless stats: model={name} nodes={} signals={} mean_signals_per_s={mean:.0} train_s={:.2}",
+        "headless stats: model={name} target={target} nodes={} signals={} \
+         mean_signals_per_s={mean:.0} train_s={:.2} run_s={} mesh_vertices={}",
         live.snapshot.positions.len(),
         live.snapshot.signals,
-        live.train_seconds
+        live.train_seconds,
+        shown(run_seconds.map(|s| format!("{s:.2}"))),
+        shown(mesh_vertices.map(|v| v.to_string())),
     ))
 }
 

@@ -13,9 +13,9 @@ struct Args {
     /// Vertex target for GNG3D and QEM.
     #[arg(long)]
     target: Option<usize>,
-    /// GNG3D maximum running time in seconds (training and the steps after it). A watched run's
-    /// time limit is its watch time unless this is shorter.
-    #[arg(long)]
+    /// GNG3D maximum running time in seconds (training and the steps after it), > 0.
+    // Negative numbers reach the option's own check ("-1" is not taken for a flag).
+    #[arg(long, value_name = "SECS", allow_negative_numbers = true)]
     time_limit: Option<f64>,
     /// Seed of the training signals.
     #[arg(long)]
@@ -29,21 +29,23 @@ struct Args {
     /// Length of the watched run in seconds, training and the steps after it: the signal budget
     /// is spread over the training's share so the network visibly grows (default 12; 0 = as fast
     /// as possible).
-    #[arg(long, value_name = "SECS")]
+    #[arg(long, value_name = "SECS", allow_negative_numbers = true)]
     watch: Option<f64>,
     /// Reconstruct and measure the neural mesh every N signals (default |V|, the paper's
     /// protocol; 0 = only at the end).
     #[arg(long, value_name = "N")]
     checkpoint_every: Option<u64>,
-    /// Train without a window for --quit-after seconds at full speed and print the throughput
-    /// (baseline).
+    /// Train without a window, at full speed, with the window's defaults (target, budget,
+    /// checkpoints), until the run's final mesh is built or --quit-after SECS have passed; then
+    /// print one line: nodes, signals, mean signals/s, training and run seconds (the throughput
+    /// baseline).
     #[arg(long)]
     headless: bool,
     /// Start with training paused.
     #[arg(long)]
     paused: bool,
-    /// Close the window after this many seconds (for automation).
-    #[arg(long, value_name = "SECS")]
+    /// Close the window (or end --headless) after this many seconds (for automation).
+    #[arg(long, value_name = "SECS", allow_negative_numbers = true)]
     quit_after: Option<f64>,
     /// Save a PNG screenshot of the window just before quitting (with --quit-after).
     #[arg(long, value_name = "PATH")]
@@ -84,8 +86,30 @@ fn share_cores_with_software_rasterizer() {
     unsafe { std::env::set_var("LP_NUM_THREADS", cores.saturating_sub(1).max(1).to_string()) };
 }
 
+/// On an X display with no usable Wayland session (no `WAYLAND_DISPLAY`, no valid
+/// `XDG_RUNTIME_DIR`: Xvfb, ssh -X, CI), Mesa's Vulkan device-select layer still tries a Wayland
+/// connection to find the default GPU, and libwayland prints "error: XDG_RUNTIME_DIR is invalid
+/// or not set in the environment." four times per start (issue 37). There is no Wayland
+/// compositor to ask, so the layer is switched off (`NODEVICE_SELECT=1`, Mesa's own switch);
+/// wgpu still chooses the adapter. A user's own setting wins.
+fn quiet_wayland_probe_on_x11() {
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    let runtime_dir_valid =
+        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if set("DISPLAY")
+        && !set("WAYLAND_DISPLAY")
+        && !set("WAYLAND_SOCKET")
+        && !runtime_dir_valid
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+    {
+        // SAFETY: called first thing in `main`, before any other thread exists.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
+}
+
 fn main() {
     share_cores_with_software_rasterizer();
+    quiet_wayland_probe_on_x11();
     let args = Args::parse();
     let options = viewer::ViewerOptions {
         path: args.mesh,

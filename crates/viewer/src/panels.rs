@@ -14,6 +14,9 @@ use std::time::Duration;
 
 /// Smallest useful height of the plots panel, points (a plot with its axis labels and legend).
 pub const PLOTS_MIN_HEIGHT: f32 = 120.0;
+/// Height the plots panel starts with at least, when the viewports' share allows it: its
+/// button row and Table 1's nine rows (issue 37: the whole table without scrolling).
+pub const PLOTS_WANTED_HEIGHT: f32 = 190.0;
 /// Share of the window the viewports keep at least (issue 13).
 pub const VIEWPORT_AREA_SHARE: f32 = 0.5;
 /// Width at which a plot column stops being readable; narrower windows scroll the row.
@@ -25,7 +28,8 @@ pub const STRIP_HEIGHT_GUESS: f32 = 36.0;
 /// `rest` is the space left after the menu, status and parameter panels:
 /// `rest.x × (rest.y − h) ≥ share × window.x × window.y`. Never below [`PLOTS_MIN_HEIGHT`].
 pub fn plots_max_height(window: egui::Vec2, rest: egui::Vec2) -> f32 {
-    let needed = VIEWPORT_AREA_SHARE * window.x * window.y / rest.x.max(1.0);
+    // A point of slack: the panel is laid out before the viewports know their exact margins.
+    let needed = VIEWPORT_AREA_SHARE * window.x * window.y / rest.x.max(1.0) + 4.0;
     (rest.y - needed).max(PLOTS_MIN_HEIGHT)
 }
 
@@ -77,7 +81,11 @@ impl ViewerApp {
             egui::Panel::bottom("plots")
                 .frame(bar)
                 .resizable(true)
-                .default_size((0.32 * window.height()).clamp(PLOTS_MIN_HEIGHT, max))
+                .default_size(
+                    (0.32 * window.height())
+                        .max(PLOTS_WANTED_HEIGHT)
+                        .clamp(PLOTS_MIN_HEIGHT, max),
+                )
                 .size_range(PLOTS_MIN_HEIGHT..=max)
                 .show(ui, |ui| self.plots(ui));
         }
@@ -92,6 +100,18 @@ impl ViewerApp {
                     self.panels_mut().step_details = details;
                 });
             self.strip_height = strip.response.rect.height();
+        }
+        if panels.history {
+            let mut open = true;
+            egui::Window::new("All checkpoints (Table 1 history)")
+                .open(&mut open)
+                .default_size([900.0, 300.0])
+                .show(ui.ctx(), |ui| {
+                    plots::history_table(ui, &self.session.history)
+                });
+            if !open {
+                self.panels_mut().history = false;
+            }
         }
         if panels.step_details {
             let clock = self.session.training_clock();
@@ -478,8 +498,10 @@ impl ViewerApp {
             .labelled_by(label.id)
             .on_hover_text(
                 "the whole run (training, then the steps after it) takes about this wall time: \
-                 from the next Reset it is the run's time limit unless a shorter one is set; \
-                 the training's pace applies at once",
+                 the training is paced to end where the steps have their estimated time left, \
+                 the network growing over its first 60 %; a machine too busy to keep the pace \
+                 takes a little longer, and only a run past twice this time leaves steps out \
+                 (applies from the next Reset; the training's pace applies at once)",
             );
             speed = if fast {
                 Speed::Unlimited
@@ -488,6 +510,21 @@ impl ViewerApp {
             };
         });
         self.session.set_speed(speed);
+        // A mesh whose steps alone need more than the run length: say what it will take.
+        if let (Speed::Paced { seconds }, Some(limit)) = (speed, self.session.steps.limit)
+            && limit.is_watch_time
+        {
+            let needs = crate::worker::STEPS_TIME_FACTOR * limit.steps_estimate;
+            if needs > 0.9 * seconds {
+                ui.label(
+                    RichText::new(format!(
+                        "this mesh's steps after training need about {needs:.0} s: the run \
+                         takes longer than {seconds:.0} s"
+                    ))
+                    .color(Color32::from_rgb(240, 200, 90)),
+                );
+            }
+        }
         let mut every = self.session.checkpoint_every;
         let vertices = self.session.original().vertex_count() as u64;
         ui.horizontal(|ui| {
@@ -538,65 +575,82 @@ impl ViewerApp {
             {
                 ui.toggle_value(shown, name);
             }
+            ui.toggle_value(&mut panels.history, "all checkpoints")
+                .on_hover_text(
+                    "every checkpoint of the run in a window (the CSV export has them too)",
+                );
             if ui.small_button("Export CSV…").clicked() {
                 self.open_dialog(DialogPurpose::ExportCsv);
             }
         });
         let shown: Vec<usize> = (0..4).filter(|&i| columns[i]).collect();
         if shown.is_empty() {
+            self.table_layout = None;
             return;
         }
-        // The table gets a larger share: it has eleven columns.
-        let weight = |i: usize| if i == 3 { 1.6 } else { 1.0 };
-        let total: f32 = shown.iter().map(|&i| weight(i)).sum();
+        // The table takes the width it needs (Table 1 fits without scrolling, issue 37); the
+        // plots share the rest.
         let gap = 10.0;
+        let table = if columns[3] { plots::TABLE_WIDTH } else { 0.0 };
+        let plot_count = shown.iter().filter(|&&i| i != 3).count();
         let available = ui.available_width() - gap * (shown.len() as f32 - 1.0);
-        let min_total = MIN_COLUMN_WIDTH * total;
-        let width = available.max(min_total);
+        let plot_width = if plot_count > 0 {
+            ((available - table) / plot_count as f32).max(MIN_COLUMN_WIDTH)
+        } else {
+            0.0
+        };
+        let total = plot_width * plot_count as f32 + table;
         let height = ui.available_height();
         let x_max = self.session.live().max_signals as f64;
+        let method = crate::engine::Method::of(self.session.applied_params()).name();
         let history = &self.session.history;
-        let row = |ui: &mut egui::Ui| {
+        let mut layout = None;
+        let mut row = |ui: &mut egui::Ui| {
             ui.horizontal_top(|ui| {
                 ui.spacing_mut().item_spacing.x = gap;
                 for &i in &shown {
-                    let w = width * weight(i) / total;
+                    let w = if i == 3 { table } else { plot_width };
                     ui.allocate_ui_with_layout(
                         egui::vec2(w, height),
                         egui::Layout::top_down(egui::Align::Min),
                         |ui| {
                             ui.set_width(w);
-                            let (title, legend): (&str, &[plots::LegendEntry]) = match i {
-                                0 => ("Vertex errors (squared model units)", &plots::VERTEX_LEGEND),
-                                1 => ("E_sur = area lost (model units²)", &plots::SURFACE_LEGEND),
-                                2 => ("Hausdorff distance (model units)", &plots::HAUSDORFF_LEGEND),
-                                _ => ("Checkpoints (Table 1)", &[]),
+                            let legend: &[plots::LegendEntry] = match i {
+                                0 => &plots::VERTEX_LEGEND,
+                                1 => &plots::SURFACE_LEGEND,
+                                2 => &plots::HAUSDORFF_LEGEND,
+                                _ => &[],
                             };
-                            ui.add(egui::Label::new(RichText::new(title).strong()).truncate());
-                            if !legend.is_empty() {
+                            if i < 3 {
+                                // Titles wrap rather than being cut (issue 37).
+                                ui.add(
+                                    egui::Label::new(RichText::new(plots::TITLES[i]).strong())
+                                        .wrap(),
+                                );
                                 plots::legend_row(ui, legend);
+                                // Keep the top y tick label clear of the legend.
+                                ui.add_space(4.0);
                             }
-                            // Keep the top y tick label clear of the legend.
-                            ui.add_space(4.0);
                             let h = ui.available_height().max(40.0);
                             match i {
                                 0 => plots::vertex_error_plot(ui, history, h, x_max),
                                 1 => plots::surface_error_plot(ui, history, h, x_max),
                                 2 => plots::hausdorff_plot(ui, history, h, x_max),
-                                _ => plots::checkpoint_table(ui, history),
+                                _ => layout = Some(plots::comparison_table(ui, history, method)),
                             }
                         },
                     );
                 }
             });
         };
-        if width > available + 1.0 {
+        if total > available + 1.0 {
             egui::ScrollArea::horizontal()
                 .id_salt("plots_row")
                 .show(ui, row);
         } else {
             row(ui);
         }
+        self.table_layout = layout;
     }
 }
 
@@ -626,6 +680,7 @@ mod tests {
             assert!(max >= PLOTS_MIN_HEIGHT, "{w}x{h}: plots {max}");
         }
         assert!(!Panels::for_width(1024.0).controls);
-        assert!(Panels::for_width(1280.0).controls);
+        assert!(!Panels::for_width(1280.0).controls);
+        assert!(Panels::for_width(1600.0).controls);
     }
 }

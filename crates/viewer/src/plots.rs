@@ -95,9 +95,10 @@ impl History {
                 "e_avg",
                 "e_max",
                 "e_sur",
-                "hausdorff",
-                "mean_min_angle_deg",
-                "share_min_angle_below_30",
+                "hausdorff_max",
+                "hausdorff_mean",
+                "median_min_angle_deg",
+                "share_min_angle_below_20",
                 "seconds",
             ])
             .map_err(err)?;
@@ -113,6 +114,10 @@ impl History {
                     format!("{:e}", row.evaluation.e_sur),
                     row.evaluation
                         .hausdorff
+                        .map(|h| format!("{h:e}"))
+                        .unwrap_or_default(),
+                    row.evaluation
+                        .hausdorff_mean
                         .map(|h| format!("{h:e}"))
                         .unwrap_or_default(),
                     format!("{:.2}", row.evaluation.median_min_angle_degrees),
@@ -139,64 +144,123 @@ fn log10(v: f64) -> f64 {
     v.max(1e-30).log10()
 }
 
-/// Grid marks at decades (and 2×, 5× when zoomed in) for a log10-transformed axis.
-fn decade_marks(input: GridInput) -> Vec<GridMark> {
+/// Least distance between two labelled y ticks, points (a line of tick text is ~16 points).
+const MIN_Y_LABEL_GAP: f32 = 26.0;
+/// Least distance between two labelled x ticks, points ("1.25M" is ~40 points wide).
+const MIN_X_LABEL_GAP: f32 = 64.0;
+
+/// Points per axis unit, from what egui_plot hands a grid spacer: `base_step_size` is the
+/// axis units per the plot's smallest grid spacing ([`GRID_MIN_SPACING`] points).
+fn points_per_unit(input: &GridInput) -> f32 {
+    if input.base_step_size > 0.0 && input.base_step_size.is_finite() {
+        (f64::from(GRID_MIN_SPACING) / input.base_step_size) as f32
+    } else {
+        0.0
+    }
+}
+
+/// Smallest spacing of the plots' grid lines, points.
+const GRID_MIN_SPACING: f32 = 24.0;
+
+/// A labelled tick. egui_plot hides or fades a tick's label when `step_size` spans fewer than
+/// 20-30 points (y) or 60-80 points (x), which made the labels vanish on plots with many
+/// decades or little height; the spacers here choose their labelled ticks far enough apart
+/// themselves, so every labelled tick carries the whole axis span as its step size (full
+/// strength), and [`is_labelled`] tells the formatters which ones they are.
+fn labelled(value: f64, span: f64) -> GridMark {
+    GridMark {
+        value,
+        step_size: span,
+    }
+}
+
+/// An unlabelled grid line (a tenth of the span: a faint line).
+fn unlabelled(value: f64, span: f64) -> GridMark {
+    GridMark {
+        value,
+        step_size: 0.1 * span,
+    }
+}
+
+/// Whether a mark of an axis showing `range` is one of the labelled ticks.
+fn is_labelled(mark: &GridMark, range: &std::ops::RangeInclusive<f64>) -> bool {
+    mark.step_size >= 0.5 * (range.end() - range.start()).abs()
+}
+
+/// Two labelled ticks near the ends of the range (a twentieth of it inside: where the data's
+/// extremes sit with egui_plot's margins), for a range where no round values fit.
+fn end_marks(lo: f64, hi: f64) -> Vec<GridMark> {
+    let span = hi - lo;
+    vec![
+        labelled(lo + span / 22.0, span),
+        labelled(hi - span / 22.0, span),
+    ]
+}
+
+/// Grid marks of a log10-transformed axis whose labels never crowd and never vanish: decades
+/// (every 1, 2, 3, 5 or 10 decades, as the plot's height allows); within less than two decades
+/// the 1-2-5 values when they are far enough apart; otherwise two ticks near the ends. Every
+/// axis gets at least two labelled ticks (issue 37: a plot with one tick or none).
+fn log_marks(input: GridInput) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
-    if !(lo.is_finite() && hi.is_finite()) || hi <= lo {
+    let span = hi - lo;
+    if !(lo.is_finite() && hi.is_finite()) || span <= 0.0 {
         return Vec::new();
+    }
+    let ppu = points_per_unit(&input).max(1e-6);
+    let inside = |v: f64| v >= lo && v <= hi;
+    let decades: Vec<i64> = ((lo.ceil() as i64)..=(hi.floor() as i64)).collect();
+    if decades.len() > 400 {
+        return end_marks(lo, hi);
     }
     let mut marks = Vec::new();
-    let fine = hi - lo < 3.0;
-    let (mut k, end) = (lo.floor() as i64, hi.ceil() as i64);
-    if end - k > 200 {
-        return Vec::new();
-    }
-    while k <= end {
-        marks.push(GridMark {
-            value: k as f64,
-            step_size: 1.0,
-        });
-        if fine {
-            for m in [2f64, 5.0] {
-                marks.push(GridMark {
-                    value: k as f64 + m.log10(),
-                    step_size: 0.1,
+    if decades.len() >= 2 {
+        let stride = [1, 2, 3, 5, 10, 20, 50, 100]
+            .into_iter()
+            .find(|&s| s as f32 * ppu >= MIN_Y_LABEL_GAP)
+            .unwrap_or(100);
+        let chosen: Vec<i64> = decades
+            .iter()
+            .copied()
+            .filter(|d| d.rem_euclid(stride) == 0)
+            .collect();
+        if chosen.len() >= 2 {
+            for d in decades {
+                marks.push(if d.rem_euclid(stride) == 0 {
+                    labelled(d as f64, span)
+                } else {
+                    unlabelled(d as f64, span)
                 });
             }
-        }
-        k += 1;
-    }
-    // Only marks inside the shown range: egui_plot draws the labels of the others outside the
-    // plot, over the neighbouring widgets.
-    marks.retain(|m| m.value >= lo && m.value <= hi);
-    // A curve that stays within one decade (a Hausdorff distance between 0.015 and 0.04, say)
-    // would show no number at all: then the 2× and 5× marks are labelled too. There are at most
-    // five of them in such a range (< 2 decades), 0.3 decades apart, so the labels do not crowd.
-    if marks.iter().filter(|m| m.step_size >= 1.0).count() < 2 {
-        for m in &mut marks {
-            m.step_size = 1.0;
+            return marks;
         }
     }
-    // A range too narrow for any 1-2-5 mark (a nearly constant curve) gets one labelled mark
-    // in its middle.
-    if marks.is_empty() {
-        marks.push(GridMark {
-            value: 0.5 * (lo + hi),
-            step_size: 1.0,
-        });
+    // Less than two decades (or too little height for two of them): 1-2-5 values, the closest
+    // two of which (5 and 10) are 0.3 decades apart.
+    let nice: Vec<f64> = ((lo.floor() as i64)..=(hi.ceil() as i64))
+        .flat_map(|k| [1f64, 2.0, 5.0].map(|m| k as f64 + m.log10()))
+        .filter(|&v| inside(v))
+        .collect();
+    if nice.len() >= 2 && 0.3 * ppu >= MIN_Y_LABEL_GAP {
+        return nice.into_iter().map(|v| labelled(v, span)).collect();
     }
+    let mut marks = end_marks(lo, hi);
+    marks.extend(nice.into_iter().map(|v| unlabelled(v, span)));
     marks
 }
 
-/// About three or four x grid marks at 1, 2 or 5 × 10^k signals, whatever the budget: labels never crowd
-/// and never repeat one value (issue 13: "ticks 102699/102700/102701").
-fn count_marks(input: GridInput) -> Vec<GridMark> {
+/// Linear x marks (signals): round values (1, 2 or 5 × 10^k apart) at least
+/// [`MIN_X_LABEL_GAP`] points apart from 0 up to `end` (the run's budget), and `end` itself
+/// labelled when the last round value is short of it, so the axis always shows where it starts
+/// and ends (issue 13: labels never repeat one value; issue 37: end values always shown).
+fn count_marks(input: GridInput, end: f64) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     let span = hi - lo;
     if !(span.is_finite() && span > 0.0) {
         return Vec::new();
     }
-    let raw = span / 3.0;
+    let ppu = f64::from(points_per_unit(&input)).max(1e-12);
+    let raw = (f64::from(MIN_X_LABEL_GAP) / ppu).max(span / 8.0);
     let decade = 10f64.powf(raw.log10().floor());
     let step = [1.0, 2.0, 5.0, 10.0]
         .iter()
@@ -204,31 +268,71 @@ fn count_marks(input: GridInput) -> Vec<GridMark> {
         .find(|s| *s >= raw)
         .unwrap_or(10.0 * decade)
         .max(1.0);
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step).floor() as i64;
-    (first..=last)
-        .map(|i| GridMark {
-            value: i as f64 * step,
-            step_size: step,
-        })
-        .collect()
+    let first = (lo.max(0.0) / step).ceil() as i64;
+    let last_value = if end > 0.0 && end <= hi { end } else { hi };
+    let last = (last_value / step).floor() as i64;
+    let mut values: Vec<f64> = (first..=last).map(|i| i as f64 * step).collect();
+    if end > 0.0 && end <= hi {
+        let gap = f64::from(MIN_X_LABEL_GAP) / ppu;
+        // The budget's own tick replaces a round value too close to it.
+        while values.last().is_some_and(|&v| end - v < gap && v != 0.0) {
+            values.pop();
+        }
+        if values.last().is_none_or(|&v| end - v >= gap) {
+            values.push(end);
+        }
+    }
+    values.into_iter().map(|v| labelled(v, span)).collect()
 }
 
-fn format_log_tick(mark: GridMark) -> String {
-    // Decades only: the 2× and 5× marks of a zoomed-in axis stay unlabelled grid lines, so
-    // labels never crowd (issue 13: "1.0e-3 twice over a dense band"), unless `decade_marks`
-    // promoted them because fewer than two decades are in view.
-    if mark.step_size < 1.0 {
+/// A number for a tick or a table cell, with `digits` significant digits: plain between 0.001
+/// and 10,000 ("0.0073", "7.3", "730"), engineering notation outside (exponent a multiple of
+/// 3: "73e-6", "1.5e6"); never "7.3e0" (issue 37).
+pub fn format_value(v: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { format!("{v}") };
+    }
+    let a = v.abs();
+    let exponent = a.log10().floor() as i32;
+    if (-3..4).contains(&exponent) {
+        let decimals = (digits as i32 - 1 - exponent).max(0) as usize;
+        let s = format!("{v:.decimals$}");
+        // Rounding up can add a digit (9.96 → "10.0"): drop the extra decimal.
+        return if decimals > 0 && s.contains('.') {
+            let t = s.trim_end_matches('0').trim_end_matches('.');
+            t.to_string()
+        } else {
+            s
+        };
+    }
+    let mut eng = exponent.div_euclid(3) * 3;
+    let mut mantissa = v / 10f64.powi(eng);
+    let mut decimals =
+        (digits as i32 - 1 - (mantissa.abs().log10().floor() as i32)).max(0) as usize;
+    let mut text = format!("{mantissa:.decimals$}");
+    if text
+        .trim_start_matches('-')
+        .parse::<f64>()
+        .is_ok_and(|m| m >= 1000.0)
+    {
+        eng += 3;
+        mantissa = v / 10f64.powi(eng);
+        decimals = digits.saturating_sub(1);
+        text = format!("{mantissa:.decimals$}");
+    }
+    if text.contains('.') {
+        text = text.trim_end_matches('0').trim_end_matches('.').to_string();
+    }
+    format!("{text}e{eng}")
+}
+
+/// A log-axis tick: `10^mark`, two significant digits (a round 1-2-5 value prints with one).
+fn format_log_tick(mark: GridMark, range: &std::ops::RangeInclusive<f64>) -> String {
+    if !is_labelled(&mark, range) {
         return String::new();
     }
-    // 1-2-5 marks with one significant digit (10^(log10 2 - 2) prints as 2e-2, not 1.99…e-2),
-    // any other value (the middle mark of a narrow range) with two.
-    let v = 10f64.powf(mark.value);
-    let one = format!("{v:.0e}");
-    match one.parse::<f64>() {
-        Ok(r) if ((r - v) / v).abs() < 1e-6 => one,
-        _ => format!("{v:.1e}"),
-    }
+    format_value(10f64.powf(mark.value), 2)
 }
 
 /// Compact signal counts for the x axis: 0, 500, 12k, 1.5M.
@@ -249,19 +353,6 @@ fn trim_float(v: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// A linear-axis tick with as many decimals as the tick spacing needs (scientific below 0.01).
-fn format_linear_tick(mark: GridMark) -> String {
-    let step = mark.step_size.abs();
-    if mark.value == 0.0 {
-        return "0".into();
-    }
-    if step < 0.01 || mark.value.abs() >= 1e5 {
-        return format!("{:.1e}", mark.value);
-    }
-    let decimals = (-step.log10().floor()).clamp(0.0, 6.0) as usize;
-    format!("{:.*}", decimals, mark.value)
-}
-
 /// The series name (empty away from data) and plot position under the pointer.
 fn hovered<'a>(pos: &'a egui_plot::HoverPosition<'_>) -> (&'a str, egui_plot::PlotPoint) {
     match pos {
@@ -274,36 +365,77 @@ fn hovered<'a>(pos: &'a egui_plot::HoverPosition<'_>) -> (&'a str, egui_plot::Pl
     }
 }
 
-/// Base plot: no background, sparse grid, x from 0 to the signal budget with compact labels.
+/// Base plot: no background, sparse grid, x from 0 to the signal budget with compact labels
+/// at both ends.
 fn base_plot(id: &str, height: f32, x_max: f64) -> Plot<'static> {
+    let end = x_max.max(1.0);
     Plot::new(id)
         .height(height)
         // The panel colour shows through: no second fill of the plot area.
         .show_background(false)
         // Grid lines at least 24 px apart (egui_plot's default, 8 px, draws ~3× as many faint
         // lines, each of which a CPU rasterizer pays for).
-        .grid_spacing(egui::Rangef::new(24.0, 300.0))
+        .grid_spacing(egui::Rangef::new(GRID_MIN_SPACING, 300.0))
         .include_x(0.0)
-        .include_x(x_max.max(1.0))
-        .x_grid_spacer(count_marks)
-        .x_axis_formatter(|mark, _| format_count(mark.value))
+        .include_x(end)
+        .x_grid_spacer(move |input| count_marks(input, end))
+        .x_axis_formatter(|mark, range| {
+            if is_labelled(&mark, range) {
+                format_count(mark.value)
+            } else {
+                String::new()
+            }
+        })
         .x_axis_label("signals")
         .allow_scroll(false)
 }
 
-/// Base plot with a log10 y axis labelled at decades.
-fn log_plot(id: &str, height: f32, x_max: f64, unit: &'static str) -> Plot<'static> {
-    base_plot(id, height, x_max)
-        .y_grid_spacer(decade_marks)
-        .y_axis_formatter(|mark, _| format_log_tick(mark))
-        .label_formatter(move |pos| {
-            let (name, p) = hovered(pos);
-            Some(format!(
-                "{name}\n{} signals\n{:.3e} {unit}",
-                format_count(p.x),
-                10f64.powf(p.y)
-            ))
-        })
+/// The log10 y range a plot of `values` (already log10) shows at least: the values, and at
+/// least [`MIN_LOG_SPAN`] decades around their middle, so a single point or a flat line gets
+/// a sensible axis with labelled ticks on both sides (issue 37).
+pub fn log_y_range(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
+    let (lo, hi) = values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return None;
+    }
+    let middle = 0.5 * (lo + hi);
+    let half = (0.5 * MIN_LOG_SPAN).max(0.5 * (hi - lo));
+    Some((lo.min(middle - half), hi.max(middle + half)))
+}
+
+/// Least decades a log plot spans (a lone value gets a third of a decade either side).
+pub const MIN_LOG_SPAN: f64 = 0.7;
+
+/// Base plot with a log10 y axis: its y range holds `values` (log10, see [`log_y_range`]).
+fn log_plot(
+    id: &str,
+    height: f32,
+    x_max: f64,
+    values: impl IntoIterator<Item = f64>,
+) -> Plot<'static> {
+    let mut plot = base_plot(id, height, x_max)
+        .y_grid_spacer(log_marks)
+        .y_axis_formatter(format_log_tick);
+    let (lo, hi) = log_y_range(values).unwrap_or((-3.0, 0.0));
+    plot = plot.include_y(lo).include_y(hi);
+    plot
+}
+
+/// Hover text of a log plot: series, signals, value with its unit.
+fn log_hover(unit: &'static str) -> impl Fn(&egui_plot::HoverPosition<'_>) -> Option<String> {
+    move |pos| {
+        let (name, p) = hovered(pos);
+        Some(format!(
+            "{name}\n{} signals\n{} {unit}",
+            format_count(p.x),
+            format_value(10f64.powf(p.y), 3)
+        ))
+    }
 }
 
 /// One legend entry: label, colour, dashed (QEM) or solid (GNG3D).
@@ -313,27 +445,37 @@ pub type LegendEntry = (&'static str, Color32, bool);
 /// and dashed (QEM) are told apart and no legend box covers data.
 pub fn legend_row(ui: &mut egui::Ui, entries: &[LegendEntry]) {
     ui.horizontal_wrapped(|ui| {
-        ui.spacing_mut().item_spacing.x = 4.0;
+        ui.spacing_mut().item_spacing = egui::vec2(8.0, 0.0);
+        let font = egui::TextStyle::Body.resolve(ui.style());
+        let row_height = ui.text_style_height(&egui::TextStyle::Body);
         for &(label, color, dashed) in entries {
-            // Sample and label wrap as one unit and the label never breaks inside (in a narrow
-            // plot column, "GNG3D E_max" split over two rows, away from its line sample).
-            ui.horizontal(|ui| {
-                let (rect, _) =
-                    ui.allocate_exact_size(egui::vec2(22.0, 12.0), egui::Sense::hover());
-                let (a, b) = (rect.left_center(), rect.right_center());
-                let stroke = Stroke::new(2.0, color);
-                if dashed {
-                    ui.painter()
-                        .extend(egui::Shape::dashed_line(&[a, b], stroke, 4.0, 3.0));
-                } else {
-                    ui.painter().line_segment([a, b], stroke);
-                }
-                ui.add(
-                    egui::Label::new(egui::RichText::new(label).small())
-                        .wrap_mode(egui::TextWrapMode::Extend),
-                );
-            });
-            ui.add_space(6.0);
+            // Sample and label wrap as one unit of known width, so the row wraps between
+            // entries instead of growing wider than its column (body text, 12.5 points, is
+            // readable at 1280×720 but too wide for one row of a narrow column).
+            let text_width = ui
+                .painter()
+                .layout_no_wrap(label.to_string(), font.clone(), color)
+                .size()
+                .x;
+            let size = egui::vec2(18.0 + 4.0 + text_width + 1.0, row_height);
+            ui.allocate_ui_with_layout(
+                size,
+                egui::Layout::left_to_right(egui::Align::Center),
+                |ui| {
+                    ui.spacing_mut().item_spacing.x = 4.0;
+                    let (rect, _) =
+                        ui.allocate_exact_size(egui::vec2(18.0, 12.0), egui::Sense::hover());
+                    let (a, b) = (rect.left_center(), rect.right_center());
+                    let stroke = Stroke::new(2.0, color);
+                    if dashed {
+                        ui.painter()
+                            .extend(egui::Shape::dashed_line(&[a, b], stroke, 4.0, 3.0));
+                    } else {
+                        ui.painter().line_segment([a, b], stroke);
+                    }
+                    ui.add(egui::Label::new(label).wrap_mode(egui::TextWrapMode::Extend));
+                },
+            );
         }
     });
 }
@@ -369,13 +511,21 @@ pub const VERTEX_LEGEND: [LegendEntry; 4] = [
 ];
 /// Legend of the E_sur plot.
 pub const SURFACE_LEGEND: [LegendEntry; 2] = [
-    ("GNG3D E_sur", SUR_COLOR, false),
-    ("QEM E_sur", SUR_COLOR, true),
+    ("GNG3D |E_sur|", SUR_COLOR, false),
+    ("QEM |E_sur|", SUR_COLOR, true),
 ];
 /// Legend of the Hausdorff plot.
 pub const HAUSDORFF_LEGEND: [LegendEntry; 2] = [
-    ("GNG3D Hausdorff", HAUSDORFF_COLOR, false),
-    ("QEM Hausdorff", HAUSDORFF_COLOR, true),
+    ("GNG3D Hausdorff max", HAUSDORFF_COLOR, false),
+    ("QEM Hausdorff max", HAUSDORFF_COLOR, true),
+];
+
+/// Titles of the three plots and the table (each says what it measures and in which unit).
+pub const TITLES: [&str; 4] = [
+    "E_avg, E_max (model units²)",
+    "|E_sur| (model units²)",
+    "Hausdorff max (model units)",
+    "Table 1: latest vs QEM",
 ];
 
 /// E_avg and E_max of the live network against signals (log y, squared model units), QEM as
@@ -391,13 +541,19 @@ pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32, x_ma
             .collect()
     };
     let (avg_points, max_points) = (series(1), series(2));
+    let qem = history.qem.as_ref().map(|q| q.evaluation);
+    let values: Vec<f64> = avg_points
+        .iter()
+        .chain(&max_points)
+        .map(|p| p[1])
+        .chain(qem.iter().flat_map(|q| [log10(q.e_avg), log10(q.e_max)]))
+        .collect();
     let avg = PlotPoints::from(envelope(&avg_points, buckets));
     let max = PlotPoints::from(envelope(&max_points, buckets));
     // Markers while the series is short (a single point draws no line).
     let marks = (history.errors.len() < 40).then_some((avg_points, max_points));
-    let qem = history.qem.as_ref().map(|q| q.evaluation);
-    log_plot("vertex_errors", height, x_max, "model units²")
-        .y_axis_label("model units²")
+    log_plot("vertex_errors", height, x_max, values)
+        .label_formatter(log_hover("model units²"))
         .show(ui, move |plot| {
             if let Some((avg_marks, max_marks)) = marks {
                 plot.points(
@@ -428,48 +584,65 @@ pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32, x_ma
         });
 }
 
-/// Signed E_sur (Area(original) − Area(simplified), squared model units, linear y) after each
-/// reconstruction, QEM dashed.
+/// The paper's |E_sur| (|Area(original) − Area(simplified)|, squared model units, log y, as
+/// `gng3d reproduce` draws Figure 1) after each reconstruction, QEM dashed. The signed value
+/// (positive: area lost) is in the hover text.
 pub fn surface_error_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: f64) {
-    let sur: Vec<[f64; 2]> = history
+    let signed: Vec<(f64, f64)> = history
         .reconstructions
         .iter()
-        .map(|c| [c.iteration as f64, c.evaluation.e_sur])
+        .map(|c| (c.iteration as f64, c.evaluation.e_sur))
         .collect();
+    let sur: Vec<[f64; 2]> = signed.iter().map(|&(x, e)| [x, log10(e.abs())]).collect();
     let qem = history.qem.as_ref().map(|q| q.evaluation.e_sur);
-    let mut plot = base_plot("surface_error", height, x_max)
-        .y_axis_label("model units²")
-        .y_axis_formatter(|mark, _| format_linear_tick(mark))
-        .label_formatter(|pos| {
+    let values: Vec<f64> = sur
+        .iter()
+        .map(|p| p[1])
+        .chain(qem.map(|q| log10(q.abs())))
+        .collect();
+    log_plot("surface_error", height, x_max, values)
+        .label_formatter(move |pos| {
             let (name, p) = hovered(pos);
+            // The signed value of the checkpoint (or QEM) under the pointer.
+            let sign = if name.starts_with("QEM") {
+                qem
+            } else {
+                signed
+                    .iter()
+                    .min_by(|a, b| (a.0 - p.x).abs().total_cmp(&(b.0 - p.x).abs()))
+                    .map(|s| s.1)
+            };
+            let signed_text = sign.map_or_else(String::new, |e| {
+                format!(
+                    "\nsigned E_sur {} ({})",
+                    format_value(e, 3),
+                    if e >= 0.0 { "area lost" } else { "area gained" }
+                )
+            });
             Some(format!(
-                "{name}\n{} signals\nE_sur {:.3e} model units²",
+                "{name}\n{} signals\n|E_sur| {} model units²{signed_text}",
                 format_count(p.x),
-                p.y
+                format_value(10f64.powf(p.y), 3)
             ))
-        });
-    if sur.is_empty() && qem.is_none() {
-        // Nothing yet: a sane empty axis instead of −0.02…0.02.
-        plot = plot.include_y(0.0).include_y(1.0);
-    }
-    plot.show(ui, move |plot| {
-        plot.line(Line::new("GNG3D E_sur", PlotPoints::from(sur.clone())).color(SUR_COLOR));
-        plot.points(
-            Points::new("GNG3D E_sur", PlotPoints::from(sur))
-                .color(SUR_COLOR)
-                .radius(3.0),
-        );
-        if let Some(q) = qem {
-            plot.hline(
-                HLine::new("QEM E_sur", q)
+        })
+        .show(ui, move |plot| {
+            plot.line(Line::new("GNG3D |E_sur|", PlotPoints::from(sur.clone())).color(SUR_COLOR));
+            plot.points(
+                Points::new("GNG3D |E_sur|", PlotPoints::from(sur))
                     .color(SUR_COLOR)
-                    .style(LineStyle::dashed_loose()),
+                    .radius(3.0),
             );
-        }
-    });
+            if let Some(q) = qem {
+                plot.hline(
+                    HLine::new("QEM |E_sur|", log10(q.abs()))
+                        .color(SUR_COLOR)
+                        .style(LineStyle::dashed_loose()),
+                );
+            }
+        });
 }
 
-/// Symmetric Hausdorff distance (model units, log y) after each reconstruction, QEM dashed.
+/// Symmetric Hausdorff distance (max, model units, log y) after each reconstruction, QEM dashed.
 pub fn hausdorff_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: f64) {
     let hd: Vec<[f64; 2]> = history
         .reconstructions
@@ -481,35 +654,32 @@ pub fn hausdorff_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: 
         })
         .collect();
     let qem = history.qem.as_ref().and_then(|q| q.evaluation.hausdorff);
-    let mut plot = log_plot("hausdorff", height, x_max, "model units").y_axis_label("model units");
-    match (hd.is_empty(), qem) {
-        (true, None) => plot = plot.include_y(-3.0).include_y(0.0),
-        // QEM's line alone (before the first reconstruction): half a decade either side, so
-        // the axis has labelled marks around it.
-        (true, Some(h)) => plot = plot.include_y(log10(h) - 0.5).include_y(log10(h) + 0.5),
-        _ => {}
-    }
-    plot.show(ui, move |plot| {
-        plot.line(
-            Line::new("GNG3D Hausdorff", PlotPoints::from(hd.clone())).color(HAUSDORFF_COLOR),
-        );
-        plot.points(
-            Points::new("GNG3D Hausdorff", PlotPoints::from(hd))
-                .color(HAUSDORFF_COLOR)
-                .radius(3.0),
-        );
-        if let Some(h) = qem {
-            plot.hline(
-                HLine::new("QEM Hausdorff", log10(h))
-                    .color(HAUSDORFF_COLOR)
-                    .style(LineStyle::dashed_loose()),
+    let values: Vec<f64> = hd.iter().map(|p| p[1]).chain(qem.map(log10)).collect();
+    log_plot("hausdorff", height, x_max, values)
+        .label_formatter(log_hover("model units"))
+        .show(ui, move |plot| {
+            plot.line(
+                Line::new("GNG3D Hausdorff max", PlotPoints::from(hd.clone()))
+                    .color(HAUSDORFF_COLOR),
             );
-        }
-    });
+            plot.points(
+                Points::new("GNG3D Hausdorff max", PlotPoints::from(hd))
+                    .color(HAUSDORFF_COLOR)
+                    .radius(3.0),
+            );
+            if let Some(h) = qem {
+                plot.hline(
+                    HLine::new("QEM Hausdorff max", log10(h))
+                        .color(HAUSDORFF_COLOR)
+                        .style(LineStyle::dashed_loose()),
+                );
+            }
+        });
 }
 
-/// Column headers of the checkpoint table, with their hover explanations.
-pub const TABLE_COLUMNS: [(&str, &str); 11] = [
+/// Column headers of the full checkpoint table (every checkpoint, [`history_table`]), with
+/// their hover explanations.
+pub const TABLE_COLUMNS: [(&str, &str); 12] = [
     (
         "method",
         "GNG3D checkpoint or the QEM result at the same vertex target",
@@ -521,22 +691,33 @@ pub const TABLE_COLUMNS: [(&str, &str); 11] = [
     ("V", "vertices"),
     ("F", "faces"),
     (
-        "E_avg",
-        "mean squared distance from each original vertex to the nearest simplified vertex (model units²)",
-    ),
-    ("E_max", "largest such squared distance (model units²)"),
-    (
-        "E_sur",
-        "Area(original) - Area(simplified), model units² (signed)",
-    ),
-    ("Hausdorff", "symmetric Hausdorff distance, model units"),
-    (
-        "min angle",
-        "mean smallest triangle angle, degrees (60 = equilateral)",
+        "E_avg (u²)",
+        "the paper's E_avg: mean squared distance from each original vertex to the nearest \
+         simplified vertex, squared model units",
     ),
     (
-        "<30°",
-        "share of triangles whose smallest angle is under 30°",
+        "E_max (u²)",
+        "the paper's E_max: largest such squared distance, squared model units",
+    ),
+    (
+        "|E_sur| (u²)",
+        "the paper's E_sur: |Area(original) - Area(simplified)|, squared model units",
+    ),
+    (
+        "Hausdorff max (u)",
+        "symmetric Hausdorff distance (the larger one-sided maximum), model units",
+    ),
+    (
+        "Hausdorff mean (u)",
+        "mean surface distance (both directions), model units",
+    ),
+    (
+        "min angle (°)",
+        "median over triangles of the smallest angle, degrees (60 = equilateral)",
+    ),
+    (
+        "< 20° (%)",
+        "share of triangles whose smallest angle is under 20°",
     ),
     (
         "time (s)",
@@ -544,9 +725,137 @@ pub const TABLE_COLUMNS: [(&str, &str); 11] = [
     ),
 ];
 
-/// The checkpoint table (paper's Table 1 columns plus Hausdorff, triangle quality and time),
+/// The rows of Table 1 as the viewer shows it ([`comparison_table`]): label, hover text, and
+/// the cell of an evaluation. "u" is the model's unit of length.
+type TableRow = (&'static str, &'static str, fn(&Evaluation) -> String);
+
+/// Significant digits of the table's errors.
+const TABLE_DIGITS: usize = 3;
+
+/// Table 1's rows: what is measured, with max/mean and units in the label.
+pub const TABLE_ROWS: [TableRow; 8] = [
+    ("V / F", "vertices / faces", |e| {
+        format!("{} / {}", e.vertices, e.faces)
+    }),
+    (
+        "E_avg (u²)",
+        "the paper's E_avg: mean squared distance from each original vertex to the nearest \
+         simplified vertex (u = model units)",
+        |e| format_value(e.e_avg, TABLE_DIGITS),
+    ),
+    (
+        "E_max (u²)",
+        "the paper's E_max: the largest such squared distance (u = model units)",
+        |e| format_value(e.e_max, TABLE_DIGITS),
+    ),
+    (
+        "|E_sur| (u²)",
+        "the paper's E_sur: |Area(original) − Area(simplified)| (u = model units); hover a \
+         value for its sign",
+        |e| format_value(e.e_sur.abs(), TABLE_DIGITS),
+    ),
+    (
+        "Hausdorff max (u)",
+        "symmetric Hausdorff distance: the larger of the two one-sided maxima (u = model \
+         units, 200k samples per direction)",
+        |e| {
+            e.hausdorff
+                .map_or_else(|| "–".into(), |h| format_value(h, TABLE_DIGITS))
+        },
+    ),
+    (
+        "Hausdorff mean (u)",
+        "mean surface distance, both directions (u = model units)",
+        |e| {
+            e.hausdorff_mean
+                .map_or_else(|| "–".into(), |h| format_value(h, TABLE_DIGITS))
+        },
+    ),
+    (
+        "min angle, median (°)",
+        "median over triangles of the smallest angle, degrees (60 = equilateral)",
+        |e| format!("{:.1}", e.median_min_angle_degrees),
+    ),
+    (
+        "angles < 20° (%)",
+        "share of triangles whose smallest angle is under 20°",
+        |e| format!("{:.1}", 100.0 * e.below_20_degrees),
+    ),
+];
+
+/// Width the comparison table asks for, points (its labels and two value columns at the
+/// default body font).
+pub const TABLE_WIDTH: f32 = 300.0;
+
+/// What [`comparison_table`] laid out: the rectangle it could draw in (its clip rectangle)
+/// and every cell's rectangle (tests check that all of them are inside).
+#[derive(Debug, Clone)]
+pub struct TableLayout {
+    /// The area the table may draw in.
+    pub clip: egui::Rect,
+    /// Every cell (header and values), row by row.
+    pub cells: Vec<egui::Rect>,
+}
+
+/// Table 1 for the current comparison: the latest evaluated GNG3D checkpoint (`method`: which
+/// GNG3D) next to QEM, one row per measure, so it fits a plot column without scrolling (issue
+/// 37). The whole history is in [`history_table`] and the CSV export.
+pub fn comparison_table(ui: &mut egui::Ui, history: &History, method: &str) -> TableLayout {
+    let mut layout = TableLayout {
+        clip: ui.clip_rect().intersect(ui.max_rect()),
+        cells: Vec::new(),
+    };
+    let latest = history.reconstructions.last();
+    let qem = history.qem.as_ref();
+    // Rows as high as their text (not the 18-point interaction height): the nine rows fit
+    // the plots panel at 1024×600 (148 points).
+    ui.spacing_mut().interact_size.y = 0.0;
+    ui.spacing_mut().item_spacing.y = 0.0;
+    egui::Grid::new("table1")
+        .striped(true)
+        .num_columns(3)
+        .spacing([10.0, 0.0])
+        .min_row_height(0.0)
+        .show(ui, |ui| {
+            let mut cell = |r: egui::Response| layout.cells.push(r.rect);
+            let at = latest.map_or_else(
+                || "no checkpoint yet".to_string(),
+                |c| format!("at {} signals", format_count(c.iteration as f64)),
+            );
+            let r = ui.label(egui::RichText::new("u = model unit").weak());
+            cell(r);
+            let r = ui.strong(method).on_hover_text(at);
+            cell(r);
+            let r = ui.strong("QEM");
+            cell(r);
+            ui.end_row();
+            for (label, hover, value) in TABLE_ROWS {
+                let r = ui.label(label).on_hover_text(hover);
+                cell(r);
+                for row in [latest, qem] {
+                    let text = row.map_or_else(|| "–".into(), |c| value(&c.evaluation));
+                    let r = ui.label(text);
+                    let r = if label.starts_with("|E_sur|")
+                        && let Some(c) = row
+                    {
+                        r.on_hover_text(format!(
+                            "signed E_sur = Area(original) − Area(simplified) = {}",
+                            format_value(c.evaluation.e_sur, TABLE_DIGITS)
+                        ))
+                    } else {
+                        r
+                    };
+                    cell(r);
+                }
+                ui.end_row();
+            }
+        });
+    layout
+}
+
+/// The full checkpoint table (every checkpoint and QEM, as the CSV export writes it),
 /// scrollable both ways inside whatever space it gets.
-pub fn checkpoint_table(ui: &mut egui::Ui, history: &History) {
+pub fn history_table(ui: &mut egui::Ui, history: &History) {
     // Solid scroll bars take their own space: floating ones would hide the last row.
     ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
     egui::ScrollArea::both()
@@ -562,23 +871,22 @@ pub fn checkpoint_table(ui: &mut egui::Ui, history: &History) {
                         ui.strong(h).on_hover_text(hover);
                     }
                     ui.end_row();
-                    // Newest GNG3D checkpoint first, QEM last (always visible without scrolling
-                    // far when the table is short).
                     for row in history.rows() {
                         let e = &row.evaluation;
+                        let value = |v: Option<f64>| {
+                            v.map_or_else(|| "–".into(), |v| format_value(v, TABLE_DIGITS))
+                        };
                         ui.label(row.method);
                         ui.label(format_count(row.iteration as f64));
                         ui.label(e.vertices.to_string());
                         ui.label(e.faces.to_string());
-                        ui.label(format!("{:.3e}", e.e_avg));
-                        ui.label(format!("{:.3e}", e.e_max));
-                        ui.label(format!("{:.3e}", e.e_sur));
-                        ui.label(
-                            e.hausdorff
-                                .map_or_else(|| "–".into(), |h| format!("{h:.3e}")),
-                        );
-                        ui.label(format!("{:.1}°", e.median_min_angle_degrees));
-                        ui.label(format!("{:.1} %", 100.0 * e.below_20_degrees));
+                        ui.label(format_value(e.e_avg, TABLE_DIGITS));
+                        ui.label(format_value(e.e_max, TABLE_DIGITS));
+                        ui.label(format_value(e.e_sur.abs(), TABLE_DIGITS));
+                        ui.label(value(e.hausdorff));
+                        ui.label(value(e.hausdorff_mean));
+                        ui.label(format!("{:.1}", e.median_min_angle_degrees));
+                        ui.label(format!("{:.1}", 100.0 * e.below_20_degrees));
                         ui.label(format!("{:.2}", row.seconds));
                         ui.end_row();
                     }
@@ -601,6 +909,7 @@ mod tests {
                 e_max: e_avg * 4.0,
                 e_sur: -0.5,
                 hausdorff: None,
+                hausdorff_mean: None,
                 median_min_angle_degrees: 41.0,
                 below_20_degrees: 0.25,
             },
@@ -626,7 +935,8 @@ mod tests {
         assert_eq!(rows[0][4].parse::<f64>().unwrap(), 2e-3);
         assert_eq!(&rows[0][7], "");
         assert_eq!(rows[0][6].parse::<f64>().unwrap(), -0.5, "signed E_sur");
-        assert_eq!(&rows[0][8], "41.00");
+        assert_eq!(&rows[0][8], "");
+        assert_eq!(&rows[0][9], "41.00");
     }
 
     #[test]
@@ -645,69 +955,115 @@ mod tests {
         );
     }
 
-    #[test]
-    fn decade_marks_cover_the_range() {
-        let marks = decade_marks(GridInput {
-            bounds: (-6.5, -2.2),
-            base_step_size: 0.01,
-        });
-        let decades: Vec<f64> = marks
-            .iter()
-            .filter(|m| m.step_size == 1.0)
-            .map(|m| m.value)
-            .collect();
-        assert_eq!(decades, vec![-6.0, -5.0, -4.0, -3.0]);
-        assert!(marks.iter().all(|m| (-6.5..=-2.2).contains(&m.value)));
-        let x: Vec<f64> = count_marks(GridInput {
-            bounds: (0.0, 87_900.0),
-            base_step_size: 1.0,
-        })
-        .iter()
-        .map(|m| m.value)
-        .collect();
-        assert_eq!(x, vec![0.0, 50_000.0]);
-        assert_eq!(format_count(20_000.0), "20k");
-        assert_eq!(format_count(1_500_000.0), "1.5M");
-        assert_eq!(
-            format_log_tick(GridMark {
-                value: -3.0,
-                step_size: 1.0
-            }),
-            "1e-3"
-        );
-    }
-
-    /// The non-empty tick labels of a log axis from `lo` to `hi` (values, not logs).
-    fn log_labels(lo: f64, hi: f64) -> Vec<String> {
-        decade_marks(GridInput {
-            bounds: (lo.log10(), hi.log10()),
-            base_step_size: 0.01,
+    /// The labelled ticks of a log axis from `lo` to `hi` (values, not logs) drawn `points`
+    /// high, as egui_plot asks for them, with their labels.
+    fn log_labels(lo: f64, hi: f64, points: f64) -> Vec<String> {
+        let (lo, hi) = (lo.log10(), hi.log10());
+        let range = lo..=hi;
+        log_marks(GridInput {
+            bounds: (lo, hi),
+            base_step_size: (hi - lo) / points * f64::from(GRID_MIN_SPACING),
         })
         .into_iter()
-        .map(format_log_tick)
+        .map(|m| format_log_tick(m, &range))
         .filter(|l| !l.is_empty())
         .collect()
     }
 
     #[test]
-    fn a_range_inside_one_decade_still_gets_labelled_ticks() {
-        // Hausdorff between 0.015 and 0.04: no decade inside, 2e-2 must be labelled.
-        assert_eq!(log_labels(0.015, 0.04), vec!["2e-2".to_string()]);
-        // One decade inside (0.08 … 0.3): 1e-1 and 2e-1 labelled.
+    fn numbers_read_plainly_or_in_engineering_notation() {
+        for (v, digits, want) in [
+            (7.3, 2, "7.3"),
+            (7.0, 2, "7"),
+            (0.0073, 2, "0.0073"),
+            (730.0, 2, "730"),
+            (7.3e-5, 2, "73e-6"),
+            (1e-4, 1, "100e-6"),
+            (1.5e6, 2, "1.5e6"),
+            (12345.0, 3, "12.3e3"),
+            (-0.5, 3, "-0.5"),
+            (9.996, 3, "10"),
+            (999_999.0, 2, "1e6"),
+            (0.0, 3, "0"),
+        ] {
+            assert_eq!(format_value(v, digits), want, "{v} with {digits} digits");
+        }
+        assert_eq!(format_count(20_000.0), "20k");
+        assert_eq!(format_count(1_500_000.0), "1.5M");
+    }
+
+    #[test]
+    fn a_log_axis_always_has_two_readable_labels() {
+        // Many decades on a tall plot: every decade.
         assert_eq!(
-            log_labels(0.08, 0.3),
-            vec!["1e-1".to_string(), "2e-1".to_string()]
+            log_labels(3e-7, 2e-2, 300.0),
+            ["1e-6", "10e-6", "100e-6", "0.001", "0.01"]
         );
-        // Two decades or more: only decades labelled.
-        assert_eq!(log_labels(6.3e-4, 0.126).len(), 3);
-        // A range too narrow for any 1-2-5 mark (a constant line at 2.7e-3): one mark in the
-        // middle, labelled with two digits.
-        let marks = decade_marks(GridInput {
-            bounds: (0.0026f64.log10(), 0.0028f64.log10()),
-            base_step_size: 0.001,
-        });
-        assert_eq!(marks.len(), 1);
-        assert_eq!(format_log_tick(marks[0]), "2.7e-3");
+        // The same decades on a short plot (issue 37: no y numbers on a dirty scan at
+        // 1280×720): every second decade or more, never none.
+        let short = log_labels(3e-7, 2e-2, 60.0);
+        assert!(short.len() >= 2 && short.len() <= 3, "{short:?}");
+        // Inside one decade (a Hausdorff between 0.015 and 0.04): 2e-2 alone is not enough;
+        // on a tall plot the 1-2-5 values, else the two ends.
+        assert_eq!(log_labels(0.015, 0.04, 100.0).len(), 2);
+        assert_eq!(log_labels(0.08, 0.3, 200.0), ["0.1", "0.2"]);
+        // A range no round value fits (7.1 … 7.5): the two ends, two digits, never "7.3e0".
+        let ends = log_labels(7.1, 7.5, 120.0);
+        assert_eq!(ends.len(), 2, "{ends:?}");
+        assert!(ends.iter().all(|l| !l.contains('e')), "{ends:?}");
+        // Ticks are at least MIN_Y_LABEL_GAP apart on any plot height.
+        for points in [40.0, 80.0, 160.0, 400.0] {
+            for (lo, hi) in [(1e-9, 1.0), (0.01, 0.5), (3.0, 3.3), (1e-5, 2e-3)] {
+                let (l, h) = (f64::log10(lo), f64::log10(hi));
+                let marks: Vec<f64> = log_marks(GridInput {
+                    bounds: (l, h),
+                    base_step_size: (h - l) / points * f64::from(GRID_MIN_SPACING),
+                })
+                .into_iter()
+                .filter(|m| is_labelled(m, &(l..=h)))
+                .map(|m| m.value)
+                .collect();
+                assert!(marks.len() >= 2, "{lo}..{hi} at {points}: {marks:?}");
+                let gap = marks
+                    .windows(2)
+                    .map(|w| (w[1] - w[0]) / (h - l) * points)
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    gap >= f64::from(MIN_Y_LABEL_GAP) - 1e-6 || marks.len() == 2,
+                    "{lo}..{hi} at {points}: {gap} points apart"
+                );
+            }
+        }
+        // A single point gets MIN_LOG_SPAN decades around it.
+        let (lo, hi) = log_y_range([0.73f64.log10()]).unwrap();
+        assert!((hi - lo - MIN_LOG_SPAN).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_signal_axis_shows_where_it_starts_and_ends() {
+        let labels = |budget: f64, points: f64| -> Vec<String> {
+            let (lo, hi) = (-0.05 * budget, 1.05 * budget);
+            count_marks(
+                GridInput {
+                    bounds: (lo, hi),
+                    base_step_size: (hi - lo) / points * f64::from(GRID_MIN_SPACING),
+                },
+                budget,
+            )
+            .into_iter()
+            .map(|m| format_count(m.value))
+            .collect()
+        };
+        assert_eq!(labels(150_000.0, 400.0), ["0", "50k", "100k", "150k"]);
+        // The budget is labelled even when it is not a round value.
+        assert_eq!(
+            labels(190_000.0, 400.0),
+            ["0", "50k", "100k", "150k", "190k"]
+        );
+        // A narrow plot: still both ends.
+        let narrow = labels(87_900.0, 150.0);
+        assert_eq!(narrow.first().unwrap(), "0");
+        assert_eq!(narrow.last().unwrap(), "87.9k");
     }
 
     #[test]

@@ -94,17 +94,25 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
         ..gng3d_core::GngOptions::default()
     };
     // The library's one validation of GNG3D options (the CLI uses the same); the option name
-    // the user typed is added here.
-    let flag = |e: &gng3d_core::GngError| {
+    // the user typed is added here, and only the rule of the library's message is kept (no
+    // parameter names of the library's, issue 37).
+    let flag_and_problem = |e: &gng3d_core::GngError| {
         use gng3d_core::{GngError, GngParameter};
         match e {
-            GngError::Parameter { parameter, .. } => match parameter {
-                GngParameter::TimeLimit => "--time-limit",
-                GngParameter::MaxSignals => "--max-signals",
-                GngParameter::Lambda => "--lambda",
-                _ => "--target",
-            },
-            _ => "--target",
+            GngError::Parameter {
+                parameter,
+                value,
+                rule,
+            } => {
+                let flag = match parameter {
+                    GngParameter::TimeLimit => "--time-limit",
+                    GngParameter::MaxSignals => "--max-signals",
+                    GngParameter::Lambda => "--lambda",
+                    _ => "--target",
+                };
+                (flag, format!("{value}: {rule}"))
+            }
+            other => ("--target", other.to_string()),
         }
     };
     // The input's size is not known yet: the options are checked here (ratios are not offered,
@@ -112,9 +120,10 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
     // The step switches the UI shows are the user's choices, not what a resolution against an
     // unknown size would make of them (against usize::MAX every output is under 5 % of the
     // input, which turned the deviation repair off for every run).
-    let params = gng
-        .resolve_for_vertex_count(usize::MAX)
-        .map_err(|e| invalid(flag(&e), e.to_string()))?;
+    let params = gng.resolve_for_vertex_count(usize::MAX).map_err(|e| {
+        let (flag, problem) = flag_and_problem(&e);
+        invalid(flag, problem)
+    })?;
     let params = TrainParams {
         reconstruction: gng.reconstruction.clone(),
         ..params
@@ -163,6 +172,12 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
         }
     }
     Ok(params)
+}
+
+/// The vertex target of a mesh of `vertices` vertices when the user gave none (window and
+/// headless alike): a tenth of the vertices, 200 to 10,000.
+pub fn default_target(vertices: usize) -> usize {
+    (vertices / 10).clamp(200, 10_000).min(vertices.max(4))
 }
 
 /// The training speed the options ask for.
@@ -327,7 +342,7 @@ impl Session {
         self.model_name = name;
         let n = mesh.vertex_count();
         if self.options.target.is_none() {
-            self.params.target_vertices = (n / 10).clamp(200, 10_000).min(n.max(4));
+            self.params.target_vertices = default_target(n);
         }
         // The paper's protocol: a checkpoint every |V| signals (30 for the default budget).
         self.checkpoint_every = self.options.checkpoint_every.unwrap_or(n as u64);
@@ -411,6 +426,18 @@ impl Session {
         } else {
             TrainingState::Paused
         }
+    }
+
+    /// The parameters of the running session (the method its view is titled with).
+    pub fn applied_params(&self) -> &TrainParams {
+        &self.applied
+    }
+
+    /// Train with `method` (paper GNG3D or GNG3D-Q) from now on: its parameters replace the
+    /// step switches and the run restarts with them.
+    pub fn switch_method(&mut self, method: engine::Method) {
+        method.apply(&mut self.params);
+        self.reset_training();
     }
 
     /// Whether parameters were edited since the running session started (they apply on Reset).
@@ -646,8 +673,9 @@ impl Session {
                         && let Some(limit) = self.steps.limit.filter(|l| l.is_watch_time)
                     {
                         self.info(format!(
-                            "GNG3D: the run length ({} s) is this run's time limit; a longer \
-                             run length (or as fast as possible) leaves every step in",
+                            "GNG3D: this run passed twice its run length ({} s), the backstop \
+                             that leaves steps out; a longer run length (or as fast as \
+                             possible) leaves every step in",
                             limit.seconds
                         ));
                     }

@@ -3,10 +3,13 @@
 //! the neural mesh at checkpoints, and reports each step of the finished network's pipeline as
 //! it ends. The UI only ever polls; nothing here blocks a frame.
 //!
-//! A watched run holds its length: unless the user set a shorter time limit, the run's time
-//! limit (training and the steps after it, [`run_time_limit`]) is the watch time, and the
-//! training is paced to the wall time at which the core stops it so that the steps fit
-//! (`Trainer::training_limit`, [`paced_due`]), not to the whole watch time.
+//! A watched run holds its length as a pacing target, not a hard limit: the training is paced
+//! to end where the steps after it have their estimated time left ([`pace_seconds`]), and its
+//! growth is paced on its own ([`Pacer`]: a handful of nodes at first, the target after
+//! [`GROWTH_TIME_SHARE`] of the training), so the network visibly grows over seconds. The
+//! core's time limit is only a backstop ([`SOFT_LIMIT_FACTOR`] × the run length, unless the
+//! user set a shorter limit), so a loaded machine makes the run a little longer rather than
+//! leaving steps out.
 
 use crate::engine::{self, Engine, NetworkSnapshot, PlannedStep, StepRecord, TrainParams};
 use mesh::TriMesh;
@@ -37,19 +40,25 @@ pub enum Speed {
     Unlimited,
     /// The whole run (training and the steps after it) takes about this many seconds of wall
     /// time, so the network visibly grows: the signal budget is spread over the part of it
-    /// that training gets ([`paced_due`]); a slow machine simply takes longer.
+    /// that training gets ([`Pacer`]); a slow machine simply takes longer.
     Paced {
         /// Intended run length, seconds (> 0).
         seconds: f64,
     },
 }
 
-/// The time limit of a run that starts with `speed` and the user's limit `user`, and whether
-/// it is the watch time (`true`) rather than the user's. A watched run that starts playing is
-/// bounded by its watch time unless the user's limit is shorter; a run that starts paused or
-/// trains as fast as possible keeps the user's limit. The core's limit is wall time from the
-/// run's start; pauses are left out of it (`Engine::discount` on resume), so a paused run
-/// keeps its steps.
+/// The core's time limit of a watched run is this many times its run length (unless the
+/// user's own limit is shorter): a backstop for a machine far slower than the estimates, not
+/// the run's length, which the pacing holds ([`pace_seconds`]). With the run length as the hard
+/// limit, a loaded machine made the core leave out steps (issue 37).
+pub const SOFT_LIMIT_FACTOR: f64 = 2.0;
+
+/// The core's time limit of a run that starts with `speed` and the user's limit `user`, and
+/// whether it is the watch time's backstop (`true`) rather than the user's. A watched run that
+/// starts playing gets [`SOFT_LIMIT_FACTOR`] × its watch time unless the user's limit is
+/// shorter; a run that starts paused or trains as fast as possible keeps the user's limit. The
+/// core's limit is wall time from the run's start; pauses are left out of it
+/// (`Engine::discount` on resume), so a paused run keeps its steps.
 pub fn run_time_limit(
     user: Option<Duration>,
     speed: Speed,
@@ -57,10 +66,10 @@ pub fn run_time_limit(
 ) -> (Option<Duration>, bool) {
     match speed {
         Speed::Paced { seconds } if autoplay && seconds.is_finite() && seconds > 0.0 => {
-            let watch = Duration::from_secs_f64(seconds);
+            let backstop = Duration::from_secs_f64(SOFT_LIMIT_FACTOR * seconds);
             match user {
-                Some(limit) if limit <= watch => (Some(limit), false),
-                _ => (Some(watch), true),
+                Some(limit) if limit <= backstop => (Some(limit), false),
+                _ => (Some(backstop), true),
             }
         }
         _ => (user, false),
@@ -86,31 +95,102 @@ pub const STEPS_TIME_FACTOR: f64 = 1.25;
 pub const STEPS_MIN_MARGIN_SHARE: f64 = 0.03;
 
 /// Seconds of running wall time a paced run spreads its signal budget over: the watch
-/// `seconds`, or less when the run has a time limit (`limits`: the limit and the training
-/// limit, the wall time from the start at which the core stops training so that the steps
-/// after it fit): then the training ends where the steps have [`STEPS_TIME_FACTOR`] times
-/// their estimate left, and at least [`STEPS_MIN_MARGIN_SHARE`] of the limit more than it (at
-/// once when that is not left).
+/// `seconds`, less the steps after training when the run has a time limit (`limits`: the
+/// limit and the training limit, the wall time from the start at which the core stops training
+/// so that the steps after it fit; the difference is the core's estimate of the steps). The run
+/// aims to end at the watch time or the limit, whichever is first; the steps get
+/// [`STEPS_TIME_FACTOR`] times their estimate, and at least [`STEPS_MIN_MARGIN_SHARE`] of that
+/// end more (the training ends at once when that is not left).
 pub fn pace_seconds(seconds: f64, limits: Option<(Duration, Duration)>) -> f64 {
     match limits {
         None => seconds,
         Some((limit, training_limit)) => {
             let (limit, training_limit) = (limit.as_secs_f64(), training_limit.as_secs_f64());
+            let end = seconds.min(limit);
             let steps = (limit - training_limit).max(0.0);
-            let margin = ((STEPS_TIME_FACTOR - 1.0) * steps).max(STEPS_MIN_MARGIN_SHARE * limit);
-            (training_limit - margin).clamp(0.0, seconds)
+            let margin = ((STEPS_TIME_FACTOR - 1.0) * steps).max(STEPS_MIN_MARGIN_SHARE * end);
+            (end - steps - margin).clamp(0.0, seconds)
         }
     }
 }
 
-/// Signals a paced run of `budget` signals should have presented after `clock` seconds of
-/// running wall time when it spreads them over `pace` seconds ([`pace_seconds`]); the whole
-/// budget once the pace is over (or at once for a pace of 0: a limit below the minimum).
-pub fn paced_due(budget: u64, clock: f64, pace: f64) -> u64 {
-    if pace <= 0.0 {
-        return budget;
+/// Share of a paced training's time its growth gets: the node count rises from a handful to
+/// the target over this share of the pace, and the rest of the budget (fine detail, no new
+/// nodes) is spread over the remainder. Spread evenly instead, the growth takes as large a
+/// share of the time as its signals take of the budget, and a network of a few hundred nodes
+/// already looks finished after a second (issue 37).
+pub const GROWTH_TIME_SHARE: f64 = 0.6;
+
+/// A paced run's schedule: how many signals it should have presented after how many seconds
+/// of running wall time, and back. The growth's signals (`growth`: λ × the node target, the
+/// signals at which the network holds its nodes) are spread over the first
+/// [`GROWTH_TIME_SHARE`] of the pace, slowly at first (quadratic in time, so the first second
+/// shows a handful of nodes, not a finished shape); the rest evenly over the remainder.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pacer {
+    /// The run's signal budget.
+    pub budget: u64,
+    /// Signals the growth takes (at most the budget).
+    pub growth: u64,
+    /// Seconds of running wall time the budget is spread over ([`pace_seconds`]).
+    pub pace: f64,
+}
+
+impl Pacer {
+    /// The schedule of a run on `engine` paced to `seconds` of watch time.
+    pub fn of(engine: &Engine, seconds: f64) -> Pacer {
+        Pacer {
+            budget: engine.max_signals(),
+            growth: engine.growth_signals(),
+            pace: pace_seconds(seconds, engine.limits()),
+        }
     }
-    (budget as f64 * (clock / pace)).min(budget as f64) as u64
+
+    /// Share of the pace the growth gets: [`GROWTH_TIME_SHARE`], or all of it when the growth
+    /// takes the whole budget.
+    fn growth_share(&self) -> f64 {
+        if self.growth >= self.budget {
+            1.0
+        } else {
+            GROWTH_TIME_SHARE
+        }
+    }
+
+    /// Share of the budget the growth takes.
+    fn growth_fraction(&self) -> f64 {
+        (self.growth.min(self.budget) as f64 / self.budget.max(1) as f64).max(1e-9)
+    }
+
+    /// Signals due after `clock` seconds: the whole budget once the pace is over (or at once
+    /// for a pace of 0: a limit below the minimum).
+    pub fn due(&self, clock: f64) -> u64 {
+        if self.pace <= 0.0 {
+            return self.budget;
+        }
+        let u = (clock / self.pace).clamp(0.0, 1.0);
+        let (s, g) = (self.growth_share(), self.growth_fraction());
+        let f = if u < s {
+            g * (u / s).powi(2)
+        } else {
+            g + (1.0 - g) * (u - s) / (1.0 - s).max(1e-9)
+        };
+        ((self.budget as f64 * f).round() as u64).min(self.budget)
+    }
+
+    /// Seconds of the pace at which `signals` are due (the inverse of [`Pacer::due`]).
+    pub fn time_of(&self, signals: u64) -> f64 {
+        if self.pace <= 0.0 {
+            return 0.0;
+        }
+        let f = (signals as f64 / self.budget.max(1) as f64).clamp(0.0, 1.0);
+        let (s, g) = (self.growth_share(), self.growth_fraction());
+        let u = if f < g {
+            s * (f / g).sqrt()
+        } else {
+            s + (f - g) / (1.0 - g).max(1e-9) * (1.0 - s)
+        };
+        u.min(1.0) * self.pace
+    }
 }
 
 /// Whether a paced run may reconstruct a checkpoint now: it is on pace (at most
@@ -121,6 +201,11 @@ pub fn paced_due(budget: u64, clock: f64, pace: f64) -> u64 {
 pub fn paced_preview_fits(lag: f64, left: f64, last_preview: f64) -> bool {
     lag <= PREVIEW_LAG_SECONDS && last_preview < left
 }
+
+/// How far (seconds of pace) a paced run may be behind its schedule and still measure a point
+/// of the vertex-error curve (a few ms each; the paced growth runs at up to 1.7 times the
+/// mean signal rate late in the growth, where a busy machine falls a little behind).
+pub const ERROR_POINT_LAG_SECONDS: f64 = 0.25;
 
 /// How far (seconds of pace) a paced run may be behind its schedule and still reconstruct a
 /// checkpoint.
@@ -458,7 +543,12 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                                 session: t.session,
                                 full_plan: engine.full_plan(),
                                 steps: engine.plan(),
-                                time_limit: engine.time_limit().map(|d| d.as_secs_f64()),
+                                // A watched run's length is its watch time (the core's
+                                // limit is only its backstop).
+                                time_limit: match (limit_is_watch_time, t.speed) {
+                                    (true, Speed::Paced { seconds }) => Some(seconds),
+                                    _ => engine.time_limit().map(|d| d.as_secs_f64()),
+                                },
                                 limit_is_watch_time,
                                 steps_estimate: engine.limits().map(|(limit, training)| {
                                     limit.saturating_sub(training).as_secs_f64()
@@ -559,11 +649,11 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
     let n = match t.speed {
         Speed::Unlimited => t.batch,
         Speed::Paced { seconds } => {
-            // Where a run paced over its training's share of `seconds` would be now; a
+            // Where a run paced over its training's share of `seconds` (growth first, see
+            // `Pacer`) would be now; a
             // checkpoint's reconstruction or a slow machine only make the run late, never a
             // burst (and a run with a time limit is stopped by the core at its limit).
-            let pace = pace_seconds(seconds, engine.limits());
-            let due = paced_due(budget, t.paced_clock.as_secs_f64(), pace);
+            let due = Pacer::of(engine, seconds).due(t.paced_clock.as_secs_f64());
             if due >= budget {
                 // The pace is done: let the trainer run into its own stop rule (it decides when
                 // it is finished, e.g. only on the step after the last budgeted signal).
@@ -605,11 +695,10 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
     // A paced run: how far behind its schedule it is (seconds of pace), and the pace left.
     let paced = match (t.speed, t.engine.as_ref()) {
         (Speed::Paced { seconds }, Some(engine)) => {
-            let pace = pace_seconds(seconds, engine.limits());
+            let pacer = Pacer::of(engine, seconds);
             let clock = t.paced_clock.as_secs_f64();
-            let due = paced_due(budget, clock, pace);
-            let lag = due.saturating_sub(signals) as f64 / budget.max(1) as f64 * pace;
-            Some((lag, pace - clock))
+            let lag = (clock - pacer.time_of(signals)).max(0.0);
+            Some((lag, pacer.pace - clock))
         }
         _ => None,
     };
@@ -621,7 +710,7 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
         // the run is on pace (on a big mesh or a loaded machine, 200 measurements may take
         // most of the thread's time: armadillo, 6.6 s of a 10 s pace with another process on
         // one of two cores); a point a late run passes is left out, not taken later.
-        Some((lag, _)) => signals >= t.next_error_signals && lag <= PREVIEW_LAG_SECONDS,
+        Some((lag, _)) => signals >= t.next_error_signals && lag <= ERROR_POINT_LAG_SECONDS,
     };
     if measure || t.finished {
         measure_errors(t, events);
@@ -792,17 +881,18 @@ mod tests {
     }
 
     #[test]
-    fn a_watched_run_is_bounded_by_its_watch_time_unless_the_user_limit_is_shorter() {
+    fn a_watched_run_has_a_backstop_unless_the_user_limit_is_shorter() {
         let watch = Speed::Paced { seconds: 12.0 };
-        assert_eq!(run_time_limit(None, watch, true), (Some(secs(12.0)), true));
-        // A shorter limit of the user's wins; a longer one gives way to the watch time.
+        assert_eq!(SOFT_LIMIT_FACTOR, 2.0, "update the values below");
+        assert_eq!(run_time_limit(None, watch, true), (Some(secs(24.0)), true));
+        // A shorter limit of the user's wins; a longer one gives way to the backstop.
         assert_eq!(
             run_time_limit(Some(secs(5.0)), watch, true),
             (Some(secs(5.0)), false)
         );
         assert_eq!(
             run_time_limit(Some(secs(30.0)), watch, true),
-            (Some(secs(12.0)), true)
+            (Some(secs(24.0)), true)
         );
         // Started paused, or as fast as possible: the user's limit alone.
         assert_eq!(run_time_limit(None, watch, false), (None, false));
@@ -838,24 +928,115 @@ mod tests {
         assert!((pace - 2.5).abs() < 1e-9, "{pace}");
         // Never longer than the watch time (a shorter watch set mid-run), never negative (a
         // limit below the run's minimum: training as fast as it can).
-        assert_eq!(pace_seconds(3.0, Some((secs(30.0), secs(29.0)))), 3.0);
+        assert_eq!(pace_seconds(3.0, Some((secs(30.0), secs(29.0)))), 1.75);
         assert_eq!(pace_seconds(12.0, Some((secs(1.0), secs(0.0)))), 0.0);
 
-        // Where the run should be: linear in the clock, the whole budget at the end.
-        assert_eq!(paced_due(1_000, 0.0, 10.0), 0);
-        assert_eq!(paced_due(1_000, 4.0, 10.0), 400);
-        assert_eq!(paced_due(1_000, 10.0, 10.0), 1_000);
-        assert_eq!(paced_due(1_000, 20.0, 10.0), 1_000);
-        assert_eq!(
-            paced_due(1_000, 0.0, 0.0),
-            1_000,
-            "no time to pace: at once"
-        );
+        // The backstop (24 s) is not the run's end: the watch time is. Steps estimated at
+        // 1.6 s (training limit 22.4 s): 12 - 2 = 10 s of training.
+        let pace = pace_seconds(12.0, Some((secs(24.0), secs(22.4))));
+        assert!((pace - 10.0).abs() < 1e-9, "{pace}");
 
         // A late run stops training a little after its pace ends.
         assert!(!is_late(10.0, 10.0));
         assert!(!is_late(10.0 + PREVIEW_LAG_SECONDS, 10.0));
         assert!(is_late(10.1, 10.0));
+    }
+
+    #[test]
+    fn the_schedule_paces_the_growth_slowly_first_and_is_its_own_inverse() {
+        let pacer = Pacer {
+            budget: 1_000_000,
+            growth: 500_000,
+            pace: 10.0,
+        };
+        assert_eq!(pacer.due(0.0), 0);
+        assert_eq!(pacer.due(10.0), 1_000_000);
+        assert_eq!(pacer.due(20.0), 1_000_000);
+        // The growth's signals end at GROWTH_TIME_SHARE of the pace, the first second has
+        // (1/6)² of them.
+        assert_eq!(pacer.due(6.0), 500_000);
+        assert_eq!(pacer.due(1.0), 13_889);
+        // Monotone, and time_of inverts due.
+        let mut last = 0;
+        for k in 0..=100 {
+            let t = 0.1 * f64::from(k);
+            let due = pacer.due(t);
+            assert!(due >= last);
+            last = due;
+            assert!((pacer.time_of(due) - t).abs() < 1e-3, "{t}: {due}");
+        }
+        // A growth as long as the budget (λ set high) takes the whole pace.
+        let whole = Pacer {
+            growth: 2_000_000,
+            ..pacer
+        };
+        assert_eq!(whole.due(5.0), 250_000);
+        // No time to pace: everything at once.
+        assert_eq!(Pacer { pace: 0.0, ..pacer }.due(0.0), 1_000_000);
+    }
+
+    /// Issue 37, against a simulated clock (not this machine's speed): the default watched run
+    /// of the built-in model, its real network stepped to the schedule's signal count at each
+    /// simulated frame, holds under 25 % of its nodes 1 s into the run, grows over seconds, and
+    /// ends within 20 % of the shown run length when its steps take up to the
+    /// STEPS_TIME_FACTOR × their estimate that the pace leaves them.
+    #[test]
+    fn the_default_run_grows_visibly_and_ends_near_its_length_on_a_simulated_clock() {
+        let options = crate::ViewerOptions::default();
+        let (_, mesh) = engine::default_model();
+        let watch = crate::session::DEFAULT_WATCH_SECONDS;
+        let (time_limit, is_watch) = run_time_limit(None, crate::session::speed_for(None), true);
+        assert!(is_watch);
+        let params = TrainParams {
+            target_vertices: crate::session::default_target(mesh.vertex_count()),
+            time_limit,
+            ..crate::session::train_params(&options).unwrap()
+        };
+        let mut engine = Engine::new(&mesh, &params).unwrap();
+        let pacer = Pacer::of(&engine, watch);
+        let (limit, training_limit) = engine.limits().expect("a watched run has a limit");
+        let steps_estimate = (limit - training_limit).as_secs_f64();
+        let frame = 0.025;
+        let (mut clock, mut grown_at, mut at_one_second) = (0.0, None, None);
+        while !engine.is_finished() {
+            clock += frame;
+            let due = pacer.due(clock);
+            if due > engine.signals() {
+                engine.step(due - engine.signals());
+            } else if due >= pacer.budget {
+                // The pace is over: the trainer decides when it is finished.
+                engine.step(1);
+            }
+            let (nodes, target) = engine.nodes();
+            if at_one_second.is_none() && clock >= 1.0 {
+                at_one_second = Some((nodes, target));
+            }
+            if grown_at.is_none() && nodes >= target {
+                grown_at = Some(clock);
+            }
+            assert!(clock < 3.0 * watch, "the simulated run never finished");
+        }
+        let (nodes, target) = at_one_second.unwrap();
+        assert!(
+            (nodes as f64) < 0.25 * target as f64,
+            "{nodes} of {target} nodes after 1 s"
+        );
+        let grown_at = grown_at.expect("the network reached its nodes");
+        assert!(
+            grown_at >= 3.0 && grown_at <= pacer.pace,
+            "growth over {grown_at:.2} s of a {:.2} s pace",
+            pacer.pace
+        );
+        // The training ends at the pace (one frame after), the steps take their estimate or
+        // STEPS_TIME_FACTOR times it.
+        assert!(clock <= pacer.pace + 2.0 * frame, "{clock} {}", pacer.pace);
+        for factor in [1.0, STEPS_TIME_FACTOR] {
+            let end = clock + factor * steps_estimate;
+            assert!(
+                (end - watch).abs() <= 0.2 * watch,
+                "run ends at {end:.2} s of {watch} s (steps {steps_estimate:.2} s × {factor})"
+            );
+        }
     }
 
     #[test]

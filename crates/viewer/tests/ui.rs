@@ -463,10 +463,109 @@ fn small_windows_keep_the_viewports_dominant() {
             );
         }
         // The plots are visible, with legends telling GNG3D (solid) from QEM (dashed).
-        for label in ["GNG3D E_avg", "QEM E_avg", "GNG3D E_sur", "QEM Hausdorff"] {
+        for label in [
+            "GNG3D E_avg",
+            "QEM E_avg",
+            "GNG3D |E_sur|",
+            "QEM Hausdorff max",
+        ] {
             h.get_by_label(label);
         }
     }
+}
+
+/// Issue 37: at every window size from 1024×600 to 1920×1080, Table 1 (the latest checkpoint
+/// next to QEM, every measure) is laid out entirely inside its column and the window, with
+/// values in both columns; the legends are body text (not 9-point `small`), and every plot
+/// title is whole.
+#[test]
+fn table1_fits_without_scrolling_at_every_window_size() {
+    for (w, h) in [
+        (1024.0, 600.0),
+        (1280.0, 720.0),
+        (1600.0, 900.0),
+        (1920.0, 1080.0),
+    ] {
+        let size = egui::vec2(w, h);
+        let Some(mut harness) = harness_sized(fast(300), size) else {
+            return;
+        };
+        step_until(
+            &mut harness,
+            Duration::from_secs(90),
+            "QEM, the final mesh and its evaluation",
+            |a| {
+                a.session.has_qem_mesh()
+                    && a.session.live().finished
+                    && a.session.evaluations_pending() == 0
+                    && !a.session.history.reconstructions.is_empty()
+                    && a.session.history.qem.is_some()
+            },
+        );
+        for _ in 0..3 {
+            harness.step();
+        }
+        save_snapshot(&mut harness, &format!("table1_{w}x{h}.png"));
+        let app = harness.state();
+        let layout = app.table_layout.clone().expect("Table 1 is shown");
+        let rows = viewer::plots::TABLE_ROWS.len() + 1;
+        assert_eq!(layout.cells.len(), 3 * rows, "{w}x{h}: cells");
+        let window = egui::Rect::from_min_size(egui::Pos2::ZERO, size);
+        for (i, cell) in layout.cells.iter().enumerate() {
+            let inside = |r: egui::Rect| r.expand(0.5).contains_rect(*cell);
+            assert!(
+                inside(layout.clip) && inside(window),
+                "{w}x{h}: cell {i} (row {}, column {}) at {cell:?} outside {:?}",
+                i / 3,
+                i % 3,
+                layout.clip
+            );
+        }
+        // Values in the GNG3D and QEM columns (not "–"): the cells are real text widths.
+        for row in 1..rows {
+            for column in [1, 2] {
+                assert!(
+                    layout.cells[3 * row + column].width() > 8.0,
+                    "{w}x{h}: empty cell {row},{column}"
+                );
+            }
+        }
+        for label in ["GNG3D E_avg", "QEM |E_sur|", "GNG3D Hausdorff max"] {
+            let height = harness.get_by_label(label).rect().height();
+            assert!(
+                height >= 14.0,
+                "{w}x{h}: legend {label:?} {height} points high"
+            );
+        }
+        for title in &viewer::plots::TITLES[..3] {
+            harness.get_by_label(title);
+        }
+    }
+}
+
+/// Issue 37: the left view says which method trains, and one click switches between the
+/// paper's GNG3D and GNG3D-Q (and restarts the run with it).
+#[test]
+fn one_click_switches_between_the_papers_gng3d_and_gng3d_q() {
+    use viewer::engine::Method;
+    let Some(mut h) = harness(fast(200)) else {
+        return;
+    };
+    h.step();
+    let method = |h: &Harness<'static, ViewerApp>| Method::of(h.state().session.applied_params());
+    assert_eq!(method(&h), Method::Q, "GNG3D-Q is the default");
+    h.get_by_label("Switch to the paper's GNG3D").click();
+    h.step();
+    h.step();
+    assert_eq!(method(&h), Method::Paper);
+    assert_eq!(
+        h.state().session.applied_params().reconstruction,
+        gng3d_core::ReconstructionParams::paper()
+    );
+    h.get_by_label("Switch to GNG3D-Q").click();
+    h.step();
+    h.step();
+    assert_eq!(method(&h), Method::Q);
 }
 
 /// Issue 13: the default run is watchable: it takes seconds, not a blink, and fills the
