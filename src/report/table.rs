@@ -72,8 +72,20 @@ impl Table {
         out
     }
 
-    /// GitHub-flavoured Markdown.
+    /// GitHub-flavoured Markdown; a `|` in a cell is escaped (`\|`) so it does not split it.
     pub fn to_markdown(&self) -> String {
+        let escaped = Table {
+            headers: self.headers.iter().map(|c| c.replace('|', "\\|")).collect(),
+            rows: self
+                .rows
+                .iter()
+                .map(|r| r.iter().map(|c| c.replace('|', "\\|")).collect())
+                .collect(),
+        };
+        escaped.markdown()
+    }
+
+    fn markdown(&self) -> String {
         let w = self.widths();
         let mut out = format!("| {} |\n", Table::line(&self.headers, &w, " | "));
         let rule: Vec<String> = w
@@ -140,6 +152,13 @@ mod tests {
         assert_eq!(lines.len(), 4);
         assert!(lines[1].starts_with("| ---") && lines[1].ends_with(": |"));
         assert!(lines.iter().all(|l| l.starts_with('|') && l.ends_with('|')));
+        let mut t = Table::new(["metric", "value"]);
+        t.push(["|E_sur|", "1"]);
+        assert!(
+            t.to_markdown().contains("| \\|E_sur\\| |"),
+            "{}",
+            t.to_markdown()
+        );
     }
 
     #[test]

@@ -140,9 +140,19 @@ fn survey_skips_a_mesh_with_under_four_vertices_and_writes_the_summary() {
         }
     }
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
-    assert!(csv.contains("median min angle GNG3D"), "{csv}");
+    assert!(
+        csv.contains("median min angle (degrees, higher is better) GNG3D-Q"),
+        "{csv}"
+    );
     let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
-    assert!(md.contains("median min angle (higher is better)"), "{md}");
+    assert!(
+        md.contains("median min angle (degrees, higher is better)"),
+        "{md}"
+    );
+    assert!(
+        md.contains("- a-triangle.obj: ") && md.contains("at least 4"),
+        "{md}"
+    );
     // Atomic writes leave no temporary files behind.
     let names: Vec<String> = std::fs::read_dir(&out)
         .unwrap()

@@ -252,13 +252,13 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
         "node.obj",
         &["--placement", "node", "--no-flips", "--epochs", "10"],
     );
-    assert_eq!(paper["placement"], "Node");
+    assert_eq!(paper["placement"], "node");
     assert_eq!(paper["flips"], false);
     assert_eq!(paper["vertices"], 160);
     // --epochs 10: 10 × |V| signals, not the default min(400 N, 30 |V|) = 30 × 642.
     assert_eq!(paper["iterations"], 10 * 642);
     let (q, r_refit) = run("q.obj", &[]);
-    assert_eq!(q["placement"], "Quadric");
+    assert_eq!(q["placement"], "quadric");
     assert_eq!(q["flips"], true);
     assert_eq!(q["refit"], true);
     assert_eq!(q["vertices"], 160);
@@ -331,7 +331,7 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     assert!(r_refit > 1.0 && r_refit < 1.05, "{r_refit}");
     assert_eq!(paper["refit"], false);
     let (p, r_project) = run("p.obj", &["--placement", "project", "--epochs", "30"]);
-    assert_eq!(p["placement"], "Project");
+    assert_eq!(p["placement"], "project");
     // Nodes are signal centroids, inside the convex sphere; projected vertices lie on the
     // original faces, much closer to radius 1.
     assert!(r_node < r_project, "node {r_node} vs project {r_project}");
@@ -378,9 +378,9 @@ fn simplify_gng_signals_flag_chooses_where_the_nodes_go() {
         (v["signals"].clone(), left as f64 / m.positions.len() as f64)
     };
     let (kind, vertices) = left_share("vertices");
-    assert_eq!(kind, "Vertices");
+    assert_eq!(kind, "vertices");
     let (kind, surface) = left_share("surface");
-    assert_eq!(kind, "Surface");
+    assert_eq!(kind, "surface");
     // GNG's node density on a surface goes as the square root of the signal density. Vertex
     // signals have density ~ x^(-1/2) here, so nodes ~ x^(-1/4) and the share left of 0.25 is
     // 0.25^(3/4) = 0.354; surface signals are uniform: 0.25.
@@ -394,7 +394,7 @@ fn simplify_gng_signals_flag_chooses_where_the_nodes_go() {
     );
     // The flat grid has no curvature: curvature weights are plain area weights.
     let (kind, curvature) = left_share("curvature");
-    assert_eq!(kind, "Curvature");
+    assert_eq!(kind, "curvature");
     assert!(
         (0.20..0.29).contains(&curvature),
         "curvature signals: {curvature}"
@@ -484,16 +484,16 @@ fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
         json_of(&r)
     };
     let paper = report(&["--paper"]);
-    assert_eq!(paper["gng_placement"], "Node");
+    assert_eq!(paper["gng_placement"], "node");
     assert_eq!(paper["gng_flips"], false);
     assert!(paper["gng_variant"].as_str().unwrap().contains("paper"));
     assert!(paper["gng_variant"].as_str().unwrap().contains("30 epochs"));
     let q = report(&["--placement", "project", "--no-flips"]);
-    assert_eq!(q["gng_placement"], "Project");
+    assert_eq!(q["gng_placement"], "project");
     assert_eq!(q["gng_flips"], false);
     assert!(q["gng_variant"].as_str().unwrap().starts_with("GNG3D-Q"));
     let d = report(&[]);
-    assert_eq!(d["gng_placement"], "Quadric");
+    assert_eq!(d["gng_placement"], "quadric");
     assert_eq!(d["gng_flips"], true);
     assert_eq!(d["gng_refit"], true);
     assert!(d["gng_variant"].as_str().unwrap().contains("surface refit"));
@@ -647,5 +647,48 @@ fn the_library_default_is_the_cli_default_byte_for_byte() {
             "{input:?} at {ratio}: the CLI and the library differ"
         );
         assert!(result.report.network_vertices > result.mesh.vertex_count());
+    }
+}
+
+/// `--ratio` is a share of the input's vertices for every method (issue 37 item 7): on a
+/// 642-vertex, 1,280-face sphere 0.1 gives 64 vertices with `--method gng` and with `--method
+/// qem` alike (a share of the faces would give QEM 128 faces, 66 vertices); a share of the
+/// faces is the explicit `--face-ratio`, QEM only.
+#[test]
+fn ratio_is_a_share_of_vertices_for_every_method() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = dir.path().join("sphere.obj");
+    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(3), &sphere).unwrap();
+    let out = dir.path().join("out.ply");
+    let run = |extra: &[&str]| {
+        let mut a = vec!["simplify", sphere.to_str().unwrap(), out.to_str().unwrap()];
+        a.extend_from_slice(extra);
+        a.push("--json");
+        gng3d(&a)
+    };
+    let gng = json_of(&run(&["--method", "gng", "--ratio", "0.1"]));
+    let qem = json_of(&run(&["--method", "qem", "--ratio", "0.1"]));
+    assert_eq!(gng["vertices"], 64);
+    assert_eq!(qem["vertices"], 64);
+    let by_faces = json_of(&run(&["--method", "qem", "--face-ratio", "0.1"]));
+    let faces = by_faces["faces"].as_u64().unwrap();
+    assert!((127..=128).contains(&faces), "{by_faces}");
+    assert_eq!(by_faces["vertices"], faces / 2 + 2);
+    // --face-ratio is QEM's; a ratio outside (0, 1] names its flag before any work.
+    let o = run(&["--method", "gng", "--face-ratio", "0.1"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--face-ratio"));
+    for (flag, method) in [
+        ("--ratio", "qem"),
+        ("--ratio", "gng"),
+        ("--face-ratio", "qem"),
+    ] {
+        let o = run(&["--method", method, flag, "1.5"]);
+        assert_eq!(o.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(&format!("{flag} must be in (0, 1], got 1.5")),
+            "{err}"
+        );
     }
 }

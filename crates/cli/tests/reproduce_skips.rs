@@ -27,3 +27,104 @@ fn max_faces_skips_are_named() {
         "{stderr}"
     );
 }
+
+/// `reproduce --all` writes and prints the three methods (issue 37 item 6): summary.csv has
+/// GNG3D-Q's columns and a verdict per metric that agrees with the values beside it,
+/// summary.md the verdict table of both GNG3D variants and the skipped mesh with its reason,
+/// the terminal the same verdict table, and the charts are written.
+#[test]
+fn survey_reports_gng3d_q_and_the_verdict() {
+    let dir = tempfile::tempdir().unwrap();
+    let meshes = dir.path().join("meshes");
+    std::fs::create_dir(&meshes).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(2), &meshes.join("ball.obj")).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(4), &meshes.join("big.obj")).unwrap();
+    let out = dir.path().join("survey");
+    let o = Command::new(env!("CARGO_BIN_EXE_gng3d"))
+        .args(["reproduce", "--all", meshes.to_str().unwrap()])
+        .args(["--max-faces", "1000", "--epochs", "2", "--samples", "2000"])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    for needle in [
+        "GNG3D (paper) wins",
+        "GNG3D-Q wins",
+        "GNG3D-Q / QEM",
+        "mean distance",
+    ] {
+        assert!(stdout.contains(needle), "{needle:?} missing in {stdout}");
+    }
+
+    let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let mut lines = text.lines().map(csv_cells);
+    let headers = lines.next().unwrap();
+    let col = |name: &str| {
+        headers
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name:?} in {headers:?}"))
+    };
+    let rows: Vec<Vec<String>> = lines.collect();
+    assert_eq!(rows.len(), 3, "ball.obj at 10, 25 and 50 %");
+    let m = "mean surface distance (area-weighted, units)";
+    for r in &rows {
+        assert_eq!(&r[col("mesh")], "ball.obj");
+        assert_eq!(r[col("vertices GNG3D-Q")], r[col("vertices QEM")]);
+        // The verdict column says which of the two values beside it is lower.
+        let q: f64 = r[col(&format!("{m} GNG3D-Q"))].parse().unwrap();
+        let e: f64 = r[col(&format!("{m} QEM"))].parse().unwrap();
+        let verdict = r[col(&format!("{m} better: GNG3D-Q or QEM"))].as_str();
+        let expected = if q < e {
+            "GNG3D-Q"
+        } else if e < q {
+            "QEM"
+        } else {
+            "tie"
+        };
+        assert_eq!(verdict, expected, "{q} vs {e}");
+        let paper = r[col(&format!("{m} better: GNG3D (paper) or QEM"))].as_str();
+        assert!(["GNG3D (paper)", "QEM", "tie"].contains(&paper), "{paper}");
+    }
+
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    for needle in [
+        "GNG3D (paper) wins",
+        "GNG3D-Q wins",
+        "| mean surface distance (area-weighted, units) ",
+        "of 3",
+        "- big.obj: skipped: 5120 faces, more than --max-faces 1000",
+    ] {
+        assert!(md.contains(needle), "{needle:?} missing in {md}");
+    }
+    for chart in ["survey_mean_distance", "survey_hausdorff"] {
+        for ext in ["svg", "png"] {
+            assert!(
+                out.join(format!("{chart}.{ext}")).is_file(),
+                "{chart}.{ext}"
+            );
+        }
+    }
+}
+
+/// The cells of one CSV line (RFC 4180: quoted cells may hold commas and doubled quotes).
+fn csv_cells(line: &str) -> Vec<String> {
+    let mut cells = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                cells.last_mut().unwrap().push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => cells.push(String::new()),
+            _ => cells.last_mut().unwrap().push(c),
+        }
+    }
+    cells
+}

@@ -145,7 +145,7 @@ pub use params::{
 };
 pub use pipeline::{Plan, PlannedStep, Step, StepRecord};
 pub use reconstruct::{Reconstruction, ReconstructionReport};
-pub use report::{GngReport, GngWarning};
+pub use report::{GngReport, GngSummary, GngWarning};
 pub use trainer::{CancelToken, Progress, Snapshot, StopReason, Trainer, TrainingStats};
 
 use glam::Vec3;

@@ -27,6 +27,30 @@ pub enum GngTarget {
     VertexRatio(f64),
 }
 
+impl GngTarget {
+    /// The output vertex count this target asks for on `input`: `Vertices(n)` is n,
+    /// `VertexRatio(r)` is r × the input's referenced vertices, rounded to the nearest count.
+    /// Every front end turns a ratio into a vertex count here, for GNG3D-Q, the paper's GNG3D
+    /// and QEM alike (`gng3d simplify --ratio`, the Python package's `ratio=`), so one ratio
+    /// gives one output size whatever the method. A ratio outside (0, 1] is an error naming it.
+    pub fn vertex_count(&self, input: &TriMesh) -> Result<usize, GngError> {
+        self.vertex_count_of(referenced_vertices(input))
+    }
+
+    /// [`Self::vertex_count`] on an input with `available` referenced vertices.
+    fn vertex_count_of(&self, available: usize) -> Result<usize, GngError> {
+        match *self {
+            GngTarget::Vertices(n) => Ok(n),
+            GngTarget::VertexRatio(r) if r > 0.0 && r <= 1.0 => {
+                Ok(((available as f64) * r).round() as usize)
+            }
+            GngTarget::VertexRatio(r) => {
+                Err(bad(GngParameter::TargetRatio, r, "must be in (0, 1]"))
+            }
+        }
+    }
+}
+
 impl Default for GngTarget {
     fn default() -> Self {
         GngTarget::Vertices(GngParams::default().target_vertices)
@@ -298,10 +322,7 @@ impl GngOptions {
     /// vertices.
     fn target_vertices_of(&self, available: usize) -> Result<usize, GngError> {
         self.validate()?;
-        let n = match self.target {
-            GngTarget::Vertices(n) => n,
-            GngTarget::VertexRatio(r) => ((available as f64) * r).round() as usize,
-        };
+        let n = self.target.vertex_count_of(available)?;
         let vertex_bound = self.signal_source == SignalSource::Vertices;
         if n < 3 || (vertex_bound && n > available) {
             return Err(GngError::Target {

@@ -29,28 +29,35 @@ pub const PAPER_EPOCHS: f64 = 30.0;
 /// Where training signals come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum SignalSource {
     /// Uniformly from the distinct referenced vertex positions (the GNG3D paper; exact duplicate
     /// positions count once, so unwelded input behaves like welded input).
     #[default]
+    #[cfg_attr(feature = "serde", serde(alias = "Vertices"))]
     Vertices,
     /// Area-weighted uniform points on the surface (each signal picks a triangle with probability
     /// proportional to its area, then a uniform point inside it).
+    #[cfg_attr(feature = "serde", serde(alias = "Surface"))]
     Surface,
     /// Like `Surface`, with each face's area weighted up by the curvature the surface has over
     /// one output edge length (bounded to at most 4×), so curved parts and
     /// creases get more nodes (GNG3D-Q option).
+    #[cfg_attr(feature = "serde", serde(alias = "Curvature"))]
     Curvature,
 }
 
 /// Nearest/second-nearest node search used during training.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum SearchStrategy {
     /// Growing uniform grid (Fišer et al. 2013); near O(1) per query.
     #[default]
+    #[cfg_attr(feature = "serde", serde(alias = "Grid"))]
     Grid,
     /// Naive scan over all nodes, O(|A|) per query; the benchmark baseline.
+    #[cfg_attr(feature = "serde", serde(alias = "LinearScan"))]
     LinearScan,
 }
 
@@ -141,16 +148,20 @@ fn default_true() -> bool {
 /// Where the output vertex of each node is placed (reconstruction option (c)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Placement {
     /// At the trained node (GNG3D as published: the centroid of its signals, which lies inside
     /// curved surfaces and off creases).
+    #[cfg_attr(feature = "serde", serde(alias = "Node"))]
     Node,
     /// At the closest point to the node on the original faces touching its cell.
+    #[cfg_attr(feature = "serde", serde(alias = "Project"))]
     Project,
     /// At the minimiser of the cell's summed Garland–Heckbert quadrics, solved from the
     /// projected point with small eigenvalues dropped; falls back to the projected point when
     /// that solution is not finite or lies more than two cell radii from the node.
     #[default]
+    #[cfg_attr(feature = "serde", serde(alias = "Quadric"))]
     Quadric,
 }
 

@@ -187,3 +187,119 @@ pub struct GngReport {
     /// Everything that was dropped or kept the output from `target_vertices` vertices.
     pub warnings: Vec<GngWarning>,
 }
+
+/// One GNG3D run in a few flat fields: what `gng3d simplify --method gng --json` prints and
+/// what the Python package's `report` holds (both build it here, so their fields cannot drift).
+/// Names are lowercase as the CLI's flags are (`"placement": "quadric"`, `"signals":
+/// "vertices"`).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct GngSummary {
+    /// The method's name in the front end ("gng"; the Python package also says "paper").
+    pub method: &'static str,
+    /// Output vertex count.
+    pub vertices: usize,
+    /// Output face count.
+    pub faces: usize,
+    /// Training signals processed (the paper's iterations).
+    pub iterations: u64,
+    /// Wall time of training plus the steps after it, seconds (loading and saving excluded).
+    pub seconds: f64,
+    /// Wall time of training, seconds.
+    pub training_seconds: f64,
+    /// Requested vertex count; `vertices` equals it unless `warnings` says why not.
+    pub target_vertices: usize,
+    /// Trained nodes (k × N when oversampled).
+    pub nodes: usize,
+    /// Oversampling factor k (1: the network's mesh is the output).
+    pub oversample: f64,
+    /// Vertices of the network's mesh before the QEM decimation (equals `vertices` when k = 1).
+    pub network_vertices: usize,
+    /// Vertex placement used ("node": the paper, "project", "quadric": GNG3D-Q).
+    pub placement: crate::Placement,
+    /// Where the training signals came from ("vertices": the paper, "surface", "curvature").
+    pub signals: crate::SignalSource,
+    /// Whether the edge-flip pass ran.
+    pub flips: bool,
+    /// Whether the surface refit ran (quadric placement with refit on).
+    pub refit: bool,
+    /// Rounds of detail nodes (oversampled runs; 0: none).
+    pub detail_rounds: usize,
+    /// Nodes those rounds added where the mesh stayed farthest from the original.
+    pub detail_nodes: usize,
+    /// Whether the tangential relaxation after the decimation is on (it runs only when the
+    /// network's mesh was decimated).
+    pub relax: bool,
+    /// Vertices it moved toward the original vertices they stand for.
+    pub relaxed_vertices: usize,
+    /// Whether the deviation repair after the decimation is on (it runs only when the
+    /// network's mesh was decimated).
+    pub repair_deviations: bool,
+    /// Vertices it moved back onto the original.
+    pub deviation_moves: usize,
+    /// Edges it flipped.
+    pub deviation_flips: usize,
+    /// The steps after training that ran, in order: name, build round, seconds and what each
+    /// changed ([`crate::pipeline`]).
+    pub steps: Vec<crate::StepRecord>,
+    /// Machine-readable reasons why the output differs from the request (empty when exact).
+    pub warnings: Vec<GngWarning>,
+    /// The output has no border edge.
+    pub closed: bool,
+    /// The output is manifold ([`mesh::topology::TopologyReport::manifold`]).
+    pub manifold: bool,
+    /// Genus of the output (None when undefined).
+    pub genus: Option<i64>,
+    /// Border edges of the output.
+    pub boundary_edges: usize,
+    /// Edges of the output with more than two faces.
+    pub non_manifold_edges: usize,
+}
+
+impl GngSummary {
+    /// The summary of `result`, the mesh [`crate::finish`] made from `trainer`'s network;
+    /// `oversample` is [`crate::GngOptions::oversample_factor`] of the run's options and
+    /// `seconds` the run's wall time as the front end measured it.
+    pub fn new(
+        method: &'static str,
+        trainer: &crate::Trainer,
+        oversample: f64,
+        result: &crate::GngResult,
+        seconds: f64,
+    ) -> GngSummary {
+        let params = trainer.params();
+        let stats = trainer.stats();
+        let r = &result.report.reconstruction;
+        let t = &r.topology;
+        GngSummary {
+            method,
+            vertices: result.mesh.vertex_count(),
+            faces: result.mesh.face_count(),
+            iterations: stats.signals,
+            seconds,
+            training_seconds: stats.seconds,
+            target_vertices: result.report.target_vertices,
+            nodes: trainer.node_count(),
+            oversample,
+            network_vertices: result.report.network_vertices,
+            placement: params.reconstruction.placement,
+            signals: params.signal_source,
+            flips: params.reconstruction.flip_edges,
+            refit: params.reconstruction.refits(),
+            detail_rounds: params.reconstruction.detail_rounds,
+            detail_nodes: r.detail_nodes,
+            relax: params.reconstruction.relax,
+            relaxed_vertices: r.relaxed_vertices,
+            repair_deviations: params.reconstruction.repair_deviations,
+            deviation_moves: r.deviation_moves,
+            deviation_flips: r.deviation_flips,
+            steps: result.report.steps.clone(),
+            warnings: result.report.warnings.clone(),
+            closed: t.closed,
+            manifold: t.manifold,
+            genus: t.genus,
+            boundary_edges: t.boundary_edges,
+            non_manifold_edges: t.non_manifold_edges,
+        }
+    }
+}

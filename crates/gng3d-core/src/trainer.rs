@@ -85,14 +85,19 @@ impl CancelToken {
 /// Why training ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum StopReason {
     /// The signal budget was used and the node count is at the target.
+    #[cfg_attr(feature = "serde", serde(alias = "Completed"))]
     Completed,
     /// The time limit was reached.
+    #[cfg_attr(feature = "serde", serde(alias = "TimeLimit"))]
     TimeLimit,
     /// Cancelled through a [`CancelToken`] or an observer.
+    #[cfg_attr(feature = "serde", serde(alias = "Cancelled"))]
     Cancelled,
     /// Twice the signal budget was used without reaching the target (should not happen).
+    #[cfg_attr(feature = "serde", serde(alias = "SignalCap"))]
     SignalCap,
 }
 

@@ -2,7 +2,7 @@
 //! onto the library's own (`gng3d_core::GngOptions`, `qem::QemParams`), which validate them; the
 //! same steps as `gng3d simplify` after loading; and the report its `--json` prints.
 
-use gng3d_core::{GngError, GngOptions, GngTarget, GngWarning, Placement, SignalSource, Trainer};
+use gng3d_core::{GngError, GngOptions, GngTarget, Placement, SignalSource, Trainer};
 use mesh::TriMesh;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -250,40 +250,6 @@ pub fn gng_error(e: GngError) -> PyErr {
     }
 }
 
-/// `gng3d simplify --method gng --json`'s summary (crates/cli/src/cli/simplify/gng.rs), field
-/// for field; the binding adds a `message` to each warning.
-#[derive(Debug, Serialize)]
-struct GngSummary {
-    method: &'static str,
-    vertices: usize,
-    faces: usize,
-    iterations: u64,
-    seconds: f64,
-    training_seconds: f64,
-    target_vertices: usize,
-    nodes: usize,
-    oversample: f64,
-    network_vertices: usize,
-    placement: Placement,
-    signals: SignalSource,
-    flips: bool,
-    refit: bool,
-    detail_rounds: usize,
-    detail_nodes: usize,
-    relax: bool,
-    relaxed_vertices: usize,
-    repair_deviations: bool,
-    deviation_moves: usize,
-    deviation_flips: usize,
-    steps: Vec<gng3d_core::StepRecord>,
-    warnings: Vec<GngWarning>,
-    closed: bool,
-    manifold: bool,
-    genus: Option<i64>,
-    boundary_edges: usize,
-    non_manifold_edges: usize,
-}
-
 /// A finished run: the mesh, the `--json` report and the warnings' sentences.
 pub struct Outcome {
     /// The simplified mesh.
@@ -326,41 +292,13 @@ pub fn summarize(
     started: Instant,
     result: gng3d_core::GngResult,
 ) -> Outcome {
-    let params = trainer.params();
-    let seconds = started.elapsed().as_secs_f64();
-    let stats = trainer.stats();
-    let r = &result.report.reconstruction;
-    let t = &r.topology;
-    let summary = GngSummary {
-        method: method.name(),
-        vertices: result.mesh.vertex_count(),
-        faces: result.mesh.face_count(),
-        iterations: stats.signals,
-        seconds,
-        training_seconds: stats.seconds,
-        target_vertices: result.report.target_vertices,
-        nodes: trainer.node_count(),
-        oversample: options.oversample_factor(),
-        network_vertices: result.report.network_vertices,
-        placement: params.reconstruction.placement,
-        signals: params.signal_source,
-        flips: params.reconstruction.flip_edges,
-        refit: params.reconstruction.refits(),
-        detail_rounds: params.reconstruction.detail_rounds,
-        detail_nodes: r.detail_nodes,
-        relax: params.reconstruction.relax,
-        relaxed_vertices: r.relaxed_vertices,
-        repair_deviations: params.reconstruction.repair_deviations,
-        deviation_moves: r.deviation_moves,
-        deviation_flips: r.deviation_flips,
-        steps: result.report.steps.clone(),
-        warnings: result.report.warnings.clone(),
-        closed: t.closed,
-        manifold: t.manifold,
-        genus: t.genus,
-        boundary_edges: t.boundary_edges,
-        non_manifold_edges: t.non_manifold_edges,
-    };
+    let summary = gng3d_core::GngSummary::new(
+        method.name(),
+        trainer,
+        options.oversample_factor(),
+        &result,
+        started.elapsed().as_secs_f64(),
+    );
     let warnings: Vec<String> = result
         .report
         .warnings
@@ -425,23 +363,17 @@ struct QemWarning {
 }
 
 /// The QEM target of `size` on `input`: `ratio` is a share of the input's (referenced)
-/// vertices here as for GNG3D, rounded as GNG3D rounds it; its range is checked by the library
-/// (`GngOptions::validate`, the same rule and sentence as for GNG3D).
+/// vertices here as for GNG3D, through the library's one mapping (`GngTarget::vertex_count`,
+/// which `gng3d simplify --method qem --ratio` uses too).
 pub fn qem_target(size: Size, input: &TriMesh) -> PyResult<qem::Target> {
     Ok(match size {
         Size::Vertices(n) => qem::Target::Vertices(n),
         Size::Faces(n) => qem::Target::Faces(n),
-        Size::Ratio(r) => {
-            GngOptions::for_target(GngTarget::VertexRatio(r))
-                .validate()
-                .map_err(gng_error)?;
-            let mut used = vec![false; input.vertex_count()];
-            for &v in input.triangles.iter().flatten() {
-                used[v as usize] = true;
-            }
-            let referenced = used.iter().filter(|&&u| u).count();
-            qem::Target::Vertices((referenced as f64 * r).round() as usize)
-        }
+        Size::Ratio(r) => qem::Target::Vertices(
+            GngTarget::VertexRatio(r)
+                .vertex_count(input)
+                .map_err(gng_error)?,
+        ),
     })
 }
 

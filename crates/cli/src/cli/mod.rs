@@ -211,8 +211,9 @@ pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result
     Ok(prepared)
 }
 
-/// Checks an output mesh path before any work: a known extension (.obj, .ply, .stl) and an
-/// existing folder, so a long run never fails at the very end on a typo.
+/// Checks an output mesh path before any work: a known extension (.obj, .ply, .stl), not a
+/// folder, and a folder that exists and takes new files (`mesh::io::check_writable`), so a
+/// long run never fails at the very end on a typo.
 pub(crate) fn check_output_mesh_path(path: &std::path::Path) -> anyhow::Result<mesh::io::Format> {
     let format = mesh::io::Format::from_path(path).ok_or_else(|| {
         anyhow::anyhow!(
@@ -220,20 +221,10 @@ pub(crate) fn check_output_mesh_path(path: &std::path::Path) -> anyhow::Result<m
             path.display()
         )
     })?;
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    if !dir.is_dir() {
-        anyhow::bail!(
-            "{}: the output folder {} does not exist",
-            path.display(),
-            dir.display()
-        );
-    }
     if path.is_dir() {
         anyhow::bail!("{}: is a folder, not a mesh file", path.display());
     }
+    // The folder (after links) exists and takes new files: the one check, the mesh crate's.
     mesh::io::check_writable(path)?;
     Ok(format)
 }

@@ -5,9 +5,8 @@ use anyhow::Context;
 use clap::Args;
 use gng3d::experiment::reproduce::{Progress, ReproduceParams, Stage, reproduce};
 use gng3d::experiment::survey::{SurveyParams, SurveyRow, survey_mesh};
-use gng3d::report::paper::{
-    summary_markdown, summary_table, terminal_legend, terminal_table, write_reproduction,
-};
+use gng3d::report::paper::{terminal_legend, terminal_table, write_reproduction};
+use gng3d::report::survey::{terminal_summary, write_survey};
 use indicatif::{ProgressBar, ProgressStyle};
 use metrics::HausdorffParams;
 use rayon::prelude::*;
@@ -188,31 +187,29 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
         .collect();
     progress.finish_and_clear();
     let mut rows = Vec::new();
+    let mut skipped = Vec::new();
     for (name, r) in results {
         match r {
             Ok(r) => rows.extend(r),
-            Err(e) => eprintln!("warning: {name}: {e:#}"),
+            Err(e) => {
+                eprintln!("warning: {name}: {e:#}");
+                skipped.push((name, format!("{e:#}")));
+            }
         }
     }
     if rows.is_empty() {
         eprintln!("warning: no mesh in {} could be surveyed", dir.display());
     }
-    let table = summary_table(&rows);
-    table.write_csv(&out.join("summary.csv"))?;
-    super::write_atomic(
-        &out.join("summary.md"),
-        summary_markdown(&rows, args.epochs).as_bytes(),
-    )?;
-    super::write_atomic(
-        &out.join("summary.json"),
-        serde_json::to_string_pretty(&rows)?.as_bytes(),
-    )?;
+    let written = write_survey(&rows, &skipped, args.epochs, &out)?;
     if args.json {
         return super::print_json(&rows);
     }
-    out!("{}", table.to_text());
+    if !rows.is_empty() {
+        out!("{}", terminal_summary(&rows));
+    }
     outln!(
-        "wrote summary.csv, summary.md and summary.json to {}",
+        "wrote {} files to {} (summary.md: the verdict and every run; summary.csv: every measure)",
+        written.len(),
         out.display()
     );
     Ok(())

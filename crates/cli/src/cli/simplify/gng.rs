@@ -3,66 +3,10 @@
 
 use super::SimplifyArgs;
 use anyhow::{Context, bail};
-use gng3d_core::{GngOptions, GngTarget, GngWarning, Trainer};
+use gng3d_core::{GngOptions, GngSummary, GngTarget, Trainer};
 use indicatif::{ProgressBar, ProgressStyle};
-use serde::Serialize;
 use std::ops::ControlFlow;
 use std::time::Instant;
-
-/// The `--json` summary.
-#[derive(Debug, Serialize)]
-struct Summary {
-    method: &'static str,
-    vertices: usize,
-    faces: usize,
-    /// Training signals processed (the paper's iterations).
-    iterations: u64,
-    /// Wall time of training plus reconstruction, seconds (loading and saving excluded).
-    seconds: f64,
-    training_seconds: f64,
-    /// Requested vertex count; `vertices` equals it unless `warnings` says why not.
-    target_vertices: usize,
-    /// Trained nodes (k × N when oversampled).
-    nodes: usize,
-    /// Oversampling factor k (1: the network's mesh is the output).
-    oversample: f64,
-    /// Vertices of the network's mesh before the QEM decimation (equals `vertices` when k = 1).
-    network_vertices: usize,
-    /// Vertex placement used ("Node": the paper, "Project", "Quadric": GNG3D-Q).
-    placement: gng3d_core::Placement,
-    /// Where the training signals came from ("Vertices": the paper, "Surface", "Curvature").
-    signals: gng3d_core::SignalSource,
-    /// Whether the edge-flip pass ran.
-    flips: bool,
-    /// Whether the surface refit ran (quadric placement with refit on).
-    refit: bool,
-    /// Rounds of detail nodes (oversampled runs; 0: none).
-    detail_rounds: usize,
-    /// Nodes those rounds added where the mesh stayed farthest from the original.
-    detail_nodes: usize,
-    /// Whether the tangential relaxation after the decimation is on (it runs only when the
-    /// network's mesh was decimated).
-    relax: bool,
-    /// Vertices it moved toward the original vertices they stand for.
-    relaxed_vertices: usize,
-    /// Whether the deviation repair after the decimation is on (it runs only when the
-    /// network's mesh was decimated).
-    repair_deviations: bool,
-    /// Vertices it moved back onto the original.
-    deviation_moves: usize,
-    /// Edges it flipped.
-    deviation_flips: usize,
-    /// The steps after training that ran, in order: name, build round, seconds and what each
-    /// changed (the pipeline of `gng3d_core::pipeline`).
-    steps: Vec<gng3d_core::StepRecord>,
-    /// Machine-readable reasons why the output differs from the request (empty when exact).
-    warnings: Vec<GngWarning>,
-    closed: bool,
-    manifold: bool,
-    genus: Option<i64>,
-    boundary_edges: usize,
-    non_manifold_edges: usize,
-}
 
 /// The user's GNG3D options from the command line (the mapping to `GngParams` is
 /// `GngOptions::resolve`, shared with `compare`, `reproduce` and the viewer).
@@ -84,13 +28,16 @@ fn options(args: &SimplifyArgs) -> anyhow::Result<GngOptions> {
 
 /// Simplify with GNG3D.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
-    if args.faces.is_some() {
-        bail!("--faces applies to QEM only; use --vertices or --ratio with --method gng");
+    if args.faces.is_some() || args.face_ratio.is_some() {
+        bail!(
+            "--faces and --face-ratio apply to QEM only; use --vertices or --ratio with --method gng"
+        );
     }
     let options = options(args)?;
     // Everything that does not need the mesh is checked before loading it.
     options.validate().context("GNG3D options")?;
-    let input = crate::cli::load_prepared(&args.input, args.no_weld)?;
+    let loaded = super::attributes::load(&args.input, args.no_weld)?;
+    let input = &loaded.mesh;
     let params = options
         .resolve(&input)
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
@@ -123,44 +70,31 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let result = result.with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let seconds = start.elapsed().as_secs_f64();
     let stats = trainer.stats();
-    crate::cli::save_checked(&result.mesh, &args.output, "GNG3D")
-        .with_context(|| format!("GNG3D on {}", args.input.display()))?;
+    // The input's attributes from its surface at the output's corners.
+    let attributes = super::attributes::transfer(&loaded, &result.mesh);
+    let kept = super::attributes::save(
+        &result.mesh,
+        attributes.as_ref(),
+        &loaded,
+        &args.output,
+        "GNG3D",
+    )
+    .with_context(|| format!("GNG3D on {}", args.input.display()))?;
     for w in &result.report.warnings {
         eprintln!("warning: {w}");
     }
-    let t = &result.report.reconstruction.topology;
-    let summary = Summary {
-        method: "gng",
-        vertices: result.mesh.vertex_count(),
-        faces: result.mesh.face_count(),
-        iterations: stats.signals,
+    let summary = GngSummary::new(
+        "gng",
+        &trainer,
+        options.oversample_factor(),
+        &result,
         seconds,
-        training_seconds: stats.seconds,
-        target_vertices: result.report.target_vertices,
-        nodes: trainer.node_count(),
-        oversample: options.oversample_factor(),
-        network_vertices: result.report.network_vertices,
-        placement: params.reconstruction.placement,
-        signals: params.signal_source,
-        flips: params.reconstruction.flip_edges,
-        refit: params.reconstruction.refits(),
-        detail_rounds: params.reconstruction.detail_rounds,
-        detail_nodes: result.report.reconstruction.detail_nodes,
-        relax: params.reconstruction.relax,
-        relaxed_vertices: result.report.reconstruction.relaxed_vertices,
-        repair_deviations: params.reconstruction.repair_deviations,
-        deviation_moves: result.report.reconstruction.deviation_moves,
-        deviation_flips: result.report.reconstruction.deviation_flips,
-        steps: result.report.steps.clone(),
-        warnings: result.report.warnings.clone(),
-        closed: t.closed,
-        manifold: t.manifold,
-        genus: t.genus,
-        boundary_edges: t.boundary_edges,
-        non_manifold_edges: t.non_manifold_edges,
-    };
+    );
     if args.json {
-        return crate::cli::print_json(&summary);
+        return crate::cli::print_json(&super::attributes::WithAttributes {
+            summary: &summary,
+            attributes: &kept,
+        });
     }
     outln!(
         "{} -> {}: {} vertices, {} faces, {} signals in {:.3} s ({}); closed: {}, manifold: {}, genus: {}",

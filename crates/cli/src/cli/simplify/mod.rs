@@ -1,5 +1,6 @@
 //! `gng3d simplify`: reduce a mesh with QEM or GNG3D and write the result atomically.
 
+mod attributes;
 mod gng;
 mod qem;
 
@@ -31,9 +32,13 @@ pub struct SimplifyArgs {
     /// Target face count (QEM only).
     #[arg(long, group = "target")]
     pub faces: Option<usize>,
-    /// Target as a fraction of the input (vertices for GNG, faces for QEM), in (0, 1].
+    /// Target as a share of the input's vertices, in (0, 1], for every method: 0.1 gives the
+    /// same vertex count with --method gng and --method qem (rounded to the nearest count).
     #[arg(long, group = "target")]
     pub ratio: Option<f64>,
+    /// Target as a share of the input's faces, in (0, 1] (QEM only).
+    #[arg(long, group = "target")]
+    pub face_ratio: Option<f64>,
     /// QEM pair distance threshold t in model units (0: edges only): also contract each vertex
     /// with its 8 closest vertices within t. At most the mesh's bounding-box diagonal (larger
     /// values are refused, naming the limit).
@@ -64,6 +69,13 @@ pub struct SimplifyArgs {
 pub fn run(args: SimplifyArgs) -> anyhow::Result<()> {
     // The output path is checked before loading or training, so a typo costs nothing.
     crate::cli::check_output_mesh_path(&args.output)?;
+    for (flag, r) in [("--ratio", args.ratio), ("--face-ratio", args.face_ratio)] {
+        if let Some(r) = r
+            && !(r > 0.0 && r <= 1.0)
+        {
+            anyhow::bail!("{flag} must be in (0, 1], got {r}");
+        }
+    }
     match args.method {
         Method::Qem => qem::run(&args),
         Method::Gng => gng::run(&args),

@@ -18,6 +18,8 @@ struct Summary {
     report: QemReport,
 }
 
+const NO_TARGET: &str = "give a target with --vertices N, --ratio R, --faces N or --face-ratio R";
+
 /// Simplify with QEM.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     if args.time_limit.is_some() || args.gng.any() {
@@ -25,40 +27,58 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             "--time-limit, --epochs, --signals, --placement, --no-flips, --no-refit, --no-relax, --no-deviation-repair, --oversample and --detail-rounds apply to --method gng only"
         );
     }
-    let target = match (args.vertices, args.faces, args.ratio) {
-        (Some(n), _, _) => Target::Vertices(n),
-        (None, Some(n), _) => Target::Faces(n),
-        (None, None, Some(r)) => {
-            if !(r > 0.0 && r <= 1.0) {
-                bail!("--ratio must be in (0, 1], got {r}");
-            }
-            Target::Ratio(r)
-        }
-        (None, None, None) => bail!("give a target with --vertices N, --faces N or --ratio R"),
-    };
+    if args.vertices.is_none()
+        && args.faces.is_none()
+        && args.ratio.is_none()
+        && args.face_ratio.is_none()
+    {
+        bail!(NO_TARGET);
+    }
     if !(args.threshold >= 0.0 && args.threshold.is_finite()) {
         bail!(
             "--threshold must be a finite distance >= 0, got {}",
             args.threshold
         );
     }
-    let input = crate::cli::load_prepared(&args.input, args.no_weld)?;
+    let loaded = super::attributes::load(&args.input, args.no_weld)?;
+    let input = &loaded.mesh;
+    // --ratio is a share of the vertices, as for GNG3D: the library's one mapping.
+    let target = match (args.vertices, args.faces, args.ratio, args.face_ratio) {
+        (Some(n), ..) => Target::Vertices(n),
+        (None, Some(n), ..) => Target::Faces(n),
+        (None, None, Some(r), _) => Target::Vertices(
+            gng3d_core::GngTarget::VertexRatio(r)
+                .vertex_count(&input)
+                .context("--ratio")?,
+        ),
+        (None, None, None, Some(r)) => Target::Ratio(r),
+        (None, None, None, None) => bail!(NO_TARGET),
+    };
     let params = QemParams {
         target,
         pair_threshold: args.threshold,
         ..QemParams::default()
     };
-    let (simplified, report) = qem::simplify(&input, &params)
+    let (simplified, attributes, report) = super::attributes::simplify_qem(&loaded, &params)
         .with_context(|| format!("simplifying {}", args.input.display()))?;
-    crate::cli::save_checked(&simplified, &args.output, "QEM")
-        .with_context(|| format!("QEM on {}", args.input.display()))?;
+    let kept = super::attributes::save(
+        &simplified,
+        attributes.as_ref(),
+        &loaded,
+        &args.output,
+        "QEM",
+    )
+    .with_context(|| format!("QEM on {}", args.input.display()))?;
     if args.json {
-        crate::cli::print_json(&Summary {
-            method: "qem",
-            vertices: report.vertices,
-            faces: report.faces,
-            seconds: report.seconds,
-            report,
+        crate::cli::print_json(&super::attributes::WithAttributes {
+            summary: &Summary {
+                method: "qem",
+                vertices: report.vertices,
+                faces: report.faces,
+                seconds: report.seconds,
+                report,
+            },
+            attributes: &kept,
         })?;
     } else {
         if let Some(shortfall) = report.shortfall(target) {
