@@ -1,5 +1,6 @@
 //! Command-line definitions (clap) and dispatch to one module per subcommand.
 
+mod batch;
 mod compare;
 mod info;
 mod metrics;
@@ -28,6 +29,8 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Run the paper's checkpoint protocol on a mesh, or survey a folder of meshes.
     Reproduce(reproduce::ReproduceArgs),
+    /// Simplify a folder or a manifest of meshes: sharded, N at a time, one JSON line per file.
+    Batch(batch::BatchArgs),
 }
 
 /// Where GNG3D places each output vertex (`gng3d_core::Placement`).
@@ -163,6 +166,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Metrics(args) => metrics::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Reproduce(args) => reproduce::run(args),
+        Command::Batch(args) => batch::run(args),
     }
 }
 
