@@ -179,11 +179,18 @@ pub fn transfer_attributes(
     simplified: &TriMesh,
 ) -> Attributes {
     let grid = FaceGrid::new(original);
+    if attributes.seam_edges(original).is_empty() {
+        return transfer_without_seams(attributes, simplified, &grid);
+    }
     // Neighbours of each original triangle across edges that are not seams.
     let mut across = vec![[u32::MAX; 3]; original.triangles.len()];
     let mut fill = vec![0u8; original.triangles.len()];
+    let mut near_seam = vec![false; original.positions.len()];
     for e in attributes.edge_sides(original) {
-        if !e.seam {
+        if e.seam {
+            near_seam[e.edge[0] as usize] = true;
+            near_seam[e.edge[1] as usize] = true;
+        } else {
             for (f, g) in [(e.faces[0], e.faces[1]), (e.faces[1], e.faces[0])] {
                 let k = &mut fill[f as usize];
                 if *k < 3 {
@@ -212,6 +219,9 @@ pub fn transfer_attributes(
         ..Attributes::default()
     };
     let mut walk = Walk::default();
+    // Vertices whose closest original triangle touches no seam: one wedge, found once.
+    let mut settled: Vec<u32> = vec![u32::MAX; simplified.positions.len()];
+    let mut checked = vec![false; simplified.positions.len()];
     for t in &simplified.triangles {
         let [a, b, c] = t.map(|v| simplified.positions[v as usize]);
         let centroid = (a + b + c) / 3.0;
@@ -226,6 +236,24 @@ pub fn transfer_attributes(
         for k in 0..3 {
             let v = t[k];
             let p = simplified.positions[v as usize];
+            if !checked[v as usize] {
+                checked[v as usize] = true;
+                if let Some((f, bary)) = grid.closest(p, |_| true)
+                    && original.triangles[f as usize]
+                        .iter()
+                        .all(|&u| !near_seam[u as usize])
+                {
+                    clear(&mut scratch);
+                    interpolate(attributes, f, bary, &mut scratch);
+                    append(&mut out, &scratch);
+                    out.wedge_vertex.push(v);
+                    settled[v as usize] = out.wedge_vertex.len() as u32 - 1;
+                }
+            }
+            if settled[v as usize] != u32::MAX {
+                corner[k] = settled[v as usize];
+                continue;
+            }
             let inside = p + (centroid - p) * 0.05;
             let start = grid.closest(inside, |_| true).map_or(0, |(f, _)| f);
             let (f, bary) = walk.closest_on_side(original, &across, start, p.as_dvec3());
@@ -248,6 +276,40 @@ pub fn transfer_attributes(
         }
         out.corners.push(corner);
     }
+    out
+}
+
+/// [`transfer_attributes`] for attributes without seams: one wedge per output vertex, with the
+/// values at the closest point of the original.
+fn transfer_without_seams(
+    attributes: &Attributes,
+    simplified: &TriMesh,
+    grid: &FaceGrid,
+) -> Attributes {
+    let mut out = Attributes {
+        wedge_vertex: (0..simplified.positions.len() as u32).collect(),
+        corners: simplified.triangles.clone(),
+        normals: attributes.normals.as_ref().map(|_| Vec::new()),
+        uv0: attributes.uv0.as_ref().map(|_| Vec::new()),
+        uv1: attributes.uv1.as_ref().map(|_| Vec::new()),
+        colors: attributes.colors.as_ref().map(|_| Vec::new()),
+        face_material: None,
+    };
+    for &p in &simplified.positions {
+        let (f, bary) = grid.closest(p, |_| true).unwrap_or((0, [1.0, 0.0, 0.0]));
+        interpolate(attributes, f, bary, &mut out);
+    }
+    out.face_material = attributes.face_material.as_ref().map(|m| {
+        simplified
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| simplified.positions[v as usize]);
+                grid.closest((a + b + c) / 3.0, |_| true)
+                    .map_or(0, |(f, _)| m[f as usize])
+            })
+            .collect()
+    });
     out
 }
 

@@ -199,6 +199,7 @@ impl QemReport {
 
 /// Errors of [`simplify`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum QemError {
     /// The mesh has no usable face.
     #[error("the mesh has no (non-degenerate) faces")]
@@ -219,10 +220,45 @@ pub enum QemError {
     /// A parameter is out of range.
     #[error("invalid parameter: {0}")]
     InvalidParameter(String),
+    /// The attributes given to [`simplify_with_attributes`] do not fit the mesh.
+    #[error("the attributes do not fit the mesh: {0}")]
+    InvalidAttributes(String),
 }
 
 /// Simplify `mesh` by quadric-error pair contraction; returns the simplified mesh (no unreferenced
 /// vertices, no degenerate or duplicate faces) and a report.
 pub fn simplify(mesh: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), QemError> {
     simplifier::run(mesh, params)
+}
+
+/// [`simplify`] keeping the mesh's normals, texture coordinates, colours and materials
+/// (`attributes`, which must fit `mesh`: [`mesh::attributes::Attributes::validate`]); returns
+/// the simplified mesh, its attributes and the report.
+///
+/// The collapse order and placement are Garland–Heckbert's (the attributes do not enter the
+/// cost). Seams (edges across which a value or the material changes) keep their place: each
+/// seam edge gets a constraint plane as a boundary edge does (weight
+/// [`QemParams::boundary_weight`]), a vertex on a seam is contracted only with a neighbour along
+/// the same seam, a vertex off the seams only with another vertex off them, and seam ends,
+/// crossings and vertices whose values differ around them without a seam (a sphere's pole) are
+/// not contracted; so every output triangle lies on one side of every seam. The output's values
+/// are the original's at the closest point of the original surface to each corner, on that
+/// corner's side of the seams ([`mesh::transfer::transfer_attributes`]). Always runs the
+/// sequential engine (no spatial parts), so the result does not depend on the thread count.
+///
+/// ```
+/// use gng3d_qem::{QemParams, Target, simplify_with_attributes};
+/// let (sphere, uv) = mesh::procedural::textured_sphere(24, 48); // UV sphere, meridian seam
+/// let params = QemParams::with_target(Target::Ratio(0.25));
+/// let (coarse, attributes, report) = simplify_with_attributes(&sphere, &uv, &params).unwrap();
+/// attributes.validate(&coarse).unwrap();
+/// assert!(report.faces < sphere.face_count() / 3);
+/// assert!(!attributes.seam_edges(&coarse).is_empty()); // the meridian is still a seam
+/// ```
+pub fn simplify_with_attributes(
+    mesh: &TriMesh,
+    attributes: &mesh::attributes::Attributes,
+    params: &QemParams,
+) -> Result<(TriMesh, mesh::attributes::Attributes, QemReport), QemError> {
+    simplifier::run_with_attributes(mesh, attributes, params)
 }

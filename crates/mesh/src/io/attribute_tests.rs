@@ -255,3 +255,26 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     fs::write(&p, bytes).unwrap();
     p
 }
+
+#[test]
+fn ply_without_seams_keeps_the_vertex_numbering() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = crate::procedural::icosphere(2);
+    let mut a = Attributes::per_vertex(&mesh);
+    a.normals = Some(mesh.vertex_normals());
+    // Wedges listed in another order than the vertices: the file still follows the vertices.
+    a.wedge_vertex.reverse();
+    let n = mesh.vertex_count() as u32;
+    for c in &mut a.corners {
+        for w in c.iter_mut() {
+            *w = n - 1 - *w;
+        }
+    }
+    a.normals.as_mut().unwrap().reverse();
+    a.validate(&mesh).unwrap();
+    let path = dir.path().join("s.ply");
+    save_with_attributes(&mesh, &a, None, &path).unwrap();
+    let back = load(&path).unwrap();
+    assert_eq!(back.mesh, mesh);
+    assert_eq!(back.vertex_normals.unwrap(), mesh.vertex_normals());
+}

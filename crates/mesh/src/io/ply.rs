@@ -706,7 +706,8 @@ pub(crate) fn write(mesh: &TriMesh) -> Vec<u8> {
 
 /// Binary little-endian PLY for `mesh` with `attributes` (checked to fit): one vertex record per
 /// wedge (`float x y z`, then `float nx ny nz`, `float s t`, `uchar red green blue alpha` as
-/// present) and the corners as faces, so a seam is two vertex records at one position.
+/// present) and the corners as faces, so a seam is two vertex records at one position; with
+/// one wedge per vertex (no seams), the vertices and triangles of `mesh` as they are.
 pub(crate) fn write_with_attributes(mesh: &TriMesh, attributes: &Attributes) -> Vec<u8> {
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by gng3d\n\
@@ -737,7 +738,31 @@ pub(crate) fn write_with_attributes(mesh: &TriMesh, attributes: &Attributes) -> 
             out.extend_from_slice(&c.to_le_bytes());
         }
     };
-    for (w, &v) in attributes.wedge_vertex.iter().enumerate() {
+    // Without seams (one wedge per vertex) the records follow the vertices, so the file keeps
+    // the mesh's vertex numbering.
+    let mut wedge_of = vec![u32::MAX; mesh.positions.len()];
+    let one_per_vertex = attributes.wedge_count() == mesh.positions.len()
+        && attributes.wedge_vertex.iter().enumerate().all(|(w, &v)| {
+            let slot = &mut wedge_of[v as usize];
+            let first = *slot == u32::MAX;
+            *slot = w as u32;
+            first
+        });
+    let order: Vec<(usize, u32)> = if one_per_vertex {
+        wedge_of
+            .iter()
+            .enumerate()
+            .map(|(v, &w)| (w as usize, v as u32))
+            .collect()
+    } else {
+        attributes
+            .wedge_vertex
+            .iter()
+            .copied()
+            .enumerate()
+            .collect()
+    };
+    for (w, v) in order {
         floats(&mut out, &mesh.positions[v as usize].to_array());
         if let Some(n) = &attributes.normals {
             floats(&mut out, &n[w].to_array());
@@ -751,7 +776,12 @@ pub(crate) fn write_with_attributes(mesh: &TriMesh, attributes: &Attributes) -> 
             }
         }
     }
-    for c in &attributes.corners {
+    let faces = if one_per_vertex {
+        &mesh.triangles
+    } else {
+        &attributes.corners
+    };
+    for c in faces {
         out.push(3);
         for &w in c {
             out.extend_from_slice(&(w as i32).to_le_bytes());

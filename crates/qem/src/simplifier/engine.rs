@@ -81,6 +81,64 @@ pub(super) struct Engine {
     edge_length_weight: f64,
     /// Whether the walks in cost order prefetch ([`prefetch::worth_it`]).
     pub(super) prefetching: bool,
+    /// Attribute seams, when the run keeps attributes (`None`: positions only).
+    pub(super) seams: Option<Seams>,
+}
+
+/// The attribute seams of a run that keeps attributes: a seam vertex (on exactly two seam
+/// edges; seam ends and crossings are locked) is contracted only with one of its two seam
+/// neighbours, and a vertex off the seams only with another vertex off the seams, so every
+/// triangle stays on one side of every seam and the seams are simplified along themselves.
+pub(super) struct Seams {
+    /// Per vertex: on a seam.
+    pub(super) seam: Vec<bool>,
+    /// Per seam vertex: its two neighbours along the seam.
+    pub(super) along: Vec<[u32; 2]>,
+}
+
+impl Seams {
+    /// Whether `a` and `b` may be contracted.
+    #[inline]
+    pub(super) fn pair_ok(&self, a: usize, b: usize) -> bool {
+        match (self.seam[a], self.seam[b]) {
+            (false, false) => true,
+            (true, true) => {
+                let (na, nb) = (self.along[a], self.along[b]);
+                let other = |n: [u32; 2], v: usize| {
+                    if n[0] == v as u32 { n[1] } else { n[0] }
+                };
+                na.contains(&(b as u32))
+                    && nb.contains(&(a as u32))
+                    && na[0] != na[1]
+                    && nb[0] != nb[1]
+                    // A seam loop of three would fold onto itself.
+                    && other(na, b) != other(nb, a)
+            }
+            _ => false,
+        }
+    }
+
+    /// `b` was contracted into `a`: `a` takes `b`'s place along the seam.
+    fn merge(&mut self, a: usize, b: usize) {
+        if !self.seam[b] {
+            return;
+        }
+        let nb = self.along[b];
+        let x = if nb[0] == a as u32 { nb[1] } else { nb[0] };
+        for slot in self.along[a].iter_mut() {
+            if *slot == b as u32 {
+                *slot = x;
+            }
+        }
+        if let Some(nx) = self.along.get_mut(x as usize) {
+            for slot in nx.iter_mut() {
+                if *slot == b as u32 {
+                    *slot = a as u32;
+                }
+            }
+        }
+        self.along[b] = [u32::MAX; 2];
+    }
 }
 
 /// Whether face `t` has corner `v`. Non-short-circuit: which corner matches is data, and as a
@@ -132,6 +190,7 @@ impl Engine {
             min_normal_cos: params.min_normal_cos,
             edge_length_weight: params.edge_length_weight,
             prefetching: prefetch::worth_it(n),
+            seams: None,
         }
     }
 
@@ -242,7 +301,11 @@ impl Engine {
     pub(super) fn pairs_of(&mut self, a: usize, pass: u32, out: &mut Vec<Cand>) {
         let t = self.next_tick();
         self.vx[a].mark = t;
-        let keep = |e: &Self, v: usize| (e.vx[v].touched != pass || a < v) && !e.vx[v].locked;
+        let keep = |e: &Self, v: usize| {
+            (e.vx[v].touched != pass || a < v)
+                && !e.vx[v].locked
+                && e.seams.as_ref().is_none_or(|s| s.pair_ok(a, v))
+        };
         for i in self.list(a) {
             let tri = self.faces[self.refs[i] as usize];
             if tri[0] == DEAD {
@@ -424,6 +487,9 @@ impl Engine {
         self.vx[b].valence = 0;
         if let Some(vp) = self.virt.as_mut() {
             vp.merge(a, b);
+        }
+        if let Some(seams) = self.seams.as_mut() {
+            seams.merge(a, b);
         }
         if self.refs.len() > self.refs_limit {
             self.compact_refs();

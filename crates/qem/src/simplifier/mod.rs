@@ -18,6 +18,7 @@
 //! their exact cost and order for the next pass; pairs of the merged vertices are evaluated
 //! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
 
+mod attributes;
 mod candidates;
 mod engine;
 mod partition;
@@ -84,7 +85,23 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     } else {
         simplify_prepared(prepared, params, None).0
     };
-    let report = QemReport {
+    let report = report(&run, input_vertices, input_faces, started);
+    Ok((run.mesh, report))
+}
+
+/// Run the whole simplification keeping `attributes` (see `attributes`).
+pub fn run_with_attributes(
+    input: &TriMesh,
+    attributes: &mesh::attributes::Attributes,
+    params: &QemParams,
+) -> Result<(TriMesh, mesh::attributes::Attributes, QemReport), QemError> {
+    attributes::run(input, attributes, params)
+}
+
+/// The report of `run` on an input of `input_vertices` referenced vertices and `input_faces`
+/// usable faces, started at `started`.
+fn report(run: &Run, input_vertices: usize, input_faces: usize, started: Instant) -> QemReport {
+    QemReport {
         input_vertices,
         input_faces,
         collapses: run.collapses,
@@ -97,8 +114,7 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
         rejected: run.rejected,
         virtual_pairs: run.virtual_pairs,
         passes: run.passes,
-    };
-    Ok((run.mesh, report))
+    }
 }
 
 /// What the passes made of one prepared mesh.
@@ -141,6 +157,18 @@ fn simplify_prepared(
     params: &QemParams,
     locked: Option<&[bool]>,
 ) -> (Run, Vec<u32>) {
+    simplify_prepared_with(prepared, params, locked, None)
+}
+
+/// [`simplify_prepared`], with the attribute seams of `seams` (prepared numbering) kept: their
+/// edges get constraint planes and their vertices are contracted only along them
+/// ([`engine::Seams`]).
+fn simplify_prepared_with(
+    prepared: prepare::Prepared,
+    params: &QemParams,
+    locked: Option<&[bool]>,
+    seams: Option<(engine::Seams, Vec<[u32; 2]>)>,
+) -> (Run, Vec<u32>) {
     let prepare::Prepared {
         pos,
         faces,
@@ -149,12 +177,23 @@ fn simplify_prepared(
         frame,
     } = prepared;
     let input_faces = faces.len();
-    let setup::VertexSetup { vx, list } =
+    let setup::VertexSetup { mut vx, mut list } =
         setup::vertex_setup(&pos, &faces, &refs, &face_start, params, locked);
+    let seams = seams.map(|(seams, edges)| {
+        attributes::seam_planes(&mut vx, &pos, &faces, &refs, &face_start, &edges, params);
+        list.retain(|c| seams.pair_ok(c.a as usize, c.b as usize));
+        seams
+    });
     drop((pos, face_start));
     let mut e = Engine::new(vx, faces, refs, params);
     let mut schedule = Schedule::new(list);
     let virtual_pairs = add_virtual_pairs(&mut e, &mut schedule.list, params, frame.scale);
+    if let Some(seams) = seams {
+        schedule
+            .list
+            .retain(|c| seams.pair_ok(c.a as usize, c.b as usize));
+        e.seams = Some(seams);
+    }
     e.cost_all(&mut schedule.list);
     schedule.sort();
 
