@@ -147,6 +147,36 @@ pub struct Comparison {
 /// Simplify `original` (expected welded) with both methods to `params.target_vertices` and
 /// measure both. The methods run one after the other so their timings do not interfere.
 pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison, ExperimentError> {
+    compare_with_progress(original, params, |_| {})
+}
+
+/// A stage of [`compare_with_progress`], named as it starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CompareStage {
+    /// QEM simplifies.
+    Qem,
+    /// GNG3D trains and runs the steps after training.
+    Gng,
+    /// Both meshes are measured.
+    Metrics,
+}
+
+impl std::fmt::Display for CompareStage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            CompareStage::Qem => "QEM",
+            CompareStage::Gng => "GNG3D: training and the steps after it",
+            CompareStage::Metrics => "measuring both meshes",
+        })
+    }
+}
+
+/// [`compare`], calling `on_stage` as each stage starts (a front end's progress line).
+pub fn compare_with_progress(
+    original: &TriMesh,
+    params: &CompareParams,
+    mut on_stage: impl FnMut(CompareStage),
+) -> Result<Comparison, ExperimentError> {
     let n = params.target_vertices;
     if n < 4 || n > original.vertex_count() {
         return Err(ExperimentError::BadTarget(format!(
@@ -163,10 +193,12 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
     params.metrics.hausdorff.validate()?;
     let mut qp = params.qem.clone();
     qp.target = Target::Vertices(n);
+    on_stage(CompareStage::Qem);
     let t = Instant::now();
     let (qem_mesh, _) = qem::simplify(original, &qp)?;
     let qem_seconds = t.elapsed().as_secs_f64();
 
+    on_stage(CompareStage::Gng);
     let t = Instant::now();
     let gng = gng3d_core::simplify(original, &gp)?;
     let gng_seconds = t.elapsed().as_secs_f64();
@@ -179,6 +211,7 @@ pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison,
         }
     }
 
+    on_stage(CompareStage::Metrics);
     let (qem_metrics, gng_metrics) = rayon::join(
         || metrics::evaluate(original, &qem_mesh, &params.metrics),
         || metrics::evaluate(original, &gng.mesh, &params.metrics),

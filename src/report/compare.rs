@@ -1,6 +1,6 @@
 //! `gng3d compare`'s table: QEM and GNG3D side by side with the better one per measure.
 
-use super::paper::sci;
+use super::eng;
 use super::table::Table;
 use crate::experiment::compare::CompareReport;
 
@@ -30,43 +30,47 @@ pub fn comparison_table(report: &CompareReport) -> Table {
             Some(false) => winner(-a, -b),
             None => "",
         };
-        t.push([name.to_string(), sci(a), sci(b), w.to_string()]);
+        t.push([name.to_string(), eng(a), eng(b), w.to_string()]);
     };
     let lower = Some(true);
-    num("E_avg (sq. units)", qm.e_avg, gm.e_avg, lower);
-    num("E_max (sq. units)", qm.e_max, gm.e_max, lower);
-    num("|E_sur| (sq. units)", qm.e_sur_abs, gm.e_sur_abs, lower);
+    num("E_avg (units²)", qm.e_avg, gm.e_avg, lower);
+    num("E_max (units²)", qm.e_max, gm.e_max, lower);
+    num("|E_sur| (units²)", qm.e_sur_abs, gm.e_sur_abs, lower);
     num(
-        "E_sur signed (sq. units)",
+        "E_sur signed (units²)",
         qm.e_sur_signed,
         gm.e_sur_signed,
         None,
     );
-    num("Hausdorff max", qm.hausdorff.max, gm.hausdorff.max, lower);
+    num(
+        "Hausdorff max (units)",
+        qm.hausdorff.max,
+        gm.hausdorff.max,
+        lower,
+    );
     let area_mean = |h: &metrics::Hausdorff| 0.5 * (h.forward.area_mean + h.backward.area_mean);
     num(
-        "area-weighted mean distance",
+        "area-weighted mean distance (units)",
         area_mean(&qm.hausdorff),
         area_mean(&gm.hausdorff),
         lower,
     );
     num(
-        "mean distance (all samples)",
+        "mean distance, all samples (units)",
         qm.hausdorff.mean,
         gm.hausdorff.mean,
         lower,
     );
-    num("RMS distance", qm.hausdorff.rms, gm.hausdorff.rms, lower);
+    num(
+        "RMS distance (units)",
+        qm.hausdorff.rms,
+        gm.hausdorff.rms,
+        lower,
+    );
     num(
         "Hausdorff max / diagonal",
         qm.hausdorff.relative.max,
         gm.hausdorff.relative.max,
-        lower,
-    );
-    num(
-        "normal deviation mean (deg)",
-        qm.normal_deviation.forward.mean_degrees,
-        gm.normal_deviation.forward.mean_degrees,
         lower,
     );
     let (qq, gq) = (&qm.quality.simplified, &gm.quality.simplified);
@@ -83,6 +87,14 @@ pub fn comparison_table(report: &CompareReport) -> Table {
             w.to_string(),
         ]);
     };
+    fixed(
+        "normal deviation, mean",
+        qm.normal_deviation.forward.mean_degrees,
+        gm.normal_deviation.forward.mean_degrees,
+        true,
+        "°",
+        1.0,
+    );
     fixed(
         "median min angle",
         qq.median_min_angle_degrees,
@@ -104,9 +116,9 @@ pub fn comparison_table(report: &CompareReport) -> Table {
     int("vertices", q.vertices.to_string(), g.vertices.to_string());
     int("faces", q.faces.to_string(), g.faces.to_string());
     int(
-        "seconds",
-        format!("{:.3}", q.seconds),
-        format!("{:.3}", g.seconds),
+        "time",
+        format!("{:.3} s", q.seconds),
+        format!("{:.3} s", g.seconds),
     );
     let (qt, gt) = (&qm.topology.simplified, &gm.topology.simplified);
     int(
@@ -119,12 +131,20 @@ pub fn comparison_table(report: &CompareReport) -> Table {
         qt.non_manifold_edges.to_string(),
         gt.non_manifold_edges.to_string(),
     );
+    int(
+        "non-manifold vertices",
+        qt.non_manifold_vertices.to_string(),
+        gt.non_manifold_vertices.to_string(),
+    );
+    let yes_no = |b: bool| if b { "yes" } else { "no" }.to_string();
+    int("closed", yes_no(qt.closed), yes_no(gt.closed));
+    int("manifold", yes_no(qt.manifold), yes_no(gt.manifold));
     let genus = |g: Option<i64>| g.map_or("-".to_string(), |g| g.to_string());
     int("genus", genus(qt.genus), genus(gt.genus));
     int(
-        "min angle (deg)",
-        format!("{:.2}", qq.min_angle_degrees),
-        format!("{:.2}", gq.min_angle_degrees),
+        "smallest angle",
+        format!("{:.2}°", qq.min_angle_degrees),
+        format!("{:.2}°", gq.min_angle_degrees),
     );
     t
 }

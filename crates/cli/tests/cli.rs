@@ -692,3 +692,71 @@ fn ratio_is_a_share_of_vertices_for_every_method() {
         );
     }
 }
+
+/// Numbers a person reads are in engineering notation (exponent a multiple of 3) or fixed, with
+/// units; `compare`'s topology rows include non-manifold vertices, closed and manifold (issue
+/// 37 item 7); progress never reaches a stderr that is not a terminal.
+#[test]
+fn text_output_uses_engineering_notation_and_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = dir.path().join("sphere.obj");
+    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(3), &sphere).unwrap();
+    let out = dir.path().join("out.ply");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let compare = gng3d(&[
+        "compare",
+        &s(&sphere),
+        "--vertices",
+        "100",
+        "--samples",
+        "5000",
+    ]);
+    let simplify = gng3d(&[
+        "simplify",
+        &s(&sphere),
+        &s(&out),
+        "--method",
+        "gng",
+        "--vertices",
+        "100",
+    ]);
+    let metrics = gng3d(&["metrics", &s(&sphere), &s(&out), "--samples", "5000"]);
+    for o in [&compare, &simplify, &metrics] {
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(
+            !err.contains('\r') && !err.contains('\x1b'),
+            "progress on a pipe: {err:?}"
+        );
+    }
+    let compare = String::from_utf8_lossy(&compare.stdout).into_owned();
+    let metrics = String::from_utf8_lossy(&metrics.stdout).into_owned();
+    for row in [
+        "non-manifold vertices",
+        "closed",
+        "manifold",
+        "Hausdorff max (units)",
+        "E_avg (units²)",
+    ] {
+        assert!(compare.contains(row), "{row:?} missing in {compare}");
+    }
+    assert!(
+        compare.contains('°') && metrics.contains("units²"),
+        "{compare}{metrics}"
+    );
+    for text in [&compare, &metrics] {
+        for token in text.split(|c: char| c.is_whitespace() || c == ',' || c == '(' || c == ')') {
+            if let Some((mantissa, exp)) = token.split_once('e')
+                && mantissa.parse::<f64>().is_ok()
+                && let Ok(exp) = exp.parse::<i32>()
+            {
+                assert!(
+                    exp != 0 && exp % 3 == 0,
+                    "{token:?} is not engineering notation in {text}"
+                );
+                let m = mantissa.trim_start_matches('-').parse::<f64>().unwrap();
+                assert!((1.0..1000.0).contains(&m), "{token:?} in {text}");
+            }
+        }
+    }
+}

@@ -4,7 +4,7 @@
 use super::load_prepared;
 use anyhow::Context;
 use clap::Args;
-use gng3d::experiment::compare::{CompareParams, compare};
+use gng3d::experiment::compare::{CompareParams, compare_with_progress};
 use gng3d::report::compare::comparison_table;
 use gng3d_core::{GngOptions, GngTarget};
 use std::path::PathBuf;
@@ -75,8 +75,12 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
         super::prepare_output_folder(dir)?;
     }
     let original = load_prepared(&args.input, false)?;
-    let result = compare(&original, &params)
-        .with_context(|| format!("comparing on {}", args.input.display()))?;
+    let progress = super::progress::spinner(args.json);
+    let result = compare_with_progress(&original, &params, |stage| {
+        progress.set_message(stage.to_string())
+    });
+    progress.finish_and_clear();
+    let result = result.with_context(|| format!("comparing on {}", args.input.display()))?;
     if let Some(dir) = &args.out {
         super::save_checked(&result.qem_mesh, &dir.join("qem.obj"), "QEM")?;
         super::save_checked(&result.gng_mesh, &dir.join("gng.obj"), "GNG3D")?;

@@ -2,6 +2,7 @@
 
 use anyhow::Context;
 use clap::Args;
+use gng3d::report::eng;
 use metrics::{HausdorffParams, MetricsParams, MetricsReport, OneSided, SamplingPlan, evaluate};
 use std::path::{Path, PathBuf};
 
@@ -57,9 +58,14 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
     };
     // Checked before loading: --samples 0 or a count beyond the memory limit is an error.
     params.hausdorff.validate().context("--samples")?;
+    let progress = super::progress::spinner(args.json);
+    progress.set_message("loading both meshes");
     let (original, simplified) = rayon::join(|| load(&args.original), || load(&args.simplified));
     let (original, simplified) = (original?, simplified?);
-    let report = evaluate(&original, &simplified, &params).with_context(|| {
+    progress.set_message("measuring: paper errors, surface distance both ways, quality");
+    let report = evaluate(&original, &simplified, &params);
+    progress.finish_and_clear();
+    let report = report.with_context(|| {
         format!(
             "measuring {} against {}",
             args.simplified.display(),
@@ -75,8 +81,14 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
 /// One line of one-sided distances.
 fn one_sided_line(label: &str, d: &OneSided) -> String {
     format!(
-        "{label:<22}max {:.6e}  mean {:.6e}  rms {:.6e}  ({} samples: {} vertex, {} edge, {} face)",
-        d.max, d.mean, d.rms, d.samples, d.vertex_samples, d.edge_samples, d.face_samples
+        "{label:<22}max {}  mean {}  rms {}  (units; {} samples: {} vertex, {} edge, {} face)",
+        eng(d.max),
+        eng(d.mean),
+        eng(d.rms),
+        d.samples,
+        d.vertex_samples,
+        d.edge_samples,
+        d.face_samples
     )
 }
 
@@ -96,33 +108,33 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) -> anyhow::Result<()> {
         s.referenced_vertices,
         s.faces
     );
-    outln!("bbox diagonal         {:.6e}", r.bbox_diagonal);
-    outln!("E_avg (squared)       {:.6e}", r.e_avg);
-    outln!("E_max (squared)       {:.6e}", r.e_max);
+    outln!("bbox diagonal         {} units", eng(r.bbox_diagonal));
+    outln!("E_avg                 {} units²", eng(r.e_avg));
+    outln!("E_max                 {} units²", eng(r.e_max));
     outln!(
-        "E_sur (signed)        {:.6e}  (|E_sur| {:.6e}, {:.3}% of the original area)",
-        r.e_sur_signed,
-        r.e_sur_abs,
+        "E_sur (signed)        {} units²  (|E_sur| {}, {:.3} % of the original area)",
+        eng(r.e_sur_signed),
+        eng(r.e_sur_abs),
         100.0 * r.e_sur_relative
     );
     outln!("{}", one_sided_line("forward  (orig→simp)", &h.forward));
     outln!("{}", one_sided_line("backward (simp→orig)", &h.backward));
     outln!(
-        "hausdorff             max {:.6e}  mean {:.6e}  rms {:.6e}",
-        h.max,
-        h.mean,
-        h.rms
+        "hausdorff             max {}  mean {}  rms {}  (units)",
+        eng(h.max),
+        eng(h.mean),
+        eng(h.rms)
     );
     outln!(
-        "area-weighted mean    forward {:.6e}  backward {:.6e}  (headline mean: (1/A)∫d dA)",
-        h.forward.area_mean,
-        h.backward.area_mean
+        "area-weighted mean    forward {}  backward {}  (units; headline mean: (1/A)∫d dA)",
+        eng(h.forward.area_mean),
+        eng(h.backward.area_mean)
     );
     outln!(
-        "  / bbox diagonal     max {:.6e}  mean {:.6e}  rms {:.6e}",
-        h.relative.max,
-        h.relative.mean,
-        h.relative.rms
+        "  / bbox diagonal     max {}  mean {}  rms {}",
+        eng(h.relative.max),
+        eng(h.relative.mean),
+        eng(h.relative.rms)
     );
     let (nf, nb) = (&r.normal_deviation.forward, &r.normal_deviation.backward);
     outln!(
@@ -139,7 +151,7 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) -> anyhow::Result<()> {
         ("simplified", &r.quality.simplified),
     ] {
         outln!(
-            "quality {label:<13} min angle {:.2}° (median {:.1}°, mean {:.1}°, {:.2}% < 20°, {:.2}% < 10°), aspect mean {:.2} max {:.1}, {} degenerate",
+            "quality {label:<13} min angle {:.2}° (median {:.1}°, mean {:.1}°, {:.2} % < 20°, {:.2} % < 10°), aspect mean {:.2} max {:.1}, {} degenerate",
             q.min_angle_degrees,
             q.median_min_angle_degrees,
             q.mean_min_angle_degrees,

@@ -4,6 +4,7 @@ mod batch;
 mod compare;
 mod info;
 mod metrics;
+mod progress;
 mod reproduce;
 mod simplify;
 

@@ -49,10 +49,12 @@ fn stem(path: &Path) -> String {
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned())
 }
 
-fn bar(len: u64, what: &str) -> ProgressBar {
-    let bar = ProgressBar::new(len);
+/// A bar of `len` units labelled `what` (drawn only on a terminal without --json; it ticks on
+/// its own, so a long mesh or checkpoint still shows time passing).
+fn bar(len: u64, what: &str, json: bool) -> ProgressBar {
+    let bar = super::progress::bar(len, "{msg} [{bar:30}] {pos}/{len} {elapsed}", json);
     bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} {elapsed}")
+        ProgressStyle::with_template("{spinner} {msg} [{bar:30}] {pos}/{len} {elapsed}")
             .unwrap_or_else(|_| ProgressStyle::default_bar())
             .progress_chars("=> "),
     );
@@ -103,7 +105,7 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
     params.gng.seed = args.seed;
     params.hausdorff.seed = args.seed;
     // One bar, re-labelled per stage: evaluation is most of the run, so it counts too.
-    let progress = bar(args.epochs, "training GNG3D  ");
+    let progress = bar(args.epochs, "training GNG3D  ", args.json);
     let on_progress = |p: Progress| {
         let what = match p.stage {
             Stage::Training => "training GNG3D  ",
@@ -162,7 +164,7 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     // The output folder exists before the (long) survey starts.
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("survey"));
     super::prepare_output_folder(&out)?;
-    let progress = bar(files.len() as u64, "meshes");
+    let progress = bar(files.len() as u64, "meshes", args.json);
     let results: Vec<(String, anyhow::Result<Vec<SurveyRow>>)> = files
         .par_iter()
         .map(|path| {

@@ -4,7 +4,7 @@
 use super::SimplifyArgs;
 use anyhow::{Context, bail};
 use gng3d_core::{GngOptions, GngSummary, GngTarget, Trainer};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressStyle;
 use std::ops::ControlFlow;
 use std::time::Instant;
 
@@ -44,12 +44,12 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let mut trainer = Trainer::new(&input, params.clone())
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let budget = trainer.stats().max_signals;
-    let bar = ProgressBar::new(budget);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} signals {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    // Progress on stderr (a terminal, no --json): signals while training, then the steps after
+    // it, counted and named as they run (GNG3D-Q spends most of a run there).
+    let bar = crate::cli::progress::bar(
+        budget,
+        "{spinner} [{elapsed_precise}] {bar:20} {pos}/{len} signals {msg}",
+        args.json,
     );
     // The bar moves every 5 % of the budget: each `step` call runs the parts' rounds on
     // threads it starts, and at 0.5 % a call (igea at 1 %: 2,000 signals, ~0.6 ms) starting
@@ -59,10 +59,36 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         bar.set_message(format!("{} nodes", p.nodes));
         ControlFlow::Continue(())
     });
-    // The steps after training, named on the bar as they finish.
-    bar.set_message("reconstructing");
-    let result = gng3d_core::finish(&trainer, |step| {
-        bar.set_message(format!("{} done", step.step));
+    let plan = trainer.plan().steps().to_vec();
+    let running = |i: usize| {
+        plan.get(i).map_or_else(String::new, |s| match s.round {
+            0 => s.step.to_string(),
+            r => format!("{}, round {r}", s.step),
+        })
+    };
+    bar.set_message(running(0));
+    bar.set_length(plan.len() as u64);
+    bar.set_position(0);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:20} {pos}/{len} steps after training, now: {msg}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    // Steps left out (a time limit, a detail round that found nothing) report nothing: each
+    // record moves the bar to its place in the plan.
+    let mut next = 0;
+    let result = gng3d_core::finish(&trainer, |record| {
+        if let Some(j) = plan
+            .get(next..)
+            .unwrap_or(&[])
+            .iter()
+            .position(|s| s.step == record.step && s.round == record.round)
+        {
+            next += j + 1;
+        }
+        bar.set_position(next as u64);
+        bar.set_message(running(next));
     });
     bar.finish_and_clear();
     // Same checks and warnings as gng3d_core::simplify: no mesh is an error, never exit 0.
