@@ -36,7 +36,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let options = options(args)?;
     // Everything that does not need the mesh is checked before loading it.
     options.validate().context("GNG3D options")?;
-    let input = crate::cli::load_prepared(&args.input, args.no_weld)?;
+    let (input, extras) = super::attributes::load(&args.input, args.no_weld)?;
     let params = options
         .resolve(&input)
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
@@ -95,8 +95,16 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let result = result.with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let seconds = start.elapsed().as_secs_f64();
     let stats = trainer.stats();
-    crate::cli::save_checked(&result.mesh, &args.output, "GNG3D")
-        .with_context(|| format!("GNG3D on {}", args.input.display()))?;
+    // The input's attributes from its surface at the output's corners.
+    let attributes = super::attributes::transfer(&input, &extras, &result.mesh);
+    let kept = super::attributes::save(
+        &result.mesh,
+        attributes.as_ref(),
+        &extras,
+        &args.output,
+        "GNG3D",
+    )
+    .with_context(|| format!("GNG3D on {}", args.input.display()))?;
     for w in &result.report.warnings {
         eprintln!("warning: {w}");
     }
@@ -108,7 +116,10 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         seconds,
     );
     if args.json {
-        return crate::cli::print_json(&summary);
+        return crate::cli::print_json(&super::attributes::WithAttributes {
+            summary: &summary,
+            attributes: &kept,
+        });
     }
     outln!(
         "{} -> {}: {} vertices, {} faces, {} signals in {:.3} s ({}); closed: {}, manifold: {}, genus: {}",

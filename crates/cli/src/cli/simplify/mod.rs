@@ -1,5 +1,6 @@
 //! `gng3d simplify`: reduce a mesh with QEM or GNG3D and write the result atomically.
 
+mod attributes;
 mod gng;
 mod qem;
 

@@ -40,7 +40,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             args.threshold
         );
     }
-    let input = crate::cli::load_prepared(&args.input, args.no_weld)?;
+    let (input, extras) = super::attributes::load(&args.input, args.no_weld)?;
     // --ratio is a share of the vertices, as for GNG3D: the library's one mapping.
     let target = match (args.vertices, args.faces, args.ratio, args.face_ratio) {
         (Some(n), ..) => Target::Vertices(n),
@@ -58,17 +58,27 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         pair_threshold: args.threshold,
         ..QemParams::default()
     };
-    let (simplified, report) = qem::simplify(&input, &params)
-        .with_context(|| format!("simplifying {}", args.input.display()))?;
-    crate::cli::save_checked(&simplified, &args.output, "QEM")
-        .with_context(|| format!("QEM on {}", args.input.display()))?;
+    let (simplified, attributes, report) =
+        super::attributes::simplify_qem(&input, &extras, &params)
+            .with_context(|| format!("simplifying {}", args.input.display()))?;
+    let kept = super::attributes::save(
+        &simplified,
+        attributes.as_ref(),
+        &extras,
+        &args.output,
+        "QEM",
+    )
+    .with_context(|| format!("QEM on {}", args.input.display()))?;
     if args.json {
-        crate::cli::print_json(&Summary {
-            method: "qem",
-            vertices: report.vertices,
-            faces: report.faces,
-            seconds: report.seconds,
-            report,
+        crate::cli::print_json(&super::attributes::WithAttributes {
+            summary: &Summary {
+                method: "qem",
+                vertices: report.vertices,
+                faces: report.faces,
+                seconds: report.seconds,
+                report,
+            },
+            attributes: &kept,
         })?;
     } else {
         if let Some(shortfall) = report.shortfall(target) {

@@ -1,0 +1,185 @@
+//! `gng3d simplify` keeps normals, texture coordinates and materials (issue 35): the output
+//! reloads with them, `--json` says what was kept, and a format that cannot store them says so.
+
+use glam::{Vec2, Vec3};
+use std::path::Path;
+use std::process::Command;
+
+fn gng3d(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_gng3d"))
+        .args(args)
+        .output()
+        .expect("run gng3d")
+}
+
+fn json_of(o: &std::process::Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+fn simplify(input: &Path, output: &Path, method: &str, vertices: &str) -> std::process::Output {
+    gng3d(&[
+        "simplify",
+        input.to_str().unwrap(),
+        output.to_str().unwrap(),
+        "--method",
+        method,
+        "--vertices",
+        vertices,
+        "--json",
+    ])
+}
+
+/// The texture coordinates of the original at the points of its surface within `reach` of the
+/// closest distance to `p` (brute force over every triangle; on a seam, one per side).
+fn uvs_near(m: &mesh::TriMesh, a: &mesh::attributes::Attributes, p: Vec3, reach: f64) -> Vec<Vec2> {
+    let p = p.as_dvec3();
+    let uv = a.uv0.as_ref().unwrap();
+    let found: Vec<(f64, Vec2)> = (0..m.face_count())
+        .map(|f| {
+            let [x, y, z] = m.triangle_f64(f);
+            let q = mesh::geometry::closest_point_triangle(p, x, y, z);
+            let w = mesh::transfer::barycentric(q, x, y, z);
+            let c = a.corners[f];
+            (
+                q.distance(p),
+                (0..3).map(|k| uv[c[k] as usize] * w[k] as f32).sum(),
+            )
+        })
+        .collect();
+    let best = found.iter().map(|f| f.0).fold(f64::INFINITY, f64::min);
+    found
+        .into_iter()
+        .filter(|f| f.0 <= best + reach)
+        .map(|f| f.1)
+        .collect()
+}
+
+#[test]
+fn spot_keeps_its_texture_coordinates_through_both_methods() {
+    let Some(dir) = mesh::fixtures::shared_meshes_dir("spot.obj") else {
+        return;
+    };
+    let spot = mesh::io::load(&dir.join("spot.obj")).unwrap();
+    let original = spot.attributes.as_ref().unwrap();
+    let reach = 2e-3 * spot.mesh.bbox_diagonal();
+    let out = tempfile::tempdir().unwrap();
+    for method in ["qem", "gng"] {
+        let path = out.path().join(format!("{method}.obj"));
+        let j = json_of(&simplify(&dir.join("spot.obj"), &path, method, "600"));
+        assert_eq!(j["attributes"]["input"], serde_json::json!(["uv0"]), "{j}");
+        assert_eq!(j["attributes"]["kept"], serde_json::json!(["uv0"]), "{j}");
+        assert_eq!(j["attributes"]["dropped"], serde_json::json!([]), "{j}");
+        // The output reloads with its texture coordinates, on every corner, and seams.
+        let back = mesh::io::load(&path).unwrap();
+        assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+        let a = back.attributes.expect("texture coordinates in the output");
+        a.validate(&back.mesh).unwrap();
+        assert_eq!(a.names(), vec!["uv0"]);
+        assert_eq!(back.mesh.vertex_count(), 600);
+        assert!(
+            !a.seam_edges(&back.mesh).is_empty(),
+            "{method}: no seam left"
+        );
+        // Each wedge's UV is the original's near its vertex (brute force, independent).
+        let uv = a.uv0.as_ref().unwrap();
+        let mut errors: Vec<f32> = (0..a.wedge_count())
+            .map(|w| {
+                let p = back.mesh.positions[a.wedge_vertex[w] as usize];
+                uvs_near(&spot.mesh, original, p, reach)
+                    .iter()
+                    .map(|u| u.distance(uv[w]))
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .collect();
+        errors.sort_by(f32::total_cmp);
+        let p99 = errors[errors.len() * 99 / 100];
+        assert!(p99 < 1e-3, "{method}: 99th percentile UV error {p99}");
+    }
+}
+
+#[test]
+fn formats_that_cannot_store_attributes_say_so() {
+    let Some(dir) = mesh::fixtures::shared_meshes_dir("spot.obj") else {
+        return;
+    };
+    let out = tempfile::tempdir().unwrap();
+    let stl = out.path().join("spot.stl");
+    let o = simplify(&dir.join("spot.obj"), &stl, "qem", "500");
+    let j = json_of(&o);
+    assert_eq!(j["attributes"]["kept"], serde_json::json!([]));
+    assert_eq!(
+        j["attributes"]["dropped"],
+        serde_json::json!(["dropped uv0: STL stores positions only"])
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains(&format!(
+            "warning: {}: dropped uv0: STL stores positions only",
+            stl.display()
+        )),
+        "{stderr}"
+    );
+    // PLY keeps them (one vertex record per wedge) and reads back with them.
+    let ply = out.path().join("spot.ply");
+    let j = json_of(&simplify(&dir.join("spot.obj"), &ply, "qem", "500"));
+    assert_eq!(j["attributes"]["kept"], serde_json::json!(["uv0"]));
+    let back = mesh::io::load(&ply).unwrap();
+    assert!(back.attributes.unwrap().uv0.is_some());
+}
+
+#[test]
+fn materials_and_their_files_follow_the_output() {
+    let src = tempfile::tempdir().unwrap();
+    std::fs::write(src.path().join("tex.png"), b"png bytes").unwrap();
+    std::fs::write(
+        src.path().join("grid.mtl"),
+        "newmtl left\nmap_Kd tex.png\nnewmtl right\nKd 1 0 0\n",
+    )
+    .unwrap();
+    // A 9 x 9 vertex grid, left half one material, right half another, UVs = positions.
+    let mut obj = String::from("mtllib grid.mtl\n");
+    for y in 0..9 {
+        for x in 0..9 {
+            obj += &format!("v {x} {y} 0\nvt {} {}\n", x as f32 / 8.0, y as f32 / 8.0);
+        }
+    }
+    for half in ["left", "right"] {
+        obj += &format!("usemtl {half}\n");
+        let xs = if half == "left" { 0..4 } else { 4..8 };
+        for y in 0..8 {
+            for x in xs.clone() {
+                let i = y * 9 + x + 1;
+                obj += &format!("f {i}/{i} {}/{} {}/{}\n", i + 1, i + 1, i + 10, i + 10);
+                obj += &format!("f {i}/{i} {}/{} {}/{}\n", i + 10, i + 10, i + 9, i + 9);
+            }
+        }
+    }
+    let input = src.path().join("grid.obj");
+    std::fs::write(&input, obj).unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let path = out.path().join("small.obj");
+    let j = json_of(&simplify(&input, &path, "qem", "30"));
+    assert_eq!(
+        j["attributes"]["kept"],
+        serde_json::json!(["uv0", "materials"])
+    );
+    assert_eq!(
+        std::fs::read(out.path().join("tex.png")).unwrap(),
+        b"png bytes"
+    );
+    assert!(out.path().join("grid.mtl").is_file());
+    let back = mesh::io::load(&path).unwrap();
+    assert_eq!(back.materials.unwrap().names, vec!["left", "right"]);
+    let a = back.attributes.unwrap();
+    let m = a.face_material.as_ref().unwrap();
+    // Each triangle stays on its half: its material matches the side of its centroid.
+    for (f, t) in back.mesh.triangles.iter().enumerate() {
+        let cx = t
+            .iter()
+            .map(|&v| back.mesh.positions[v as usize].x)
+            .sum::<f32>()
+            / 3.0;
+        assert_eq!(m[f], u32::from(cx > 4.0), "triangle {f}");
+    }
+}
