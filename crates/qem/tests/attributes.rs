@@ -6,6 +6,7 @@ use glam::{DVec3, Vec2, Vec3, Vec4};
 use gng3d_qem::{QemError, QemParams, Target, simplify, simplify_with_attributes};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
+use std::path::Path;
 
 /// The sphere's texture coordinates at a point, from its direction (u = longitude / 2π in
 /// [0, 1), v = 1 at the top pole): independent of any mesh.
@@ -176,4 +177,123 @@ fn spot_keeps_its_texture_coordinates_where_they_were() {
         "median {median}, 95th percentile {p95}"
     );
     let _ = DVec3::ZERO;
+}
+
+/// A test asset made by `tests/assets/make_assets.py` (committed), loaded and cleaned.
+fn asset(name: &str) -> (TriMesh, Attributes) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/assets")
+        .join(name);
+    let loaded = mesh::io::load(&path).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let (mesh, attributes, _) =
+        mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
+    (mesh, attributes)
+}
+
+/// Every value of attribute `get` of the original at the points of its surface within `reach`
+/// of the closest distance to `p` (brute force; on a seam, one per side).
+fn values_near<T: Copy + std::iter::Sum + std::ops::Mul<f32, Output = T>>(
+    m: &TriMesh,
+    a: &Attributes,
+    values: &[T],
+    p: Vec3,
+    reach: f64,
+) -> Vec<T> {
+    let p = p.as_dvec3();
+    let found: Vec<(f64, T)> = a
+        .corners
+        .iter()
+        .enumerate()
+        .map(|(f, c)| {
+            let [x, y, z] = m.triangle_f64(f);
+            let q = mesh::geometry::closest_point_triangle(p, x, y, z);
+            let w = mesh::transfer::barycentric(q, x, y, z);
+            (
+                q.distance(p),
+                (0..3).map(|k| values[c[k] as usize] * w[k] as f32).sum(),
+            )
+        })
+        .collect();
+    let best = found.iter().map(|f| f.0).fold(f64::INFINITY, f64::min);
+    found
+        .into_iter()
+        .filter(|f| f.0 <= best + reach)
+        .map(|f| f.1)
+        .collect()
+}
+
+#[test]
+fn an_xatlas_atlas_keeps_its_charts_normals_and_material() {
+    let (fandisk, attributes) = asset("fandisk_atlas.obj");
+    let seams_in = attributes.seam_edges(&fandisk).len();
+    let params = QemParams::with_target(Target::Ratio(0.1));
+    let (out, kept, report) = simplify_with_attributes(&fandisk, &attributes, &params).unwrap();
+    kept.validate(&out).unwrap();
+    assert_eq!(kept.names(), vec!["normals", "uv0", "materials"]);
+    assert!(report.faces <= fandisk.face_count() / 5, "{report:?}");
+    let seams_out = kept.seam_edges(&out).len();
+    assert!(
+        seams_out > 0 && seams_out < seams_in,
+        "{seams_in} -> {seams_out}"
+    );
+    // Every 3rd wedge against the original nearby (0.2 % of the diagonal): UV and normal.
+    let reach = 2e-3 * fandisk.bbox_diagonal();
+    let (uv_in, n_in) = (
+        attributes.uv0.as_ref().unwrap(),
+        attributes.normals.as_ref().unwrap(),
+    );
+    let (uv, n) = (kept.uv0.as_ref().unwrap(), kept.normals.as_ref().unwrap());
+    let mut uv_err = Vec::new();
+    let mut n_err = Vec::new();
+    for w in (0..kept.wedge_count()).step_by(3) {
+        let p = out.positions[kept.wedge_vertex[w] as usize];
+        let u = values_near(&fandisk, &attributes, uv_in, p, reach);
+        uv_err.push(
+            u.iter()
+                .map(|u| u.distance(uv[w]))
+                .fold(f32::INFINITY, f32::min),
+        );
+        let m = values_near(&fandisk, &attributes, n_in, p, reach);
+        n_err.push(
+            m.iter()
+                .map(|m| 1.0 - m.normalize().dot(n[w]))
+                .fold(f32::INFINITY, f32::min),
+        );
+    }
+    uv_err.sort_by(f32::total_cmp);
+    n_err.sort_by(f32::total_cmp);
+    let q = |e: &[f32], p: usize| e[e.len() * p / 100];
+    assert!(
+        q(&uv_err, 99) < 1e-3,
+        "UV error 99th percentile {}",
+        q(&uv_err, 99)
+    );
+    assert!(
+        q(&n_err, 99) < 1e-3,
+        "normal 1 - cos 99th percentile {}",
+        q(&n_err, 99)
+    );
+    assert!(kept.face_material.unwrap().iter().all(|&m| m == 0));
+}
+
+#[test]
+fn vertex_colours_without_seams_stay_one_per_vertex() {
+    let (knight, attributes) = asset("knight_colors.ply");
+    assert!(attributes.seam_edges(&knight).is_empty());
+    let params = QemParams::with_target(Target::Vertices(200));
+    let (out, kept, _) = simplify_with_attributes(&knight, &attributes, &params).unwrap();
+    assert_eq!(kept.wedge_count(), out.vertex_count());
+    assert!(kept.seam_edges(&out).is_empty());
+    let reach = 2e-3 * knight.bbox_diagonal();
+    let colors_in = attributes.colors.as_ref().unwrap();
+    let colors = kept.colors.as_ref().unwrap();
+    for w in 0..kept.wedge_count() {
+        let near = values_near(&knight, &attributes, colors_in, out.positions[w], reach);
+        let err = near
+            .iter()
+            .map(|c| (*c - colors[w]).abs().max_element())
+            .fold(f32::INFINITY, f32::min);
+        assert!(err < 1e-4, "wedge {w}: colour error {err}");
+    }
 }
