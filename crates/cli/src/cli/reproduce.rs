@@ -145,11 +145,17 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
 
 fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     check_args(args)?;
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .with_context(|| format!("reading folder {}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| mesh::io::Format::from_path(p).is_some())
-        .collect();
+    let mut files: Vec<PathBuf> = Vec::new();
+    for entry in
+        std::fs::read_dir(dir).with_context(|| format!("reading folder {}", dir.display()))?
+    {
+        match entry {
+            Ok(e) if mesh::io::Format::from_path(&e.path()).is_some() => files.push(e.path()),
+            Ok(_) => {}
+            // Said, not silently left out.
+            Err(e) => eprintln!("warning: {}: an entry cannot be read: {e}", dir.display()),
+        }
+    }
     files.sort();
     if files.is_empty() {
         anyhow::bail!("{}: no .obj, .ply or .stl files", dir.display());

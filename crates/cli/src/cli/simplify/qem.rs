@@ -58,9 +58,12 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         pair_threshold: args.threshold,
         ..QemParams::default()
     };
+    let progress = crate::cli::progress::spinner(args.json);
+    progress.set_message("QEM: contracting vertex pairs");
+    let simplified = super::attributes::simplify_qem(&input, &extras, &params);
+    progress.finish_and_clear();
     let (simplified, attributes, report) =
-        super::attributes::simplify_qem(&input, &extras, &params)
-            .with_context(|| format!("simplifying {}", args.input.display()))?;
+        simplified.with_context(|| format!("simplifying {}", args.input.display()))?;
     let kept = super::attributes::save(
         &simplified,
         attributes.as_ref(),
