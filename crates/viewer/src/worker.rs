@@ -121,11 +121,19 @@ pub fn pace_seconds(seconds: f64, limits: Option<(Duration, Duration)>) -> f64 {
 /// already looks finished after a second (issue 37).
 pub const GROWTH_TIME_SHARE: f64 = 0.6;
 
+/// The growth's signals rise as time to this power over its share of the pace: slowly at first
+/// (1 s into the default run, under 10 % of the nodes), and never faster than 1.25 times the
+/// run's mean signal rate (with the growth half the budget: 1.5 · 0.5 / 0.6 at its end, and
+/// 0.5 / 0.4 after it), so a busy machine keeps the pace. A square took 1.67 times the mean
+/// rate late in the growth, and debug builds on a loaded machine fell behind it.
+pub const GROWTH_EXPONENT: f64 = 1.5;
+
 /// A paced run's schedule: how many signals it should have presented after how many seconds
 /// of running wall time, and back. The growth's signals (`growth`: λ × the node target, the
 /// signals at which the network holds its nodes) are spread over the first
-/// [`GROWTH_TIME_SHARE`] of the pace, slowly at first (quadratic in time, so the first second
-/// shows a handful of nodes, not a finished shape); the rest evenly over the remainder.
+/// [`GROWTH_TIME_SHARE`] of the pace, slowly at first (time to the power [`GROWTH_EXPONENT`],
+/// so the first second shows a handful of nodes, not a finished shape); the rest evenly over
+/// the remainder.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pacer {
     /// The run's signal budget.
@@ -170,7 +178,7 @@ impl Pacer {
         let u = (clock / self.pace).clamp(0.0, 1.0);
         let (s, g) = (self.growth_share(), self.growth_fraction());
         let f = if u < s {
-            g * (u / s).powi(2)
+            g * (u / s).powf(GROWTH_EXPONENT)
         } else {
             g + (1.0 - g) * (u - s) / (1.0 - s).max(1e-9)
         };
@@ -185,7 +193,7 @@ impl Pacer {
         let f = (signals as f64 / self.budget.max(1) as f64).clamp(0.0, 1.0);
         let (s, g) = (self.growth_share(), self.growth_fraction());
         let u = if f < g {
-            s * (f / g).sqrt()
+            s * (f / g).powf(1.0 / GROWTH_EXPONENT)
         } else {
             s + (f - g) / (1.0 - g).max(1e-9) * (1.0 - s)
         };
@@ -194,18 +202,29 @@ impl Pacer {
 }
 
 /// Whether a paced run may reconstruct a checkpoint now: it is on pace (at most
-/// [`PREVIEW_LAG_SECONDS`] behind, `lag` seconds), and a preview as long as the last one
-/// (`last_preview` seconds) ends before the training does (`left` seconds of pace left). A
-/// preview runs on the training thread: one that makes the run late takes signals from the
-/// network (the core stops training at its limit) or time from the steps after it.
-pub fn paced_preview_fits(lag: f64, left: f64, last_preview: f64) -> bool {
-    lag <= PREVIEW_LAG_SECONDS && last_preview < left
+/// [`PREVIEW_LAG_SECONDS`] behind, `lag` seconds) or its previews so far took at most
+/// [`PREVIEW_TIME_SHARE`] of its running time (`preview_share`), and a preview as long as the
+/// last one (`last_preview` seconds) ends before the training does (`left` seconds of pace
+/// left). A preview runs on the training thread: one that makes the run late takes signals from
+/// the network (a late run stops training at its pace's end) or time from the steps after it;
+/// the share keeps a machine that is always a little behind (a busy one) from showing no
+/// checkpoint at all.
+pub fn paced_preview_fits(lag: f64, left: f64, last_preview: f64, preview_share: f64) -> bool {
+    (lag <= PREVIEW_LAG_SECONDS || preview_share <= PREVIEW_TIME_SHARE) && last_preview < left
 }
+
+/// Share of a paced run's running time that checkpoint previews may take while the run is
+/// behind its schedule.
+pub const PREVIEW_TIME_SHARE: f64 = 0.1;
 
 /// How far (seconds of pace) a paced run may be behind its schedule and still measure a point
 /// of the vertex-error curve (a few ms each; the paced growth runs at up to 1.7 times the
 /// mean signal rate late in the growth, where a busy machine falls a little behind).
-pub const ERROR_POINT_LAG_SECONDS: f64 = 0.25;
+pub const ERROR_POINT_LAG_SECONDS: f64 = 0.5;
+
+/// Share of a paced run's time the vertex-error measurements may take when the run is behind
+/// its schedule by more than [`ERROR_POINT_LAG_SECONDS`].
+pub const ERROR_POINT_TIME_SHARE: f64 = 0.1;
 
 /// How far (seconds of pace) a paced run may be behind its schedule and still reconstruct a
 /// checkpoint.
@@ -461,6 +480,8 @@ struct Training {
     last_publish: Instant,
     last_errors: Instant,
     error_interval: Duration,
+    /// Time spent measuring vertex errors since the reset.
+    error_time: Duration,
     /// Signal count at which a paced run measures the vertex errors next.
     next_error_signals: u64,
     rate_window: (Instant, u64),
@@ -494,6 +515,7 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
         published: None,
         last_errors: Instant::now(),
         error_interval: Duration::from_millis(200),
+        error_time: Duration::ZERO,
         rate_window: (Instant::now(), 0),
         signals_per_second: 0.0,
     };
@@ -520,6 +542,7 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                     t.finished = false;
                     t.train_time = Duration::ZERO;
                     t.reconstruct_time = Duration::ZERO;
+                    t.error_time = Duration::ZERO;
                     t.previews = 0;
                     t.last_preview = 0.0;
                     t.skipped_checkpoints = 0;
@@ -710,7 +733,14 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
         // the run is on pace (on a big mesh or a loaded machine, 200 measurements may take
         // most of the thread's time: armadillo, 6.6 s of a 10 s pace with another process on
         // one of two cores); a point a late run passes is left out, not taken later.
-        Some((lag, _)) => signals >= t.next_error_signals && lag <= ERROR_POINT_LAG_SECONDS,
+        // A run behind its schedule still measures while the measurements have taken at most
+        // ERROR_POINT_TIME_SHARE of its time (small meshes: a few ms each).
+        Some((lag, _)) => {
+            signals >= t.next_error_signals
+                && (lag <= ERROR_POINT_LAG_SECONDS
+                    || t.error_time.as_secs_f64()
+                        <= ERROR_POINT_TIME_SHARE * t.paced_clock.as_secs_f64())
+        }
     };
     if measure || t.finished {
         measure_errors(t, events);
@@ -727,7 +757,12 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
         let within_share = match paced {
             // Paced runs sleep between batches: checkpoints only use that slack, while the run
             // is on pace and when they end before the training does.
-            Some((lag, left)) => paced_preview_fits(lag, left, t.last_preview),
+            Some((lag, left)) => paced_preview_fits(
+                lag,
+                left,
+                t.last_preview,
+                t.reconstruct_time.as_secs_f64() / t.paced_clock.as_secs_f64().max(1e-9),
+            ),
             None => {
                 t.reconstruct_time.as_secs_f64()
                     <= CHECKPOINT_TIME_SHARE * t.train_time.as_secs_f64()
@@ -770,6 +805,7 @@ fn measure_errors(t: &mut Training, events: &Sender<Event>) {
         });
     }
     let cost = started.elapsed();
+    t.error_time += cost;
     t.error_interval = (cost * 20).max(Duration::from_millis(100));
     t.last_errors = Instant::now();
 }
@@ -953,9 +989,9 @@ mod tests {
         assert_eq!(pacer.due(10.0), 1_000_000);
         assert_eq!(pacer.due(20.0), 1_000_000);
         // The growth's signals end at GROWTH_TIME_SHARE of the pace, the first second has
-        // (1/6)² of them.
+        // (1/6)^1.5 of them.
         assert_eq!(pacer.due(6.0), 500_000);
-        assert_eq!(pacer.due(1.0), 13_889);
+        assert_eq!(pacer.due(1.0), 34_021);
         // Monotone, and time_of inverts due.
         let mut last = 0;
         for k in 0..=100 {
@@ -970,14 +1006,14 @@ mod tests {
             growth: 2_000_000,
             ..pacer
         };
-        assert_eq!(whole.due(5.0), 250_000);
+        assert_eq!(whole.due(5.0), 353_553);
         // No time to pace: everything at once.
         assert_eq!(Pacer { pace: 0.0, ..pacer }.due(0.0), 1_000_000);
     }
 
     /// Issue 37, against a simulated clock (not this machine's speed): the default watched run
     /// of the built-in model, its real network stepped to the schedule's signal count at each
-    /// simulated frame, holds under 25 % of its nodes 1 s into the run, grows over seconds, and
+    /// simulated frame, holds under 10 % of its nodes 1 s into the run, grows over seconds, and
     /// ends within 20 % of the shown run length when its steps take up to the
     /// STEPS_TIME_FACTOR × their estimate that the pace leaves them.
     #[test]
@@ -1016,9 +1052,10 @@ mod tests {
             }
             assert!(clock < 3.0 * watch, "the simulated run never finished");
         }
+        // The issue asks for under 25 %; the even spread of the budget gave about 19 % here.
         let (nodes, target) = at_one_second.unwrap();
         assert!(
-            (nodes as f64) < 0.25 * target as f64,
+            (nodes as f64) < 0.10 * target as f64,
             "{nodes} of {target} nodes after 1 s"
         );
         let grown_at = grown_at.expect("the network reached its nodes");
@@ -1040,14 +1077,17 @@ mod tests {
     }
 
     #[test]
-    fn a_paced_preview_runs_only_on_pace_and_when_it_ends_before_the_training() {
-        assert!(paced_preview_fits(0.0, 5.0, 0.3));
-        assert!(paced_preview_fits(PREVIEW_LAG_SECONDS, 5.0, 0.3));
-        // Behind after the last preview: catch up first.
-        assert!(!paced_preview_fits(0.4, 5.0, 0.3));
+    fn a_paced_preview_runs_on_pace_or_within_its_share_and_ends_before_the_training() {
+        assert!(paced_preview_fits(0.0, 5.0, 0.3, 0.5));
+        assert!(paced_preview_fits(PREVIEW_LAG_SECONDS, 5.0, 0.3, 0.5));
+        // Behind after the last preview, and previews took a fifth of the run: catch up first.
+        assert!(!paced_preview_fits(0.4, 5.0, 0.3, 0.2));
+        // Behind, but previews took only 5 % of the run so far: a busy machine still shows
+        // checkpoints.
+        assert!(paced_preview_fits(0.4, 5.0, 0.3, 0.05));
         // The last preview took 0.3 s and 0.2 s of training are left: the final mesh follows.
-        assert!(!paced_preview_fits(0.0, 0.2, 0.3));
+        assert!(!paced_preview_fits(0.0, 0.2, 0.3, 0.0));
         // The first preview of a run (none timed yet) runs whenever the run is on pace.
-        assert!(paced_preview_fits(0.0, 0.01, 0.0));
+        assert!(paced_preview_fits(0.0, 0.01, 0.0, 0.0));
     }
 }

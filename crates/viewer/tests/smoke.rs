@@ -71,6 +71,11 @@ fn smoke(backend: &str, expected: &str) {
         "viewer on {backend} failed: {}\n{stdout}\n{stderr}",
         output.status
     );
+    // Issue 37: no Wayland noise on an X display ("XDG_RUNTIME_DIR is invalid" four times).
+    assert!(
+        !stderr.contains("XDG_RUNTIME_DIR"),
+        "viewer on {backend}: {stderr}"
+    );
     let stats = stdout
         .lines()
         .find(|l| l.starts_with("viewer stats:"))
@@ -200,4 +205,52 @@ fn headless_run_that_cannot_start_fails() {
     assert!(err.contains("out of range"), "{err}");
     assert!(!String::from_utf8_lossy(&out.stdout).contains("headless stats"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 37: a negative time limit is the option's own error in both spellings
+/// (`--time-limit -1` was clap's "unexpected argument '-1'"), naming the option and the rule,
+/// without the library's parameter names.
+#[test]
+fn a_negative_time_limit_names_the_option_in_every_spelling() {
+    for args in [&["--time-limit", "-1"][..], &["--time-limit=-1"][..]] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_viewer"))
+            .args(args)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("--time-limit") && stderr.contains("-1") && stderr.contains("> 0"),
+            "{args:?}: {stderr}"
+        );
+        for internal in ["unexpected argument", "GngParams", "parameter", "TimeLimit"] {
+            assert!(!stderr.contains(internal), "{args:?}: {stderr}");
+        }
+    }
+}
+
+/// Issue 37: `--headless` trains the network the window trains (the same default target on the
+/// built-in model: it trained 1,500 nodes where the window trains 1,139) and, without
+/// --quit-after, runs until the final mesh instead of a hidden 5 s.
+#[test]
+fn headless_uses_the_windows_defaults_and_runs_to_the_final_mesh() {
+    let (_, model) = viewer::engine::default_model();
+    let target = viewer::session::default_target(model.vertex_count());
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_viewer"))
+        .arg("--headless")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("headless stats:"))
+        .unwrap_or_else(|| panic!("no stats line: {stdout}"));
+    assert!(line.contains(&format!(" target={target} ")), "{line}");
+    assert!(line.contains(&format!(" mesh_vertices={target}")), "{line}");
+    assert!(!line.contains("run_s=none"), "{line}");
 }
