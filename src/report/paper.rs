@@ -1,14 +1,10 @@
 //! Files written by `gng3d reproduce`: the paper's Table 1 (CSV, Markdown) and its plots.
 
+use super::eng;
 use super::plot::{Chart, Series};
 use super::table::Table;
 use crate::experiment::reproduce::ReproduceReport;
 use std::path::{Path, PathBuf};
-
-/// Scientific notation with 3 significant digits, as in the paper's tables.
-pub fn sci(v: f64) -> String {
-    format!("{v:.3e}")
-}
 
 /// The paper's Table 1 columns (iteration, vertices, faces, E_avg, E_max, E_sur) for GNG3D,
 /// followed by Hausdorff and the same measures for QEM at the same vertex count and at the
@@ -40,20 +36,20 @@ pub fn checkpoint_table(report: &ReproduceReport) -> Table {
             c.iteration.to_string(),
             g.vertices.to_string(),
             g.faces.to_string(),
-            sci(g.e_avg),
-            sci(g.e_max),
-            sci(g.e_sur_signed),
-            sci(g.hausdorff_max),
+            eng(g.e_avg),
+            eng(g.e_max),
+            eng(g.e_sur_signed),
+            eng(g.hausdorff_max),
             q.vertices.to_string(),
             q.faces.to_string(),
-            sci(q.e_avg),
-            sci(q.e_max),
-            sci(q.e_sur_signed),
-            sci(q.hausdorff_max),
-            sci(f.e_avg),
-            sci(f.e_max),
-            sci(f.e_sur_signed),
-            sci(f.hausdorff_max),
+            eng(q.e_avg),
+            eng(q.e_max),
+            eng(q.e_sur_signed),
+            eng(q.hausdorff_max),
+            eng(f.e_avg),
+            eng(f.e_max),
+            eng(f.e_sur_signed),
+            eng(f.hausdorff_max),
         ]);
     }
     t
@@ -79,12 +75,12 @@ pub fn terminal_table(report: &ReproduceReport) -> Table {
         t.push([
             c.iteration.to_string(),
             g.vertices.to_string(),
-            sci(g.e_avg),
-            sci(q.e_avg),
-            sci(g.e_max),
-            sci(q.e_max),
-            sci(g.hausdorff_max),
-            sci(q.hausdorff_max),
+            eng(g.e_avg),
+            eng(q.e_avg),
+            eng(g.e_max),
+            eng(q.e_max),
+            eng(g.hausdorff_max),
+            eng(q.hausdorff_max),
         ]);
     }
     t
@@ -104,9 +100,9 @@ pub fn terminal_legend(report: &ReproduceReport) -> String {
          QEM at the target ({} vertices): E_avg {}, E_max {}, Hausdorff {}.\n",
         report.bbox_diagonal,
         f.vertices,
-        sci(f.e_avg),
-        sci(f.e_max),
-        sci(f.hausdorff_max),
+        eng(f.e_avg),
+        eng(f.e_max),
+        eng(f.hausdorff_max),
     )
 }
 
