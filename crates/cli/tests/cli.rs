@@ -721,6 +721,10 @@ fn text_output_uses_engineering_notation_and_units() {
         "100",
     ]);
     let metrics = gng3d(&["metrics", &s(&sphere), &s(&out), "--samples", "5000"]);
+    let info = gng3d(&["info", &s(&sphere)]);
+    assert!(info.status.success());
+    let info = String::from_utf8_lossy(&info.stdout).into_owned();
+    assert!(info.contains("units²") && info.contains("closed"), "{info}");
     for o in [&compare, &simplify, &metrics] {
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success(), "{err}");
@@ -744,8 +748,15 @@ fn text_output_uses_engineering_notation_and_units() {
         compare.contains('°') && metrics.contains("units²"),
         "{compare}{metrics}"
     );
-    for text in [&compare, &metrics] {
+    for text in [&compare, &metrics, &info] {
         for token in text.split(|c: char| c.is_whitespace() || c == ',' || c == '(' || c == ')') {
+            // No float printed with all its digits (`12.711142105966163`).
+            let mantissa = token.split('e').next().unwrap_or("");
+            if mantissa.parse::<f64>().is_ok()
+                && let Some((_, fraction)) = mantissa.split_once('.')
+            {
+                assert!(fraction.len() <= 4, "{token:?} in {text}");
+            }
             if let Some((mantissa, exp)) = token.split_once('e')
                 && mantissa.parse::<f64>().is_ok()
                 && let Ok(exp) = exp.parse::<i32>()

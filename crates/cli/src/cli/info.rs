@@ -91,8 +91,22 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     outln!("components            {}", info.components);
     outln!("euler characteristic  {}", info.euler_characteristic);
     outln!("genus                 {genus}");
-    outln!("area                  {}", info.area);
-    outln!("bbox diagonal         {}", info.bbox_diagonal);
+    outln!(
+        "closed                {}",
+        if info.closed { "yes" } else { "no" }
+    );
+    outln!(
+        "manifold              {}",
+        if info.manifold { "yes" } else { "no" }
+    );
+    outln!(
+        "area                  {} units²",
+        gng3d::report::eng(info.area)
+    );
+    outln!(
+        "bbox diagonal         {} units",
+        gng3d::report::eng(info.bbox_diagonal)
+    );
     outln!("load time             {:.3} s", info.load_seconds);
     for w in &info.warnings {
         outln!("warning: {w}");
