@@ -18,7 +18,9 @@ pub struct ReproduceArgs {
     /// Input mesh (.obj, .ply, .stl).
     #[arg(required_unless_present = "all")]
     pub input: Option<PathBuf>,
-    /// Survey every mesh in this folder at 10/25/50% vertices instead of one mesh.
+    /// Survey every mesh in this folder at 10/25/50 % of its vertices instead of one mesh: the
+    /// paper's GNG3D, GNG3D-Q and QEM, with the verdict per metric (summary.md, summary.csv,
+    /// summary.json and charts in --out).
     #[arg(long, value_name = "DIR", conflicts_with = "input")]
     pub all: Option<PathBuf>,
     /// Training length in epochs of |V| signals (one checkpoint per epoch).
