@@ -142,7 +142,9 @@ def _cli_run(cli, tmp_path, mesh, args):
     return json.loads(proc.stdout), gng3d.load(out)
 
 
-@pytest.mark.parametrize("name", ["spot.obj", "fandisk.obj"])
+# Meshes with positions only: the CLI also carries an input's texture coordinates, normals and
+# colours through (its "attributes"), which the binding's numpy arrays do not hold.
+@pytest.mark.parametrize("name", ["cow.obj", "fandisk.obj"])
 @pytest.mark.parametrize(
     "method,cli_args,py_args",
     [
@@ -174,6 +176,7 @@ def test_same_mesh_as_the_cli(tmp_path, name, method, cli_args, py_args):
     if method == "qem":
         report["report"].pop("seconds")
         summary["report"].pop("seconds")
+    assert summary.pop("attributes") == {"input": [], "kept": [], "dropped": []}
     assert report == summary
     # And the same bytes once saved.
     ours = tmp_path / "py-out.ply"
