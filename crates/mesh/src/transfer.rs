@@ -35,7 +35,23 @@ impl<'a> FaceGrid<'a> {
         let faces = mesh.triangles.len().max(1) as f64;
         let mean = (mesh.area() / faces).sqrt();
         let diag = bbox.diagonal().max(f64::MIN_POSITIVE);
-        let cell = (2.0 * mean).max(diag / 2048.0).max(1e-30);
+        let mut cell = (2.0 * mean).max(diag / 2048.0).max(1e-30);
+        // Long thin triangles (a fan's slivers) would each cover many cells of a size made for
+        // their small area: grow the cells until the entries stay within 16 per triangle.
+        let budget = 16.0 * faces + 1e6;
+        loop {
+            let entries: f64 = (0..mesh.triangles.len())
+                .map(|f| {
+                    let [a, b, c] = mesh.triangle_f64(f);
+                    let span = (a.max(b).max(c) - a.min(b).min(c)) / cell;
+                    (span.x.floor() + 1.0) * (span.y.floor() + 1.0) * (span.z.floor() + 1.0)
+                })
+                .sum();
+            if entries <= budget || cell >= diag {
+                break;
+            }
+            cell *= 2.0;
+        }
         let mut grid = FaceGrid {
             mesh,
             cell,
@@ -436,6 +452,25 @@ mod tests {
             }
         }
         assert_eq!(back.seam_edges(&sphere), uv.seam_edges(&sphere));
+    }
+
+    #[test]
+    fn a_fan_of_slivers_gets_a_grid_of_bounded_size() {
+        // 20,000 slivers from a hub to a circle: cells sized by their area would hold each
+        // sliver in hundreds of cells.
+        let fan = crate::procedural::fan(20_000);
+        let grid = FaceGrid::new(&fan);
+        let entries: usize = grid.cells.values().map(Vec::len).sum();
+        assert!(
+            entries <= 16 * fan.face_count() + 1_000_000,
+            "{entries} entries"
+        );
+        let p = fan.positions[5] + Vec3::Z * 0.01;
+        let (f, _) = grid.closest(p, |_| true).unwrap();
+        let [a, b, c] = fan.triangle_f64(f as usize);
+        let d =
+            crate::geometry::closest_point_triangle(p.as_dvec3(), a, b, c).distance(p.as_dvec3());
+        assert!((d - 0.01).abs() < 1e-6, "{d}");
     }
 
     #[test]
