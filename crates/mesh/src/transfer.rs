@@ -95,7 +95,30 @@ impl<'a> FaceGrid<'a> {
             .max()
             .unwrap_or(0)
             + 1;
+        let consider = |f: u32, best: &mut Option<(f64, u32, DVec3)>| {
+            if !accept(f) {
+                return;
+            }
+            let [a, b, cc] = self.mesh.triangle_f64(f as usize);
+            let q = crate::geometry::closest_point_triangle(p, a, b, cc);
+            let d = q.distance_squared(p);
+            if best.is_none_or(|(bd, bf, _)| (d, f) < (bd, bf)) {
+                *best = Some((d, f, q));
+            }
+        };
+        // Far from every triangle the shells would visit more cells than the grid has: then
+        // every triangle is looked at once instead.
+        let mut lookups = 0usize;
         for r in 0..=reach {
+            let side = 2 * r as usize + 1;
+            lookups += side * side * side - if r == 0 { 0 } else { (side - 2).pow(3) };
+            if lookups > self.cells.len() + 4096 {
+                best = None;
+                for f in 0..self.mesh.triangles.len() as u32 {
+                    consider(f, &mut best);
+                }
+                break;
+            }
             for x in c[0] - r..=c[0] + r {
                 for y in c[1] - r..=c[1] + r {
                     let on_shell_xy = (x - c[0]).abs() == r || (y - c[1]).abs() == r;
@@ -109,15 +132,7 @@ impl<'a> FaceGrid<'a> {
                             continue;
                         };
                         for &f in list {
-                            if !accept(f) {
-                                continue;
-                            }
-                            let [a, b, cc] = self.mesh.triangle_f64(f as usize);
-                            let q = crate::geometry::closest_point_triangle(p, a, b, cc);
-                            let d = q.distance_squared(p);
-                            if best.is_none_or(|(bd, bf, _)| (d, f) < (bd, bf)) {
-                                best = Some((d, f, q));
-                            }
+                            consider(f, &mut best);
                         }
                     }
                 }
@@ -465,6 +480,9 @@ mod tests {
             entries <= 16 * fan.face_count() + 1_000_000,
             "{entries} entries"
         );
+        // A point far from the fan: the grid gives up its shells and looks at every sliver.
+        let far = grid.closest(Vec3::new(0.0, 0.0, 50.0), |_| true).unwrap();
+        assert!(far.0 < fan.face_count() as u32);
         let p = fan.positions[5] + Vec3::Z * 0.01;
         let (f, _) = grid.closest(p, |_| true).unwrap();
         let [a, b, c] = fan.triangle_f64(f as usize);
