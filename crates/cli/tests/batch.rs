@@ -144,6 +144,12 @@ fn shards_split_a_manifest_and_bad_options_stop_before_any_file() {
         let got = rows(&run);
         assert_eq!(got.len(), 1);
         assert_eq!(got[0]["vertices"], 60);
+        // GNG3D rows carry the input's counts too (from simplify's --json).
+        assert!(
+            got[0]["input_vertices"].as_u64().unwrap() > 60,
+            "{}",
+            got[0]
+        );
         seen.push(got[0]["input"].as_str().unwrap().to_string());
         assert!(out.join(format!("stats-{rank}-of-2.csv")).exists());
     }

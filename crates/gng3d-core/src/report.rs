@@ -197,6 +197,11 @@ pub struct GngReport {
 pub struct GngSummary {
     /// The method's name in the front end ("gng"; the Python package also says "paper").
     pub method: &'static str,
+    /// Vertices of the mesh the run was given (after the front end's weld and cleaning; as
+    /// QEM's report counts them).
+    pub input_vertices: usize,
+    /// Faces of the mesh the run was given.
+    pub input_faces: usize,
     /// Output vertex count.
     pub vertices: usize,
     /// Output face count.
@@ -273,6 +278,8 @@ impl GngSummary {
         let t = &r.topology;
         GngSummary {
             method,
+            input_vertices: trainer.original().vertex_count(),
+            input_faces: trainer.original().face_count(),
             vertices: result.mesh.vertex_count(),
             faces: result.mesh.face_count(),
             iterations: stats.signals,

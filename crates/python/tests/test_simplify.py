@@ -12,7 +12,8 @@ from conftest import cli_binary, shared_meshes, torus
 
 # The fields of `gng3d simplify --method gng --json` (crates/cli/src/cli/simplify/gng.rs).
 GNG_FIELDS = {
-    "method", "vertices", "faces", "iterations", "seconds", "training_seconds",
+    "method", "input_vertices", "input_faces", "vertices", "faces", "iterations", "seconds",
+    "training_seconds",
     "target_vertices", "nodes", "oversample", "network_vertices", "placement", "signals",
     "flips", "refit", "detail_rounds", "detail_nodes", "relax", "relaxed_vertices",
     "repair_deviations", "deviation_moves", "deviation_flips", "steps", "warnings", "closed",
