@@ -278,3 +278,21 @@ fn ply_without_seams_keeps_the_vertex_numbering() {
     assert_eq!(back.mesh, mesh);
     assert_eq!(back.vertex_normals.unwrap(), mesh.vertex_normals());
 }
+
+#[test]
+fn non_finite_attribute_values_drop_that_attribute_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt nan 0\nvt 0 1\nvn 0 0 1\n\
+               f 1/1/1 2/2/1 3/3/1\n";
+    let loaded = load(&write(dir.path(), "nan.obj", obj.as_bytes())).unwrap();
+    assert_eq!(
+        loaded.warnings,
+        vec![MeshWarning::AttributesDropped {
+            attributes: "uv0".into(),
+            reason: "value 1 is not a finite number".into()
+        }]
+    );
+    let a = loaded.attributes.unwrap();
+    assert_eq!(a.names(), vec!["normals"]);
+    a.validate(&loaded.mesh).unwrap();
+}

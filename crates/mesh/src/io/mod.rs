@@ -238,6 +238,9 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
             count: dropped.duplicate,
         });
     }
+    if let Some(a) = attributes.as_mut() {
+        drop_non_finite(a, &mut warnings);
+    }
     if mesh.triangles.is_empty() {
         return Err(MeshError::NoFaces {
             path: path.to_path_buf(),
@@ -251,6 +254,33 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
         attributes,
         materials: raw.materials,
     })
+}
+
+/// Drops each attribute array of `a` that holds a NaN or infinite value, with a warning naming
+/// it and the first wedge (values the algorithms and writers cannot use; positions are checked
+/// as an error instead).
+fn drop_non_finite(a: &mut Attributes, warnings: &mut Vec<MeshWarning>) {
+    fn check<T>(
+        name: &str,
+        values: &mut Option<Vec<T>>,
+        finite: impl Fn(&T) -> bool,
+        warnings: &mut Vec<MeshWarning>,
+    ) {
+        if let Some(w) = values
+            .as_ref()
+            .and_then(|v| v.iter().position(|x| !finite(x)))
+        {
+            *values = None;
+            warnings.push(MeshWarning::AttributesDropped {
+                attributes: name.to_string(),
+                reason: format!("value {w} is not a finite number"),
+            });
+        }
+    }
+    check("normals", &mut a.normals, |v| v.is_finite(), warnings);
+    check("uv0", &mut a.uv0, |v| v.is_finite(), warnings);
+    check("uv1", &mut a.uv1, |v| v.is_finite(), warnings);
+    check("colors", &mut a.colors, |v| v.is_finite(), warnings);
 }
 
 /// The bytes [`save`] would write for `mesh` in `format`; `path` only names the file in errors.
