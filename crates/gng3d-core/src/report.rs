@@ -245,7 +245,7 @@ pub struct GngSummary {
     /// Edges it flipped.
     pub deviation_flips: usize,
     /// The steps after training that ran, in order: name, build round, seconds and what each
-    /// changed ([`crate::pipeline`]).
+    /// changed ([`crate::Plan`], [`crate::StepRecord`]).
     pub steps: Vec<crate::StepRecord>,
     /// Machine-readable reasons why the output differs from the request (empty when exact).
     pub warnings: Vec<GngWarning>,

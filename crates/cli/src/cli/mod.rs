@@ -209,6 +209,32 @@ pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result
     for w in &loaded.warnings {
         eprintln!("warning: {}: {w}", path.display());
     }
+    // compare and reproduce (this function's callers) measure and write geometry only: say
+    // what of the file they leave out instead of dropping it silently.
+    let mut unused: Vec<&str> = loaded
+        .attributes
+        .as_ref()
+        .map(|a| a.names())
+        .unwrap_or_default()
+        .into_iter()
+        .map(|name| match name {
+            "uv0" => "texture coordinates",
+            "uv1" => "second texture coordinates",
+            "colors" => "vertex colours",
+            other => other,
+        })
+        .collect();
+    if loaded.materials.is_some() && !unused.contains(&"materials") {
+        unused.push("materials");
+    }
+    if !unused.is_empty() {
+        eprintln!(
+            "warning: {}: {} not used: this command measures and writes positions only \
+             (`gng3d simplify` keeps them)",
+            path.display(),
+            unused.join(", ")
+        );
+    }
     if raw {
         return Ok(loaded.mesh);
     }
