@@ -307,8 +307,51 @@ impl Source<'_> {
             })
     }
 
+    /// The bytes of buffer view `view` and its stride, checked to hold `count` elements of
+    /// `element` bytes from `offset` (strided by the view's `byteStride`, or packed).
+    fn range<'v>(
+        &'v self,
+        what: &str,
+        view: &::gltf::buffer::View,
+        offset: usize,
+        count: usize,
+        element: usize,
+    ) -> Result<(&'v [u8], usize), MeshError> {
+        let data = self.view_bytes(view)?;
+        let stride = view.stride().unwrap_or(element);
+        if stride < element {
+            return Err(self.error(
+                what,
+                format!(
+                    "byteStride {stride} of buffer view {} is smaller than an element ({element} \
+                     bytes)",
+                    view.index()
+                ),
+            ));
+        }
+        if count == 0 {
+            return Ok((data, stride));
+        }
+        let end = (count - 1)
+            .checked_mul(stride)
+            .and_then(|n| n.checked_add(offset))
+            .and_then(|n| n.checked_add(element));
+        match end {
+            Some(end) if end <= data.len() => Ok((data, stride)),
+            _ => Err(self.error(
+                what,
+                format!(
+                    "{count} elements of {element} bytes from byte {offset} (stride {stride}) do \
+                     not fit in buffer view {}, which has {} bytes",
+                    view.index(),
+                    data.len()
+                ),
+            )),
+        }
+    }
+
     /// Calls `f` with the bytes of each of `count` elements of `element` bytes at `offset` in
-    /// `view` (strided by the view's `byteStride`, or packed).
+    /// `view` ([`Source::range`]).
     fn elements(
         &self,
         what: &str,
@@ -318,40 +361,44 @@ impl Source<'_> {
         element: usize,
         mut f: impl FnMut(usize, &[u8]),
     ) -> Result<(), MeshError> {
-        if count == 0 {
-            return Ok(());
-        }
-        let data = self.view_bytes(view)?;
-        let stride = view.stride().unwrap_or(element);
-        if stride < element {
-            return Err(self.error(
-                what,
-                format!("byteStride {stride} of buffer view {} is smaller than an element ({element} bytes)", view.index()),
-            ));
-        }
-        let end = (count - 1)
-            .checked_mul(stride)
-            .and_then(|n| n.checked_add(offset))
-            .and_then(|n| n.checked_add(element));
-        match end {
-            Some(end) if end <= data.len() => {}
-            _ => {
-                return Err(self.error(
-                    what,
-                    format!(
-                        "{count} elements of {element} bytes from byte {offset} (stride {stride}) do \
-                         not fit in buffer view {}, which has {} bytes",
-                        view.index(),
-                        data.len()
-                    ),
-                ));
-            }
-        }
+        let (data, stride) = self.range(what, view, offset, count, element)?;
         for i in 0..count {
             let at = offset + i * stride;
             f(i, &data[at..at + element]);
         }
         Ok(())
+    }
+
+    /// Checks, before anything is allocated for them, that the `count` elements of `element`
+    /// bytes of `accessor` exist: in its buffer view, or (without one: zeros, or sparse values
+    /// only) no more than the file's buffers could describe, so that a count in the JSON alone
+    /// cannot ask for any amount of memory.
+    fn check_count(
+        &self,
+        accessor: &::gltf::Accessor,
+        what: &str,
+        element: usize,
+    ) -> Result<(), MeshError> {
+        let count = accessor.count();
+        match accessor.view() {
+            Some(view) => self
+                .range(what, &view, accessor.offset(), count, element)
+                .map(|_| ()),
+            None => {
+                let bytes: usize = self.buffers.iter().flatten().map(Vec::len).sum();
+                if count > bytes.max(1 << 24) {
+                    Err(self.error(
+                        what,
+                        format!(
+                            "{count} elements without a buffer view, more than the file's buffers \
+                             ({bytes} bytes) could hold"
+                        ),
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+        }
     }
 
     /// The values of `accessor` as `f32`s, `dims` per element (normalized integers mapped to
@@ -382,6 +429,7 @@ impl Source<'_> {
         let normalized = accessor.normalized();
         let size = ty.size();
         let count = accessor.count();
+        self.check_count(accessor, &what, n * size)?;
         let mut out = vec![0f32; count * n];
         let decode = |bytes: &[u8], out: &mut [f32]| {
             for (k, o) in out.iter_mut().enumerate() {
@@ -425,7 +473,7 @@ impl Source<'_> {
             IndexType::U16 => DataType::U16,
             IndexType::U32 => DataType::U32,
         };
-        let mut out = Vec::with_capacity(sparse.count());
+        let mut out = Vec::new();
         self.elements(
             what,
             &indices.view(),
@@ -459,6 +507,7 @@ impl Source<'_> {
                 ),
             ));
         }
+        self.check_count(accessor, &what, ty.size())?;
         let mut out = vec![0u32; accessor.count()];
         if let Some(view) = accessor.view() {
             self.elements(
@@ -642,7 +691,10 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
     let mut v = Vertices::default();
     let mut corners: Vec<[u32; 3]> = Vec::new();
     let mut face_material: Vec<u32> = Vec::new();
-    let mut sets: HashMap<(usize, [Option<usize>; 5]), (u32, usize)> = HashMap::new();
+    // The vertex sets read: (instance, accessors of READ_ATTRIBUTES) -> (first wedge, count);
+    // primitives sharing their accessors share their vertices.
+    type SetKey = (usize, [Option<usize>; 5]);
+    let mut sets: HashMap<SetKey, (u32, usize)> = HashMap::new();
     let mut ignored_attributes = BTreeSet::new();
     let mut ignored_extensions = BTreeSet::new();
     let mut not_triangles = 0usize;
@@ -688,13 +740,17 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
                 no_position += 1;
                 continue;
             };
-            let accessor = |i: usize| doc.accessors().nth(i).expect("validated accessor index");
+            let accessor = |i: usize| {
+                doc.accessors()
+                    .nth(i)
+                    .ok_or_else(|| source.error(&at, format!("accessor {i} does not exist")))
+            };
             let key = (instance, accessor_of);
             let (base, count) = match sets.get(&key) {
                 Some(&set) => set,
                 None => {
                     let base = v.positions.len() as u32;
-                    let (p, _) = source.floats(&accessor(position_index), "POSITION", &[3])?;
+                    let (p, _) = source.floats(&accessor(position_index)?, "POSITION", &[3])?;
                     let count = p.len() / 3;
                     if v.positions.len() + count > u32::MAX as usize {
                         return Err(source.error(at, "more than 2^32 vertices"));
@@ -727,7 +783,7 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
                             2 | 3 => &[2],
                             _ => &[3, 4],
                         };
-                        let (a, n) = source.floats(&accessor(index), name, dims)?;
+                        let (a, n) = source.floats(&accessor(index)?, name, dims)?;
                         if a.len() / n != count {
                             return Err(source.error(
                                 at,
@@ -892,7 +948,8 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
     Ok(RawMesh {
         positions: welded.positions,
         triangles: welded.triangles,
-        attributes: Some(attributes),
+        // A file of positions only has no attributes, as from the other readers.
+        attributes: (!attributes.is_empty()).then_some(attributes),
         materials: Some(Materials {
             names,
             libraries: Vec::new(),
@@ -1050,7 +1107,7 @@ struct Layout {
 impl Layout {
     /// Appends `bytes` as a buffer view (4-byte aligned); returns its index.
     fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let mut view =
@@ -1231,7 +1288,7 @@ pub(crate) fn write(
         }
         primitives.push(p);
     }
-    while layout.bin.len() % 4 != 0 {
+    while !layout.bin.len().is_multiple_of(4) {
         layout.bin.push(0);
     }
     root.insert("scene".into(), json!(0));
@@ -1269,7 +1326,7 @@ pub(crate) fn write(
 
 /// A GLB container of `json` (padded with spaces) and `bin` (padded with zeros).
 fn glb(mut json: Vec<u8>, bin: &[u8]) -> Vec<u8> {
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();

@@ -64,9 +64,11 @@ pub struct LoadedMesh {
     /// Per-vertex normals from the file, when it has them (same length as positions).
     pub vertex_normals: Option<Vec<Vec3>>,
     /// Normals, texture coordinates, colours and materials of the corners, when the file has
-    /// any (OBJ `vt`/`vn`/vertex colours/`usemtl`, PLY `nx ny nz`, `s t`, `red green blue`).
+    /// any (OBJ `vt`/`vn`/vertex colours/`usemtl`, PLY `nx ny nz`, `s t`, `red green blue`,
+    /// glTF `NORMAL`, `TEXCOORD_0`/`_1`, `COLOR_0` and primitive materials).
     pub attributes: Option<Attributes>,
-    /// The materials the file names (OBJ `usemtl` names and `mtllib` files).
+    /// The materials the file names (OBJ `usemtl` names and `mtllib` files; glTF material
+    /// names, with the file's materials, textures and images in [`Materials::gltf`]).
     pub materials: Option<Materials>,
 }
 
