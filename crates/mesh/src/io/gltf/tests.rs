@@ -857,3 +857,43 @@ fn gltf_glb_with(mesh: &TriMesh, a: &Attributes, materials: &Materials) -> Vec<u
         .unwrap()
         .0
 }
+
+/// KHR_mesh_quantization: positions as unnormalized shorts, normals as normalized bytes; the
+/// extension is required by the input and not carried to the output (which writes floats).
+#[test]
+fn quantized_attributes_are_read() {
+    let mut b = Builder::default();
+    let p: Vec<u8> = [0i16, 0, 0, 0, 100, 0, 0, 0, 0, 100, 3, 0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    // Three VEC3 shorts padded to 8 bytes each (byteStride 8, as the extension requires).
+    let p = b.accessor(&p, 5122, 3, "VEC3");
+    b.views[b.accessors[p]["bufferView"].as_u64().unwrap() as usize]["byteStride"] = json!(8);
+    b.accessors[p]["min"] = json!([0, 0, 0]);
+    b.accessors[p]["max"] = json!([100, 100, 3]);
+    let n = b.accessor(&[0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127, 0], 5120, 3, "VEC3");
+    b.views[b.accessors[n]["bufferView"].as_u64().unwrap() as usize]["byteStride"] = json!(4);
+    b.accessors[n]["normalized"] = json!(true);
+    let glb = b.glb(json!({
+        "meshes": [{"primitives": [{"attributes": {"POSITION": p, "NORMAL": n}}]}],
+        "extensionsUsed": ["KHR_mesh_quantization"],
+        "extensionsRequired": ["KHR_mesh_quantization"]
+    }));
+    let l = parse_glb(&glb).unwrap();
+    assert_eq!(
+        l.mesh.positions,
+        vec![
+            Vec3::ZERO,
+            Vec3::new(100.0, 0.0, 0.0),
+            Vec3::new(0.0, 100.0, 3.0)
+        ]
+    );
+    assert_eq!(
+        l.attributes.as_ref().unwrap().normals.as_ref().unwrap(),
+        &vec![Vec3::Z; 3]
+    );
+    let assets = l.materials.as_ref().unwrap().gltf.as_ref().unwrap();
+    assert!(!assets.json().contains_key("extensionsRequired"));
+    assert!(!assets.json().contains_key("extensionsUsed"));
+}
