@@ -664,15 +664,18 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
     let mut instances: Vec<(::gltf::Mesh, Mat4)> = Vec::new();
     match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => {
-            let limit = doc.nodes().len();
-            let mut stack: Vec<(::gltf::Node, Mat4, usize)> =
-                scene.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect();
+            // glTF nodes form trees (one parent each): a node reached twice is a cycle or a
+            // shared child, either of which could make the walk endless or exponential.
+            let mut seen = vec![false; doc.nodes().len()];
+            let mut stack: Vec<(::gltf::Node, Mat4)> =
+                scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
             stack.reverse();
-            while let Some((node, parent, depth)) = stack.pop() {
-                if depth > limit {
+            while let Some((node, parent)) = stack.pop() {
+                if std::mem::replace(&mut seen[node.index()], true) {
                     return Err(source.error(
                         format!("node {}", node.index()),
-                        "the node hierarchy has a cycle",
+                        "the node is reached twice from the scene (the node hierarchy has a \
+                         cycle or a node with two parents; glTF nodes form trees)",
                     ));
                 }
                 let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
@@ -681,7 +684,7 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
                 }
                 let children: Vec<_> = node.children().collect();
                 for child in children.into_iter().rev() {
-                    stack.push((child, world, depth + 1));
+                    stack.push((child, world));
                 }
             }
         }
