@@ -1346,6 +1346,35 @@ fn glb(mut json: Vec<u8>, bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// The warning for material looks that do not cross between the OBJ and glTF material models:
+/// an OBJ input's material libraries (colours, textures) written to glTF (`to_gltf`), where the
+/// materials get their names only, or a glTF input's materials written to OBJ, which names them
+/// in `usemtl` without a library. Texture coordinates are written as they were read in either
+/// direction (OBJ's `v` points up from the image's bottom edge, glTF's down from its top edge),
+/// which only matters once a texture is carried across.
+pub(crate) fn material_loss(
+    attributes: &Attributes,
+    materials: Option<&Materials>,
+    to_gltf: bool,
+) -> Option<MeshWarning> {
+    let m = materials?;
+    attributes.face_material.as_ref()?;
+    if to_gltf && m.gltf.is_none() && !m.libraries.is_empty() {
+        Some(MeshWarning::AttributesDropped {
+            attributes: "material colours and textures (OBJ material libraries)".to_string(),
+            reason: "a glTF output names the OBJ materials only".to_string(),
+        })
+    } else if !to_gltf && m.gltf.as_ref().is_some_and(|g| g.material_count() > 0) {
+        Some(MeshWarning::AttributesDropped {
+            attributes: "material colours and textures (glTF materials)".to_string(),
+            reason: "an OBJ output names the glTF materials only (usemtl, no material library)"
+                .to_string(),
+        })
+    } else {
+        None
+    }
+}
+
 /// Copies the images of `assets` named by relative URIs (inside the input's folder) next to
 /// `output`, keeping their relative paths; files already there are left alone.
 pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning> {

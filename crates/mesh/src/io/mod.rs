@@ -384,7 +384,8 @@ pub fn encode_with_attributes(
     if matches!(format, Format::Gltf | Format::Glb) {
         // `validate` has checked every corner against the positions.
         let written = gltf::write(mesh, attributes, materials, gltf_storage(format));
-        return Ok((written.main, Vec::new()));
+        let warnings = gltf::material_loss(attributes, materials, true);
+        return Ok((written.main, warnings.into_iter().collect()));
     }
     let plain = encode(mesh, format, path)?;
     let mut warnings = Vec::new();
@@ -407,6 +408,7 @@ pub fn encode_with_attributes(
                 not.push("uv1");
             }
             dropped(not, "OBJ has one set of texture coordinates");
+            warnings.extend(gltf::material_loss(attributes, materials, false));
             obj::write_with_attributes(mesh, attributes, materials, &mut warnings)
         }
         Format::Ply => {
@@ -487,10 +489,13 @@ fn save_gltf(
         write_atomic(&path.with_file_name(&bin_name), bin)?;
     }
     write_atomic(path, &written.main)?;
-    Ok(materials
-        .and_then(|m| m.gltf.as_ref())
-        .map(|assets| gltf::copy_images(assets, path))
-        .unwrap_or_default())
+    let mut warnings: Vec<MeshWarning> = gltf::material_loss(attributes, materials, true)
+        .into_iter()
+        .collect();
+    if let Some(assets) = materials.and_then(|m| m.gltf.as_ref()) {
+        warnings.extend(gltf::copy_images(assets, path));
+    }
+    Ok(warnings)
 }
 
 /// Copies each material library of `materials` and the texture files it names (`map_*`,

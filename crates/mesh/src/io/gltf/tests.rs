@@ -588,12 +588,20 @@ fn obj_materials_become_named_gltf_materials() {
             .map(|f| u32::from(f >= half))
             .collect(),
     );
-    let materials = Materials {
+    let mut materials = Materials {
         names: vec!["wood".into(), "metal".into()],
         ..Materials::default()
     };
     let path = dir.path().join("m.glb");
-    save_with_attributes(&mesh, &a, Some(&materials), &path).unwrap();
+    let warnings = save_with_attributes(&mesh, &a, Some(&materials), &path).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    // With an OBJ material library, its colours and textures are not converted: a warning.
+    materials.libraries.push(dir.path().join("m.mtl"));
+    let warnings =
+        save_with_attributes(&mesh, &a, Some(&materials), &dir.path().join("lib.gltf")).unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].to_string().contains("OBJ material libraries"));
+    materials.libraries.clear();
     let l = load(&path).unwrap();
     assert_eq!(l.materials.as_ref().unwrap().names, materials.names);
     assert_eq!(
@@ -601,6 +609,15 @@ fn obj_materials_become_named_gltf_materials() {
         a.face_material
     );
     assert_same(&mesh, &a, &l);
+    // glTF materials written to OBJ: named in usemtl, their looks not kept: a warning.
+    let (mesh2, a2, m2) = textured_asset(false);
+    let w = save_with_attributes(&mesh2, &a2, Some(&m2), &dir.path().join("t.obj")).unwrap();
+    assert!(
+        w.iter().any(|w| w.to_string().contains("glTF materials")),
+        "{w:?}"
+    );
+    let back = load(&dir.path().join("t.obj")).unwrap();
+    assert_eq!(back.materials.unwrap().names, m2.names);
     // Positions only through `save`: a .gltf with its .bin.
     let path = dir.path().join("plain.gltf");
     save(&mesh, &path).unwrap();
