@@ -1214,23 +1214,25 @@ pub(crate) fn write(
     let mut vertex_attributes = Map::new();
     vertex_attributes.insert("POSITION".into(), json!(layout.floats(&positions, true)));
     if let Some(normals) = &attributes.normals {
+        // Unit within the validator's tolerance: written as they are (bit for bit).
+        let unit = |v: Vec3| (v.length_squared() - 1.0).abs() < 1e-5;
         let mut n: Vec<Vec3> = normals.clone();
         let face_normals = mesh.face_normals();
         for (f, c) in attributes.corners.iter().enumerate() {
             for &w in c {
-                let len2 = n[w as usize].length_squared();
-                if !(len2 - 1.0).abs().lt(&1e-5) {
-                    n[w as usize] = if len2 > 1e-20 {
-                        n[w as usize].normalize()
-                    } else {
-                        face_normals[f].try_normalize().unwrap_or(Vec3::Z)
-                    };
+                let v = n[w as usize];
+                if !unit(v) {
+                    n[w as usize] = v
+                        .try_normalize()
+                        .or_else(|| face_normals[f].try_normalize())
+                        .unwrap_or(Vec3::Z);
                 }
             }
         }
-        for x in &mut n {
-            if !(x.length_squared() - 1.0).abs().lt(&1e-5) {
-                *x = x.try_normalize().unwrap_or(Vec3::Z);
+        // Wedges no corner uses.
+        for v in &mut n {
+            if !unit(*v) {
+                *v = v.try_normalize().unwrap_or(Vec3::Z);
             }
         }
         let n: Vec<[f32; 3]> = n.iter().map(|x| x.to_array()).collect();

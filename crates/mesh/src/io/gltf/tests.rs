@@ -918,3 +918,19 @@ fn quantized_attributes_are_read() {
     assert!(!assets.json().contains_key("extensionsRequired"));
     assert!(!assets.json().contains_key("extensionsUsed"));
 }
+
+/// The validator requires unit normals: longer ones are normalized, zero ones (a corner that
+/// had none) take their triangle's normal; unit ones keep their bits.
+#[test]
+fn normals_are_written_unit_length() {
+    let mesh = TriMesh::new(
+        vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)],
+        vec![[0, 1, 2], [1, 3, 2]],
+    );
+    let mut a = Attributes::per_vertex(&mesh);
+    let tilted = Vec3::new(0.6, 0.0, 0.8);
+    a.normals = Some(vec![Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, tilted, Vec3::Z]);
+    let back = parse_glb(&gltf_bytes(&mesh, &a, Format::Glb)).unwrap();
+    let n = back.attributes.unwrap().normals.unwrap();
+    assert_eq!(n, vec![Vec3::Z, Vec3::Z, tilted, Vec3::Z]);
+}
