@@ -454,8 +454,10 @@ pub fn save_with_attributes(
     {
         warnings.extend(copy_material_files(m, path));
     }
-    if let Some(assets) = materials.and_then(|m| m.gltf.as_ref()) {
-        warnings.extend(gltf::copy_images(assets, path));
+    if format == Format::Glb
+        && let Some(m) = materials
+    {
+        warnings.extend(copy_gltf_images(m, path));
     }
     Ok(warnings)
 }
@@ -492,8 +494,8 @@ fn save_gltf(
     let mut warnings: Vec<MeshWarning> = gltf::material_loss(attributes, materials, true)
         .into_iter()
         .collect();
-    if let Some(assets) = materials.and_then(|m| m.gltf.as_ref()) {
-        warnings.extend(gltf::copy_images(assets, path));
+    if let Some(m) = materials {
+        warnings.extend(copy_gltf_images(m, path));
     }
     Ok(warnings)
 }
@@ -557,6 +559,18 @@ pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarn
         }
     }
     warnings
+}
+
+/// Copies the images of a glTF input ([`Materials::gltf`]) that it names by relative URIs next
+/// to `output`, keeping their relative paths; files already there are left alone (what
+/// [`save_with_attributes`] does for a `.gltf` or `.glb`, for a caller writing the bytes of
+/// [`encode_with_attributes`] itself).
+pub fn copy_gltf_images(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
+    materials
+        .gltf
+        .as_ref()
+        .map(|assets| gltf::copy_images(assets, output))
+        .unwrap_or_default()
 }
 
 /// Write `mesh` to `path` (OBJ, binary little-endian PLY, binary STL, glTF with a `.bin` next
