@@ -339,13 +339,13 @@ fn unknown_output_extension_fails_before_any_work() {
         let o = gng3d(&[
             "simplify",
             "/nonexistent/in.obj",
-            s(&f.path("out.gltf")),
+            s(&f.path("out.fbx")),
             "--method",
             method,
             "--vertices",
             "40",
         ]);
-        assert_clean_failure(&o, &["out.gltf", "unknown output format"]);
+        assert_clean_failure(&o, &["out.fbx", "unknown output format"]);
         let o = gng3d(&[
             "simplify",
             s(&a),

@@ -42,6 +42,8 @@ fn ext(format: Format) -> &'static str {
         Format::Obj => "obj",
         Format::Ply => "ply",
         Format::Stl => "stl",
+        Format::Gltf => "gltf",
+        Format::Glb => "glb",
     }
 }
 

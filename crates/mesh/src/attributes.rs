@@ -57,6 +57,9 @@ pub struct Materials {
     /// them; written as their file names next to the output, where they are copied with the
     /// textures they name.
     pub libraries: Vec<PathBuf>,
+    /// What a glTF input holds besides geometry (materials, textures, images, samplers),
+    /// written back unchanged by a glTF output; `None` for other formats.
+    pub gltf: Option<crate::io::GltfAssets>,
 }
 
 impl Attributes {

@@ -16,8 +16,8 @@ pub enum MeshError {
         /// The underlying I/O error.
         source: std::io::Error,
     },
-    /// The extension is not one of obj, ply, stl (case-insensitive).
-    #[error("{}: unknown mesh format (expected .obj, .ply or .stl)", path.display())]
+    /// The extension is not one of obj, ply, stl, gltf, glb (case-insensitive).
+    #[error("{}: unknown mesh format (expected .obj, .ply, .stl, .gltf or .glb)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,

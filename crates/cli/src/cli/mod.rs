@@ -242,13 +242,13 @@ pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result
     Ok(prepared)
 }
 
-/// Checks an output mesh path before any work: a known extension (.obj, .ply, .stl), not a
-/// folder, and a folder that exists and takes new files (`mesh::io::check_writable`), so a
-/// long run never fails at the very end on a typo.
+/// Checks an output mesh path before any work: a known extension (.obj, .ply, .stl, .gltf,
+/// .glb), not a folder, and a folder that exists and takes new files
+/// (`mesh::io::check_writable`), so a long run never fails at the very end on a typo.
 pub(crate) fn check_output_mesh_path(path: &std::path::Path) -> anyhow::Result<mesh::io::Format> {
     let format = mesh::io::Format::from_path(path).ok_or_else(|| {
         anyhow::anyhow!(
-            "{}: unknown output format (expected .obj, .ply or .stl)",
+            "{}: unknown output format (expected .obj, .ply, .stl, .gltf or .glb)",
             path.display()
         )
     })?;

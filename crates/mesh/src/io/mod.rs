@@ -1,4 +1,5 @@
-//! Loading and saving meshes (OBJ, PLY, STL), chosen by file extension (case-insensitive).
+//! Loading and saving meshes (OBJ, PLY, STL, glTF 2.0 as `.gltf` or `.glb`), chosen by file
+//! extension (case-insensitive).
 //!
 //! [`load`] returns the mesh as stored in the file: every vertex record is kept (also
 //! unreferenced ones) in file order, polygons are fan-triangulated, and only faces with a
@@ -7,9 +8,12 @@
 //! element. [`save`] writes to a temporary file in the target directory and renames it, so a
 //! failed write never leaves a partial output; [`write_atomic`] does the same for any bytes.
 
+mod gltf;
 mod obj;
 mod ply;
 mod stl;
+
+pub use gltf::GltfAssets;
 
 use crate::TriMesh;
 use crate::attributes::{Attributes, Materials};
@@ -27,6 +31,11 @@ pub enum Format {
     Ply,
     /// STL (ASCII or binary; written as binary).
     Stl,
+    /// glTF 2.0 JSON (`.gltf`; buffers in `.bin` files or `data:` URIs; written with a `.bin`
+    /// next to it).
+    Gltf,
+    /// glTF 2.0 binary container (`.glb`).
+    Glb,
 }
 
 impl Format {
@@ -37,6 +46,8 @@ impl Format {
             "obj" => Some(Format::Obj),
             "ply" => Some(Format::Ply),
             "stl" => Some(Format::Stl),
+            "gltf" => Some(Format::Gltf),
+            "glb" => Some(Format::Glb),
             _ => None,
         }
     }
@@ -53,9 +64,11 @@ pub struct LoadedMesh {
     /// Per-vertex normals from the file, when it has them (same length as positions).
     pub vertex_normals: Option<Vec<Vec3>>,
     /// Normals, texture coordinates, colours and materials of the corners, when the file has
-    /// any (OBJ `vt`/`vn`/vertex colours/`usemtl`, PLY `nx ny nz`, `s t`, `red green blue`).
+    /// any (OBJ `vt`/`vn`/vertex colours/`usemtl`, PLY `nx ny nz`, `s t`, `red green blue`,
+    /// glTF `NORMAL`, `TEXCOORD_0`/`_1`, `COLOR_0` and primitive materials).
     pub attributes: Option<Attributes>,
-    /// The materials the file names (OBJ `usemtl` names and `mtllib` files).
+    /// The materials the file names (OBJ `usemtl` names and `mtllib` files; glTF material
+    /// names, with the file's materials, textures and images in [`Materials::gltf`]).
     pub materials: Option<Materials>,
 }
 
@@ -100,7 +113,8 @@ impl RawMesh {
     }
 }
 
-/// Load a mesh from `path`; the format is chosen by the extension (obj, ply, stl; any case).
+/// Load a mesh from `path`; the format is chosen by the extension (obj, ply, stl, gltf, glb; any
+/// case).
 pub fn load(path: &Path) -> Result<LoadedMesh, MeshError> {
     let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
         path: path.to_path_buf(),
@@ -125,12 +139,15 @@ pub fn load_obj_with_tobj(path: &Path) -> Result<LoadedMesh, MeshError> {
     validate(obj::parse_with_tobj(&bytes, path)?, path)
 }
 
-/// Parse `bytes` in `format`; `path` is used only in error messages.
+/// Parse `bytes` in `format`; `path` is used in error messages, and for glTF its folder is where
+/// external buffers (`.bin` files) are read from (a `.gltf` and a `.glb` are told apart by their
+/// content, so either format reads both).
 pub fn load_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<LoadedMesh, MeshError> {
     let raw = match format {
         Format::Obj => obj::parse(bytes, path)?,
         Format::Ply => ply::parse(bytes, path)?,
         Format::Stl => stl::parse(bytes, path)?,
+        Format::Gltf | Format::Glb => gltf::parse(bytes, path, format == Format::Glb)?,
     };
     validate(raw, path)
 }
@@ -283,6 +300,22 @@ fn drop_non_finite(a: &mut Attributes, warnings: &mut Vec<MeshWarning>) {
     check("colors", &mut a.colors, |v| v.is_finite(), warnings);
 }
 
+/// A [`MeshError::IndexOutOfRange`] for the first corner of `mesh` beyond its positions.
+fn check_indices(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
+    let vertex_count = mesh.positions.len();
+    for (face, t) in mesh.triangles.iter().enumerate() {
+        if let Some(&index) = t.iter().find(|&&i| i as usize >= vertex_count) {
+            return Err(MeshError::IndexOutOfRange {
+                path: path.to_path_buf(),
+                face,
+                index: index as i64,
+                vertex_count,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The bytes [`save`] would write for `mesh` in `format`; `path` only names the file in errors.
 /// Fails on out-of-range indices.
 pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, MeshError> {
@@ -304,13 +337,36 @@ pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, Me
             path: path.to_path_buf(),
             message: e.to_string(),
         })?,
+        Format::Gltf | Format::Glb => {
+            gltf::write(
+                mesh,
+                &Attributes::per_vertex(mesh),
+                None,
+                gltf_storage(format),
+            )
+            .main
+        }
     })
+}
+
+/// How [`encode`] and [`encode_with_attributes`] store a glTF buffer: in the GLB container, or
+/// as a `data:` URI so that the one `.gltf` is complete ([`save`] writes a `.bin` instead).
+fn gltf_storage(format: Format) -> gltf::BufferStorage<'static> {
+    if format == Format::Glb {
+        gltf::BufferStorage::Glb
+    } else {
+        gltf::BufferStorage::DataUri
+    }
 }
 
 /// The bytes [`save_with_attributes`] writes for `mesh` with `attributes` in `format`, and what
 /// the format cannot keep (as warnings): OBJ keeps normals, texture coordinates (`uv0`), colours
 /// (per vertex) and materials; PLY keeps normals, `uv0` and colours, one vertex record per wedge
-/// (seams as split vertices, which the weld joins again on loading); STL keeps positions only.
+/// (seams as split vertices, which the weld joins again on loading); STL keeps positions only;
+/// glTF keeps everything, one glTF vertex per wedge and one primitive per material, with the
+/// materials, textures and images of a glTF input ([`Materials::gltf`]) or materials named as in
+/// `materials`. A `.gltf` from here holds its buffer as a `data:` URI; [`save_with_attributes`]
+/// writes it to a `.bin` file instead.
 /// Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the problem.
 pub fn encode_with_attributes(
     mesh: &TriMesh,
@@ -325,6 +381,12 @@ pub fn encode_with_attributes(
             path: path.to_path_buf(),
             message: format!("the attributes do not fit the mesh: {message}"),
         })?;
+    if matches!(format, Format::Gltf | Format::Glb) {
+        // `validate` has checked every corner against the positions.
+        let written = gltf::write(mesh, attributes, materials, gltf_storage(format));
+        let warnings = gltf::material_loss(attributes, materials, true);
+        return Ok((written.main, warnings.into_iter().collect()));
+    }
     let plain = encode(mesh, format, path)?;
     let mut warnings = Vec::new();
     let mut dropped = |names: Vec<&str>, reason: &str| {
@@ -346,6 +408,7 @@ pub fn encode_with_attributes(
                 not.push("uv1");
             }
             dropped(not, "OBJ has one set of texture coordinates");
+            warnings.extend(gltf::material_loss(attributes, materials, false));
             obj::write_with_attributes(mesh, attributes, materials, &mut warnings)
         }
         Format::Ply => {
@@ -362,6 +425,7 @@ pub fn encode_with_attributes(
             );
             ply::write_with_attributes(mesh, attributes)
         }
+        Format::Gltf | Format::Glb => unreachable!("returned above"),
     };
     Ok((bytes, warnings))
 }
@@ -379,6 +443,9 @@ pub fn save_with_attributes(
     let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
         path: path.to_path_buf(),
     })?;
+    if format == Format::Gltf {
+        return save_gltf(mesh, attributes, materials, path);
+    }
     let (bytes, mut warnings) = encode_with_attributes(mesh, attributes, materials, format, path)?;
     write_atomic(path, &bytes)?;
     if format == Format::Obj
@@ -386,6 +453,49 @@ pub fn save_with_attributes(
         && let Some(m) = materials
     {
         warnings.extend(copy_material_files(m, path));
+    }
+    if format == Format::Glb
+        && let Some(m) = materials
+    {
+        warnings.extend(copy_gltf_images(m, path));
+    }
+    Ok(warnings)
+}
+
+/// A `.gltf` with its buffer in `<file stem>.bin` next to it (written first, both atomically),
+/// and the images of a glTF input copied next to it.
+fn save_gltf(
+    mesh: &TriMesh,
+    attributes: &Attributes,
+    materials: Option<&Materials>,
+    path: &Path,
+) -> Result<Vec<MeshWarning>, MeshError> {
+    attributes
+        .validate(mesh)
+        .map_err(|message| MeshError::Write {
+            path: path.to_path_buf(),
+            message: format!("the attributes do not fit the mesh: {message}"),
+        })?;
+    let stem = path.file_stem().map_or_else(
+        || "buffer".to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    let bin_name = format!("{stem}.bin");
+    let written = gltf::write(
+        mesh,
+        attributes,
+        materials,
+        gltf::BufferStorage::File(&bin_name),
+    );
+    if let Some(bin) = &written.bin {
+        write_atomic(&path.with_file_name(&bin_name), bin)?;
+    }
+    write_atomic(path, &written.main)?;
+    let mut warnings: Vec<MeshWarning> = gltf::material_loss(attributes, materials, true)
+        .into_iter()
+        .collect();
+    if let Some(m) = materials {
+        warnings.extend(copy_gltf_images(m, path));
     }
     Ok(warnings)
 }
@@ -451,12 +561,29 @@ pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarn
     warnings
 }
 
-/// Write `mesh` to `path` (OBJ, binary little-endian PLY or binary STL, by extension).
-/// The data goes to a temporary file in the same directory that is then renamed over `path`.
+/// Copies the images of a glTF input ([`Materials::gltf`]) that it names by relative URIs next
+/// to `output`, keeping their relative paths; files already there are left alone (what
+/// [`save_with_attributes`] does for a `.gltf` or `.glb`, for a caller writing the bytes of
+/// [`encode_with_attributes`] itself).
+pub fn copy_gltf_images(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
+    materials
+        .gltf
+        .as_ref()
+        .map(|assets| gltf::copy_images(assets, output))
+        .unwrap_or_default()
+}
+
+/// Write `mesh` to `path` (OBJ, binary little-endian PLY, binary STL, glTF with a `.bin` next
+/// to it, or GLB, by extension). The data goes to a temporary file in the same directory that
+/// is then renamed over `path`.
 pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
     let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
         path: path.to_path_buf(),
     })?;
+    if format == Format::Gltf {
+        check_indices(mesh, path)?;
+        return save_gltf(mesh, &Attributes::per_vertex(mesh), None, path).map(|_| ());
+    }
     write_atomic(path, &encode(mesh, format, path)?)
 }
 

@@ -354,6 +354,7 @@ fn finish(mut c: Corners, raw: &mut RawMesh) {
     let materials = (!c.names.is_empty() || !c.libraries.is_empty()).then(|| Materials {
         names: c.names.clone(),
         libraries: c.libraries.clone(),
+        gltf: None,
     });
     if c.corners.is_empty() {
         // No vt, vn or usemtl: per-vertex colours at most.

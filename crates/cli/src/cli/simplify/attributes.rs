@@ -103,11 +103,13 @@ fn stores(format: Format, name: &str) -> bool {
         Format::Stl => false,
         Format::Obj => name != "uv1",
         Format::Ply => matches!(name, "normals" | "uv0" | "colors"),
+        Format::Gltf | Format::Glb => true,
     }
 }
 
 /// Write `simplified` with `attributes` to `path` as `crate::cli::save_checked` writes a mesh
-/// (checked, read back, atomic), copying the input's material files next to an OBJ output.
+/// (checked, read back, atomic), copying the input's material files next to an OBJ output and
+/// a glTF input's image files next to a glTF output (a `.gltf` holds its buffer as a `data:` URI).
 /// Warnings for what the format cannot keep go to stderr and into the returned [`Kept`].
 pub(crate) fn save(
     simplified: &TriMesh,
@@ -162,11 +164,14 @@ pub(crate) fn save(
     }
     mesh::io::write_atomic(path, &bytes)?;
     let mut all = warnings;
-    if format == Format::Obj
-        && attributes.face_material.is_some()
+    if attributes.face_material.is_some()
         && let Some(m) = &extras.materials
     {
-        all.extend(mesh::io::copy_material_files(m, path));
+        match format {
+            Format::Obj => all.extend(mesh::io::copy_material_files(m, path)),
+            Format::Gltf | Format::Glb => all.extend(mesh::io::copy_gltf_images(m, path)),
+            Format::Ply | Format::Stl => {}
+        }
     }
     for w in &all {
         eprintln!("warning: {}: {w}", path.display());
