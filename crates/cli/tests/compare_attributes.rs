@@ -24,8 +24,14 @@ fn compare_names_the_attributes_it_does_not_keep() {
         .lines()
         .find(|l| l.contains("not used"))
         .unwrap_or_else(|| panic!("no warning about the attributes: {stderr}"));
-    assert!(line.starts_with("warning: ") && line.contains("textured.obj"), "{line}");
-    assert!(line.contains("texture coordinates") && line.contains("normals"), "{line}");
+    assert!(
+        line.starts_with("warning: ") && line.contains("textured.obj"),
+        "{line}"
+    );
+    assert!(
+        line.contains("texture coordinates") && line.contains("normals"),
+        "{line}"
+    );
 
     let plain = dir.path().join("plain.obj");
     gng3d::mesh::io::save(&mesh, &plain).unwrap();

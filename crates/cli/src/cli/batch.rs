@@ -17,8 +17,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::{Context, bail};
 
-/// Mesh file extensions a folder source is searched for.
-const MESH_EXTENSIONS: [&str; 3] = ["obj", "ply", "stl"];
+/// Mesh file extensions a folder source is searched for (every format `gng3d simplify` reads).
+const MESH_EXTENSIONS: [&str; 5] = ["obj", "ply", "stl", "gltf", "glb"];
 
 /// The stats table's columns (the Python package's `gng3d.batch.STATS_FIELDS`).
 const FIELDS: [&str; 13] = [
@@ -49,7 +49,7 @@ file (input, output, status ok/skipped/error, error, warnings, method, input and
 seconds, and with --measure the symmetric Hausdorff max and mean); the same rows are appended to
 OUT/stats.csv (stats-R-of-W.csv when sharded) as files complete. Exit status 1 when a file failed.")]
 pub(crate) struct BatchArgs {
-    /// A folder (its .obj, .ply and .stl files, sorted by name) or a manifest: a text file with
+    /// A folder (its .obj, .ply, .stl, .gltf and .glb files, sorted by name) or a manifest: a text file with
     /// one mesh path per line (relative to the manifest; blank lines and # comments skipped).
     pub source: PathBuf,
     /// Output folder (created); each result keeps its input's file name.
@@ -83,7 +83,7 @@ pub(crate) struct BatchArgs {
     /// Also measure each result (`gng3d metrics`: symmetric Hausdorff max and mean).
     #[arg(long)]
     pub measure: bool,
-    /// Write outputs in this format instead of the input's (obj, ply or stl).
+    /// Write outputs in this format instead of the input's (obj, ply, stl, gltf or glb).
     #[arg(long)]
     pub format: Option<String>,
     /// Further `gng3d simplify` options for every file (after `--`).
@@ -174,7 +174,7 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
     if let Some(f) = &args.format
         && !MESH_EXTENSIONS.contains(&f.to_ascii_lowercase().as_str())
     {
-        bail!("--format must be obj, ply or stl, got {f:?}");
+        bail!("--format must be obj, ply, stl, gltf or glb, got {f:?}");
     }
     let simplify_options = simplify_options(&args);
     let probe: Vec<String> = ["gng3d", "simplify", "in.ply", "out.ply"]
@@ -338,7 +338,7 @@ fn simplify_options(args: &BatchArgs) -> Vec<String> {
     options
 }
 
-/// The mesh files of `source`: a folder's .obj/.ply/.stl files sorted by name, or the paths
+/// The mesh files of `source`: a folder's mesh files ([`MESH_EXTENSIONS`]) sorted by name, or the paths
 /// listed in a manifest (relative to it).
 fn list_inputs(source: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let is_mesh = |p: &Path| {

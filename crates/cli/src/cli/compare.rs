@@ -12,7 +12,7 @@ use std::path::PathBuf;
 /// Arguments of `gng3d compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
-    /// Input mesh (.obj, .ply, .stl).
+    /// Input mesh (.obj, .ply, .stl, .gltf, .glb).
     pub input: PathBuf,
     /// Vertex count both methods aim for.
     #[arg(long)]

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 /// Arguments of `gng3d info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Mesh file (.obj, .ply, .stl).
+    /// Mesh file (.obj, .ply, .stl, .gltf, .glb).
     pub mesh: PathBuf,
     /// Print JSON instead of text.
     #[arg(long)]

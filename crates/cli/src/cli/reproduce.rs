@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 /// Arguments of `gng3d reproduce`.
 #[derive(Debug, Args)]
 pub struct ReproduceArgs {
-    /// Input mesh (.obj, .ply, .stl).
+    /// Input mesh (.obj, .ply, .stl, .gltf, .glb).
     #[arg(required_unless_present = "all")]
     pub input: Option<PathBuf>,
     /// Survey every mesh in this folder at 10/25/50 % of its vertices instead of one mesh: the
@@ -160,7 +160,10 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     }
     files.sort();
     if files.is_empty() {
-        anyhow::bail!("{}: no .obj, .ply or .stl files", dir.display());
+        anyhow::bail!(
+            "{}: no .obj, .ply, .stl, .gltf or .glb files",
+            dir.display()
+        );
     }
     let mut params = SurveyParams {
         epochs: args.epochs,

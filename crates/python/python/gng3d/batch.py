@@ -44,7 +44,7 @@ from multiprocessing import get_context
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
-MESH_EXTENSIONS = (".obj", ".ply", ".stl")
+MESH_EXTENSIONS = (".obj", ".ply", ".stl", ".gltf", ".glb")
 STATS_FIELDS = [
     "input",
     "output",
@@ -65,7 +65,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 
 def list_inputs(source: Union[PathLike, Iterable[PathLike]]) -> List[Path]:
-    """The mesh files of ``source``: a folder (its .obj, .ply and .stl files, sorted), a
+    """The mesh files of ``source``: a folder (its .obj, .ply, .stl, .gltf and .glb files, sorted), a
     manifest (a text file with one path per line; relative paths are relative to it), or an
     iterable of paths (kept in its order)."""
     if isinstance(source, (str, os.PathLike)):

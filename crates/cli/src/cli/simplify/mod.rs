@@ -19,9 +19,9 @@ pub enum Method {
 /// Arguments of `gng3d simplify`.
 #[derive(Debug, Args)]
 pub struct SimplifyArgs {
-    /// Input mesh (.obj, .ply, .stl).
+    /// Input mesh (.obj, .ply, .stl, .gltf, .glb).
     pub input: PathBuf,
-    /// Output mesh (.obj, .ply, .stl); written to a temporary file, then renamed.
+    /// Output mesh (.obj, .ply, .stl, .gltf, .glb); written to a temporary file, then renamed.
     pub output: PathBuf,
     /// Simplification method.
     #[arg(long, value_enum, default_value_t = Method::Qem)]
