@@ -31,6 +31,17 @@ def outputs(folder):
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.suffix == ".ply"}
 
 
+def test_largest_files_start_first(folder):
+    """Longest-processing-time-first: the start order is by size on disk, largest first (an
+    independent sort of the sizes), and every file is started once."""
+    files = batch.list_inputs(folder)
+    order = batch.largest_first(files)
+    assert sorted(order) == list(range(len(files)))
+    sizes = [os.path.getsize(files[i]) for i in order]
+    assert sizes == sorted(sizes, reverse=True)
+    assert files[order[0]].name == "torus3.ply" and files[order[-1]].name == "broken.obj"
+
+
 def test_local_pool_rows_outputs_and_stats(folder, tmp_path):
     out = tmp_path / "out"
     rows = batch.simplify_files(folder, out, ratio=0.2, jobs=2)

@@ -230,6 +230,11 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
     let threads_per_run = (cores / jobs).max(1);
     let exe = std::env::current_exe().context("cannot find the gng3d executable")?;
 
+    // Largest files first (bytes on disk standing in for the work): a big file started last
+    // leaves one job running alone at the end (longest-processing-time-first scheduling).
+    let mut order: Vec<usize> = (0..files.len()).collect();
+    let size = |i: usize| std::fs::metadata(&files[i]).map_or(0, |m| m.len());
+    order.sort_by_key(|&i| (std::cmp::Reverse(size(i)), i));
     let start = std::time::Instant::now();
     let next = AtomicUsize::new(0);
     let done = Mutex::new((stats, Vec::<Row>::new(), None::<anyhow::Error>));
@@ -237,10 +242,10 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
         for _ in 0..jobs {
             scope.spawn(|| {
                 loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= files.len() {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&i) = order.get(k) else {
                         break;
-                    }
+                    };
                     let row = simplify_file(
                         &exe,
                         &files[i],

@@ -299,14 +299,30 @@ def _check_options(options: Dict[str, Any]) -> None:
         pass
 
 
+def largest_first(files: Sequence[Path]) -> List[int]:
+    """The order files are started in: largest first (by bytes on disk, a stand-in for the
+    work), so that the big files do not start last and leave one worker running alone at the
+    end (longest-processing-time-first scheduling); rows still come back in the input order.
+    Files that cannot be read sort last."""
+
+    def size(i: int) -> int:
+        try:
+            return os.path.getsize(files[i])
+        except OSError:
+            return -1
+
+    return sorted(range(len(files)), key=lambda i: (-size(i), i))
+
+
 def _run_local(files, outputs, options, skip_existing, measure, samples, jobs, rows, table):
     jobs = jobs or os.cpu_count() or 1
     # Spawned workers: the parent's library threads are not forked into a child.
     with ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn")) as pool:
         futures = {
-            pool.submit(simplify_file, p, o, options, skip_existing, measure, samples): i
-            for i, (p, o) in enumerate(zip(files, outputs))
-        }
+            pool.submit(simplify_file, files[i], outputs[i], options, skip_existing, measure,
+                        samples): i
+            for i in largest_first(files)
+        }  # fmt: skip
         for future in as_completed(futures):
             i = futures[future]
             try:
@@ -324,7 +340,8 @@ def _run_dask(client, files, outputs, options, skip_existing, measure, samples,
     workers = max(1, len(client.scheduler_info().get("workers", {})))
     n_tasks = max(1, min(len(files), tasks_per_worker * workers))
     size = math.ceil(len(files) / n_tasks) if files else 1
-    chunks = [list(range(s, min(s + size, len(files)))) for s in range(0, len(files), size)]
+    order = largest_first(files)
+    chunks = [order[s : s + size] for s in range(0, len(files), size)]
     futures = {}
     for chunk in chunks:
         jobs = [(str(files[i]), str(outputs[i])) for i in chunk]
