@@ -115,10 +115,28 @@ fn mantissa_ticks(lo: f64, hi: f64, mantissas: &[f64]) -> Vec<f64> {
     out
 }
 
-/// A log-axis tick label: `1e-4`, `2e-4`, `1`, `5e2`.
+/// A log-axis tick label for a tick of [`log_ticks`] (an integer mantissa times a power of
+/// ten): a plain number from 0.001 to below 10,000 (`0.002`, `1`, `20`, `5000`), engineering
+/// notation outside it, the exponent a multiple of three as in the reports' tables (`200e-6`,
+/// `10e3`, `1e6`); never a lone `2e1`.
 pub fn log_label(v: f64) -> String {
-    let s = format!("{v:.0e}");
-    s.strip_suffix("e0").map_or(s.clone(), str::to_string)
+    if !(v.is_finite() && v > 0.0) {
+        return format!("{v}");
+    }
+    let exponent = v.log10().round_ties_even() as i32;
+    // The tick's own power of ten: its mantissa is 1..9.
+    let power = if 10f64.powi(exponent) > v * (1.0 + 1e-9) {
+        exponent - 1
+    } else {
+        exponent
+    };
+    if (-3..4).contains(&power) {
+        let decimals = (-power).max(0) as usize;
+        return format!("{v:.decimals$}");
+    }
+    let three = power.div_euclid(3) * 3;
+    let mantissa = (v / 10f64.powi(three)).round();
+    format!("{mantissa}e{three}")
 }
 
 /// A linear-axis tick label in plain numbers with as many decimals as a tick step of `span / 10`
@@ -580,11 +598,11 @@ mod tests {
             while e <= 30 {
                 let p = 10f64.powi(e);
                 if p >= lo && p <= hi {
-                    let want = format!("1e{e}");
-                    let want = if e == 0 { "1".to_string() } else { want };
                     assert!(
-                        labels.contains(&want),
-                        "{lo}..{hi}: {want} not in {labels:?}"
+                        labels
+                            .iter()
+                            .any(|l| (l.parse::<f64>().unwrap() - p).abs() <= 1e-9 * p),
+                        "{lo}..{hi}: 1e{e} not in {labels:?}"
                     );
                 }
                 e += 1;
@@ -600,8 +618,22 @@ mod tests {
                 assert!((parsed - t).abs() <= 1e-9 * t, "{t} -> {}", log_label(t));
             }
         }
-        assert_eq!(log_label(1e-4), "1e-4");
-        assert_eq!(log_label(2.0), "2");
+        let cases = [
+            (1e-4, "100e-6"),
+            (2e-4, "200e-6"),
+            (1e-3, "0.001"),
+            (0.05, "0.05"),
+            (2.0, "2"),
+            (20.0, "20"),
+            (5000.0, "5000"),
+            (1e4, "10e3"),
+            (3e5, "300e3"),
+            (1e6, "1e6"),
+            (1e-9, "1e-9"),
+        ];
+        for (v, want) in cases {
+            assert_eq!(log_label(v), want, "{v}");
+        }
         assert!(log_ticks(0.0, 1.0).is_empty());
     }
 
