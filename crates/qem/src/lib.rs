@@ -260,5 +260,49 @@ pub fn simplify_with_attributes(
     attributes: &mesh::attributes::Attributes,
     params: &QemParams,
 ) -> Result<(TriMesh, mesh::attributes::Attributes, QemReport), QemError> {
-    simplifier::run_with_attributes(mesh, attributes, params)
+    simplifier::run_with_attributes(mesh, attributes, params, None)
+}
+
+/// [`simplify`] or [`simplify_with_attributes`] (when `attributes` is given) with the vertices
+/// flagged in `locked` (one flag per vertex of `mesh`) never contracted: they keep their
+/// positions and stay in the output, as do the faces between locked vertices. Meant for
+/// borders shared with other meshes (tiles, parts of an assembly; [`border_vertices`] gives
+/// a mesh's) and vertices a rig or a gameplay script refers to. Runs the sequential engine.
+///
+/// ```
+/// use gng3d_qem::{QemParams, Target, border_vertices, simplify_locked};
+/// let grid = mesh::procedural::unit_square_grid(20); // open: a square border
+/// let locked = border_vertices(&grid);
+/// let params = QemParams::with_target(Target::Ratio(0.1));
+/// let (coarse, _, _) = simplify_locked(&grid, None, &params, &locked).unwrap();
+/// // every border vertex is still there, where it was
+/// for (v, _) in locked.iter().enumerate().filter(|&(_, &l)| l) {
+///     assert!(coarse.positions.contains(&grid.positions[v]));
+/// }
+/// ```
+pub fn simplify_locked(
+    mesh: &TriMesh,
+    attributes: Option<&mesh::attributes::Attributes>,
+    params: &QemParams,
+    locked: &[bool],
+) -> Result<(TriMesh, Option<mesh::attributes::Attributes>, QemReport), QemError> {
+    match attributes {
+        Some(a) => simplifier::run_with_attributes(mesh, a, params, Some(locked))
+            .map(|(m, a, r)| (m, Some(a), r)),
+        None => simplifier::run_locked(mesh, params, locked).map(|(m, r)| (m, None, r)),
+    }
+}
+
+/// The vertices of `mesh` on a border edge (an edge with one face): the lock mask of
+/// `--lock-border`.
+pub fn border_vertices(mesh: &TriMesh) -> Vec<bool> {
+    let table = mesh::topology::EdgeTable::new(mesh);
+    let mut border = vec![false; mesh.positions.len()];
+    for (e, &[a, b]) in table.edges.iter().enumerate() {
+        if table.is_boundary(e) {
+            border[a as usize] = true;
+            border[b as usize] = true;
+        }
+    }
+    border
 }

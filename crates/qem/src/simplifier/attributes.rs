@@ -62,6 +62,7 @@ pub(crate) fn run(
     input: &TriMesh,
     attributes: &Attributes,
     params: &QemParams,
+    user_locked: Option<&[bool]>,
 ) -> Result<(TriMesh, Attributes, QemReport), QemError> {
     let started = Instant::now();
     super::validate(params)?;
@@ -102,6 +103,17 @@ pub(crate) fn run(
         }
     }
     let real = |i: u32| (i < AMBIGUOUS).then_some(i as usize);
+    // The caller's locks (input numbering).
+    for (v, _) in user_locked
+        .unwrap_or_default()
+        .iter()
+        .enumerate()
+        .filter(|&(_, &l)| l)
+    {
+        if let Some(k) = real(to_prepared[v]) {
+            locked[k] = true;
+        }
+    }
 
     // Seams in input numbering: each vertex's seam neighbours; vertices whose wedges differ
     // without a seam through them (a cone, a pole) are locked like seam ends and crossings.

@@ -89,13 +89,55 @@ pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), 
     Ok((run.mesh, report))
 }
 
-/// Run the whole simplification keeping `attributes` (see `attributes`).
+/// Run the whole simplification keeping `attributes` (see `attributes`); vertices flagged in
+/// `locked` (input numbering) are never contracted.
 pub fn run_with_attributes(
     input: &TriMesh,
     attributes: &mesh::attributes::Attributes,
     params: &QemParams,
+    locked: Option<&[bool]>,
 ) -> Result<(TriMesh, mesh::attributes::Attributes, QemReport), QemError> {
-    attributes::run(input, attributes, params)
+    check_lock_mask(input, locked)?;
+    attributes::run(input, attributes, params, locked)
+}
+
+/// Run the whole simplification with the input vertices flagged in `locked` never contracted
+/// (the sequential engine: the two-thread parts lock their shared vertices themselves, and the
+/// result must not depend on the thread count).
+pub fn run_locked(
+    input: &TriMesh,
+    params: &QemParams,
+    locked: &[bool],
+) -> Result<(TriMesh, QemReport), QemError> {
+    let started = Instant::now();
+    validate(params)?;
+    check_lock_mask(input, Some(locked))?;
+    let (prepared, new_index) = prepare::prepare_with_index(input, true)?;
+    check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
+    let input_faces = prepared.faces.len();
+    let input_vertices = prepared.pos.len();
+    let mut prepared_locked = vec![false; input_vertices];
+    for (&k, &l) in new_index.iter().zip(locked) {
+        if l && k != u32::MAX {
+            prepared_locked[k as usize] = true;
+        }
+    }
+    drop(new_index);
+    let run = simplify_prepared(prepared, params, Some(&prepared_locked)).0;
+    let report = report(&run, input_vertices, input_faces, started);
+    Ok((run.mesh, report))
+}
+
+/// A lock mask has one flag per input vertex.
+fn check_lock_mask(input: &TriMesh, locked: Option<&[bool]>) -> Result<(), QemError> {
+    match locked {
+        Some(l) if l.len() != input.positions.len() => Err(QemError::InvalidParameter(format!(
+            "the lock mask has {} flags for {} vertices",
+            l.len(),
+            input.positions.len()
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// The report of `run` on an input of `input_vertices` referenced vertices and `input_faces`

@@ -50,23 +50,41 @@ pub(super) struct Prepared {
 
 /// Run the prepare steps in order.
 pub(super) fn prepare(input: &TriMesh) -> Result<Prepared, QemError> {
+    prepare_with_index(input, false).map(|(p, _)| p)
+}
+
+/// [`prepare`], also returning each input vertex's prepared index (`u32::MAX` for an
+/// unreferenced one) when `keep_index` (else an empty list: it is dropped as soon as the faces
+/// are renumbered, which lowers the peak memory of ordinary runs).
+pub(super) fn prepare_with_index(
+    input: &TriMesh,
+    keep_index: bool,
+) -> Result<(Prepared, Vec<u32>), QemError> {
     let faces = usable_faces(input)?;
     let face_len = faces_per_vertex(input.positions.len(), &faces);
     let frame = normalised_frame(&input.positions, &face_len)?;
     let (pos, face_len, new_index) = morton_renumbering(&input.positions, face_len, &frame);
     let faces = sort_faces(&faces, &new_index, pos.len());
-    drop(new_index);
+    let new_index = if keep_index {
+        new_index // DEAD is u32::MAX
+    } else {
+        drop(new_index);
+        Vec::new()
+    };
     let mesh::topology::VertexFaces {
         start: face_start,
         faces: refs,
     } = mesh::topology::VertexFaces::new(&faces, face_len.len());
-    Ok(Prepared {
-        pos,
-        faces,
-        refs,
-        face_start,
-        frame,
-    })
+    Ok((
+        Prepared {
+            pos,
+            faces,
+            refs,
+            face_start,
+            frame,
+        },
+        new_index,
+    ))
 }
 
 /// Validate the indices and keep the faces with three distinct corners.

@@ -71,12 +71,18 @@ pub(crate) fn load(path: &Path, raw: bool) -> anyhow::Result<(TriMesh, Extras)> 
     })
 }
 
-/// QEM on `input`, keeping its attributes when it has any.
+/// QEM on `input`, keeping its attributes when it has any; with `lock_border` the vertices on
+/// the input's border edges are never contracted.
 pub(crate) fn simplify_qem(
     input: &TriMesh,
     extras: &Extras,
     params: &qem::QemParams,
+    lock_border: bool,
 ) -> Result<(TriMesh, Option<Attributes>, qem::QemReport), qem::QemError> {
+    if lock_border {
+        let locked = qem::border_vertices(input);
+        return qem::simplify_locked(input, extras.attributes.as_ref(), params, &locked);
+    }
     match &extras.attributes {
         Some(a) => qem::simplify_with_attributes(input, a, params)
             .map(|(mesh, a, report)| (mesh, Some(a), report)),

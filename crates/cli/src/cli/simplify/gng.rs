@@ -33,6 +33,11 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             "--faces and --face-ratio apply to QEM only; use --vertices or --ratio with --method gng"
         );
     }
+    if args.lock_border {
+        bail!(
+            "--lock-border applies to QEM only (GNG3D places every output vertex anew); use --method qem"
+        );
+    }
     let options = options(args)?;
     // Everything that does not need the mesh is checked before loading it.
     options.validate().context("GNG3D options")?;

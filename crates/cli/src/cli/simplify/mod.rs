@@ -44,6 +44,11 @@ pub struct SimplifyArgs {
     /// values are refused, naming the limit).
     #[arg(long, default_value_t = 0.0)]
     pub threshold: f64,
+    /// QEM: never contract the vertices on the input's border edges (edges with one face), so
+    /// the border keeps every vertex where it was: meshes that meet along their borders (tiles,
+    /// parts of an assembly) still meet after simplification.
+    #[arg(long)]
+    pub lock_border: bool,
     /// GNG3D maximum running time in seconds: training and every step after it, from the start
     /// of the algorithm to the returned mesh (loading and saving not counted). Steps are left
     /// out in a documented order when time is short (each is a warning); the vertex count stays

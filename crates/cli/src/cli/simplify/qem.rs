@@ -60,7 +60,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     };
     let progress = crate::cli::progress::spinner(args.json);
     progress.set_message("QEM: contracting vertex pairs");
-    let simplified = super::attributes::simplify_qem(&input, &extras, &params);
+    let simplified = super::attributes::simplify_qem(&input, &extras, &params, args.lock_border);
     progress.finish_and_clear();
     let (simplified, attributes, report) =
         simplified.with_context(|| format!("simplifying {}", args.input.display()))?;
