@@ -28,9 +28,9 @@ fn options(args: &SimplifyArgs) -> anyhow::Result<GngOptions> {
 
 /// Simplify with GNG3D.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
-    if args.faces.is_some() || args.face_ratio.is_some() {
+    if args.faces.is_some() || args.face_ratio.is_some() || args.lods.is_some() {
         bail!(
-            "--faces and --face-ratio apply to QEM only; use --vertices or --ratio with --method gng"
+            "--faces, --face-ratio and --lods apply to QEM only; use --vertices or --ratio with --method gng"
         );
     }
     if args.lock_border {

@@ -39,6 +39,11 @@ pub struct SimplifyArgs {
     /// Target as a share of the input's faces, in (0, 1] (QEM only).
     #[arg(long, group = "target")]
     pub face_ratio: Option<f64>,
+    /// QEM: a chain of levels of detail in one run, each a share of the input's vertices
+    /// (decreasing, in (0, 1]), each simplified from the one before: OUT's name with `-lod1`,
+    /// `-lod2`, ... (e.g. `--lods 0.5,0.25,0.1` writes out-lod1.ply, out-lod2.ply, out-lod3.ply).
+    #[arg(long, group = "target", value_delimiter = ',')]
+    pub lods: Option<Vec<f64>>,
     /// QEM pair distance threshold t in model units (0: edges only): also contract each vertex
     /// with its 8 closest vertices within t. At most the mesh's bounding-box diagonal (larger
     /// values are refused, naming the limit).

@@ -31,8 +31,12 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         && args.faces.is_none()
         && args.ratio.is_none()
         && args.face_ratio.is_none()
+        && args.lods.is_none()
     {
         bail!(NO_TARGET);
+    }
+    if let Some(lods) = &args.lods {
+        check_lods(lods)?;
     }
     if !(args.threshold >= 0.0 && args.threshold.is_finite()) {
         bail!(
@@ -41,6 +45,9 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         );
     }
     let (input, extras) = super::attributes::load(&args.input, args.no_weld)?;
+    if let Some(lods) = &args.lods {
+        return run_lods(args, input, extras, lods);
+    }
     // --ratio is a share of the vertices, as for GNG3D: the library's one mapping.
     let target = match (args.vertices, args.faces, args.ratio, args.face_ratio) {
         (Some(n), ..) => Target::Vertices(n),
@@ -101,6 +108,127 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             t.manifold,
             t.genus.map_or("undefined".into(), |g| g.to_string()),
         );
+    }
+    Ok(())
+}
+
+/// `--lods`: each share in (0, 1], strictly decreasing.
+fn check_lods(lods: &[f64]) -> anyhow::Result<()> {
+    if lods.is_empty() {
+        bail!("--lods needs at least one share, e.g. --lods 0.5,0.25,0.1");
+    }
+    if let Some(r) = lods.iter().find(|r| !(**r > 0.0 && **r <= 1.0)) {
+        bail!("--lods: each share must be in (0, 1], got {r}");
+    }
+    if lods.windows(2).any(|w| w[1] >= w[0]) {
+        bail!(
+            "--lods: the shares must decrease (each level is made from the one before), got {lods:?}"
+        );
+    }
+    Ok(())
+}
+
+/// Where level `k` (from 1) of `--lods` goes: OUT's name with `-lod<k>` before the extension.
+fn lod_path(output: &std::path::Path, k: usize) -> std::path::PathBuf {
+    let stem = output.file_stem().unwrap_or_default().to_string_lossy();
+    let name = match output.extension() {
+        Some(ext) => format!("{stem}-lod{k}.{}", ext.to_string_lossy()),
+        None => format!("{stem}-lod{k}"),
+    };
+    output.with_file_name(name)
+}
+
+/// One level of `--lods` in the `--json` output.
+#[derive(Debug, Serialize)]
+struct Level {
+    /// The share of the input's vertices asked for.
+    ratio: f64,
+    /// Where it was written.
+    output: std::path::PathBuf,
+    vertices: usize,
+    faces: usize,
+    /// Wall time of this level's simplification, seconds.
+    seconds: f64,
+    /// The level's report (its `max_error`: the largest quadric error of a contraction made
+    /// for this level, model units⁴).
+    report: QemReport,
+    /// What was kept of the input's attributes.
+    attributes: super::attributes::Kept,
+}
+
+/// `--lods`: each level simplified from the one before (attributes carried), written as it is
+/// made; one line per level (or a `--json` list).
+fn run_lods(
+    args: &SimplifyArgs,
+    input: mesh::TriMesh,
+    extras: super::attributes::Extras,
+    lods: &[f64],
+) -> anyhow::Result<()> {
+    let mut levels = Vec::new();
+    let (mut current, mut current_extras) = (input, extras);
+    let original = current.clone();
+    for (k, &ratio) in lods.iter().enumerate() {
+        let path = lod_path(&args.output, k + 1);
+        let wanted = gng3d_core::GngTarget::VertexRatio(ratio)
+            .vertex_count(&original)
+            .context("--lods")?;
+        let params = QemParams {
+            target: Target::Vertices(wanted),
+            pair_threshold: args.threshold,
+            ..QemParams::default()
+        };
+        let (simplified, attributes, report) = super::attributes::simplify_qem(
+            &current,
+            &current_extras,
+            &params,
+            args.lock_border,
+        )
+        .with_context(|| format!("simplifying {} (level {})", args.input.display(), k + 1))?;
+        let kept = super::attributes::save(
+            &simplified,
+            attributes.as_ref(),
+            &current_extras,
+            &path,
+            "QEM",
+        )
+        .with_context(|| format!("QEM on {}", args.input.display()))?;
+        if !args.json {
+            outln!(
+                "qem lod{}: {} -> {} vertices, {} faces, max quadric error {:.3e}, {:.3} s -> {}",
+                k + 1,
+                report.input_vertices,
+                report.vertices,
+                report.faces,
+                report.max_error,
+                report.seconds,
+                path.display()
+            );
+        }
+        levels.push(Level {
+            ratio,
+            output: path,
+            vertices: report.vertices,
+            faces: report.faces,
+            seconds: report.seconds,
+            report,
+            attributes: kept,
+        });
+        current_extras = super::attributes::Extras {
+            attributes,
+            materials: current_extras.materials,
+        };
+        current = simplified;
+    }
+    if args.json {
+        #[derive(Serialize)]
+        struct Lods<'a> {
+            method: &'static str,
+            levels: &'a [Level],
+        }
+        crate::cli::print_json(&Lods {
+            method: "qem",
+            levels: &levels,
+        })?;
     }
     Ok(())
 }
