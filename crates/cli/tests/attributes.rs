@@ -1,7 +1,6 @@
 //! `gng3d simplify` keeps normals, texture coordinates and materials (issue 35): the output
 //! reloads with them, `--json` says what was kept, and a format that cannot store them says so.
 
-use glam::{Vec2, Vec3};
 use std::path::Path;
 use std::process::Command;
 
@@ -28,31 +27,6 @@ fn simplify(input: &Path, output: &Path, method: &str, vertices: &str) -> std::p
         vertices,
         "--json",
     ])
-}
-
-/// The texture coordinates of the original at the points of its surface within `reach` of the
-/// closest distance to `p` (brute force over every triangle; on a seam, one per side).
-fn uvs_near(m: &mesh::TriMesh, a: &mesh::attributes::Attributes, p: Vec3, reach: f64) -> Vec<Vec2> {
-    let p = p.as_dvec3();
-    let uv = a.uv0.as_ref().unwrap();
-    let found: Vec<(f64, Vec2)> = (0..m.face_count())
-        .map(|f| {
-            let [x, y, z] = m.triangle_f64(f);
-            let q = mesh::geometry::closest_point_triangle(p, x, y, z);
-            let w = mesh::transfer::barycentric(q, x, y, z);
-            let c = a.corners[f];
-            (
-                q.distance(p),
-                (0..3).map(|k| uv[c[k] as usize] * w[k] as f32).sum(),
-            )
-        })
-        .collect();
-    let best = found.iter().map(|f| f.0).fold(f64::INFINITY, f64::min);
-    found
-        .into_iter()
-        .filter(|f| f.0 <= best + reach)
-        .map(|f| f.1)
-        .collect()
 }
 
 #[test]
@@ -86,10 +60,16 @@ fn spot_keeps_its_texture_coordinates_through_both_methods() {
         let mut errors: Vec<f32> = (0..a.wedge_count())
             .map(|w| {
                 let p = back.mesh.positions[a.wedge_vertex[w] as usize];
-                uvs_near(&spot.mesh, original, p, reach)
-                    .iter()
-                    .map(|u| u.distance(uv[w]))
-                    .fold(f32::INFINITY, f32::min)
+                mesh::fixtures::attribute_values_near(
+                    &spot.mesh,
+                    original,
+                    original.uv0.as_ref().unwrap(),
+                    p,
+                    reach,
+                )
+                .iter()
+                .map(|u| u.distance(uv[w]))
+                .fold(f32::INFINITY, f32::min)
             })
             .collect();
         errors.sort_by(f32::total_cmp);

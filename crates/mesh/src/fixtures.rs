@@ -7,6 +7,8 @@
 //!   <reason>` line that a plain `cargo test` shows (docs/testing.md).
 //! - [`fuzz`]: the seed files and byte mutations shared by the loader fuzz tests (mesh) and the
 //!   CLI fuzz tests and driver (crates/cli).
+//! - [`attribute_values_near`]: the brute-force oracle of an attribute's value on a surface,
+//!   which the attribute tests of qem and the CLI check transferred values against.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -389,6 +391,40 @@ pub mod previous_topology {
             manifold: non_manifold_edges == 0 && non_manifold_vertices == 0,
         }
     }
+}
+
+/// Every value of the per-wedge attribute `values` (of `attributes` on `mesh`) at the points of
+/// the surface within `reach` of the closest distance to `p`: brute force over every face,
+/// barycentric interpolation of the corners' values; on a seam, one value per side. The
+/// independent computation that transferred attributes are checked against.
+pub fn attribute_values_near<T: Copy + std::iter::Sum + std::ops::Mul<f32, Output = T>>(
+    mesh: &mesh::TriMesh,
+    attributes: &mesh::attributes::Attributes,
+    values: &[T],
+    p: glam::Vec3,
+    reach: f64,
+) -> Vec<T> {
+    let p = p.as_dvec3();
+    let found: Vec<(f64, T)> = attributes
+        .corners
+        .iter()
+        .enumerate()
+        .map(|(f, c)| {
+            let [x, y, z] = mesh.triangle_f64(f);
+            let q = mesh::geometry::closest_point_triangle(p, x, y, z);
+            let w = mesh::transfer::barycentric(q, x, y, z);
+            (
+                q.distance(p),
+                (0..3).map(|k| values[c[k] as usize] * w[k] as f32).sum(),
+            )
+        })
+        .collect();
+    let best = found.iter().map(|f| f.0).fold(f64::INFINITY, f64::min);
+    found
+        .into_iter()
+        .filter(|f| f.0 <= best + reach)
+        .map(|f| f.1)
+        .collect()
 }
 
 #[cfg(test)]

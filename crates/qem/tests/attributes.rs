@@ -191,38 +191,6 @@ fn asset(name: &str) -> (TriMesh, Attributes) {
     (mesh, attributes)
 }
 
-/// Every value of attribute `get` of the original at the points of its surface within `reach`
-/// of the closest distance to `p` (brute force; on a seam, one per side).
-fn values_near<T: Copy + std::iter::Sum + std::ops::Mul<f32, Output = T>>(
-    m: &TriMesh,
-    a: &Attributes,
-    values: &[T],
-    p: Vec3,
-    reach: f64,
-) -> Vec<T> {
-    let p = p.as_dvec3();
-    let found: Vec<(f64, T)> = a
-        .corners
-        .iter()
-        .enumerate()
-        .map(|(f, c)| {
-            let [x, y, z] = m.triangle_f64(f);
-            let q = mesh::geometry::closest_point_triangle(p, x, y, z);
-            let w = mesh::transfer::barycentric(q, x, y, z);
-            (
-                q.distance(p),
-                (0..3).map(|k| values[c[k] as usize] * w[k] as f32).sum(),
-            )
-        })
-        .collect();
-    let best = found.iter().map(|f| f.0).fold(f64::INFINITY, f64::min);
-    found
-        .into_iter()
-        .filter(|f| f.0 <= best + reach)
-        .map(|f| f.1)
-        .collect()
-}
-
 #[test]
 fn an_xatlas_atlas_keeps_its_charts_normals_and_material() {
     let (fandisk, attributes) = asset("fandisk_atlas.obj");
@@ -248,13 +216,13 @@ fn an_xatlas_atlas_keeps_its_charts_normals_and_material() {
     let mut n_err = Vec::new();
     for w in (0..kept.wedge_count()).step_by(3) {
         let p = out.positions[kept.wedge_vertex[w] as usize];
-        let u = values_near(&fandisk, &attributes, uv_in, p, reach);
+        let u = mesh::fixtures::attribute_values_near(&fandisk, &attributes, uv_in, p, reach);
         uv_err.push(
             u.iter()
                 .map(|u| u.distance(uv[w]))
                 .fold(f32::INFINITY, f32::min),
         );
-        let m = values_near(&fandisk, &attributes, n_in, p, reach);
+        let m = mesh::fixtures::attribute_values_near(&fandisk, &attributes, n_in, p, reach);
         n_err.push(
             m.iter()
                 .map(|m| 1.0 - m.normalize().dot(n[w]))
@@ -289,7 +257,13 @@ fn vertex_colours_without_seams_stay_one_per_vertex() {
     let colors_in = attributes.colors.as_ref().unwrap();
     let colors = kept.colors.as_ref().unwrap();
     for (w, color) in colors.iter().enumerate() {
-        let near = values_near(&knight, &attributes, colors_in, out.positions[w], reach);
+        let near = mesh::fixtures::attribute_values_near(
+            &knight,
+            &attributes,
+            colors_in,
+            out.positions[w],
+            reach,
+        );
         let err = near
             .iter()
             .map(|c| (*c - *color).abs().max_element())

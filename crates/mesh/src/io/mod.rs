@@ -319,17 +319,7 @@ fn check_indices(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
 /// The bytes [`save`] would write for `mesh` in `format`; `path` only names the file in errors.
 /// Fails on out-of-range indices.
 pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, MeshError> {
-    let vertex_count = mesh.positions.len();
-    for (face, t) in mesh.triangles.iter().enumerate() {
-        if let Some(&index) = t.iter().find(|&&i| i as usize >= vertex_count) {
-            return Err(MeshError::IndexOutOfRange {
-                path: path.to_path_buf(),
-                face,
-                index: index as i64,
-                vertex_count,
-            });
-        }
-    }
+    check_indices(mesh, path)?;
     Ok(match format {
         Format::Obj => obj::write(mesh),
         Format::Ply => ply::write(mesh),
