@@ -17,9 +17,6 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::{Context, bail};
 
-/// Mesh file extensions a folder source is searched for (every format `gng3d simplify` reads).
-const MESH_EXTENSIONS: [&str; 5] = ["obj", "ply", "stl", "gltf", "glb"];
-
 /// The stats table's columns (the Python package's `gng3d.batch.STATS_FIELDS`).
 const FIELDS: [&str; 13] = [
     "input",
@@ -172,7 +169,7 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
         bail!("give a target: --vertices N, --faces N or --ratio R");
     }
     if let Some(f) = &args.format
-        && !MESH_EXTENSIONS.contains(&f.to_ascii_lowercase().as_str())
+        && mesh::io::Format::from_path(Path::new(&format!("x.{f}"))).is_none()
     {
         bail!("--format must be obj, ply, stl, gltf or glb, got {f:?}");
     }
@@ -343,14 +340,11 @@ fn simplify_options(args: &BatchArgs) -> Vec<String> {
     options
 }
 
-/// The mesh files of `source`: a folder's mesh files ([`MESH_EXTENSIONS`]) sorted by name, or the paths
+/// The mesh files of `source`: a folder's files in a format the loader knows
+/// ([`mesh::io::Format::from_path`]) sorted by name, or the paths
 /// listed in a manifest (relative to it).
 fn list_inputs(source: &Path) -> anyhow::Result<Vec<PathBuf>> {
-    let is_mesh = |p: &Path| {
-        p.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| MESH_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
-    };
+    let is_mesh = |p: &Path| mesh::io::Format::from_path(p).is_some();
     if source.is_dir() {
         let mut files: Vec<PathBuf> = std::fs::read_dir(source)
             .with_context(|| format!("{}: cannot read the folder", source.display()))?

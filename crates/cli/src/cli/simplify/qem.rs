@@ -60,25 +60,8 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         (None, None, None, Some(r)) => Target::Ratio(r),
         (None, None, None, None) => bail!(NO_TARGET),
     };
-    let params = QemParams {
-        target,
-        pair_threshold: args.threshold,
-        ..QemParams::default()
-    };
-    let progress = crate::cli::progress::spinner(args.json);
-    progress.set_message("QEM: contracting vertex pairs");
-    let simplified = super::attributes::simplify_qem(&input, &extras, &params, args.lock_border);
-    progress.finish_and_clear();
-    let (simplified, attributes, report) =
-        simplified.with_context(|| format!("simplifying {}", args.input.display()))?;
-    let kept = super::attributes::save(
-        &simplified,
-        attributes.as_ref(),
-        &extras,
-        &args.output,
-        "QEM",
-    )
-    .with_context(|| format!("QEM on {}", args.input.display()))?;
+    let (simplified, _, report, kept) =
+        simplify_to(args, &input, &extras, target, &args.output, None)?;
     if args.json {
         crate::cli::print_json(&super::attributes::WithAttributes {
             summary: &Summary {
@@ -110,6 +93,39 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// One QEM run of `gng3d simplify`: `input` to `target` (its attributes kept, the border
+/// locked with `--lock-border`), written to `path`; `level` names the `--lods` level in errors.
+fn simplify_to(
+    args: &SimplifyArgs,
+    input: &mesh::TriMesh,
+    extras: &super::attributes::Extras,
+    target: Target,
+    path: &std::path::Path,
+    level: Option<usize>,
+) -> anyhow::Result<(
+    mesh::TriMesh,
+    Option<mesh::attributes::Attributes>,
+    QemReport,
+    super::attributes::Kept,
+)> {
+    let params = QemParams {
+        target,
+        pair_threshold: args.threshold,
+        ..QemParams::default()
+    };
+    let progress = crate::cli::progress::spinner(args.json);
+    progress.set_message("QEM: contracting vertex pairs");
+    let simplified = super::attributes::simplify_qem(input, extras, &params, args.lock_border);
+    progress.finish_and_clear();
+    let (simplified, attributes, report) = simplified.with_context(|| match level {
+        Some(k) => format!("simplifying {} (level {k})", args.input.display()),
+        None => format!("simplifying {}", args.input.display()),
+    })?;
+    let kept = super::attributes::save(&simplified, attributes.as_ref(), extras, path, "QEM")
+        .with_context(|| format!("QEM on {}", args.input.display()))?;
+    Ok((simplified, attributes, report, kept))
 }
 
 /// `--lods`: each share in (0, 1], strictly decreasing.
@@ -165,33 +181,23 @@ fn run_lods(
     lods: &[f64],
 ) -> anyhow::Result<()> {
     let mut levels = Vec::new();
+    // Each level's vertex count is a share of the input's, as --ratio.
+    let wanted = lods
+        .iter()
+        .map(|&r| gng3d_core::GngTarget::VertexRatio(r).vertex_count(&input))
+        .collect::<Result<Vec<_>, _>>()
+        .context("--lods")?;
     let (mut current, mut current_extras) = (input, extras);
-    let original = current.clone();
-    for (k, &ratio) in lods.iter().enumerate() {
+    for (k, (&ratio, &wanted)) in lods.iter().zip(&wanted).enumerate() {
         let path = lod_path(&args.output, k + 1);
-        let wanted = gng3d_core::GngTarget::VertexRatio(ratio)
-            .vertex_count(&original)
-            .context("--lods")?;
-        let params = QemParams {
-            target: Target::Vertices(wanted),
-            pair_threshold: args.threshold,
-            ..QemParams::default()
-        };
-        let (simplified, attributes, report) = super::attributes::simplify_qem(
+        let (simplified, attributes, report, kept) = simplify_to(
+            args,
             &current,
             &current_extras,
-            &params,
-            args.lock_border,
-        )
-        .with_context(|| format!("simplifying {} (level {})", args.input.display(), k + 1))?;
-        let kept = super::attributes::save(
-            &simplified,
-            attributes.as_ref(),
-            &current_extras,
+            Target::Vertices(wanted),
             &path,
-            "QEM",
-        )
-        .with_context(|| format!("QEM on {}", args.input.display()))?;
+            Some(k + 1),
+        )?;
         if !args.json {
             outln!(
                 "qem lod{}: {} -> {} vertices, {} faces, max quadric error {:.3e}, {:.3} s -> {}",
