@@ -318,14 +318,14 @@ pub fn transfer_attributes(
         // 0.05 off the original's (docs/notes/attributes.md): spot at 300 vertices, GNG3D-Q
         // 27.8 -> 2.5 %, QEM (whose seam vertices sit slightly off the seam) 4.3 -> 0 %.
         let charts = found.map(|(f, _)| chart[f as usize]);
-        if charts[0] != charts[1] || charts[1] != charts[2] {
-            if let Some(own) = centroid_face().map(|f| chart[f as usize]) {
-                for k in 0..3 {
-                    if charts[k] != own {
-                        let p = simplified.positions[t[k] as usize];
-                        if let Some(hit) = grid.closest(p, |g| chart[g as usize] == own) {
-                            (found[k], wedge[k]) = (hit, u32::MAX);
-                        }
+        if (charts[0] != charts[1] || charts[1] != charts[2])
+            && let Some(own) = centroid_face().map(|f| chart[f as usize])
+        {
+            for k in 0..3 {
+                if charts[k] != own {
+                    let p = simplified.positions[t[k] as usize];
+                    if let Some(hit) = grid.closest(p, |g| chart[g as usize] == own) {
+                        (found[k], wedge[k]) = (hit, u32::MAX);
                     }
                 }
             }
