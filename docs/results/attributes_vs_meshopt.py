@@ -339,6 +339,9 @@ def main():
     ap.add_argument("--ratios", default="0.1,0.05")
     ap.add_argument("--weights", default="uv=1,normal=0.5,color=1",
                     help="the attribute weights given to both (gng3d --attribute-weights)")
+    ap.add_argument("--ours-weights", default=None,
+                    help="gng3d's --attribute-weights when not --weights (weight experiments)")
+    ap.add_argument("--only", default=None, help="comma-separated mesh file names to run")
     ap.add_argument("--extra", default="", help="more gng3d simplify flags")
     args = ap.parse_args()
     weights = {k: float(v) for k, v in (kv.split("=") for kv in args.weights.split(","))}
@@ -348,6 +351,8 @@ def main():
         os.path.join(ROOT, "tests/assets/fandisk_atlas.obj"),
         os.path.join(ROOT, "tests/assets/knight_colors.ply"),
     ]
+    if args.only:
+        meshes = [m for m in meshes if os.path.basename(m) in args.only.split(",")]
     tmp = tempfile.mkdtemp(prefix="attr_vs_meshopt_")
     print(f"weights {args.weights}; {args.samples} samples per direction; time: min of "
           f"{args.repeats}, alternating")
@@ -362,7 +367,7 @@ def main():
         for share in [float(r) for r in args.ratios.split(",")]:
             target = max(4, round(len(orig[1]) * share))
             ours = os.path.join(tmp, f"{name}-{share}-gng3d{ext}")
-            extra = ["--attribute-weights", args.weights] + args.extra.split()
+            extra = ["--attribute-weights", args.ours_weights or args.weights] + args.extra.split()
             t_ours, t_mo = [], []
             for _ in range(args.repeats):
                 t_ours.append(gng3d_run(args.gng3d, mesh, ours, target, extra))
