@@ -144,9 +144,9 @@ impl AttributeWeights {
 
 // Default attribute weights, measured on spot.obj, fandisk_atlas.obj and knight_colors.ply
 // (docs/notes/attributes.md, "Attribute weights").
-const DEFAULT_UV_WEIGHT: f64 = 1.0;
-const DEFAULT_NORMAL_WEIGHT: f64 = 0.5;
-const DEFAULT_COLOR_WEIGHT: f64 = 1.0;
+const DEFAULT_UV_WEIGHT: f64 = 0.25;
+const DEFAULT_NORMAL_WEIGHT: f64 = 0.1;
+const DEFAULT_COLOR_WEIGHT: f64 = 0.25;
 
 impl Default for QemParams {
     fn default() -> Self {

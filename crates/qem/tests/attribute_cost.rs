@@ -56,7 +56,7 @@ fn uv_stretch_steers_the_collapse_order() {
     let (with, steered) = run(AttributeWeights::default());
     // Same size, within the one face an interior collapse can overshoot by.
     assert!(plain.face_count().abs_diff(steered.face_count()) <= 1);
-    // Measured: 1.6e-4 with the default weights, 2.8e-3 without (17 × less).
+    // Measured: 1.6e-4 with uv = 1, 2.8e-3 without (17 × less); the default 0.25 passes too.
     assert!(
         with < 0.2 * without,
         "mean u error {with:.2e} with the UV term, {without:.2e} without"
