@@ -87,7 +87,66 @@ pub struct QemParams {
     /// network's small vertex gaps (E_max).
     #[serde(default)]
     pub edge_length_weight: f64,
+    /// Stop rule as a distance: no contraction whose error, as a distance, exceeds this
+    /// fraction of the bounding-box diagonal of the referenced vertices (`None`: no such rule).
+    /// The distance of a contraction is `sqrt(cost / area)`: its quadric cost (area × squared
+    /// distance in the normalised frame whose box diagonal is 1; attribute runs add the weighted
+    /// attribute error) over the summed area of the faces its two quadrics were built from, i.e.
+    /// the area-weighted RMS distance of the merged vertex to the planes of those faces, as
+    /// meshoptimizer's relative `target_error`. Pairs above the bound are skipped (they come back
+    /// when a neighbouring contraction changes them); the run ends when the size target is
+    /// reached or no contraction within the bound is left ([`StopReason::MaxError`]). With
+    /// [`Target::Faces`]`(0)` it is the only stop rule. The largest such distance of a performed
+    /// contraction is [`QemReport::max_relative_error`].
+    #[serde(default)]
+    pub max_relative_error: Option<f64>,
+    /// Weights of the attribute error in the collapse cost of [`simplify_with_attributes`]
+    /// (ignored by [`simplify`]).
+    #[serde(default)]
+    pub attribute_weights: AttributeWeights,
 }
+
+/// Weights of the attribute error (Hoppe 1999's attribute quadrics, minimised over the value at
+/// the geometric placement; docs/notes/qem.md "Attribute error") in the collapse cost of
+/// [`simplify_with_attributes`]. A weight scales its attribute's values before the error is
+/// taken, so an attribute deviation `δ` costs as much as a distance `weight · δ` in units of
+/// the bounding-box diagonal. 0 leaves the attribute out of the cost (all 0: the order is the
+/// geometric one). The defaults were chosen by measurement (docs/notes/attributes.md).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AttributeWeights {
+    /// Texture coordinates (both sets; a texture is 1 × 1 in UV units).
+    pub uv: f64,
+    /// Unit normals.
+    pub normal: f64,
+    /// RGBA colours in [0, 1].
+    pub color: f64,
+}
+
+impl Default for AttributeWeights {
+    fn default() -> Self {
+        AttributeWeights {
+            uv: DEFAULT_UV_WEIGHT,
+            normal: DEFAULT_NORMAL_WEIGHT,
+            color: DEFAULT_COLOR_WEIGHT,
+        }
+    }
+}
+
+impl AttributeWeights {
+    /// No attribute in the cost: the collapse order is the geometric one.
+    pub const NONE: AttributeWeights = AttributeWeights {
+        uv: 0.0,
+        normal: 0.0,
+        color: 0.0,
+    };
+}
+
+// Default attribute weights, measured on spot.obj, fandisk_atlas.obj and knight_colors.ply
+// (docs/notes/attributes.md, "Attribute weights").
+const DEFAULT_UV_WEIGHT: f64 = 0.25;
+const DEFAULT_NORMAL_WEIGHT: f64 = 0.1;
+const DEFAULT_COLOR_WEIGHT: f64 = 0.25;
 
 impl Default for QemParams {
     fn default() -> Self {
@@ -101,11 +160,19 @@ impl Default for QemParams {
             preserve_topology: true,
             min_normal_cos: 0.2,
             edge_length_weight: 0.0,
+            max_relative_error: None,
+            attribute_weights: AttributeWeights::default(),
         }
     }
 }
 
 impl QemParams {
+    /// Check every parameter (the same checks [`simplify`] makes first): front ends call this
+    /// before loading a mesh so that a bad option costs nothing.
+    pub fn validate(&self) -> Result<(), QemError> {
+        simplifier::validate(self)
+    }
+
     /// Default parameters with the given target.
     pub fn with_target(target: Target) -> Self {
         QemParams {
@@ -154,6 +221,11 @@ pub struct QemReport {
     pub virtual_pairs: usize,
     /// Contraction passes over the sorted candidate list.
     pub passes: usize,
+    /// With [`QemParams::max_relative_error`]: the largest error of a performed contraction as
+    /// a distance, a fraction of the input's bounding-box diagonal (`sqrt(cost / area)`, see
+    /// there); `None` without it.
+    #[serde(default)]
+    pub max_relative_error: Option<f64>,
 }
 
 impl QemReport {
@@ -188,7 +260,7 @@ impl QemReport {
         };
         let why = match self.stop_reason {
             StopReason::TargetReached => "target reached",
-            StopReason::MaxError => "the next contraction would exceed max_error",
+            StopReason::MaxError => "no further contraction stays within the error bound",
             StopReason::NoValidPairs => {
                 "no further contraction keeps the mesh's topology or passes the normal check"
             }

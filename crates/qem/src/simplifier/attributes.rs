@@ -8,6 +8,7 @@
 //! original surface at each output corner on its side of the seams
 //! (`mesh::transfer::transfer_attributes`).
 
+use super::attribute_error::AttributeError;
 use super::engine::{Seams, Vertex};
 use super::{Run, prepare};
 use crate::{QemError, QemParams, QemReport, Quadric};
@@ -165,10 +166,141 @@ pub(crate) fn run(
         })
         .collect();
     let seams = Seams { seam, along };
+    let attr = attribute_error(
+        input,
+        attributes,
+        params,
+        (&to_prepared, n),
+        frame,
+        &along_input,
+    );
     let (run, _kept) =
-        super::simplify_prepared_with(prepared, params, Some(&locked), Some((seams, edges)));
+        super::simplify_prepared_with(prepared, params, Some(&locked), Some((seams, edges)), attr);
     let out = mesh::transfer::transfer_attributes(input, attributes, &run.mesh);
     let report = super::report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;
     Ok((mesh, out, report))
+}
+
+/// The attribute error sums of `input`'s triangles ([`AttributeError`] over the `vertices`
+/// prepared vertices: `to_prepared`, positions in `frame`; ambiguous or unreferenced inputs map
+/// to `u32::MAX - 1` or above and are left out), one channel per component of each attribute with a
+/// non-zero weight (`params.attribute_weights`), scaled by it; `None` when there is none. The
+/// corners of a seam vertex (`along_input`: its two seam neighbours) are split into the side on
+/// the left of the seam walked from its first neighbour to its second (side 0: the faces
+/// reached from the one holding the directed edge vertex → second neighbour without crossing
+/// the seam) and the other (side 1).
+fn attribute_error(
+    input: &TriMesh,
+    attributes: &Attributes,
+    params: &QemParams,
+    (to_prepared, vertices): (&[u32], usize),
+    frame: super::prepare::Frame,
+    along_input: &HashMap<u32, Vec<u32>>,
+) -> Option<AttributeError> {
+    let w = params.attribute_weights;
+    // (weight, per-wedge values, components)
+    let mut sets: Vec<(f64, Vec<f64>, usize)> = Vec::new();
+    for uv in [&attributes.uv0, &attributes.uv1].into_iter().flatten() {
+        if w.uv > 0.0 {
+            let flat = uv.iter().flat_map(|t| [t.x, t.y]).map(f64::from).collect();
+            sets.push((w.uv, flat, 2));
+        }
+    }
+    if let Some(normals) = attributes.normals.as_ref().filter(|_| w.normal > 0.0) {
+        let flat = normals
+            .iter()
+            .flat_map(|n| n.to_array())
+            .map(f64::from)
+            .collect();
+        sets.push((w.normal, flat, 3));
+    }
+    if let Some(colors) = attributes.colors.as_ref().filter(|_| w.color > 0.0) {
+        let flat = colors
+            .iter()
+            .flat_map(|c| c.to_array())
+            .map(f64::from)
+            .collect();
+        sets.push((w.color, flat, 4));
+    }
+    let channels: usize = sets.iter().map(|s| s.2).sum();
+    if channels == 0 {
+        return None;
+    }
+    let wedges = attributes.wedge_count();
+    let mut values = Vec::with_capacity(wedges * channels);
+    for wedge in 0..wedges {
+        for (weight, flat, dims) in &sets {
+            values.extend(
+                flat[wedge * dims..(wedge + 1) * dims]
+                    .iter()
+                    .map(|x| weight * x),
+            );
+        }
+    }
+
+    // Side 1 corners of the seam vertices, per face corner.
+    let tris = &input.triangles;
+    let mut side = vec![0u8; tris.len() * 3];
+    let vf = mesh::topology::VertexFaces::new(tris, input.positions.len());
+    let mut reached = Vec::new();
+    let mut stack = Vec::new();
+    for (&v, list) in along_input {
+        let &[n0, n1] = list.as_slice() else {
+            continue;
+        };
+        let fan = &vf.faces[vf.start[v as usize] as usize..vf.start[v as usize + 1] as usize];
+        let corner = |f: u32| tris[f as usize].iter().position(|&x| x == v).unwrap_or(0);
+        let first = fan
+            .iter()
+            .position(|&f| tris[f as usize][(corner(f) + 1) % 3] == n1)
+            .or_else(|| fan.iter().position(|&f| tris[f as usize].contains(&n1)));
+        let Some(first) = first else {
+            continue;
+        };
+        reached.clear();
+        reached.resize(fan.len(), false);
+        reached[first] = true;
+        stack.clear();
+        stack.push(first);
+        while let Some(i) = stack.pop() {
+            for x in tris[fan[i] as usize] {
+                if x == v || x == n0 || x == n1 {
+                    continue;
+                }
+                for (j, &g) in fan.iter().enumerate() {
+                    if !reached[j] && tris[g as usize].contains(&x) {
+                        reached[j] = true;
+                        stack.push(j);
+                    }
+                }
+            }
+        }
+        for (i, &f) in fan.iter().enumerate() {
+            if !reached[i] {
+                side[f as usize * 3 + corner(f)] = 1;
+            }
+        }
+    }
+
+    let mut out = AttributeError::new(vertices, channels);
+    let mut corner_values = vec![0.0; 3 * channels];
+    for (f, (t, c)) in tris.iter().zip(&attributes.corners).enumerate() {
+        for k in 0..3 {
+            let at = c[k] as usize * channels;
+            corner_values[k * channels..(k + 1) * channels]
+                .copy_from_slice(&values[at..at + channels]);
+        }
+        let vertex = t.map(|v| {
+            let k = to_prepared[v as usize];
+            if k < u32::MAX - 1 { k } else { u32::MAX }
+        });
+        out.add_triangle(
+            t.map(|v| frame.to_frame(input.positions[v as usize])),
+            &corner_values,
+            vertex,
+            [side[f * 3], side[f * 3 + 1], side[f * 3 + 2]],
+        );
+    }
+    Some(out)
 }

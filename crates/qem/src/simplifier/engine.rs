@@ -3,6 +3,7 @@
 //! pair costing and placement, the topology / normal checks and the collapse itself. What to
 //! contract, and when, is decided by the pass loop in the parent module.
 
+use super::attribute_error::AttributeError;
 use super::candidates::{Cand, key_of};
 use super::prefetch;
 use super::prepare::Frame;
@@ -83,6 +84,13 @@ pub(super) struct Engine {
     pub(super) prefetching: bool,
     /// Attribute seams, when the run keeps attributes (`None`: positions only).
     pub(super) seams: Option<Seams>,
+    /// Attribute error quadrics, when the run keeps attributes with a non-zero weight (`None`:
+    /// the cost is the geometric one). Outside `Vertex`: positions-only runs keep their
+    /// 128-byte record.
+    pub(super) attr: Option<AttributeError>,
+    /// Summed face area of each vertex's quadric (normalised frame), with
+    /// `QemParams::max_relative_error` only.
+    pub(super) area: Option<Vec<f64>>,
 }
 
 /// The attribute seams of a run that keeps attributes: a seam vertex (on exactly two seam
@@ -191,6 +199,8 @@ impl Engine {
             edge_length_weight: params.edge_length_weight,
             prefetching: prefetch::worth_it(n),
             seams: None,
+            attr: None,
+            area: None,
         }
     }
 
@@ -250,6 +260,9 @@ impl Engine {
         if self.edge_length_weight > 0.0 {
             let len2 = da.p.distance_squared(db.p);
             cost += self.edge_length_weight * len2 * len2;
+        }
+        if let (Some(attr), Some(seams)) = (&self.attr, &self.seams) {
+            cost += attr.error(a, b, p, seams);
         }
         (cost, p)
     }
@@ -488,7 +501,14 @@ impl Engine {
         if let Some(vp) = self.virt.as_mut() {
             vp.merge(a, b);
         }
+        if let Some(area) = self.area.as_mut() {
+            area[a] += area[b];
+        }
         if let Some(seams) = self.seams.as_mut() {
+            // Before the seams merge: the sides are matched by the seam neighbours of `a`, `b`.
+            if let Some(attr) = self.attr.as_mut() {
+                attr.merge(a, b, seams);
+            }
             seams.merge(a, b);
         }
         if self.refs.len() > self.refs_limit {

@@ -18,6 +18,7 @@
 //! their exact cost and order for the next pass; pairs of the merged vertices are evaluated
 //! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
 
+mod attribute_error;
 mod attributes;
 mod candidates;
 mod engine;
@@ -156,6 +157,7 @@ fn report(run: &Run, input_vertices: usize, input_faces: usize, started: Instant
         rejected: run.rejected,
         virtual_pairs: run.virtual_pairs,
         passes: run.passes,
+        max_relative_error: run.max_relative_error,
     }
 }
 
@@ -175,6 +177,8 @@ struct Run {
     stop_reason: StopReason,
     /// Non-edge pairs found.
     virtual_pairs: usize,
+    /// With `max_relative_error`: the largest relative error of a performed contraction.
+    max_relative_error: Option<f64>,
 }
 
 impl Run {
@@ -188,6 +192,7 @@ impl Run {
             passes: 0,
             stop_reason: StopReason::NoValidPairs,
             virtual_pairs: 0,
+            max_relative_error: None,
         }
     }
 }
@@ -199,17 +204,18 @@ fn simplify_prepared(
     params: &QemParams,
     locked: Option<&[bool]>,
 ) -> (Run, Vec<u32>) {
-    simplify_prepared_with(prepared, params, locked, None)
+    simplify_prepared_with(prepared, params, locked, None, None)
 }
 
 /// [`simplify_prepared`], with the attribute seams of `seams` (prepared numbering) kept: their
 /// edges get constraint planes and their vertices are contracted only along them
-/// ([`engine::Seams`]).
+/// ([`engine::Seams`]), and the attribute error `attr` added to the cost (with seams only).
 fn simplify_prepared_with(
     prepared: prepare::Prepared,
     params: &QemParams,
     locked: Option<&[bool]>,
     seams: Option<(engine::Seams, Vec<[u32; 2]>)>,
+    attr: Option<attribute_error::AttributeError>,
 ) -> (Run, Vec<u32>) {
     let prepare::Prepared {
         pos,
@@ -226,8 +232,12 @@ fn simplify_prepared_with(
         list.retain(|c| seams.pair_ok(c.a as usize, c.b as usize));
         seams
     });
+    let area = params
+        .max_relative_error
+        .map(|_| vertex_areas(&pos, &faces));
     drop((pos, face_start));
     let mut e = Engine::new(vx, faces, refs, params);
+    e.area = area;
     let mut schedule = Schedule::new(list);
     let virtual_pairs = add_virtual_pairs(&mut e, &mut schedule.list, params, frame.scale);
     if let Some(seams) = seams {
@@ -235,6 +245,7 @@ fn simplify_prepared_with(
             .list
             .retain(|c| seams.pair_ok(c.a as usize, c.b as usize));
         e.seams = Some(seams);
+        e.attr = attr;
     }
     e.cost_all(&mut schedule.list);
     schedule.sort();
@@ -242,6 +253,8 @@ fn simplify_prepared_with(
     let goal = Goal::new(params.target, input_faces);
     let scale4 = frame.scale.powi(4);
     let max_error = params.max_error.map_or(f64::INFINITY, |m| m * scale4);
+    // Compared with cost / area in the normalised frame (unit diagonal): squared distances.
+    let max_relative2 = params.max_relative_error.map_or(f64::INFINITY, |m| m * m);
     let mut totals = PassOutcome::default();
     let mut pass = 0u32;
     // Pass numbers where the candidates' generations (`candidates::is_live`) restarted from 0.
@@ -270,6 +283,7 @@ fn simplify_prepared_with(
             pass,
             cap,
             max_error,
+            max_relative2,
             goal: &goal,
             heavy_tries: if rebuilt_without_progress {
                 u32::MAX
@@ -281,6 +295,7 @@ fn simplify_prepared_with(
         totals.done += outcome.done;
         totals.rejected += outcome.rejected;
         totals.worst = totals.worst.max(outcome.worst);
+        totals.worst_relative2 = totals.worst_relative2.max(outcome.worst_relative2);
         if let Some(reason) = outcome.stop {
             break reason;
         }
@@ -289,7 +304,12 @@ fn simplify_prepared_with(
         }
         if outcome.done == 0 {
             if rebuilt_without_progress {
-                break StopReason::NoValidPairs;
+                // Every pair left failed a check; some only the error bound.
+                break if outcome.over_bound > 0 {
+                    StopReason::MaxError
+                } else {
+                    StopReason::NoValidPairs
+                };
             }
             // Everything left was rejected: re-offer every current pair once.
             rebuilt_without_progress = true;
@@ -311,8 +331,25 @@ fn simplify_prepared_with(
         passes: pass as usize,
         stop_reason,
         virtual_pairs,
+        max_relative_error: params
+            .max_relative_error
+            .map(|_| totals.worst_relative2.sqrt()),
     };
     (run, kept)
+}
+
+/// Per vertex, the summed area of its faces (normalised frame): the weight of its plane quadric
+/// (`mesh::quadric::area_weighted_plane`), which `max_relative_error` divides the cost by.
+fn vertex_areas(pos: &[glam::DVec3], faces: &[[u32; 3]]) -> Vec<f64> {
+    let mut area = vec![0.0; pos.len()];
+    for t in faces {
+        let [p0, p1, p2] = t.map(|v| pos[v as usize]);
+        let a = 0.5 * (p1 - p0).cross(p2 - p0).length();
+        for &v in t {
+            area[v as usize] += a;
+        }
+    }
+    area
 }
 
 /// The virtual-pairs pass: non-edge pairs closer than `pair_threshold` (normalised by `scale`)
@@ -383,6 +420,8 @@ struct PassRule<'a> {
     pass: u32,
     cap: f32,
     max_error: f64,
+    /// Square of `max_relative_error` (infinite without it).
+    max_relative2: f64,
     goal: &'a Goal,
     heavy_tries: u32,
 }
@@ -396,6 +435,10 @@ struct PassOutcome {
     rejected: usize,
     /// Largest cost of a performed contraction (normalised frame).
     worst: f64,
+    /// Largest cost / area of a performed contraction (with `max_relative_error`).
+    worst_relative2: f64,
+    /// Pairs skipped for exceeding `max_relative_error`.
+    over_bound: usize,
     /// Entries of the list visited (contracted, rejected or stale); the rest is carried.
     consumed: usize,
     /// Set when the run must stop (the next contraction exceeds `max_error`).
@@ -578,6 +621,7 @@ fn visit(
         pass,
         cap,
         max_error,
+        max_relative2,
         goal,
         heavy_tries,
     } = *rule;
@@ -590,6 +634,15 @@ fn visit(
     if cost > max_error {
         out.stop = Some(StopReason::MaxError);
         return Break(());
+    }
+    let mut relative2 = 0.0;
+    if let Some(area) = &e.area {
+        relative2 = cost / (area[a] + area[b]).max(f64::MIN_POSITIVE);
+        if relative2 > max_relative2 {
+            // Skipped like a rejected pair: it comes back when a contraction changes an end.
+            out.over_bound += 1;
+            return Continue(());
+        }
     }
     // Keep the vertex with the longer face list (less relinking).
     let (a, b) = if e.vx[b].len > e.vx[a].len {
@@ -616,6 +669,7 @@ fn visit(
     survivors.push(a as u32);
     out.done += 1;
     out.worst = out.worst.max(cost);
+    out.worst_relative2 = out.worst_relative2.max(relative2);
     if goal.reached(e) {
         out.consumed = i + 1;
         return Break(());
@@ -657,7 +711,7 @@ fn check_pair_threshold(t: f64, scale: f64) -> Result<(), QemError> {
     )))
 }
 
-fn validate(p: &QemParams) -> Result<(), QemError> {
+pub(crate) fn validate(p: &QemParams) -> Result<(), QemError> {
     let bad = |s: String| Err(QemError::InvalidParameter(s));
     if let Target::Ratio(r) = p.target
         && !(r > 0.0 && r <= 1.0)
@@ -686,6 +740,21 @@ fn validate(p: &QemParams) -> Result<(), QemError> {
         && m.is_nan()
     {
         return bad("max error is NaN".into());
+    }
+    if let Some(m) = p.max_relative_error
+        && !(m >= 0.0 && m.is_finite())
+    {
+        return bad(format!(
+            "max relative error {m} must be a finite share of the bounding-box diagonal >= 0"
+        ));
+    }
+    let w = p.attribute_weights;
+    for (name, v) in [("uv", w.uv), ("normal", w.normal), ("color", w.color)] {
+        if !(v >= 0.0 && v.is_finite()) {
+            return bad(format!(
+                "attribute weight {name}={v} must be finite and >= 0"
+            ));
+        }
     }
     if !(p.edge_length_weight >= 0.0 && p.edge_length_weight.is_finite()) {
         return bad(format!(

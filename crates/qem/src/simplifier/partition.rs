@@ -188,6 +188,9 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
         last.collapses += run.collapses;
         last.rejected += run.rejected;
         last.max_error = last.max_error.max(run.max_error);
+        if let Some(r) = run.max_relative_error {
+            last.max_relative_error = Some(last.max_relative_error.unwrap_or(0.0).max(r));
+        }
     }
     last.passes += results.iter().map(|(r, _)| r.passes).max().unwrap_or(0);
     last

@@ -33,6 +33,9 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             "--faces, --face-ratio and --lods apply to QEM only; use --vertices or --ratio with --method gng"
         );
     }
+    if args.max_error.is_some() || args.attribute_weights.is_some() {
+        bail!("--max-error and --attribute-weights apply to QEM only; use --method qem");
+    }
     if args.lock_border {
         bail!(
             "--lock-border applies to QEM only (GNG3D places every output vertex anew); use --method qem"

@@ -54,6 +54,17 @@ pub struct SimplifyArgs {
     /// parts of an assembly) still meet after simplification.
     #[arg(long)]
     pub lock_border: bool,
+    /// QEM stop rule as a distance, a share of the input's bounding-box diagonal (e.g. 0.001):
+    /// no contraction whose error exceeds it (the area-weighted RMS distance of the merged vertex
+    /// to the planes of the original faces around it, plus the weighted attribute error with
+    /// attributes). With a target, whichever comes first; alone, simplifies as far as it allows.
+    #[arg(long, value_name = "E")]
+    pub max_error: Option<f64>,
+    /// QEM with attributes: weights of the attribute error in the collapse cost, e.g.
+    /// `uv=1,normal=0.5,color=1` (a deviation δ costs as much as a distance weight·δ of the
+    /// bounding-box diagonal; names not given keep their defaults, 0 leaves one out).
+    #[arg(long, value_name = "NAME=W,...")]
+    pub attribute_weights: Option<String>,
     /// GNG3D maximum running time in seconds: training and every step after it, from the start
     /// of the algorithm to the returned mesh (loading and saving not counted). Steps are left
     /// out in a documented order when time is short (each is a warning); the vertex count stays

@@ -18,7 +18,7 @@ struct Summary {
     report: QemReport,
 }
 
-const NO_TARGET: &str = "give a target with --vertices N, --ratio R, --faces N or --face-ratio R";
+const NO_TARGET: &str = "give a target with --vertices N, --ratio R, --faces N or --face-ratio R, or a bound with --max-error E";
 
 /// Simplify with QEM.
 pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
@@ -32,6 +32,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         && args.ratio.is_none()
         && args.face_ratio.is_none()
         && args.lods.is_none()
+        && args.max_error.is_none()
     {
         bail!(NO_TARGET);
     }
@@ -44,9 +45,12 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             args.threshold
         );
     }
+    // Everything that does not need the mesh is checked before loading it, by the library.
+    let params = params(args)?;
+    params.validate().context("QEM options")?;
     let (input, extras) = super::attributes::load(&args.input, args.no_weld)?;
     if let Some(lods) = &args.lods {
-        return run_lods(args, input, extras, lods);
+        return run_lods(args, &params, input, extras, lods);
     }
     // --ratio is a share of the vertices, as for GNG3D: the library's one mapping.
     let target = match (args.vertices, args.faces, args.ratio, args.face_ratio) {
@@ -58,10 +62,12 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
                 .context("--ratio")?,
         ),
         (None, None, None, Some(r)) => Target::Ratio(r),
+        // --max-error alone: no size bound.
+        (None, None, None, None) if args.max_error.is_some() => Target::Faces(0),
         (None, None, None, None) => bail!(NO_TARGET),
     };
     let (simplified, _, report, kept) =
-        simplify_to(args, &input, &extras, target, &args.output, None)?;
+        simplify_to(args, &params, &input, &extras, target, &args.output, None)?;
     if args.json {
         crate::cli::print_json(&super::attributes::WithAttributes {
             summary: &Summary {
@@ -74,7 +80,11 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             attributes: &kept,
         })?;
     } else {
-        if let Some(shortfall) = report.shortfall(target) {
+        // With --max-error alone there is no size to fall short of.
+        if let Some(shortfall) = report
+            .shortfall(target)
+            .filter(|_| target != Target::Faces(0))
+        {
             eprintln!("warning: {shortfall}");
         }
         let t = mesh::topology::analyze(&simplified);
@@ -91,14 +101,61 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             t.manifold,
             t.genus.map_or("undefined".into(), |g| g.to_string()),
         );
+        if let Some(e) = report.max_relative_error {
+            outln!("qem: largest contraction error {e:.3e} of the bounding-box diagonal");
+        }
     }
     Ok(())
+}
+
+/// The QEM parameters of `args` (the target is set per run): `--threshold`, `--max-error`,
+/// `--attribute-weights`.
+fn params(args: &SimplifyArgs) -> anyhow::Result<QemParams> {
+    let mut params = QemParams {
+        pair_threshold: args.threshold,
+        max_relative_error: args.max_error,
+        ..QemParams::default()
+    };
+    if let Some(list) = &args.attribute_weights {
+        params.attribute_weights = attribute_weights(list)?;
+    }
+    Ok(params)
+}
+
+/// `--attribute-weights uv=W,normal=W,color=W`: any of the three names, each at most once; the
+/// others keep their defaults. The values are checked with the other options by
+/// `QemParams::validate`.
+fn attribute_weights(list: &str) -> anyhow::Result<qem::AttributeWeights> {
+    let mut w = qem::AttributeWeights::default();
+    let mut seen = Vec::new();
+    for item in list.split(',') {
+        let Some((name, value)) = item.split_once('=') else {
+            bail!("--attribute-weights: expected NAME=W (uv, normal or color), got {item:?}");
+        };
+        let name = name.trim();
+        let value: f64 = value.trim().parse().map_err(|_| {
+            anyhow::anyhow!("--attribute-weights: {name}={value:?} is not a number")
+        })?;
+        let slot = match name {
+            "uv" => &mut w.uv,
+            "normal" => &mut w.normal,
+            "color" | "colour" => &mut w.color,
+            _ => bail!("--attribute-weights: unknown attribute {name:?} (uv, normal or color)"),
+        };
+        if seen.contains(&name) {
+            bail!("--attribute-weights: {name} given twice");
+        }
+        seen.push(name);
+        *slot = value;
+    }
+    Ok(w)
 }
 
 /// One QEM run of `gng3d simplify`: `input` to `target` (its attributes kept, the border
 /// locked with `--lock-border`), written to `path`; `level` names the `--lods` level in errors.
 fn simplify_to(
     args: &SimplifyArgs,
+    params: &QemParams,
     input: &mesh::TriMesh,
     extras: &super::attributes::Extras,
     target: Target,
@@ -112,8 +169,7 @@ fn simplify_to(
 )> {
     let params = QemParams {
         target,
-        pair_threshold: args.threshold,
-        ..QemParams::default()
+        ..params.clone()
     };
     let progress = crate::cli::progress::spinner(args.json);
     progress.set_message("QEM: contracting vertex pairs");
@@ -176,6 +232,7 @@ struct Level {
 /// made; one line per level (or a `--json` list).
 fn run_lods(
     args: &SimplifyArgs,
+    params: &QemParams,
     input: mesh::TriMesh,
     extras: super::attributes::Extras,
     lods: &[f64],
@@ -192,6 +249,7 @@ fn run_lods(
         let path = lod_path(&args.output, k + 1);
         let (simplified, attributes, report, kept) = simplify_to(
             args,
+            params,
             &current,
             &current_extras,
             Target::Vertices(wanted),

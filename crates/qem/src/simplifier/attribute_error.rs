@@ -1,0 +1,173 @@
+//! The attribute term of the collapse cost of attribute runs: Hoppe 1999's attribute quadrics
+//! ("New quadric metric for simplifying meshes with appearance attributes"), evaluated at the
+//! geometric placement with the attribute value that minimises them.
+//!
+//! Each triangle carries, for every weighted attribute channel `j` (u, v, normal x/y/z, r/g/b/a,
+//! each multiplied by its weight), the linear function `s_j(p) = g_j·p + d_j` that interpolates
+//! its three corners' values over its plane (`g_j` in the plane). A vertex sums, over its faces
+//! with their areas `w`, the quadric `Σ w Σ_j (g_j·p + d_j)²` (one 3-D quadric for all channels),
+//! the area `W = Σ w` and per channel `G_j = Σ w g_j`, `D_j = Σ w d_j`. The error of a merged
+//! vertex at `p` with values `s` is `Σ w Σ_j (s_j − g_j·p − d_j)²`; its minimum over `s` is at
+//! `s_j = (G_j·p + D_j) / W`, where it is `Σ w Σ_j (g_j·p + d_j)² − Σ_j (G_j·p + D_j)² / W`:
+//! how far the attributes of the faces around the pair are from one linear function of the
+//! position. A texture that stays linear over a region (no stretch change) costs nothing to
+//! contract; one whose gradient changes (distortion, a colour edge) costs what fitting one
+//! gradient leaves over.
+//!
+//! A seam vertex (exactly two seam edges; the rest of the seam vertices are locked) has two
+//! sides, one fan of faces each, with separate sums; side 0 is the side on the left of the
+//! seam walked from `along[0]` through the vertex to `along[1]` (the faces holding the directed
+//! edge vertex → `along[1]`). A pair along the seam merges side with side by that orientation.
+
+use super::engine::Seams;
+use glam::DVec3;
+
+/// Per-vertex attribute sums, two sides per vertex, in one flat array.
+pub(super) struct AttributeError {
+    /// Per vertex, two sides of [`AttributeError::side_len`] numbers: quadric upper triangle (6),
+    /// linear term (3), constant (1), area `W` (1), then per channel `G` (3) and `D` (1).
+    data: Vec<f64>,
+    /// Weighted channels (u, v, normal x, ...).
+    channels: usize,
+}
+
+/// Offset of `W` in a side.
+const W: usize = 10;
+/// Offset of the first channel in a side.
+const CHANNELS: usize = 11;
+
+impl AttributeError {
+    /// Zero sums for `vertices` vertices and `channels` channels.
+    pub(super) fn new(vertices: usize, channels: usize) -> AttributeError {
+        let side = CHANNELS + 4 * channels;
+        AttributeError {
+            data: vec![0.0; vertices * 2 * side],
+            channels,
+        }
+    }
+
+    #[inline]
+    fn side_len(&self) -> usize {
+        CHANNELS + 4 * self.channels
+    }
+
+    /// Add a triangle with corners at `pos` (normalised frame) and channel values `values`
+    /// (`values[k * channels + j]`: corner `k`, channel `j`, weighted) to side `side[k]` of
+    /// vertex `vertex[k]` (`u32::MAX`: not an engine vertex).
+    pub(super) fn add_triangle(
+        &mut self,
+        pos: [DVec3; 3],
+        values: &[f64],
+        vertex: [u32; 3],
+        side: [u8; 3],
+    ) {
+        let (e1, e2) = (pos[1] - pos[0], pos[2] - pos[0]);
+        let n = e1.cross(e2);
+        let n2 = n.length_squared();
+        if !(n2 > 0.0 && n2.is_finite()) {
+            return;
+        }
+        let area = 0.5 * n2.sqrt();
+        // g·e1 = s1 − s0 and g·e2 = s2 − s0 with g in the plane: g = ((s1 − s0) (e2 × n) +
+        // (s2 − s0) (n × e1)) / |n|².
+        let (t1, t2) = (e2.cross(n) / n2, n.cross(e1) / n2);
+        let c = self.channels;
+        let len = self.side_len();
+        for k in 0..3 {
+            if vertex[k] == u32::MAX {
+                continue;
+            }
+            let at = (vertex[k] as usize * 2 + side[k] as usize) * len;
+            let s = &mut self.data[at..at + len];
+            s[W] += area;
+            for j in 0..c {
+                let s0 = values[j];
+                let g = (values[c + j] - s0) * t1 + (values[2 * c + j] - s0) * t2;
+                let d = s0 - g.dot(pos[0]);
+                let (x, y, z) = (g.x * area, g.y * area, g.z * area);
+                let add = [
+                    x * g.x,
+                    x * g.y,
+                    x * g.z,
+                    y * g.y,
+                    y * g.z,
+                    z * g.z,
+                    x * d,
+                    y * d,
+                    z * d,
+                    area * d * d,
+                ];
+                for (q, a) in s[..10].iter_mut().zip(add) {
+                    *q += a;
+                }
+                let o = CHANNELS + 4 * j;
+                s[o] += x;
+                s[o + 1] += y;
+                s[o + 2] += z;
+                s[o + 3] += area * d;
+            }
+        }
+    }
+
+    /// The sides of `b` that merge with `a`'s sides 0 and 1 (`a`, `b` a pair the seams allow).
+    #[inline]
+    fn matching(a: usize, b: usize, seams: &Seams) -> [usize; 2] {
+        if !seams.seam[a] {
+            return [0, 1];
+        }
+        // Walking a's seam from along[0] to along[1] goes a → b iff along[a][1] = b; b's walk
+        // goes a → b iff along[b][0] = a. Same direction: the left sides match.
+        let a_forward = seams.along[a][1] == b as u32;
+        let b_forward = seams.along[b][0] == a as u32;
+        if a_forward == b_forward {
+            [0, 1]
+        } else {
+            [1, 0]
+        }
+    }
+
+    /// The attribute error of contracting `a` and `b` to `p`.
+    #[inline]
+    pub(super) fn error(&self, a: usize, b: usize, p: DVec3, seams: &Seams) -> f64 {
+        let len = self.side_len();
+        let m = Self::matching(a, b, seams);
+        let sides = if seams.seam[a] { 2 } else { 1 };
+        let mut total = 0.0;
+        for (sa, &sb) in m.iter().enumerate().take(sides) {
+            let x = &self.data[(a * 2 + sa) * len..][..len];
+            let y = &self.data[(b * 2 + sb) * len..][..len];
+            let w = x[W] + y[W];
+            if w <= 0.0 {
+                continue;
+            }
+            let q = |i: usize| x[i] + y[i];
+            let (a00, a01, a02, a11, a12, a22) = (q(0), q(1), q(2), q(3), q(4), q(5));
+            let quad = p.x * (a00 * p.x + 2.0 * (a01 * p.y + a02 * p.z))
+                + p.y * (a11 * p.y + 2.0 * a12 * p.z)
+                + a22 * p.z * p.z
+                + 2.0 * (q(6) * p.x + q(7) * p.y + q(8) * p.z)
+                + q(9);
+            let mut fit = 0.0;
+            for j in 0..self.channels {
+                let o = CHANNELS + 4 * j;
+                let t = q(o) * p.x + q(o + 1) * p.y + q(o + 2) * p.z + q(o + 3);
+                fit += t * t;
+            }
+            // A difference of two sums of squares: rounding can take it slightly below zero.
+            total += (quad - fit / w).max(0.0);
+        }
+        total
+    }
+
+    /// `b` was contracted into `a` (called before the seams are merged).
+    pub(super) fn merge(&mut self, a: usize, b: usize, seams: &Seams) {
+        let len = self.side_len();
+        let m = Self::matching(a, b, seams);
+        for (sa, sb) in m.into_iter().enumerate() {
+            let (from, to) = ((b * 2 + sb) * len, (a * 2 + sa) * len);
+            for i in 0..len {
+                self.data[to + i] += self.data[from + i];
+            }
+        }
+    }
+}
