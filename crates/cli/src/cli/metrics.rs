@@ -51,13 +51,8 @@ fn load(path: &Path) -> anyhow::Result<(mesh::TriMesh, Option<Attributes>)> {
     for warning in &loaded.warnings {
         eprintln!("warning: {}: {warning}", path.display());
     }
-    let attributes = loaded.attributes.filter(has_values);
+    let attributes = loaded.attributes.filter(super::has_attribute_values);
     Ok((loaded.mesh, attributes))
-}
-
-/// Whether `a` holds values the attribute deviation measures (materials alone do not count).
-fn has_values(a: &Attributes) -> bool {
-    a.normals.is_some() || a.uv0.is_some() || a.uv1.is_some() || a.colors.is_some()
 }
 
 /// Run `gng3d metrics`.
