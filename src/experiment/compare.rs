@@ -3,7 +3,8 @@
 use super::ExperimentError;
 use gng3d_core::{GngOptions, GngTarget};
 use mesh::TriMesh;
-use metrics::{MetricsParams, MetricsReport};
+use mesh::attributes::Attributes;
+use metrics::{AttributeParams, MetricsParams, MetricsReport};
 use qem::{QemParams, Target};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -19,6 +20,8 @@ pub struct CompareParams {
     pub qem: QemParams,
     /// Metric settings (surface sampling).
     pub metrics: MetricsParams,
+    /// Attribute-deviation settings, used when [`compare_with_attributes`] is given attributes.
+    pub attributes: AttributeParams,
 }
 
 impl CompareParams {
@@ -34,6 +37,7 @@ impl CompareParams {
             },
             qem: QemParams::with_target(Target::Vertices(target_vertices)),
             metrics: MetricsParams::default(),
+            attributes: AttributeParams::default(),
         }
     }
 }
@@ -142,6 +146,10 @@ pub struct Comparison {
     pub qem_mesh: TriMesh,
     /// GNG3D's mesh.
     pub gng_mesh: TriMesh,
+    /// QEM's attributes (kept through its contractions), when the input had some.
+    pub qem_attributes: Option<Attributes>,
+    /// GNG3D's attributes (transferred from the original surface), when the input had some.
+    pub gng_attributes: Option<Attributes>,
 }
 
 /// Simplify `original` (expected welded) with both methods to `params.target_vertices` and
@@ -175,6 +183,21 @@ impl std::fmt::Display for CompareStage {
 pub fn compare_with_progress(
     original: &TriMesh,
     params: &CompareParams,
+    on_stage: impl FnMut(CompareStage),
+) -> Result<Comparison, ExperimentError> {
+    compare_with_attributes(original, None, params, on_stage)
+}
+
+/// [`compare_with_progress`] for an original with `attributes` (which must fit it): QEM keeps
+/// them through its contractions (`qem::simplify_with_attributes`, as `gng3d simplify` does),
+/// GNG3D's output takes them from the original surface (`mesh::transfer::transfer_attributes`,
+/// as `gng3d simplify` does), and each method's [`MetricsReport::attributes`] holds the
+/// attribute deviation ([`metrics::attribute_deviation`] with `params.attributes`). Without
+/// attributes this is [`compare_with_progress`].
+pub fn compare_with_attributes(
+    original: &TriMesh,
+    attributes: Option<&Attributes>,
+    params: &CompareParams,
     mut on_stage: impl FnMut(CompareStage),
 ) -> Result<Comparison, ExperimentError> {
     let n = params.target_vertices;
@@ -191,11 +214,20 @@ pub fn compare_with_progress(
     };
     gp.resolve(original)?;
     params.metrics.hausdorff.validate()?;
+    if attributes.is_some() {
+        params.attributes.validate()?;
+    }
     let mut qp = params.qem.clone();
     qp.target = Target::Vertices(n);
     on_stage(CompareStage::Qem);
     let t = Instant::now();
-    let (qem_mesh, _) = qem::simplify(original, &qp)?;
+    let (qem_mesh, qem_attributes) = match attributes {
+        Some(a) => {
+            let (mesh, a, _) = qem::simplify_with_attributes(original, a, &qp)?;
+            (mesh, Some(a))
+        }
+        None => (qem::simplify(original, &qp)?.0, None),
+    };
     let qem_seconds = t.elapsed().as_secs_f64();
 
     on_stage(CompareStage::Gng);
@@ -211,10 +243,26 @@ pub fn compare_with_progress(
         }
     }
 
+    let gng_attributes =
+        attributes.map(|a| mesh::transfer::transfer_attributes(original, a, &gng.mesh));
+
     on_stage(CompareStage::Metrics);
+    let measure = |mesh: &TriMesh, kept: Option<&Attributes>| {
+        let mut report = metrics::evaluate(original, mesh, &params.metrics)?;
+        if let (Some(a), Some(b)) = (attributes, kept) {
+            report.attributes = Some(metrics::attribute_deviation(
+                original,
+                a,
+                mesh,
+                b,
+                &params.attributes,
+            )?);
+        }
+        Ok::<_, metrics::MetricsError>(report)
+    };
     let (qem_metrics, gng_metrics) = rayon::join(
-        || metrics::evaluate(original, &qem_mesh, &params.metrics),
-        || metrics::evaluate(original, &gng.mesh, &params.metrics),
+        || measure(&qem_mesh, qem_attributes.as_ref()),
+        || measure(&gng.mesh, gng_attributes.as_ref()),
     );
     let run = |method: &str, mesh: &TriMesh, seconds: f64, metrics: MetricsReport| MethodRun {
         method: method.into(),
@@ -237,5 +285,7 @@ pub fn compare_with_progress(
         },
         qem_mesh,
         gng_mesh: gng.mesh,
+        qem_attributes,
+        gng_attributes,
     })
 }

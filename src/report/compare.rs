@@ -111,6 +111,7 @@ pub fn comparison_table(report: &CompareReport) -> Table {
         "%",
         100.0,
     );
+    attribute_rows(&mut t, qm.attributes.as_ref(), gm.attributes.as_ref());
     let mut int =
         |name: &str, a: String, b: String| t.push([name.to_string(), a, b, String::new()]);
     int("vertices", q.vertices.to_string(), g.vertices.to_string());
@@ -147,6 +148,78 @@ pub fn comparison_table(report: &CompareReport) -> Table {
         format!("{:.2}°", gq.min_angle_degrees),
     );
     t
+}
+
+/// The attribute-deviation rows (samples on each simplified mesh against the original), when
+/// the input had attributes: per attribute of the original, the method's figure, or "dropped"
+/// where its output does not have the attribute.
+fn attribute_rows(
+    t: &mut Table,
+    qem: Option<&metrics::AttributeDeviation>,
+    gng: Option<&metrics::AttributeDeviation>,
+) {
+    let (Some(q), Some(g)) = (qem, gng) else {
+        return;
+    };
+    type Pick = fn(&metrics::AttributeDeviation) -> Option<f64>;
+    let uv_mean: Pick = |a| a.backward.uv0.map(|u| u.texels.mean);
+    let uv_max: Pick = |a| a.backward.uv0.map(|u| u.texels.max);
+    let uv_over: Pick = |a| a.backward.uv0.map(|u| 100.0 * u.over_threshold);
+    let normal_mean: Pick = |a| a.backward.normals.map(|n| n.mean_degrees);
+    let color_mean: Pick = |a| a.backward.colors.map(|c| c.mean);
+    let size = q.texture_size;
+    let threshold = q.uv_threshold;
+    let rows: [(String, &str, Pick, String); 5] = [
+        (
+            format!("UV deviation, mean (texels of {size}²)"),
+            "uv0",
+            uv_mean,
+            String::new(),
+        ),
+        (
+            format!("UV deviation, max (texels of {size}²)"),
+            "uv0",
+            uv_max,
+            String::new(),
+        ),
+        (
+            format!("UV samples off by > {threshold}"),
+            "uv0",
+            uv_over,
+            "%".into(),
+        ),
+        (
+            "attribute normal deviation, mean".into(),
+            "normals",
+            normal_mean,
+            "°".into(),
+        ),
+        (
+            "colour deviation, mean (RGB)".into(),
+            "colors",
+            color_mean,
+            String::new(),
+        ),
+    ];
+    let had = |a: &metrics::AttributeDeviation, name: &str| {
+        a.compared.iter().chain(&a.missing).any(|n| n == name)
+    };
+    for (label, name, pick, unit) in rows {
+        if !had(q, name) && !had(g, name) {
+            continue;
+        }
+        let cell = |a: &metrics::AttributeDeviation| match pick(a) {
+            Some(v) => format!("{v:.2}{unit}"),
+            None => "dropped".to_string(),
+        };
+        let better = match (pick(q), pick(g)) {
+            (Some(a), Some(b)) => winner(a, b),
+            (Some(_), None) => "QEM",
+            (None, Some(_)) => "GNG3D",
+            (None, None) => "",
+        };
+        t.push([label, cell(q), cell(g), better.to_string()]);
+    }
 }
 
 #[cfg(test)]

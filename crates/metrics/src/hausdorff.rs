@@ -354,7 +354,7 @@ impl Partial {
 }
 
 /// Derives the per-direction seed (splitmix64 finaliser of `seed + salt`).
-fn derive_seed(seed: u64, salt: u64) -> u64 {
+pub(crate) fn derive_seed(seed: u64, salt: u64) -> u64 {
     let mut z = seed.wrapping_add(salt.wrapping_mul(0x9E37_79B9_7F4A_7C15));
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -388,6 +388,13 @@ pub fn one_sided(
 pub(crate) struct Drawn {
     samples: StratifiedSamples,
     normals: Vec<Vec3>,
+}
+
+impl Drawn {
+    /// The samples, in the target's frame.
+    pub(crate) fn samples(&self) -> &[SurfaceSample] {
+        &self.samples.samples
+    }
 }
 
 /// Draws the samples of one direction on `source` (validated), held in `frame` (the target
@@ -711,7 +718,7 @@ pub(crate) fn hausdorff_pipelined(
 }
 
 /// Replaces the generic mesh role in an error with the caller's name for it.
-fn rename(e: MetricsError, which: &'static str) -> MetricsError {
+pub(crate) fn rename(e: MetricsError, which: &'static str) -> MetricsError {
     match e {
         MetricsError::NoTriangles { .. } => MetricsError::NoTriangles { mesh: which },
         MetricsError::NoVertices { .. } => MetricsError::NoVertices { mesh: which },

@@ -267,7 +267,7 @@ impl SurfaceDistanceIndex {
 
     /// The nearest slot to frame point `q` by the f32 search, or by an exact scan of every
     /// triangle when the search finds none (a point beyond the f32 range of the frame).
-    fn nearest_or_scan(&self, q: DVec3, hint: u32, stack: &mut Vec<(u32, f32)>) -> u32 {
+    pub(crate) fn nearest_or_scan(&self, q: DVec3, hint: u32, stack: &mut Vec<(u32, f32)>) -> u32 {
         let slot = self.nearest_slot(Vec3A::from(q.as_vec3()), hint, f32::INFINITY, stack);
         if slot != NO_SLOT {
             return slot;

@@ -6,6 +6,8 @@
 //! - [`surface_error`]: the paper's area difference E_sur.
 //! - [`hausdorff`]: Metro-style two-sided sampled surface distance (max / mean / RMS per
 //!   direction, symmetric Hausdorff), exact closest points through [`SurfaceDistanceIndex`].
+//! - [`attribute_deviation`]: Metro-style deviation of texture coordinates (UV units and
+//!   texels), normals (degrees) and colours (RGB) between the two surfaces, both directions.
 //! - [`Evaluator`] / [`evaluate`]: everything above in one serde-serializable record,
 //!   [`MetricsReport`] (alias [`Evaluation`]), with the original indexed once.
 //!
@@ -22,6 +24,7 @@
 //! assert!(h.max > 0.0 && h.max < 0.05 && h.mean < h.max);
 //! ```
 
+mod attributes;
 mod closest;
 mod frame;
 mod hausdorff;
@@ -31,6 +34,10 @@ mod quality;
 mod report;
 mod sliver;
 
+pub use attributes::{
+    AngleDeviation, AttributeDeviation, AttributeErrors, AttributeParams, TIE, UvDeviation,
+    attribute_deviation,
+};
 pub use closest::{closest_point_segment, closest_point_triangle};
 pub use frame::MAX_SPAN;
 pub use hausdorff::{
@@ -51,6 +58,7 @@ use mesh::sampling::SamplingError;
 
 /// Why metrics could not be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MetricsError {
     /// The mesh has no triangles (a surface distance needs at least one).
     #[error("the {mesh} mesh has no triangles")]
@@ -96,6 +104,14 @@ pub enum MetricsError {
         direction: &'static str,
         /// Samples excluded.
         excluded: usize,
+    },
+    /// The attributes do not fit their mesh (see [`mesh::attributes::Attributes::validate`]).
+    #[error("the attributes of the {mesh} mesh do not fit it: {problem}")]
+    Attributes {
+        /// Which mesh.
+        mesh: &'static str,
+        /// What does not fit.
+        problem: String,
     },
     /// The mesh is malformed (bad index, non-finite coordinate) or has no area to sample.
     #[error("the {mesh} mesh cannot be sampled: {problem}")]

@@ -98,8 +98,12 @@ pub struct MetricsReport {
     pub topology: Pair<TopologyReport>,
     /// Sizes of both meshes.
     pub meshes: Pair<MeshSummary>,
-    /// Wall-clock time of the evaluation, seconds.
+    /// Wall-clock time of the evaluation, seconds (the attribute deviation has its own).
     pub seconds: f64,
+    /// Deviation of texture coordinates, normals and colours ([`crate::attribute_deviation`]),
+    /// when the caller measured it (the original has attributes); not in the JSON otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attributes: Option<crate::AttributeDeviation>,
 }
 
 /// The evaluation record (same type as [`MetricsReport`]).
@@ -342,6 +346,7 @@ fn assemble(
         topology,
         meshes,
         seconds: start.elapsed().as_secs_f64(),
+        attributes: None,
     }
 }
 

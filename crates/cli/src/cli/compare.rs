@@ -1,13 +1,12 @@
 //! `gng3d compare`: QEM and GNG3D-Q (or, with `--paper`, GNG3D as published) to the same
 //! vertex count, all metrics, an aligned table.
 
-use super::load_prepared;
 use anyhow::Context;
 use clap::Args;
-use gng3d::experiment::compare::{CompareParams, compare_with_progress};
+use gng3d::experiment::compare::{CompareParams, compare_with_attributes};
 use gng3d::report::compare::comparison_table;
 use gng3d_core::{GngOptions, GngTarget};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `gng3d compare`.
 #[derive(Debug, Args)]
@@ -33,6 +32,13 @@ pub struct CompareArgs {
     /// fastest one.
     #[arg(long)]
     pub time_limit: Option<f64>,
+    /// Side of the texture, in texels, that UV deviations are given in (inputs with texture
+    /// coordinates).
+    #[arg(long, default_value_t = 1024)]
+    pub texture_size: u32,
+    /// UV distance above which a sample counts as off (inputs with texture coordinates).
+    #[arg(long, default_value_t = 0.05)]
+    pub uv_threshold: f64,
     /// Print the JSON report instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -71,12 +77,19 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     params.metrics.hausdorff.seed = args.seed;
     params.metrics.hausdorff.samples = args.samples;
     params.metrics.hausdorff.validate()?;
+    params.attributes = metrics::AttributeParams {
+        samples: args.samples,
+        seed: args.seed,
+        texture_size: args.texture_size,
+        uv_threshold: args.uv_threshold,
+    };
+    params.attributes.validate()?;
     if let Some(dir) = &args.out {
         super::prepare_output_folder(dir)?;
     }
-    let original = load_prepared(&args.input, false)?;
+    let (original, attributes) = load(&args.input)?;
     let progress = super::progress::spinner(args.json);
-    let result = compare_with_progress(&original, &params, |stage| {
+    let result = compare_with_attributes(&original, attributes.as_ref(), &params, |stage| {
         progress.set_message(stage.to_string())
     });
     progress.finish_and_clear();
@@ -104,4 +117,52 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
         out!("{}", comparison_table(&result.report).to_text());
         Ok(())
     }
+}
+
+/// The input, cleaned as `load_prepared` does, with its normals, texture coordinates and
+/// colours following the cleaning (`None` without any); what compare does not use or write is
+/// a warning: attributes are measured (attribute-deviation rows) but `--out` writes positions
+/// only, and materials are not used.
+fn load(path: &Path) -> anyhow::Result<(mesh::TriMesh, Option<mesh::attributes::Attributes>)> {
+    crate::process::working_on(path);
+    let loaded = mesh::io::load(path)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+    let Some(attributes) = loaded.attributes.filter(super::has_attribute_values) else {
+        if loaded.materials.is_some() {
+            eprintln!(
+                "warning: {}: materials not used: this command measures and writes positions \
+                 only (`gng3d simplify` keeps them)",
+                path.display()
+            );
+        }
+        return Ok((mesh::clean::prepare(&loaded.mesh).0, None));
+    };
+    if attributes.face_material.is_some() || loaded.materials.is_some() {
+        eprintln!(
+            "warning: {}: materials not used: this command measures and writes positions only \
+             (`gng3d simplify` keeps them)",
+            path.display()
+        );
+    }
+    let names: Vec<&str> = attributes
+        .names()
+        .into_iter()
+        .filter(|&name| name != "materials")
+        .map(|name| match name {
+            "uv0" => "texture coordinates",
+            "uv1" => "second texture coordinates",
+            "colors" => "vertex colours",
+            other => other,
+        })
+        .collect();
+    eprintln!(
+        "warning: {}: {} measured (attribute deviation) but not written: --out writes \
+         positions only (`gng3d simplify` keeps them)",
+        path.display(),
+        names.join(", ")
+    );
+    let (mesh, attributes, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &attributes);
+    Ok((mesh, Some(attributes)))
 }

@@ -3,7 +3,11 @@
 use anyhow::Context;
 use clap::Args;
 use gng3d::report::eng;
-use metrics::{HausdorffParams, MetricsParams, MetricsReport, OneSided, SamplingPlan, evaluate};
+use mesh::attributes::Attributes;
+use metrics::{
+    AttributeDeviation, AttributeErrors, AttributeParams, HausdorffParams, MetricsParams,
+    MetricsReport, OneSided, SamplingPlan, attribute_deviation, evaluate,
+};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `gng3d metrics`.
@@ -26,20 +30,29 @@ pub struct MetricsArgs {
     /// Seed of the surface sampler.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Side of the texture, in texels, that UV deviations are also given in (when both meshes
+    /// have texture coordinates; 1 UV unit = this many texels).
+    #[arg(long, default_value_t = 1024)]
+    pub texture_size: u32,
+    /// UV distance (UV units) above which a sample counts as off in the share reported.
+    #[arg(long, default_value_t = 0.05)]
+    pub uv_threshold: f64,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
 }
 
-/// Loads a mesh, naming the file in errors and printing loader warnings to stderr.
-fn load(path: &Path) -> anyhow::Result<mesh::TriMesh> {
+/// Loads a mesh and its attributes (normals, texture coordinates, colours; `None` without
+/// any), naming the file in errors and printing loader warnings to stderr.
+fn load(path: &Path) -> anyhow::Result<(mesh::TriMesh, Option<Attributes>)> {
     // MeshError names the file already; no extra context, so the path is said once.
     crate::process::working_on(path);
     let loaded = mesh::io::load(path)?;
     for warning in &loaded.warnings {
         eprintln!("warning: {}: {warning}", path.display());
     }
-    Ok(loaded.mesh)
+    let attributes = loaded.attributes.filter(super::has_attribute_values);
+    Ok((loaded.mesh, attributes))
 }
 
 /// Run `gng3d metrics`.
@@ -56,14 +69,38 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
             ..Default::default()
         },
     };
+    let attribute_params = AttributeParams {
+        samples: args.samples,
+        seed: args.seed,
+        texture_size: args.texture_size,
+        uv_threshold: args.uv_threshold,
+    };
     // Checked before loading: --samples 0 or a count beyond the memory limit is an error.
     params.hausdorff.validate().context("--samples")?;
+    attribute_params.validate()?;
     let progress = super::progress::spinner(args.json);
     progress.set_message("loading both meshes");
     let (original, simplified) = rayon::join(|| load(&args.original), || load(&args.simplified));
-    let (original, simplified) = (original?, simplified?);
+    let ((original, original_attributes), (simplified, simplified_attributes)) =
+        (original?, simplified?);
     progress.set_message("measuring: paper errors, surface distance both ways, quality");
-    let report = evaluate(&original, &simplified, &params);
+    let report = evaluate(&original, &simplified, &params).and_then(|mut report| {
+        // The original's attributes against the simplified mesh's (all missing when it has
+        // none, so a dropped texture is said, not silently left out).
+        if let Some(a) = &original_attributes {
+            progress.set_message("measuring: attribute deviation both ways");
+            let none = Attributes::per_vertex(&simplified);
+            let b = simplified_attributes.as_ref().unwrap_or(&none);
+            report.attributes = Some(attribute_deviation(
+                &original,
+                a,
+                &simplified,
+                b,
+                &attribute_params,
+            )?);
+        }
+        Ok(report)
+    });
     progress.finish_and_clear();
     let report = report.with_context(|| {
         format!(
@@ -177,6 +214,76 @@ fn print_text(args: &MetricsArgs, r: &MetricsReport) -> anyhow::Result<()> {
             t.non_manifold_vertices
         );
     }
+    if let Some(a) = &r.attributes {
+        print_attributes(a)?;
+    }
     outln!("time                  {:.3} s", r.seconds);
+    Ok(())
+}
+
+/// The attribute deviation's lines.
+fn print_attributes(a: &AttributeDeviation) -> anyhow::Result<()> {
+    let list = |v: &[String]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    outln!(
+        "attributes            compared {}; not in the simplified mesh: {} ({:.3} s)",
+        list(&a.compared),
+        list(&a.missing),
+        a.seconds
+    );
+    if a.compared.is_empty() {
+        return Ok(());
+    }
+    outln!(
+        "  samples             {} per direction (backward: on the simplified mesh, against the original at the closest point; forward: the reverse)",
+        a.backward.samples
+    );
+    let dirs = [("backward", &a.backward), ("forward ", &a.forward)];
+    for (name, pick) in [
+        (
+            "uv0",
+            (|e: &AttributeErrors| e.uv0) as fn(&AttributeErrors) -> _,
+        ),
+        ("uv1", |e: &AttributeErrors| e.uv1),
+    ] {
+        for (dir, e) in dirs {
+            if let Some(u) = pick(e) {
+                outln!(
+                    "  {name} {dir}        mean {:.3}  rms {:.3}  max {:.1} texels of {}²  (max {} UV; {:.2} % of samples > {} UV)",
+                    u.texels.mean,
+                    u.texels.rms,
+                    u.texels.max,
+                    a.texture_size,
+                    eng(u.uv.max),
+                    100.0 * u.over_threshold,
+                    a.uv_threshold
+                );
+            }
+        }
+    }
+    for (dir, e) in dirs {
+        if let Some(n) = e.normals {
+            outln!(
+                "  normals {dir}    mean {:.2}°  max {:.1}°",
+                n.mean_degrees,
+                n.max_degrees
+            );
+        }
+    }
+    for (dir, e) in dirs {
+        if let Some(c) = e.colors {
+            outln!(
+                "  colors {dir}     mean {}  rms {}  max {}  (RGB distance, channels 0-1)",
+                eng(c.mean),
+                eng(c.rms),
+                eng(c.max)
+            );
+        }
+    }
     Ok(())
 }

@@ -202,6 +202,11 @@ pub(crate) fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) -> anyh
 
 /// Load a mesh for the algorithms: welded, without degenerate/duplicate faces or unreferenced
 /// vertices unless `raw`; loader warnings and what cleaning removed go to stderr.
+/// Whether `a` holds values the attribute deviation measures (materials alone do not count).
+pub(crate) fn has_attribute_values(a: &mesh::attributes::Attributes) -> bool {
+    a.normals.is_some() || a.uv0.is_some() || a.uv1.is_some() || a.colors.is_some()
+}
+
 pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result<mesh::TriMesh> {
     // MeshError names the file already; no extra context, so the path is said once.
     crate::process::working_on(path);
