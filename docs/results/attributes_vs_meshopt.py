@@ -337,7 +337,7 @@ def main():
     ap.add_argument("--samples", type=int, default=100_000)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--ratios", default="0.1,0.05")
-    ap.add_argument("--weights", default="uv=0.25,normal=0.1,color=0.25",
+    ap.add_argument("--weights", default="uv=0,normal=0,color=0",
                     help="the attribute weights given to both (gng3d --attribute-weights)")
     ap.add_argument("--ours-weights", default=None,
                     help="gng3d's --attribute-weights when not --weights (weight experiments)")

@@ -61,8 +61,9 @@ pub struct SimplifyArgs {
     #[arg(long, value_name = "E")]
     pub max_error: Option<f64>,
     /// QEM with attributes: weights of the attribute error in the collapse cost, e.g.
-    /// `uv=1,normal=0.5,color=1` (a deviation δ costs as much as a distance weight·δ of the
-    /// bounding-box diagonal; names not given keep their defaults, 0 leaves one out).
+    /// `normal=0.05` (a deviation δ costs as much as a distance weight·δ of the bounding-box
+    /// diagonal; all 0 by default: the geometric order, seams still held and values taken
+    /// from the original; names not given stay 0).
     #[arg(long, value_name = "NAME=W,...")]
     pub attribute_weights: Option<String>,
     /// GNG3D maximum running time in seconds: training and every step after it, from the start
