@@ -37,8 +37,27 @@ struct Info {
     closed: bool,
     manifold: bool,
     has_vertex_normals: bool,
+    /// Normals, texture coordinates, colours and materials, when the file has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    attributes: Option<AttributeInfo>,
     load_seconds: f64,
     warnings: Vec<String>,
+}
+
+/// The attributes of a mesh with any (`--json`'s `attributes`).
+#[derive(Debug, Serialize)]
+struct AttributeInfo {
+    /// Attribute names as `simplify --json` lists them (`normals`, `uv0`, `uv1`, `colors`,
+    /// `materials`).
+    names: Vec<&'static str>,
+    /// Attribute sets (a vertex on a seam has one per side).
+    wedges: usize,
+    /// Edges across which a value or the material changes.
+    seam_edges: usize,
+    /// Regions of triangles joined across edges that are not seams.
+    charts: usize,
+    /// Material names, in the file's order.
+    materials: Vec<String>,
 }
 
 /// Run `gng3d info`.
@@ -67,6 +86,22 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         closed: t.closed,
         manifold: t.manifold,
         has_vertex_normals: loaded.vertex_normals.is_some(),
+        attributes: loaded.attributes.as_ref().map(|a| AttributeInfo {
+            names: a.names(),
+            wedges: a.wedge_count(),
+            seam_edges: a.seam_edges(m).len(),
+            charts: a
+                .charts(m)
+                .iter()
+                .map(|&c| c as usize + 1)
+                .max()
+                .unwrap_or(0),
+            materials: loaded
+                .materials
+                .as_ref()
+                .map(|mats| mats.names.clone())
+                .unwrap_or_default(),
+        }),
         load_seconds,
         warnings: loaded.warnings.iter().map(|w| w.to_string()).collect(),
     };
@@ -107,6 +142,18 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         "bbox diagonal         {} units",
         gng3d::report::eng(info.bbox_diagonal)
     );
+    if let Some(a) = &info.attributes {
+        outln!(
+            "attributes            {} ({} wedges, {} seam edges, {} charts)",
+            a.names.join(", "),
+            a.wedges,
+            a.seam_edges,
+            a.charts
+        );
+        if !a.materials.is_empty() {
+            outln!("materials             {}", a.materials.join(", "));
+        }
+    }
     outln!("load time             {:.3} s", info.load_seconds);
     for w in &info.warnings {
         outln!("warning: {w}");
