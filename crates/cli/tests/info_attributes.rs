@@ -24,10 +24,10 @@ fn info_counts_wedges_seams_and_materials_of_a_textured_obj() {
     let mut ends: HashMap<(u32, u32), Vec<(String, String)>> = HashMap::new();
     let mut materials = Vec::new();
     for line in text.lines() {
-        if let Some(name) = line.strip_prefix("usemtl ") {
-            if !materials.contains(&name.trim().to_string()) {
-                materials.push(name.trim().to_string());
-            }
+        if let Some(name) = line.strip_prefix("usemtl ")
+            && !materials.contains(&name.trim().to_string())
+        {
+            materials.push(name.trim().to_string());
         }
         let Some(rest) = line.strip_prefix("f ") else {
             continue;
