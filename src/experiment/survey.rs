@@ -6,11 +6,18 @@
 //! output vertex count; run GNG3D-Q; run QEM to GNG3D-Q's output vertex count (both GNG
 //! variants hold the exact count on closed manifolds, so the two QEM runs usually coincide in
 //! count, but each comparison is at equal vertex count by construction); measure all four.
+//!
+//! An original with attributes (normals, texture coordinates, colours:
+//! [`survey_mesh_with_attributes`]) keeps them through every method as `gng3d simplify` and
+//! `gng3d compare` do (QEM through `qem::simplify_with_attributes`, both GNG3D variants'
+//! outputs through `mesh::transfer::transfer_attributes`), and each output's attribute
+//! deviation ([`metrics::attribute_deviation`]) is in [`SurveyRow::attributes`].
 
 use super::{ExperimentError, PaperEvaluator, PaperRow};
 use gng3d_core::{GngOptions, GngTarget};
 use mesh::TriMesh;
-use metrics::HausdorffParams;
+use mesh::attributes::Attributes;
+use metrics::{AttributeDeviation, AttributeParams, HausdorffParams};
 use qem::{QemParams, Target};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -30,6 +37,8 @@ pub struct SurveyParams {
     pub qem: QemParams,
     /// Surface sampling of the Hausdorff distance.
     pub hausdorff: HausdorffParams,
+    /// Attribute-deviation settings, used for originals with attributes.
+    pub attributes: AttributeParams,
 }
 
 impl Default for SurveyParams {
@@ -49,6 +58,7 @@ impl Default for SurveyParams {
             },
             qem: QemParams::default(),
             hausdorff: HausdorffParams::with_samples(200_000),
+            attributes: AttributeParams::default(),
         }
     }
 }
@@ -88,12 +98,57 @@ pub struct SurveyRow {
     pub gngq_genus: Option<i64>,
     /// GNG3D-Q seconds (both phases).
     pub gngq_seconds: f64,
+    /// Each output's attribute deviation, when the original has attributes (absent from the
+    /// JSON otherwise, so a positions-only survey's files are as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attributes: Option<SurveyAttributes>,
+}
+
+/// The attribute deviation of each output of one [`SurveyRow`] against the original.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SurveyAttributes {
+    /// GNG3D's (attributes transferred from the original surface).
+    pub gng: AttributeDeviation,
+    /// QEM's at GNG3D's output vertex count (attributes kept through the contractions).
+    pub qem: AttributeDeviation,
+    /// GNG3D-Q's (attributes transferred from the original surface).
+    pub gngq: AttributeDeviation,
+    /// QEM's at GNG3D-Q's output vertex count.
+    pub qem_at_gngq: AttributeDeviation,
 }
 
 /// Run GNG3D, GNG3D-Q and QEM on `original` (welded) at every ratio of `params`.
 pub fn survey_mesh(
     name: &str,
     original: &TriMesh,
+    params: &SurveyParams,
+) -> Result<Vec<SurveyRow>, ExperimentError> {
+    survey_mesh_with_attributes(name, original, None, params)
+}
+
+/// QEM to `target` vertices, keeping `attributes` when given.
+fn run_qem(
+    original: &TriMesh,
+    attributes: Option<&Attributes>,
+    params: &QemParams,
+) -> Result<(TriMesh, Option<Attributes>), ExperimentError> {
+    Ok(match attributes {
+        Some(a) => {
+            let (mesh, a, _) = qem::simplify_with_attributes(original, a, params)?;
+            (mesh, Some(a))
+        }
+        None => (qem::simplify(original, params)?.0, None),
+    })
+}
+
+/// [`survey_mesh`] for an original with `attributes` (which must fit it; `None`: positions
+/// only, exactly [`survey_mesh`]): every method keeps them (see the module docs) and each
+/// row's [`SurveyRow::attributes`] holds every output's attribute deviation, measured with
+/// `params.attributes`.
+pub fn survey_mesh_with_attributes(
+    name: &str,
+    original: &TriMesh,
+    attributes: Option<&Attributes>,
     params: &SurveyParams,
 ) -> Result<Vec<SurveyRow>, ExperimentError> {
     let n = original.vertex_count();
@@ -106,7 +161,22 @@ pub fn survey_mesh(
     }
     crate::experiment::reproduce::check_epochs(params.epochs)
         .map_err(ExperimentError::BadTarget)?;
+    if attributes.is_some() {
+        params.attributes.validate()?;
+    }
     let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
+    let deviation = |mesh: &TriMesh, kept: &Option<Attributes>| match (attributes, kept) {
+        (Some(a), Some(b)) => Ok(Some(metrics::attribute_deviation(
+            original,
+            a,
+            mesh,
+            b,
+            &params.attributes,
+        )?)),
+        _ => Ok::<_, ExperimentError>(None),
+    };
+    let transfer =
+        |mesh: &TriMesh| attributes.map(|a| mesh::transfer::transfer_attributes(original, a, mesh));
     let topo = mesh::topology::analyze(original);
     let mut rows = Vec::new();
     for &ratio in &params.ratios {
@@ -124,7 +194,7 @@ pub fn survey_mesh(
         let mut qp = params.qem.clone();
         qp.target = Target::Vertices(gng.mesh.vertex_count().max(4));
         let t = Instant::now();
-        let (qem_mesh, _) = qem::simplify(original, &qp)?;
+        let (qem_mesh, qem_attributes) = run_qem(original, attributes, &qp)?;
         let qem_seconds = t.elapsed().as_secs_f64();
         // GNG3D-Q with the defaults a user of `simplify --method gng` gets.
         let gqp = GngOptions {
@@ -134,11 +204,30 @@ pub fn survey_mesh(
         let t = Instant::now();
         let gngq = gng3d_core::simplify(original, &gqp)?;
         let gngq_seconds = t.elapsed().as_secs_f64();
+        let qem_deviation = deviation(&qem_mesh, &qem_attributes)?;
+        let qem_at_gngq_attributes;
         let qem_at_gngq = if gngq.mesh.vertex_count() == gng.mesh.vertex_count() {
+            qem_at_gngq_attributes = qem_deviation.clone();
             evaluator.evaluate(&qem_mesh)?
         } else {
             qp.target = Target::Vertices(gngq.mesh.vertex_count().max(4));
-            evaluator.evaluate(&qem::simplify(original, &qp)?.0)?
+            let (mesh, kept) = run_qem(original, attributes, &qp)?;
+            qem_at_gngq_attributes = deviation(&mesh, &kept)?;
+            evaluator.evaluate(&mesh)?
+        };
+        let deviations = match (
+            deviation(&gng.mesh, &transfer(&gng.mesh))?,
+            qem_deviation,
+            deviation(&gngq.mesh, &transfer(&gngq.mesh))?,
+            qem_at_gngq_attributes,
+        ) {
+            (Some(gng), Some(qem), Some(gngq), Some(qem_at_gngq)) => Some(SurveyAttributes {
+                gng,
+                qem,
+                gngq,
+                qem_at_gngq,
+            }),
+            _ => None,
         };
         let gqt = mesh::topology::analyze(&gngq.mesh);
         let gt = mesh::topology::analyze(&gng.mesh);
@@ -160,6 +249,7 @@ pub fn survey_mesh(
             gngq_closed_manifold: gqt.closed && gqt.manifold,
             gngq_genus: gqt.genus,
             gngq_seconds,
+            attributes: deviations,
         });
     }
     Ok(rows)

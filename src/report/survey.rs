@@ -7,6 +7,7 @@ use super::table::Table;
 use super::{ReportError, eng};
 use crate::experiment::PaperRow;
 use crate::experiment::survey::SurveyRow;
+use metrics::AttributeDeviation;
 use std::path::{Path, PathBuf};
 
 /// A measure of the survey: its name, how to read it from a row, and which way is better.
@@ -217,6 +218,96 @@ fn yes_no(b: bool) -> &'static str {
     if b { "yes" } else { "no" }
 }
 
+/// An attribute-deviation measure of the survey's tables: samples on each output against the
+/// original at their closest points (the direction `gng3d compare` reports).
+#[derive(Debug, Clone)]
+pub struct AttributeColumn {
+    /// Name in the CSV headers and the Markdown table, with its unit.
+    pub name: String,
+    /// The attribute it measures (`uv0`, `normals`, `colors`).
+    pub attribute: &'static str,
+    /// The value, when the output has the attribute.
+    pub get: fn(&AttributeDeviation) -> Option<f64>,
+    /// Unit appended to the value in a cell ("", " %", "°").
+    pub unit: &'static str,
+}
+
+impl AttributeColumn {
+    /// The cell of one output: the value, "dropped" where the original has the attribute and
+    /// the output does not, "-" where the original does not have it.
+    pub fn cell(&self, deviation: Option<&AttributeDeviation>) -> String {
+        let Some(a) = deviation else {
+            return "-".into();
+        };
+        match (self.get)(a) {
+            Some(v) => format!("{v:.2}{}", self.unit),
+            None if a.missing.iter().any(|n| n == self.attribute) => "dropped".into(),
+            None => "-".into(),
+        }
+    }
+}
+
+/// The attribute-deviation columns of `rows`: UV mean in texels and the share of UV samples off
+/// by more than the threshold (inputs with texture coordinates), the mean normal angle (with
+/// normals), the mean colour distance (with colours); none when no input has attributes, so a
+/// positions-only survey's tables are as before.
+pub fn attribute_columns(rows: &[SurveyRow]) -> Vec<AttributeColumn> {
+    let measured: Vec<&AttributeDeviation> = rows
+        .iter()
+        .filter_map(|r| r.attributes.as_ref().map(|a| &a.gngq))
+        .collect();
+    let Some(first) = measured.first() else {
+        return Vec::new();
+    };
+    let had = |name: &str| {
+        measured
+            .iter()
+            .any(|a| a.compared.iter().chain(&a.missing).any(|n| n == name))
+    };
+    let (size, threshold) = (first.texture_size, first.uv_threshold);
+    let mut columns = Vec::new();
+    if had("uv0") {
+        columns.push(AttributeColumn {
+            name: format!("UV deviation mean (texels of {size}²)"),
+            attribute: "uv0",
+            get: |a| a.backward.uv0.map(|u| u.texels.mean),
+            unit: "",
+        });
+        columns.push(AttributeColumn {
+            name: format!("UV samples off by > {threshold} UV"),
+            attribute: "uv0",
+            get: |a| a.backward.uv0.map(|u| 100.0 * u.over_threshold),
+            unit: " %",
+        });
+    }
+    if had("normals") {
+        columns.push(AttributeColumn {
+            name: "attribute normal deviation mean (degrees)".into(),
+            attribute: "normals",
+            get: |a| a.backward.normals.map(|n| n.mean_degrees),
+            unit: "°",
+        });
+    }
+    if had("colors") {
+        columns.push(AttributeColumn {
+            name: "colour deviation mean (linear RGB distance)".into(),
+            attribute: "colors",
+            get: |a| a.backward.colors.map(|c| c.mean),
+            unit: "",
+        });
+    }
+    columns
+}
+
+/// The attribute deviations of the three methods' outputs in one run, in table order
+/// (GNG3D (paper), GNG3D-Q, QEM at GNG3D-Q's count); `None` each for a run without attributes.
+fn deviations(r: &SurveyRow) -> [Option<&AttributeDeviation>; 3] {
+    match &r.attributes {
+        Some(a) => [Some(&a.gng), Some(&a.gngq), Some(&a.qem_at_gngq)],
+        None => [None; 3],
+    }
+}
+
 /// Every run with every measure of the three methods and the verdict of each GNG3D variant
 /// against QEM per metric (`summary.csv`). QEM is run to each variant's output vertex count;
 /// the `QEM` columns are QEM at GNG3D-Q's count, the paper's verdict is against QEM at its own
@@ -251,6 +342,12 @@ pub fn summary_table(rows: &[SurveyRow]) -> Table {
         ]
         .map(String::from),
     );
+    let columns = attribute_columns(rows);
+    for c in &columns {
+        for method in ["GNG3D (paper)", "GNG3D-Q", "QEM"] {
+            headers.push(format!("{} {method}", c.name));
+        }
+    }
     let mut t = Table::new(headers);
     for r in rows {
         let mut row = vec![
@@ -282,6 +379,9 @@ pub fn summary_table(rows: &[SurveyRow]) -> Table {
             format!("{:.3}", r.gngq_seconds),
             format!("{:.3}", r.qem_seconds),
         ]);
+        for c in &columns {
+            row.extend(deviations(r).map(|d| c.cell(d)));
+        }
         t.push(row);
     }
     t
@@ -303,7 +403,8 @@ fn value(metric: &Metric, row: &PaperRow) -> String {
 /// The per-run table of `summary.md`: the headline measures of the three methods side by side,
 /// GNG3D-Q's ratios to QEM, and the seconds.
 pub fn runs_table(rows: &[SurveyRow]) -> Table {
-    let mut t = Table::new([
+    let columns = attribute_columns(rows);
+    let mut headers: Vec<String> = [
         "mesh",
         "ratio",
         "vertices",
@@ -314,7 +415,13 @@ pub fn runs_table(rows: &[SurveyRow]) -> Table {
         "E_avg GNG3D (paper) / GNG3D-Q / QEM",
         "median min angle GNG3D (paper) / GNG3D-Q / QEM",
         "seconds GNG3D (paper) / GNG3D-Q / QEM",
-    ]);
+    ]
+    .map(String::from)
+    .to_vec();
+    for c in &columns {
+        headers.push(format!("{} GNG3D (paper) / GNG3D-Q / QEM", c.name));
+    }
+    let mut t = Table::new(headers);
     let three = |m: &Metric, r: &SurveyRow| {
         format!(
             "{} / {} / {}",
@@ -329,7 +436,7 @@ pub fn runs_table(rows: &[SurveyRow]) -> Table {
     };
     let [e_avg, _, _, hausdorff, mean, angle, _] = &METRICS;
     for r in rows {
-        t.push([
+        let mut row = vec![
             r.mesh.clone(),
             format!("{:.2}", r.ratio),
             r.gngq.vertices.to_string(),
@@ -343,7 +450,11 @@ pub fn runs_table(rows: &[SurveyRow]) -> Table {
                 "{:.2} / {:.2} / {:.3}",
                 r.gng_seconds, r.gngq_seconds, r.qem_seconds
             ),
-        ]);
+        ];
+        for c in &columns {
+            row.push(deviations(r).map(|d| c.cell(d)).join(" / "));
+        }
+        t.push(row);
     }
     t
 }
@@ -395,6 +506,16 @@ pub fn summary_markdown(rows: &[SurveyRow], skipped: &[(String, String)], epochs
         totals(rows),
         runs_table(rows).to_markdown()
     );
+    if !attribute_columns(rows).is_empty() {
+        text.push_str(
+            "\nAttribute columns (inputs with texture coordinates, normals or colours): every \
+             method keeps the input's attributes as `gng3d simplify` does (QEM through its \
+             contractions, both GNG3D variants by transfer from the original surface), and each \
+             output's deviation is measured as `gng3d compare` does, samples on the output \
+             against the original at their closest points; \"-\": the input does not have the \
+             attribute, \"dropped\": the output lost it. The verdict does not include them.\n",
+        );
+    }
     if !skipped.is_empty() {
         text.push_str("\n## Skipped\n\n");
         for (name, reason) in skipped {
@@ -538,6 +659,7 @@ mod tests {
             gngq_closed_manifold: true,
             gngq_genus: Some(0),
             gngq_seconds: 2.0,
+            attributes: None,
         }
     }
 

@@ -4,6 +4,7 @@
 
 use crate::error::{Result, ViewerError};
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use std::path::Path;
 
 /// GNG3D parameters as edited in the UI.
@@ -321,10 +322,33 @@ pub struct Reconstruction {
 /// QEM simplification of `mesh` to `target_vertices` vertices, with the CLI's note when it
 /// stopped above the target ([`qem::QemReport::shortfall`]: holes, small pieces).
 pub fn qem_simplify(mesh: &TriMesh, target_vertices: usize) -> Result<(TriMesh, Option<String>)> {
+    let (out, _, note) = qem_simplify_with_attributes(mesh, None, target_vertices)?;
+    Ok((out, note))
+}
+
+/// [`qem_simplify`] keeping `attributes` (of `mesh`'s corners) through the contractions, as
+/// `gng3d simplify --method qem` and `gng3d compare` do (`qem::simplify_with_attributes`);
+/// without attributes, [`qem_simplify`].
+pub fn qem_simplify_with_attributes(
+    mesh: &TriMesh,
+    attributes: Option<&Attributes>,
+    target_vertices: usize,
+) -> Result<(TriMesh, Option<Attributes>, Option<String>)> {
     let target = qem::Target::Vertices(target_vertices);
-    let (out, report) = qem::simplify(mesh, &qem::QemParams::with_target(target))
-        .map_err(|e| ViewerError::Qem(e.to_string()))?;
-    Ok((out, report.shortfall(target)))
+    let params = qem::QemParams::with_target(target);
+    let qem_error = |e: qem::QemError| ViewerError::Qem(e.to_string());
+    let (out, kept, report) = match attributes {
+        Some(a) => {
+            let (out, kept, report) =
+                qem::simplify_with_attributes(mesh, a, &params).map_err(qem_error)?;
+            (out, Some(kept), report)
+        }
+        None => {
+            let (out, report) = qem::simplify(mesh, &params).map_err(qem_error)?;
+            (out, None, report)
+        }
+    };
+    Ok((out, kept, report.shortfall(target)))
 }
 
 /// Surface samples per direction for the Hausdorff distance (keeps one evaluation to about a
@@ -365,6 +389,48 @@ pub struct Evaluation {
     pub median_min_angle_degrees: f64,
     /// Share of triangles whose smallest angle is under 20°, 0–1.
     pub below_20_degrees: f64,
+    /// Attribute deviation, when the original and the simplified mesh have attributes.
+    pub attributes: Option<AttributeFigures>,
+}
+
+/// The attribute deviation the table shows (a compact copy of fields of
+/// [`metrics::AttributeDeviation`]: samples on the simplified mesh against the original, the
+/// direction `gng3d compare` reports); `None` where the attribute is not in both meshes.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AttributeFigures {
+    /// Mean UV distance in texels of a `texture_size`² texture.
+    pub uv_texels_mean: Option<f64>,
+    /// Share (0–1) of the samples whose UV distance is above `uv_threshold`.
+    pub uv_over_threshold: Option<f64>,
+    /// Mean angle between the normals, degrees.
+    pub normal_degrees_mean: Option<f64>,
+    /// Mean colour distance (linear RGB, channels 0–1).
+    pub color_mean: Option<f64>,
+    /// Texels per UV unit.
+    pub texture_size: u32,
+    /// UV threshold, UV units.
+    pub uv_threshold: f64,
+}
+
+impl AttributeFigures {
+    /// The displayed fields of a [`metrics::AttributeDeviation`].
+    pub fn from_metrics(a: &metrics::AttributeDeviation) -> AttributeFigures {
+        let b = &a.backward;
+        AttributeFigures {
+            uv_texels_mean: b.uv0.map(|u| u.texels.mean),
+            uv_over_threshold: b.uv0.map(|u| u.over_threshold),
+            normal_degrees_mean: b.normals.map(|n| n.mean_degrees),
+            color_mean: b.colors.map(|c| c.mean),
+            texture_size: a.texture_size,
+            uv_threshold: a.uv_threshold,
+        }
+    }
+}
+
+/// The attribute-deviation parameters of every viewer evaluation: `gng3d compare`'s defaults
+/// (10 × the larger face count of samples per direction, 1024-texel texture, 0.05 UV).
+pub fn attribute_params() -> metrics::AttributeParams {
+    metrics::AttributeParams::default()
 }
 
 impl Evaluation {
@@ -380,6 +446,7 @@ impl Evaluation {
             hausdorff_mean: Some(e.hausdorff.mean),
             median_min_angle_degrees: e.quality.simplified.median_min_angle_degrees,
             below_20_degrees: e.quality.simplified.below_20_degrees,
+            attributes: None,
         }
     }
 }
@@ -392,6 +459,42 @@ pub fn evaluate(original: &TriMesh, simplified: &TriMesh) -> Result<Evaluation> 
         .and_then(|evaluator| evaluator.evaluate(simplified))
         .map_err(|e| ViewerError::Metrics(e.to_string()))?;
     Ok(Evaluation::from_metrics(&evaluation))
+}
+
+/// [`evaluate`] plus the attribute deviation ([`metrics::attribute_deviation`] with
+/// [`attribute_params`]) when both `original_attributes` and `simplified_attributes` are given.
+pub fn evaluate_with_attributes(
+    original: &TriMesh,
+    original_attributes: Option<&Attributes>,
+    simplified: &TriMesh,
+    simplified_attributes: Option<&Attributes>,
+) -> Result<Evaluation> {
+    let mut evaluation = evaluate(original, simplified)?;
+    if let (Some(a), Some(b)) = (original_attributes, simplified_attributes) {
+        let deviation =
+            metrics::attribute_deviation(original, a, simplified, b, &attribute_params())
+                .map_err(|e| ViewerError::Metrics(e.to_string()))?;
+        evaluation.attributes = Some(AttributeFigures::from_metrics(&deviation));
+    }
+    Ok(evaluation)
+}
+
+/// GNG3D's output with attributes taken from the original surface, as `gng3d simplify
+/// --method gng` does ([`mesh::transfer::transfer_attributes`]), then
+/// [`evaluate_with_attributes`]; without `original_attributes`, [`evaluate`].
+pub fn evaluate_reconstruction(
+    original: &TriMesh,
+    original_attributes: Option<&Attributes>,
+    reconstruction: &TriMesh,
+) -> Result<Evaluation> {
+    let transferred = original_attributes
+        .map(|a| mesh::transfer::transfer_attributes(original, a, reconstruction));
+    evaluate_with_attributes(
+        original,
+        original_attributes,
+        reconstruction,
+        transferred.as_ref(),
+    )
 }
 
 /// E_avg/E_max (squared model units) of the live network's nodes against the original
@@ -407,6 +510,9 @@ pub struct Loaded {
     pub mesh: TriMesh,
     /// Human-readable loader and cleaning notes.
     pub warnings: Vec<String>,
+    /// The mesh's normals, texture coordinates and colours, following the cleaning (`None`
+    /// when the file has none): kept by QEM, transferred to GNG3D's output, and measured.
+    pub attributes: Option<Attributes>,
 }
 
 /// Load a mesh file (OBJ/PLY/STL) and clean it for display and training.
@@ -420,7 +526,19 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
             .to_string(),
     })?;
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
-    let (mesh, report) = mesh::clean::prepare(&loaded.mesh);
+    let values = |a: &Attributes| {
+        a.normals.is_some() || a.uv0.is_some() || a.uv1.is_some() || a.colors.is_some()
+    };
+    let (mesh, attributes, report) = match loaded.attributes.filter(values) {
+        Some(a) => {
+            let (mesh, a, report) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
+            (mesh, Some(a), report)
+        }
+        None => {
+            let (mesh, report) = mesh::clean::prepare(&loaded.mesh);
+            (mesh, None, report)
+        }
+    };
     if report.welded_vertices > 0 || report.unreferenced_vertices > 0 {
         warnings.push(format!(
             "cleaned: {} vertices welded, {} unreferenced removed",
@@ -433,7 +551,11 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
             message: "the mesh has no usable faces".into(),
         });
     }
-    Ok(Loaded { mesh, warnings })
+    Ok(Loaded {
+        mesh,
+        warnings,
+        attributes,
+    })
 }
 
 /// Save a mesh; the format follows the extension (obj, ply, stl).

@@ -194,6 +194,8 @@ pub struct LoadedModel {
     pub mesh: Arc<TriMesh>,
     /// Loader and cleaning warnings.
     pub warnings: Vec<String>,
+    /// The mesh's normals, texture coordinates and colours (`None` without any).
+    pub attributes: Option<Arc<mesh::attributes::Attributes>>,
 }
 
 /// Load and clean `path` on a new thread.
@@ -207,6 +209,7 @@ pub fn spawn_load(path: PathBuf, ctx: Option<egui::Context>) -> Job<Result<Loade
             path: path.clone(),
             mesh: Arc::new(loaded.mesh),
             warnings: loaded.warnings,
+            attributes: loaded.attributes.map(Arc::new),
         })
     })
 }

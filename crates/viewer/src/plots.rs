@@ -3,7 +3,7 @@
 //! their own axes, and a checkpoint table like the paper's Table 1 with CSV export. Every plot
 //! spans the run's whole signal budget on x from the start, so the curves fill in left to right.
 
-use crate::engine::Evaluation;
+use crate::engine::{AttributeFigures, Evaluation};
 use crate::error::{Result, ViewerError};
 use egui::{Color32, Stroke};
 use egui_plot::{GridInput, GridMark, HLine, Line, LineStyle, Plot, PlotPoints, Points};
@@ -783,6 +783,59 @@ pub const TABLE_ROWS: [TableRow; 8] = [
     ),
 ];
 
+/// One of Table 1's attribute rows: label (with its unit), hover text, the value where the
+/// output has the attribute, and a detail for the value's hover text.
+pub type AttributeRow = (
+    String,
+    String,
+    fn(&AttributeFigures) -> Option<String>,
+    fn(&AttributeFigures) -> Option<String>,
+);
+
+/// Table 1's attribute rows, shown when the loaded mesh has attributes (samples on each output
+/// against the original, as `gng3d compare`): one row per attribute, so that the table stays
+/// within the plots panel (the share of UV samples off by more than the threshold is the UV
+/// value's hover text).
+pub fn attribute_rows(figures: &AttributeFigures) -> [AttributeRow; 3] {
+    let size = figures.texture_size;
+    [
+        (
+            format!("UV mean (texels @{size})"),
+            format!(
+                "mean distance between the output's texture coordinates and the original's at \
+                 the closest points, in texels of a {size}×{size} texture; hover a value for the \
+                 share of samples off by more than {} UV",
+                figures.uv_threshold
+            ),
+            |a| a.uv_texels_mean.map(|v| format!("{v:.2}")),
+            |a| {
+                a.uv_over_threshold.map(|v| {
+                    format!(
+                        "{:.2} % of the samples more than {} UV off",
+                        100.0 * v,
+                        a.uv_threshold
+                    )
+                })
+            },
+        ),
+        (
+            "normal dev. mean (°)".into(),
+            "mean angle between the output's normals and the original's at the closest points"
+                .into(),
+            |a| a.normal_degrees_mean.map(|v| format!("{v:.2}")),
+            |_| None,
+        ),
+        (
+            "colour dev. mean (RGB)".into(),
+            "mean distance between the output's vertex colours and the original's at the \
+             closest points (linear RGB, channels 0–1)"
+                .into(),
+            |a| a.color_mean.map(|v| format!("{v:.3}")),
+            |_| None,
+        ),
+    ]
+}
+
 /// Width the comparison table asks for, points (its labels and two value columns at the
 /// default body font).
 pub const TABLE_WIDTH: f32 = 300.0;
@@ -849,6 +902,27 @@ pub fn comparison_table(ui: &mut egui::Ui, history: &History, method: &str) -> T
                 }
                 ui.end_row();
             }
+            // The attribute deviation of both outputs, one row per attribute either has.
+            let figures = [latest, qem].map(|c| c.and_then(|c| c.evaluation.attributes));
+            if let Some(any) = figures.iter().flatten().next() {
+                for (label, hover, value, detail) in attribute_rows(any) {
+                    if figures.iter().flatten().all(|f| value(f).is_none()) {
+                        continue;
+                    }
+                    let r = ui.label(label).on_hover_text(hover);
+                    cell(r);
+                    for f in figures {
+                        let text = f.and_then(|f| value(&f)).unwrap_or_else(|| "–".into());
+                        let r = ui.label(text);
+                        let r = match f.and_then(|f| detail(&f)) {
+                            Some(d) => r.on_hover_text(d),
+                            None => r,
+                        };
+                        cell(r);
+                    }
+                    ui.end_row();
+                }
+            }
         });
     layout
 }
@@ -912,6 +986,7 @@ mod tests {
                 hausdorff_mean: None,
                 median_min_angle_degrees: 41.0,
                 below_20_degrees: 0.25,
+                attributes: None,
             },
             seconds: 1.0,
         }

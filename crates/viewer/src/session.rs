@@ -16,6 +16,7 @@ use crate::plots::{Checkpoint, History};
 use crate::steps::{RunLimit, StepStrip, TrainingClock};
 use crate::worker::{self, Command, Event, Live, Speed, TrainingJob};
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -259,6 +260,10 @@ pub struct Session {
     /// Display name of the model.
     pub model_name: String,
     original: Arc<TriMesh>,
+    /// The original's normals, texture coordinates and colours (`None` without any): QEM
+    /// keeps them, GNG3D's checkpoints take them from the original surface, and Table 1 shows
+    /// both methods' attribute deviation.
+    attributes: Option<Arc<Attributes>>,
     loading: Option<(PathBuf, Job<Result<LoadedModel>>)>,
     /// Training parameters for the next reset (edited in the UI).
     pub params: TrainParams,
@@ -301,6 +306,7 @@ impl Session {
             repaint,
             model_name: String::new(),
             original: Arc::new(TriMesh::new(Vec::new(), Vec::new())),
+            attributes: None,
             loading: None,
             applied: params.clone(),
             params,
@@ -339,7 +345,18 @@ impl Session {
 
     /// Replace the model: restart training and QEM on it.
     pub fn set_model(&mut self, name: String, mesh: Arc<TriMesh>) {
+        self.set_model_with_attributes(name, mesh, None);
+    }
+
+    /// [`Session::set_model`] for a model with `attributes` (of `mesh`'s corners).
+    pub fn set_model_with_attributes(
+        &mut self,
+        name: String,
+        mesh: Arc<TriMesh>,
+        attributes: Option<Arc<Attributes>>,
+    ) {
         self.model_name = name;
+        self.attributes = attributes;
         let n = mesh.vertex_count();
         if self.options.target.is_none() {
             self.params.target_vertices = default_target(n);
@@ -356,6 +373,11 @@ impl Session {
     /// The mesh being simplified.
     pub fn original(&self) -> &Arc<TriMesh> {
         &self.original
+    }
+
+    /// The original's attributes (`None` without any).
+    pub fn attributes(&self) -> Option<&Arc<Attributes>> {
+        self.attributes.as_ref()
     }
 
     /// The latest GNG3D reconstruction, if any.
@@ -517,6 +539,7 @@ impl Session {
         }
         let target = self.params.target_vertices;
         let original = Arc::clone(&self.original);
+        let attributes = self.attributes.clone();
         self.qem.target = target;
         self.qem.error = None;
         self.qem.pending = Some(Job::spawn_background(
@@ -524,9 +547,15 @@ impl Session {
             self.repaint.clone(),
             move || {
                 let started = std::time::Instant::now();
-                let (mesh, note) = engine::qem_simplify(&original, target)?;
+                let (mesh, kept, note) =
+                    engine::qem_simplify_with_attributes(&original, attributes.as_deref(), target)?;
                 let seconds = started.elapsed().as_secs_f64();
-                let evaluation = engine::evaluate(&original, &mesh)?;
+                let evaluation = engine::evaluate_with_attributes(
+                    &original,
+                    attributes.as_deref(),
+                    &mesh,
+                    kept.as_ref(),
+                )?;
                 Ok((Arc::new(mesh), evaluation, seconds, note))
             },
         ));
@@ -583,7 +612,7 @@ impl Session {
                     self.info(format!("{}: {w}", model.name));
                 }
                 self.info(summary);
-                self.set_model(model.name, model.mesh);
+                self.set_model_with_attributes(model.name, model.mesh, model.attributes);
             }
             Err(e) => {
                 self.error(format!("could not open {e}"));
@@ -729,10 +758,12 @@ impl Session {
                 _ => std::time::Duration::ZERO,
             };
             let (original, mesh) = (Arc::clone(&self.original), Arc::clone(&next.mesh));
+            let attributes = self.attributes.clone();
             let job = Job::spawn_background("evaluation", self.repaint.clone(), move || {
                 std::thread::sleep(wait);
                 let started = std::time::Instant::now();
-                let result = engine::evaluate(&original, &mesh);
+                let result =
+                    engine::evaluate_reconstruction(&original, attributes.as_deref(), &mesh);
                 (result, started.elapsed().as_secs_f64())
             });
             self.evaluating = Some((next, job));

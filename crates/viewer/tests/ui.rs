@@ -756,3 +756,80 @@ fn step_strip_shows_the_pipeline_and_its_table() {
     h.get_by_label_contains("original vertices labelled");
     h.get_by_label_contains("faces mapped");
 }
+
+/// Issue 35 item 5: a textured input keeps its texture coordinates and normals (QEM through
+/// its contractions, GNG3D's checkpoints by transfer from the original surface) and Table 1
+/// shows both methods' attribute deviation, units in the labels; a positions-only input has
+/// no such rows (`table1_fits_without_scrolling_at_every_window_size`).
+#[test]
+fn table1_shows_the_attribute_deviation_of_a_textured_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("globe.obj");
+    let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
+    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    let options = ViewerOptions {
+        path: Some(path),
+        ..fast(120)
+    };
+    let Some(mut h) = harness_sized(options, egui::vec2(1920.0, 1080.0)) else {
+        return;
+    };
+    step_until(
+        &mut h,
+        Duration::from_secs(90),
+        "QEM, the final mesh and its evaluation",
+        |a| {
+            a.session.has_qem_mesh()
+                && a.session.live().finished
+                && a.session.evaluations_pending() == 0
+                && !a.session.history.reconstructions.is_empty()
+                && a.session.history.qem.is_some()
+        },
+    );
+    for _ in 0..3 {
+        h.step();
+    }
+    save_snapshot(&mut h, "table1_textured.png");
+    let app = h.state();
+    assert!(
+        app.session.attributes().is_some(),
+        "attributes kept at load"
+    );
+    // Both methods measured: texture coordinates a few texels of 1024 off on average, normals
+    // within a few degrees (a sphere of 386 vertices at 120).
+    let gng = app.session.history.reconstructions.last().unwrap();
+    let qem = app.session.history.qem.as_ref().unwrap();
+    for (method, row) in [("GNG3D", gng), ("QEM", qem)] {
+        let a = row.evaluation.attributes.expect("attribute deviation");
+        let uv = a.uv_texels_mean.expect("UV deviation");
+        let angle = a.normal_degrees_mean.expect("normal deviation");
+        assert!(uv > 0.0 && uv < 60.0, "{method}: {uv} texels");
+        assert!(angle > 0.0 && angle < 10.0, "{method}: {angle}°");
+        assert!(a.color_mean.is_none(), "{method}: no colours");
+        assert_eq!(a.texture_size, 1024);
+    }
+    // Table 1: the nine rows and two attribute rows (UV, normals; no colours), every cell
+    // inside the table's area, values in both columns.
+    let layout = app.table_layout.clone().expect("Table 1 is shown");
+    let rows = viewer::plots::TABLE_ROWS.len() + 1 + 2;
+    assert_eq!(layout.cells.len(), 3 * rows, "cells");
+    for (i, cell) in layout.cells.iter().enumerate() {
+        assert!(
+            layout.clip.expand(0.5).contains_rect(*cell),
+            "cell {i} at {cell:?} outside {:?}",
+            layout.clip
+        );
+    }
+    for row in rows - 2..rows {
+        for column in [1, 2] {
+            assert!(
+                layout.cells[3 * row + column].width() > 12.0,
+                "empty cell {row},{column}"
+            );
+        }
+    }
+    for label in ["UV mean (texels @1024)", "normal dev. mean (°)"] {
+        h.get_by_label(label);
+    }
+    assert!(h.query_by_label("colour dev. mean (RGB)").is_none());
+}

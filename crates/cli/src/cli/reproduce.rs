@@ -4,7 +4,7 @@ use super::load_prepared;
 use anyhow::Context;
 use clap::Args;
 use gng3d::experiment::reproduce::{Progress, ReproduceParams, Stage, reproduce};
-use gng3d::experiment::survey::{SurveyParams, SurveyRow, survey_mesh};
+use gng3d::experiment::survey::{SurveyParams, SurveyRow, survey_mesh_with_attributes};
 use gng3d::report::paper::{terminal_legend, terminal_table, write_reproduction};
 use gng3d::report::survey::{terminal_summary, write_survey};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -41,6 +41,14 @@ pub struct ReproduceArgs {
     /// With --all: skip meshes with more faces than this.
     #[arg(long)]
     pub max_faces: Option<usize>,
+    /// With --all: side of the texture, in texels, that UV deviations are given in (inputs with
+    /// texture coordinates).
+    #[arg(long, default_value_t = 1024)]
+    pub texture_size: u32,
+    /// With --all: UV distance above which a sample counts as off (inputs with texture
+    /// coordinates).
+    #[arg(long, default_value_t = 0.05)]
+    pub uv_threshold: f64,
     /// Print the report as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -172,6 +180,13 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     };
     params.gng.seed = args.seed;
     params.hausdorff.seed = args.seed;
+    params.attributes = metrics::AttributeParams {
+        samples: Some(args.samples),
+        seed: args.seed,
+        texture_size: args.texture_size,
+        uv_threshold: args.uv_threshold,
+    };
+    params.attributes.validate()?;
     // The output folder exists before the (long) survey starts.
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("survey"));
     super::prepare_output_folder(&out)?;
@@ -183,7 +198,7 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
                 .file_name()
                 .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
             let rows = (|| {
-                let original = load_prepared(path, false)?;
+                let (original, attributes) = load_with_attributes(path)?;
                 if let Some(m) = args.max_faces.filter(|&m| original.face_count() > m) {
                     // Said, not silently left out of the table.
                     anyhow::bail!(
@@ -191,7 +206,7 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
                         original.face_count()
                     );
                 }
-                survey_mesh(&name, &original, &params)
+                survey_mesh_with_attributes(&name, &original, attributes.as_ref(), &params)
                     .with_context(|| format!("surveying {}", path.display()))
             })();
             progress.inc(1);
@@ -226,4 +241,37 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
         out.display()
     );
     Ok(())
+}
+
+/// A survey input, cleaned as `load_prepared` does, with its normals, texture coordinates and
+/// colours following the cleaning (`None` without any): every method keeps them and their
+/// deviation is measured. Materials are not used (a warning).
+fn load_with_attributes(
+    path: &Path,
+) -> anyhow::Result<(mesh::TriMesh, Option<mesh::attributes::Attributes>)> {
+    crate::process::working_on(path);
+    let loaded = mesh::io::load(path)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+    let face_materials = loaded
+        .attributes
+        .as_ref()
+        .is_some_and(|a| a.face_material.is_some());
+    if face_materials || loaded.materials.is_some() {
+        eprintln!(
+            "warning: {}: materials not used: the survey measures positions, normals, texture \
+             coordinates and colours (`gng3d simplify` keeps materials)",
+            path.display()
+        );
+    }
+    Ok(
+        match loaded.attributes.filter(super::has_attribute_values) {
+            Some(a) => {
+                let (mesh, a, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
+                (mesh, Some(a))
+            }
+            None => (mesh::clean::prepare(&loaded.mesh).0, None),
+        },
+    )
 }
