@@ -226,6 +226,7 @@ pub(crate) fn obj_to_gltf(materials: &Materials, embed: bool) -> Option<ToGltf> 
     let mut warnings = Vec::new();
     let mut defined: HashMap<String, (MtlMaterial, PathBuf)> = HashMap::new();
     let mut dropped = BTreeSet::new();
+    let mut unreadable = false;
     for library in &materials.libraries {
         match std::fs::read(library) {
             Ok(bytes) => {
@@ -238,12 +239,15 @@ pub(crate) fn obj_to_gltf(materials: &Materials, embed: bool) -> Option<ToGltf> 
                         .or_insert_with(|| (m, dir.clone()));
                 }
             }
-            Err(e) => warnings.push(MeshWarning::MaterialFileNotCopied {
-                path: library.clone(),
-                reason: format!(
-                    "cannot read it ({e}); its materials are written with their names only"
-                ),
-            }),
+            Err(e) => {
+                unreadable = true;
+                warnings.push(MeshWarning::MaterialFileNotCopied {
+                    path: library.clone(),
+                    reason: format!(
+                        "cannot read it ({e}); its materials are written with their names only"
+                    ),
+                });
+            }
         }
     }
     let mut images: Vec<Value> = Vec::new();
@@ -331,7 +335,8 @@ pub(crate) fn obj_to_gltf(materials: &Materials, embed: bool) -> Option<ToGltf> 
         }
         gltf_materials.push(material);
     }
-    if !undefined.is_empty() {
+    // With a library unreadable, its warning says so for the materials it would define.
+    if !undefined.is_empty() && !unreadable {
         warnings.push(MeshWarning::AttributesDropped {
             attributes: format!("the look of material(s) {}", undefined.join(", ")),
             reason: "no material library defines them; the glTF materials have their names only"

@@ -807,6 +807,8 @@ fn remove_stale_temporaries(path: &Path) {
 #[cfg(test)]
 mod attribute_tests;
 #[cfg(test)]
+mod matconv_tests;
+#[cfg(test)]
 mod oracle_tests;
 #[cfg(test)]
 mod tests;
