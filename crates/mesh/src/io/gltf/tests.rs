@@ -759,6 +759,23 @@ fn written_files_pass_the_khronos_validator_when_installed() {
     let big = dir.path().join("big.glb");
     save_with_attributes(&mesh, &a, None, &big).unwrap();
     files.push(big);
+    // OBJ materials converted: the fandisk atlas's MTL colour and texture, embedded in a .glb
+    // and copied next to a .gltf.
+    let atlas = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/fandisk_atlas.obj");
+    let obj = load(&atlas).unwrap();
+    let converted = tempfile::tempdir().unwrap();
+    for name in ["atlas.glb", "atlas.gltf"] {
+        let path = converted.path().join(name);
+        let w = save_with_attributes(
+            &obj.mesh,
+            obj.attributes.as_ref().unwrap(),
+            obj.materials.as_ref(),
+            &path,
+        )
+        .unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        files.push(path);
+    }
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/support/validate_gltf.cjs");
     let out = match std::process::Command::new("node")
         .arg(&script)
