@@ -625,10 +625,24 @@ fn obj_materials_become_named_gltf_materials() {
     assert_eq!(
         w.iter().map(ToString::to_string).collect::<Vec<_>>(),
         [
+            "dropped uv1: OBJ has one set of texture coordinates",
             "dropped glTF material properties KHR_materials_unlit, KHR_texture_transform (of \
           baseColorTexture), texture sampler filters and wrapping: an OBJ material library takes \
           the base colour and texture, roughness, metallic and emissive colour only"
         ]
+    );
+    let mtl = fs::read_to_string(dir.path().join("t.mtl")).unwrap();
+    assert!(
+        mtl.contains("newmtl checker\nKd 1 1 1\nNs 0\nPr 1\nPm 0\nmap_Kd t_image0.png\n"),
+        "{mtl}"
+    );
+    assert!(
+        mtl.contains("newmtl red\nKd 1 0 0\nNs 0\nPr 1\nPm 1\n"),
+        "{mtl}"
+    );
+    assert_eq!(
+        fs::read(dir.path().join("t_image0.png")).unwrap(),
+        CHECKER_PNG
     );
     let back = load(&dir.path().join("t.obj")).unwrap();
     assert_eq!(back.materials.unwrap().names, m2.names);
