@@ -373,9 +373,13 @@ fn gltf_materials(
 /// (per vertex) and materials; PLY keeps normals, `uv0` and colours, one vertex record per wedge
 /// (seams as split vertices, which the weld joins again on loading); STL keeps positions only;
 /// glTF keeps everything, one glTF vertex per wedge and one primitive per material, with the
-/// materials, textures and images of a glTF input ([`Materials::gltf`]) or materials named as in
-/// `materials`. A `.gltf` from here holds its buffer as a `data:` URI; [`save_with_attributes`]
-/// writes it to a `.bin` file instead.
+/// materials, textures and images of a glTF input ([`Materials::gltf`]), or the OBJ material
+/// libraries of `materials` converted to glTF materials (base colour, opacity, roughness,
+/// metallic, emissive and the `map_Kd` texture: embedded in a `.glb`, named by a relative URI in
+/// a `.gltf`, see [`copy_gltf_images`]), or materials named as in `materials`. An OBJ output of
+/// a glTF input names `<path stem>.mtl`, made from the glTF materials by
+/// [`copy_material_files`]. What does not cross is a warning. A `.gltf` from here holds its
+/// buffer as a `data:` URI; [`save_with_attributes`] writes it to a `.bin` file instead.
 /// Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the problem.
 pub fn encode_with_attributes(
     mesh: &TriMesh,
