@@ -215,3 +215,65 @@ fn materials_and_their_files_follow_the_output() {
         assert_eq!(m[f], u32::from(cx > 4.0), "triangle {f}");
     }
 }
+
+#[test]
+fn an_obj_atlas_keeps_its_look_as_gltf_and_back() {
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets");
+    let checker = std::fs::read(assets.join("checker.png")).unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let run = |input: &Path, output: &Path| {
+        json_of(&gng3d(&[
+            "simplify",
+            input.to_str().unwrap(),
+            output.to_str().unwrap(),
+            "--method",
+            "qem",
+            "--ratio",
+            "0.2",
+            "--json",
+        ]))
+    };
+    // OBJ + MTL + PNG -> .glb: the colour and the texture are converted, nothing dropped.
+    let glb = out.path().join("atlas.glb");
+    let j = run(&assets.join("fandisk_atlas.obj"), &glb);
+    assert_eq!(j["attributes"]["dropped"], serde_json::json!([]), "{j}");
+    assert_eq!(
+        j["attributes"]["kept"],
+        serde_json::json!(["normals", "uv0", "materials"]),
+        "{j}"
+    );
+    let g = mesh::io::load(&glb).unwrap();
+    let assets_json = g.materials.as_ref().unwrap().gltf.as_ref().unwrap().json();
+    assert_eq!(
+        assets_json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"],
+        serde_json::json!({"index": 0})
+    );
+    assert_eq!(
+        assets_json["images"],
+        serde_json::json!([{"mimeType": "image/png"}])
+    );
+    // -> .gltf: the texture is copied next to it.
+    let gltf = out.path().join("atlas.gltf");
+    let j = run(&assets.join("fandisk_atlas.obj"), &gltf);
+    assert_eq!(j["attributes"]["dropped"], serde_json::json!([]), "{j}");
+    assert_eq!(
+        std::fs::read(out.path().join("checker.png")).unwrap(),
+        checker
+    );
+    // The .glb -> OBJ: a material library and the image written next to it.
+    let back = out.path().join("back.obj");
+    let j = run(&glb, &back);
+    assert_eq!(j["attributes"]["dropped"], serde_json::json!([]), "{j}");
+    let mtl = std::fs::read_to_string(out.path().join("back.mtl")).unwrap();
+    assert!(mtl.contains("newmtl checker\nKd 1 1 1\n"), "{mtl}");
+    assert!(mtl.contains("map_Kd back_image0.png\n"), "{mtl}");
+    assert_eq!(
+        std::fs::read(out.path().join("back_image0.png")).unwrap(),
+        checker
+    );
+    let l = mesh::io::load(&back).unwrap();
+    assert_eq!(
+        l.materials.unwrap().libraries,
+        [out.path().join("back.mtl")]
+    );
+}

@@ -55,11 +55,14 @@ pub struct GltfAssets {
     /// The carried JSON members (`asset`, `materials`, `textures`, `images`, `samplers`,
     /// `extensionsUsed`, `extensionsRequired`); images that were in buffer views have no
     /// `bufferView` here.
-    json: Map<String, Value>,
+    pub(super) json: Map<String, Value>,
     /// The bytes of the images that were in buffer views, by image index.
-    embedded_images: Vec<(usize, Arc<[u8]>)>,
+    pub(super) embedded_images: Vec<(usize, Arc<[u8]>)>,
     /// The folder of the input file, against which relative image URIs are resolved.
-    source_dir: PathBuf,
+    pub(super) source_dir: PathBuf,
+    /// Files to copy for images named by a relative URI, by image index, where they do not lie
+    /// at that URI in `source_dir` (materials converted from OBJ material libraries).
+    pub(super) image_files: Vec<(usize, PathBuf)>,
 }
 
 impl GltfAssets {
@@ -83,7 +86,7 @@ impl GltfAssets {
     }
 
     /// The array member `key` of the carried JSON (empty when absent).
-    fn array(&self, key: &str) -> &[Value] {
+    pub(super) fn array(&self, key: &str) -> &[Value] {
         self.json
             .get(key)
             .and_then(Value::as_array)
@@ -211,7 +214,7 @@ fn base64_encode(bytes: &[u8]) -> String {
 }
 
 /// Decode `%XX` escapes of a URI (invalid escapes are kept as written).
-fn percent_decode(uri: &str) -> String {
+pub(super) fn percent_decode(uri: &str) -> String {
     let bytes = uri.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
@@ -233,7 +236,7 @@ fn percent_decode(uri: &str) -> String {
 }
 
 /// Escape the characters of a file name that may not stand in a URI as they are.
-fn percent_encode(name: &str) -> String {
+pub(super) fn percent_encode(name: &str) -> String {
     let mut out = String::with_capacity(name.len());
     for b in name.bytes() {
         if b.is_ascii_alphanumeric() || b"-._~/".contains(&b) {
@@ -246,7 +249,7 @@ fn percent_encode(name: &str) -> String {
 }
 
 /// The payload of a `data:` URI (base64 only).
-fn data_uri(uri: &str) -> Option<Result<Vec<u8>, String>> {
+pub(super) fn data_uri(uri: &str) -> Option<Result<Vec<u8>, String>> {
     let rest = uri.strip_prefix("data:")?;
     Some(match rest.split_once(',') {
         Some((meta, payload)) if meta.ends_with(";base64") => {
@@ -258,7 +261,7 @@ fn data_uri(uri: &str) -> Option<Result<Vec<u8>, String>> {
 
 /// A relative URI as a path inside `dir`, or `None` for an absolute path or one leaving `dir`
 /// (which are not copied).
-fn relative_uri(uri: &str) -> Option<PathBuf> {
+pub(super) fn relative_uri(uri: &str) -> Option<PathBuf> {
     if uri.contains(':') {
         return None;
     }
@@ -1094,6 +1097,7 @@ fn carry(
             json,
             embedded_images,
             source_dir: dir.to_path_buf(),
+            image_files: Vec::new(),
         },
         warnings,
     ))
@@ -1197,12 +1201,15 @@ pub(crate) struct Written {
 /// Lays out `mesh` with `attributes` (already validated against it) as glTF: one glTF vertex
 /// per wedge, one primitive per material; the non-geometry members from `materials`' glTF
 /// assets, or plain materials named as in `materials`. Normals that are not of unit length
-/// (the validator's rule) are normalized, zero ones replaced by their triangle's normal.
+/// (the validator's rule) are normalized, zero ones replaced by their triangle's normal. With
+/// `flip_v` (a texture converted from an OBJ material library), `TEXCOORD_0` is written as
+/// `(u, 1 − v)`: OBJ's `v` runs up from the image's bottom edge, glTF's down from its top edge.
 pub(crate) fn write(
     mesh: &TriMesh,
     attributes: &Attributes,
     materials: Option<&Materials>,
     storage: BufferStorage,
+    flip_v: bool,
 ) -> Written {
     let wedges = attributes.wedge_count();
     let mut layout = Layout::default();
@@ -1239,7 +1246,16 @@ pub(crate) fn write(
         vertex_attributes.insert("NORMAL".into(), json!(layout.floats(&n, false)));
     }
     if let Some(uv) = &attributes.uv0 {
-        let uv: Vec<[f32; 2]> = uv.iter().map(|x| x.to_array()).collect();
+        let uv: Vec<[f32; 2]> = uv
+            .iter()
+            .map(|x| {
+                if flip_v {
+                    [x.x, 1.0 - x.y]
+                } else {
+                    x.to_array()
+                }
+            })
+            .collect();
         vertex_attributes.insert("TEXCOORD_0".into(), json!(layout.floats(&uv, false)));
     }
     if let Some(uv) = &attributes.uv1 {
@@ -1348,35 +1364,6 @@ fn glb(mut json: Vec<u8>, bin: &[u8]) -> Vec<u8> {
     out
 }
 
-/// The warning for material looks that do not cross between the OBJ and glTF material models:
-/// an OBJ input's material libraries (colours, textures) written to glTF (`to_gltf`), where the
-/// materials get their names only, or a glTF input's materials written to OBJ, which names them
-/// in `usemtl` without a library. Texture coordinates are written as they were read in either
-/// direction (OBJ's `v` points up from the image's bottom edge, glTF's down from its top edge),
-/// which only matters once a texture is carried across.
-pub(crate) fn material_loss(
-    attributes: &Attributes,
-    materials: Option<&Materials>,
-    to_gltf: bool,
-) -> Option<MeshWarning> {
-    let m = materials?;
-    attributes.face_material.as_ref()?;
-    if to_gltf && m.gltf.is_none() && !m.libraries.is_empty() {
-        Some(MeshWarning::AttributesDropped {
-            attributes: "material colours and textures (OBJ material libraries)".to_string(),
-            reason: "a glTF output names the OBJ materials only".to_string(),
-        })
-    } else if !to_gltf && m.gltf.as_ref().is_some_and(|g| g.material_count() > 0) {
-        Some(MeshWarning::AttributesDropped {
-            attributes: "material colours and textures (glTF materials)".to_string(),
-            reason: "an OBJ output names the glTF materials only (usemtl, no material library)"
-                .to_string(),
-        })
-    } else {
-        None
-    }
-}
-
 /// Copies the images of `assets` named by relative URIs (inside the input's folder) next to
 /// `output`, keeping their relative paths; files already there are left alone.
 pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning> {
@@ -1385,11 +1372,15 @@ pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning
         _ => PathBuf::from("."),
     };
     let mut warnings = Vec::new();
-    for image in assets.array("images") {
+    for (i, image) in assets.array("images").iter().enumerate() {
         let Some(relative) = image["uri"].as_str().and_then(relative_uri) else {
             continue;
         };
-        let (from, to) = (assets.source_dir.join(&relative), out_dir.join(&relative));
+        let from = match assets.image_files.iter().find(|(j, _)| *j == i) {
+            Some((_, file)) => file.clone(),
+            None => assets.source_dir.join(&relative),
+        };
+        let to = out_dir.join(&relative);
         if to.exists() {
             continue;
         }

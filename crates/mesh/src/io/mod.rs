@@ -9,6 +9,7 @@
 //! failed write never leaves a partial output; [`write_atomic`] does the same for any bytes.
 
 mod gltf;
+mod matconv;
 mod obj;
 mod ply;
 mod stl;
@@ -333,6 +334,7 @@ pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, Me
                 &Attributes::per_vertex(mesh),
                 None,
                 gltf_storage(format),
+                false,
             )
             .main
         }
@@ -349,14 +351,35 @@ fn gltf_storage(format: Format) -> gltf::BufferStorage<'static> {
     }
 }
 
+/// The materials a glTF output of `attributes` writes: a glTF input's as they are, or OBJ
+/// material libraries converted to glTF materials (`embed`: textures into the buffer, for a
+/// `.glb`), with whether texture coordinates flip and what was not converted.
+fn gltf_materials(
+    attributes: &Attributes,
+    materials: Option<&Materials>,
+    embed: bool,
+) -> (Option<Materials>, bool, Vec<MeshWarning>) {
+    match materials
+        .filter(|_| attributes.face_material.is_some())
+        .and_then(|m| matconv::obj_to_gltf(m, embed))
+    {
+        Some(c) => (Some(c.materials), c.flip_v, c.warnings),
+        None => (None, false, Vec::new()),
+    }
+}
+
 /// The bytes [`save_with_attributes`] writes for `mesh` with `attributes` in `format`, and what
 /// the format cannot keep (as warnings): OBJ keeps normals, texture coordinates (`uv0`), colours
 /// (per vertex) and materials; PLY keeps normals, `uv0` and colours, one vertex record per wedge
 /// (seams as split vertices, which the weld joins again on loading); STL keeps positions only;
 /// glTF keeps everything, one glTF vertex per wedge and one primitive per material, with the
-/// materials, textures and images of a glTF input ([`Materials::gltf`]) or materials named as in
-/// `materials`. A `.gltf` from here holds its buffer as a `data:` URI; [`save_with_attributes`]
-/// writes it to a `.bin` file instead.
+/// materials, textures and images of a glTF input ([`Materials::gltf`]), or the OBJ material
+/// libraries of `materials` converted to glTF materials (base colour, opacity, roughness,
+/// metallic, emissive and the `map_Kd` texture: embedded in a `.glb`, named by a relative URI in
+/// a `.gltf`, see [`copy_gltf_images`]), or materials named as in `materials`. An OBJ output of
+/// a glTF input names `<path stem>.mtl`, made from the glTF materials by
+/// [`copy_material_files`]. What does not cross is a warning. A `.gltf` from here holds its
+/// buffer as a `data:` URI; [`save_with_attributes`] writes it to a `.bin` file instead.
 /// Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the problem.
 pub fn encode_with_attributes(
     mesh: &TriMesh,
@@ -373,9 +396,11 @@ pub fn encode_with_attributes(
         })?;
     if matches!(format, Format::Gltf | Format::Glb) {
         // `validate` has checked every corner against the positions.
-        let written = gltf::write(mesh, attributes, materials, gltf_storage(format));
-        let warnings = gltf::material_loss(attributes, materials, true);
-        return Ok((written.main, warnings.into_iter().collect()));
+        let (converted, flip_v, warnings) =
+            gltf_materials(attributes, materials, format == Format::Glb);
+        let materials = converted.as_ref().or(materials);
+        let written = gltf::write(mesh, attributes, materials, gltf_storage(format), flip_v);
+        return Ok((written.main, warnings));
     }
     let plain = encode(mesh, format, path)?;
     let mut warnings = Vec::new();
@@ -398,8 +423,19 @@ pub fn encode_with_attributes(
                 not.push("uv1");
             }
             dropped(not, "OBJ has one set of texture coordinates");
-            warnings.extend(gltf::material_loss(attributes, materials, false));
-            obj::write_with_attributes(mesh, attributes, materials, &mut warnings)
+            let plan = materials
+                .filter(|_| attributes.face_material.is_some())
+                .and_then(|m| matconv::gltf_to_mtl(m, path));
+            if let Some(p) = &plan {
+                warnings.extend(p.warnings.iter().cloned());
+            }
+            obj::write_with_attributes(
+                mesh,
+                attributes,
+                materials,
+                plan.as_ref().map(|p| (p.library.as_str(), p.flip_v)),
+                &mut warnings,
+            )
         }
         Format::Ply => {
             let mut not = Vec::new();
@@ -445,6 +481,7 @@ pub fn save_with_attributes(
         warnings.extend(copy_material_files(m, path));
     }
     if format == Format::Glb
+        && attributes.face_material.is_some()
         && let Some(m) = materials
     {
         warnings.extend(copy_gltf_images(m, path));
@@ -471,19 +508,19 @@ fn save_gltf(
         |s| s.to_string_lossy().into_owned(),
     );
     let bin_name = format!("{stem}.bin");
+    let (converted, flip_v, mut warnings) = gltf_materials(attributes, materials, false);
+    let materials = converted.as_ref().or(materials);
     let written = gltf::write(
         mesh,
         attributes,
         materials,
         gltf::BufferStorage::File(&bin_name),
+        flip_v,
     );
     if let Some(bin) = &written.bin {
         write_atomic(&path.with_file_name(&bin_name), bin)?;
     }
     write_atomic(path, &written.main)?;
-    let mut warnings: Vec<MeshWarning> = gltf::material_loss(attributes, materials, true)
-        .into_iter()
-        .collect();
     if let Some(m) = materials {
         warnings.extend(copy_gltf_images(m, path));
     }
@@ -492,8 +529,13 @@ fn save_gltf(
 
 /// Copies each material library of `materials` and the texture files it names (`map_*`,
 /// `bump`, `disp`, `decal`, `refl`, `norm` lines; paths relative to the library) next to
-/// `output`, keeping their relative paths; files already there are left alone.
+/// `output`, keeping their relative paths; files already there are left alone. For a glTF
+/// input's materials, writes the material library made from them (`<output stem>.mtl`, which
+/// the OBJ of [`encode_with_attributes`] names) and its texture images next to `output` instead.
 pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
+    if let Some(plan) = matconv::gltf_to_mtl(materials, output) {
+        return matconv::write_mtl(&plan, output);
+    }
     let mut warnings = Vec::new();
     let out_dir = match output.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -555,11 +597,20 @@ pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarn
 /// to `output`, keeping their relative paths; files already there are left alone (what
 /// [`save_with_attributes`] does for a `.gltf` or `.glb`, for a caller writing the bytes of
 /// [`encode_with_attributes`] itself).
+///
+/// For OBJ materials written to a `.gltf`, copies the textures of their material libraries that
+/// the converted materials name by relative URIs (a `.glb` embeds them: nothing to copy).
 pub fn copy_gltf_images(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
-    materials
-        .gltf
-        .as_ref()
-        .map(|assets| gltf::copy_images(assets, output))
+    if let Some(assets) = &materials.gltf {
+        return gltf::copy_images(assets, output);
+    }
+    if Format::from_path(output) == Some(Format::Glb) {
+        return Vec::new();
+    }
+    // What could not be read was reported when the glTF was encoded.
+    matconv::obj_to_gltf(materials, false)
+        .and_then(|c| c.materials.gltf)
+        .map(|assets| gltf::copy_images(&assets, output))
         .unwrap_or_default()
 }
 
@@ -759,6 +810,8 @@ fn remove_stale_temporaries(path: &Path) {
 
 #[cfg(test)]
 mod attribute_tests;
+#[cfg(test)]
+mod matconv_tests;
 #[cfg(test)]
 mod oracle_tests;
 #[cfg(test)]

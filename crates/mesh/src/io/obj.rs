@@ -482,10 +482,15 @@ pub(crate) fn write(mesh: &TriMesh) -> Vec<u8> {
 /// OBJ text for `mesh` with `attributes` (checked to fit): `mtllib` lines, `v` (with `r g b`
 /// when there are colours: the first wedge's of each vertex, a warning when its wedges differ),
 /// one `vt` and one `vn` per wedge, `usemtl` where the material changes, `f v/vt/vn` corners.
+///
+/// `converted`: the file name of a material library made from glTF materials, and whether
+/// texture coordinates are written as `(u, 1 − v)` (a glTF texture crossed over: glTF's `v`
+/// runs down from the image's top edge, OBJ's up from its bottom edge).
 pub(crate) fn write_with_attributes(
     mesh: &TriMesh,
     attributes: &Attributes,
     materials: Option<&Materials>,
+    converted: Option<(&str, bool)>,
     warnings: &mut Vec<MeshWarning>,
 ) -> Vec<u8> {
     let wedges = attributes.wedge_count();
@@ -500,7 +505,11 @@ pub(crate) fn write_with_attributes(
                 let _ = writeln!(out, "mtllib {}", name.to_string_lossy());
             }
         }
+        if let Some((library, _)) = converted {
+            let _ = writeln!(out, "mtllib {library}");
+        }
     }
+    let flip_v = converted.is_some_and(|(_, flip)| flip);
     // Colours per position vertex: the first wedge's.
     let vertex_color = attributes.colors.as_ref().map(|colors| {
         let mut per_vertex: Vec<Option<Vec4>> = vec![None; mesh.positions.len()];
@@ -535,7 +544,8 @@ pub(crate) fn write_with_attributes(
     }
     if let Some(uv) = &attributes.uv0 {
         for t in uv {
-            let _ = writeln!(out, "vt {} {}", t.x, t.y);
+            let v = if flip_v { 1.0 - t.y } else { t.y };
+            let _ = writeln!(out, "vt {} {v}", t.x);
         }
     }
     if let Some(normals) = &attributes.normals {

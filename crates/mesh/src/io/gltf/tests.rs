@@ -595,12 +595,21 @@ fn obj_materials_become_named_gltf_materials() {
     let path = dir.path().join("m.glb");
     let warnings = save_with_attributes(&mesh, &a, Some(&materials), &path).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
-    // With an OBJ material library, its colours and textures are not converted: a warning.
+    // With an OBJ material library that cannot be read: a warning naming it, the names kept.
     materials.libraries.push(dir.path().join("m.mtl"));
     let warnings =
         save_with_attributes(&mesh, &a, Some(&materials), &dir.path().join("lib.gltf")).unwrap();
-    assert_eq!(warnings.len(), 1, "{warnings:?}");
-    assert!(warnings[0].to_string().contains("OBJ material libraries"));
+    assert!(
+        matches!(&warnings[..], [MeshWarning::MaterialFileNotCopied { path, reason }]
+            if path.ends_with("m.mtl") && reason.contains("names only")),
+        "{warnings:?}"
+    );
+    let names = load(&dir.path().join("lib.gltf"))
+        .unwrap()
+        .materials
+        .unwrap()
+        .names;
+    assert_eq!(names, materials.names);
     materials.libraries.clear();
     let l = load(&path).unwrap();
     assert_eq!(l.materials.as_ref().unwrap().names, materials.names);
@@ -609,12 +618,31 @@ fn obj_materials_become_named_gltf_materials() {
         a.face_material
     );
     assert_same(&mesh, &a, &l);
-    // glTF materials written to OBJ: named in usemtl, their looks not kept: a warning.
+    // glTF materials written to OBJ: named in usemtl, a library made from them; what the MTL
+    // cannot express is one warning.
     let (mesh2, a2, m2) = textured_asset(false);
     let w = save_with_attributes(&mesh2, &a2, Some(&m2), &dir.path().join("t.obj")).unwrap();
+    assert_eq!(
+        w.iter().map(ToString::to_string).collect::<Vec<_>>(),
+        [
+            "dropped uv1: OBJ has one set of texture coordinates",
+            "dropped glTF material properties KHR_materials_unlit, KHR_texture_transform (of \
+          baseColorTexture), texture sampler filters and wrapping: an OBJ material library takes \
+          the base colour and texture, roughness, metallic and emissive colour only"
+        ]
+    );
+    let mtl = fs::read_to_string(dir.path().join("t.mtl")).unwrap();
     assert!(
-        w.iter().any(|w| w.to_string().contains("glTF materials")),
-        "{w:?}"
+        mtl.contains("newmtl checker\nKd 1 1 1\nNs 0\nPr 1\nPm 0\nmap_Kd t_image0.png\n"),
+        "{mtl}"
+    );
+    assert!(
+        mtl.contains("newmtl red\nKd 1 0 0\nNs 0\nPr 1\nPm 1\n"),
+        "{mtl}"
+    );
+    assert_eq!(
+        fs::read(dir.path().join("t_image0.png")).unwrap(),
+        CHECKER_PNG
     );
     let back = load(&dir.path().join("t.obj")).unwrap();
     assert_eq!(back.materials.unwrap().names, m2.names);
@@ -745,6 +773,23 @@ fn written_files_pass_the_khronos_validator_when_installed() {
     let big = dir.path().join("big.glb");
     save_with_attributes(&mesh, &a, None, &big).unwrap();
     files.push(big);
+    // OBJ materials converted: the fandisk atlas's MTL colour and texture, embedded in a .glb
+    // and copied next to a .gltf.
+    let atlas = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/fandisk_atlas.obj");
+    let obj = load(&atlas).unwrap();
+    let converted = tempfile::tempdir().unwrap();
+    for name in ["atlas.glb", "atlas.gltf"] {
+        let path = converted.path().join(name);
+        let w = save_with_attributes(
+            &obj.mesh,
+            obj.attributes.as_ref().unwrap(),
+            obj.materials.as_ref(),
+            &path,
+        )
+        .unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        files.push(path);
+    }
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/support/validate_gltf.cjs");
     let out = match std::process::Command::new("node")
         .arg(&script)
