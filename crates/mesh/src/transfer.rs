@@ -14,7 +14,7 @@
 use crate::TriMesh;
 use crate::attributes::Attributes;
 use glam::{DVec3, Vec2, Vec3, Vec4};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A uniform hash grid over a mesh's triangles for closest-point queries.
 pub struct FaceGrid<'a> {
@@ -22,6 +22,8 @@ pub struct FaceGrid<'a> {
     cell: f64,
     origin: DVec3,
     cells: HashMap<[i32; 3], Vec<u32>>,
+    /// Each triangle's bounding box (a lower bound of its distance before the exact test).
+    bounds: Vec<(DVec3, DVec3)>,
     /// Smallest and largest cell coordinates used.
     lo: [i32; 3],
     hi: [i32; 3],
@@ -56,12 +58,14 @@ impl<'a> FaceGrid<'a> {
             mesh,
             cell,
             origin,
-            cells: HashMap::new(),
+            cells: HashMap::default(),
+            bounds: Vec::with_capacity(mesh.triangles.len()),
             lo: [i32::MAX; 3],
             hi: [i32::MIN; 3],
         };
         for (f, t) in mesh.triangles.iter().enumerate() {
             let [a, b, c] = t.map(|v| mesh.positions[v as usize].as_dvec3());
+            grid.bounds.push((a.min(b).min(c), a.max(b).max(c)));
             let lo = grid.cell_of(a.min(b).min(c));
             let hi = grid.cell_of(a.max(b).max(c));
             for x in lo[0]..=hi[0] {
@@ -96,6 +100,15 @@ impl<'a> FaceGrid<'a> {
             .unwrap_or(0)
             + 1;
         let consider = |f: u32, best: &mut Option<(f64, u32, DVec3)>| {
+            // A triangle whose box is farther than the best so far cannot be closer (nor as
+            // close: ties go to the smaller index, so only a strictly farther box is skipped).
+            if let Some((bd, _, _)) = *best {
+                let (lo, hi) = self.bounds[f as usize];
+                let gap = (lo - p).max(p - hi).max(DVec3::ZERO);
+                if gap.length_squared() > bd {
+                    return;
+                }
+            }
             if !accept(f) {
                 return;
             }
@@ -122,12 +135,13 @@ impl<'a> FaceGrid<'a> {
             for x in c[0] - r..=c[0] + r {
                 for y in c[1] - r..=c[1] + r {
                     let on_shell_xy = (x - c[0]).abs() == r || (y - c[1]).abs() == r;
-                    let zs: Vec<i32> = if on_shell_xy {
-                        (c[2] - r..=c[2] + r).collect()
+                    // Inside the shell's xy ring only the two z caps are new.
+                    let step = if on_shell_xy {
+                        1
                     } else {
-                        vec![c[2] - r, c[2] + r]
+                        (2 * r).max(1) as usize
                     };
-                    for z in zs {
+                    for z in (c[2] - r..=c[2] + r).step_by(step) {
                         let Some(list) = self.cells.get(&[x, y, z]) else {
                             continue;
                         };
@@ -137,10 +151,21 @@ impl<'a> FaceGrid<'a> {
                     }
                 }
             }
-            if let Some((d, _, _)) = best
-                && d.sqrt() <= r as f64 * self.cell
-            {
-                break;
+            // Every point within `wall` of `p` lies in the cells searched so far (the cube of
+            // shells 0..=r around p's cell); a best strictly nearer than that is final. (Was
+            // `d <= r · cell`, which ignored where p sits in its cell and so always searched
+            // the first shell's 26 cells: spot's QEM with UVs spent 30 % of its time here.)
+            if let Some((d, _, _)) = best {
+                let wall = (0..3)
+                    .map(|k| {
+                        let lo = self.origin[k] + (c[k] - r) as f64 * self.cell;
+                        let hi = self.origin[k] + (c[k] + r + 1) as f64 * self.cell;
+                        (p[k] - lo).min(hi - p[k])
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                if d.sqrt() < wall {
+                    break;
+                }
             }
         }
         best.map(|(_, f, q)| {
@@ -214,7 +239,8 @@ pub fn transfer_attributes(
     simplified: &TriMesh,
 ) -> Attributes {
     let grid = FaceGrid::new(original);
-    if attributes.seam_edges(original).is_empty() {
+    let sides = attributes.edge_sides(original);
+    if !sides.iter().any(|e| e.seam) {
         return transfer_without_seams(attributes, simplified, &grid);
     }
     // Neighbours of each original triangle across edges that are not seams, and the charts
@@ -223,7 +249,7 @@ pub fn transfer_attributes(
     let mut fill = vec![0u8; original.triangles.len()];
     let mut near_seam = vec![false; original.positions.len()];
     let mut sets = crate::topology::UnionFind::new(original.triangles.len());
-    for e in attributes.edge_sides(original) {
+    for e in sides {
         if e.seam {
             near_seam[e.edge[0] as usize] = true;
             near_seam[e.edge[1] as usize] = true;
