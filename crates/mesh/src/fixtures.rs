@@ -193,7 +193,8 @@ pub mod fuzz {
     /// 11 ASCII STL with a bare `solid` line; 12 an 80-facet ASCII STL; and issue 33's hostile
     /// shapes: 13 a fan of 200 triangles around one vertex (PLY), 14 a fan-capped cylinder of
     /// 48 segments (OBJ), 15 120 disjoint triangles (binary STL), 16-17 a 42-vertex sphere at
-    /// coordinates scaled by 1e-20 (PLY) and by 1e18 (OBJ).
+    /// coordinates scaled by 1e-20 (PLY) and by 1e18 (OBJ); 18-20 a textured sphere (UV seam,
+    /// normals) as OBJ, PLY and GLB, 21 a PLY sphere with vertex colours.
     pub fn seeds() -> Vec<(Format, Vec<u8>)> {
         let small = icosphere(0);
         let mut out = vec![
@@ -262,6 +263,37 @@ pub mod fuzz {
             }
             out.push((format, bytes(&scaled, format)));
         }
+        // Attributes (issue 35): a textured sphere (UV seam, normals) as OBJ with `vt`/`vn`,
+        // PLY with normals and `s t`, and GLB; colours as PLY.
+        let (sphere, attributes) = mesh::procedural::textured_sphere(4, 8);
+        for format in [Format::Obj, Format::Ply, Format::Glb] {
+            let (encoded, _) = mesh::io::encode_with_attributes(
+                &sphere,
+                &attributes,
+                None,
+                format,
+                Path::new("seed"),
+            )
+            .expect("procedural attributes encode");
+            out.push((format, encoded));
+        }
+        let mut coloured = mesh::attributes::Attributes::per_vertex(&sphere);
+        coloured.colors = Some(
+            sphere
+                .positions
+                .iter()
+                .map(|p| glam::Vec4::new(p.x.abs(), p.y.abs(), p.z.abs(), 1.0))
+                .collect(),
+        );
+        let (encoded, _) = mesh::io::encode_with_attributes(
+            &sphere,
+            &coloured,
+            None,
+            Format::Ply,
+            Path::new("seed"),
+        )
+        .expect("procedural colours encode");
+        out.push((Format::Ply, encoded));
         out
     }
 }

@@ -653,6 +653,29 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
     // The `gltf` crate rejects every required extension it does not implement itself; those
     // that matter to the geometry were checked above.
     root.extensions_required.clear();
+    // gltf-json 1.4's validation reads each primitive's POSITION accessor by index before it
+    // checks that index, and panics on one past the end (found by the CLI fuzz: a GLB whose
+    // "accessors" key was mangled): checked here first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (k, primitive) in mesh.primitives.iter().enumerate() {
+            let position =
+                ::gltf::json::validation::Checked::Valid(::gltf::json::mesh::Semantic::Positions);
+            if let Some(index) = primitive.attributes.get(&position)
+                && index.value() >= root.accessors.len()
+            {
+                return Err(MeshError::parse(
+                    path,
+                    "document",
+                    format!(
+                        "mesh {m}, primitive {k}: POSITION names accessor {}, but the file has \
+                         {} accessors",
+                        index.value(),
+                        root.accessors.len()
+                    ),
+                ));
+            }
+        }
+    }
     let doc = ::gltf::Document::from_json(root)
         .map_err(|e| MeshError::parse(path, "document", invalid_document(&e)))?;
     let dir = path.parent().unwrap_or(Path::new(""));

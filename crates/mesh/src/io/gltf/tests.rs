@@ -730,6 +730,19 @@ fn bad_files_are_errors_naming_the_file() {
     // Not JSON; not a glTF document; a dangling index.
     assert!(load_error(d, "text.gltf", b"hello").contains("JSON"));
     assert!(load_error(d, "nodoc.gltf", b"{\"meshes\": []}").contains("asset"));
+    // A POSITION index past the accessors (gltf-json's own validation panicked on it; found
+    // by the CLI fuzz, a GLB whose "accessors" key was mangled).
+    let mut p5 = prim.clone();
+    p5["attributes"]["POSITION"] = json!(99);
+    let e = load_error(
+        d,
+        "dangling-position.glb",
+        &b.glb(json!({"meshes": [{"primitives": [p5]}]})),
+    );
+    assert!(
+        e.contains("mesh 0, primitive 0: POSITION names accessor 99"),
+        "{e}"
+    );
     let mut p4 = prim;
     p4["attributes"]["NORMAL"] = json!(99);
     let e = load_error(
