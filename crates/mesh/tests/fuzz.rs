@@ -30,7 +30,7 @@ const FORMATS: [(Format, &str); 3] = [
 ];
 
 /// Number of seeds (kept in sync with `seeds()`).
-const SEEDS: usize = 18;
+const SEEDS: usize = 22;
 
 /// The shared seeds, built once.
 fn seeds() -> Vec<(Format, Vec<u8>)> {
@@ -46,6 +46,17 @@ fn every_seed_loads() {
         let l = load_bytes(bytes, *format, Path::new("seed"))
             .unwrap_or_else(|e| panic!("seed {i} ({format:?}): {e}"));
         assert!(!l.mesh.triangles.is_empty(), "seed {i}");
+    }
+    // Seeds 18-21 carry attributes: UVs and normals (OBJ, PLY, GLB), colours (PLY).
+    for (i, names) in [
+        (18, vec!["normals", "uv0"]),
+        (19, vec!["normals", "uv0"]),
+        (20, vec!["normals", "uv0"]),
+        (21, vec!["colors"]),
+    ] {
+        let (format, bytes) = &seeds[i];
+        let l = load_bytes(bytes, *format, Path::new("seed")).unwrap();
+        assert_eq!(l.attributes.expect("attributes").names(), names, "seed {i}");
     }
     // The big-endian seed decodes to the same mesh as the little-endian one.
     let le = load_bytes(&seeds[1].1, Format::Ply, Path::new("le.ply")).unwrap();
