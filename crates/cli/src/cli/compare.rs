@@ -150,12 +150,7 @@ fn load(path: &Path) -> anyhow::Result<(mesh::TriMesh, Option<mesh::attributes::
         .names()
         .into_iter()
         .filter(|&name| name != "materials")
-        .map(|name| match name {
-            "uv0" => "texture coordinates",
-            "uv1" => "second texture coordinates",
-            "colors" => "vertex colours",
-            other => other,
-        })
+        .map(super::attribute_in_words)
         .collect();
     eprintln!(
         "warning: {}: {} measured (attribute deviation) but not written: --out writes \

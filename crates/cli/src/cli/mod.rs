@@ -222,12 +222,7 @@ pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result
         .map(|a| a.names())
         .unwrap_or_default()
         .into_iter()
-        .map(|name| match name {
-            "uv0" => "texture coordinates",
-            "uv1" => "second texture coordinates",
-            "colors" => "vertex colours",
-            other => other,
-        })
+        .map(attribute_in_words)
         .collect();
     if loaded.materials.is_some() && !unused.contains(&"materials") {
         unused.push("materials");
@@ -373,5 +368,15 @@ mod help {
             tuning::DEFAULT_DETAIL_ROUNDS,
             percent(tuning::DETAIL_MIN_RATIO)
         )
+    }
+}
+
+/// An attribute's name (`Attributes::names`) as the warnings write it.
+pub(crate) fn attribute_in_words(name: &'static str) -> &'static str {
+    match name {
+        "uv0" => "texture coordinates",
+        "uv1" => "second texture coordinates",
+        "colors" => "vertex colours",
+        other => other,
     }
 }
