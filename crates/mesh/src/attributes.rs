@@ -356,24 +356,7 @@ impl Attributes {
     /// number, numbered from 0 in order of the first triangle). Within a chart the attributes
     /// are continuous.
     pub fn charts(&self, mesh: &TriMesh) -> Vec<u32> {
-        let mut sets = crate::topology::UnionFind::new(mesh.triangles.len());
-        for e in self.edge_sides(mesh) {
-            if !e.seam {
-                sets.union(e.faces[0], e.faces[1]);
-            }
-        }
-        let mut label = vec![u32::MAX; mesh.triangles.len()];
-        let mut chart = Vec::with_capacity(mesh.triangles.len());
-        let mut next = 0u32;
-        for f in 0..mesh.triangles.len() as u32 {
-            let root = sets.find(f) as usize;
-            if label[root] == u32::MAX {
-                label[root] = next;
-                next += 1;
-            }
-            chart.push(label[root]);
-        }
-        chart
+        charts_of(&self.edge_sides(mesh), mesh.triangles.len())
     }
 
     /// Vertices with more than one distinct wedge value around them (on a seam).
@@ -395,6 +378,28 @@ pub(crate) struct EdgeSides {
     pub(crate) faces: [u32; 2],
     /// Whether an attribute or the material changes across it.
     pub(crate) seam: bool,
+}
+
+/// Each of `faces` triangles' chart ([`Attributes::charts`]) from the edge `sides` of its mesh.
+pub(crate) fn charts_of(sides: &[EdgeSides], faces: usize) -> Vec<u32> {
+    let mut sets = crate::topology::UnionFind::new(faces);
+    for e in sides {
+        if !e.seam {
+            sets.union(e.faces[0], e.faces[1]);
+        }
+    }
+    let mut label = vec![u32::MAX; faces];
+    let mut chart = Vec::with_capacity(faces);
+    let mut next = 0u32;
+    for f in 0..faces as u32 {
+        let root = sets.find(f) as usize;
+        if label[root] == u32::MAX {
+            label[root] = next;
+            next += 1;
+        }
+        chart.push(label[root]);
+    }
+    chart
 }
 
 #[cfg(test)]

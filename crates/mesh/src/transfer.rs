@@ -248,13 +248,11 @@ pub fn transfer_attributes(
     let mut across = vec![[u32::MAX; 3]; original.triangles.len()];
     let mut fill = vec![0u8; original.triangles.len()];
     let mut near_seam = vec![false; original.positions.len()];
-    let mut sets = crate::topology::UnionFind::new(original.triangles.len());
-    for e in sides {
+    for e in &sides {
         if e.seam {
             near_seam[e.edge[0] as usize] = true;
             near_seam[e.edge[1] as usize] = true;
         } else {
-            sets.union(e.faces[0], e.faces[1]);
             for (f, g) in [(e.faces[0], e.faces[1]), (e.faces[1], e.faces[0])] {
                 let k = &mut fill[f as usize];
                 if *k < 3 {
@@ -265,10 +263,8 @@ pub fn transfer_attributes(
         }
     }
     drop(fill);
-    let chart: Vec<u32> = (0..original.triangles.len() as u32)
-        .map(|f| sets.find(f))
-        .collect();
-    drop(sets);
+    let chart = crate::attributes::charts_of(&sides, original.triangles.len());
+    drop(sides);
     let mut out = Attributes {
         normals: attributes.normals.as_ref().map(|_| Vec::new()),
         uv0: attributes.uv0.as_ref().map(|_| Vec::new()),

@@ -368,6 +368,17 @@ fn gltf_materials(
     }
 }
 
+/// The write error for `attributes` that do not fit `mesh` (checked once before writing `path`
+/// in any format).
+fn check_attributes(mesh: &TriMesh, attributes: &Attributes, path: &Path) -> Result<(), MeshError> {
+    attributes
+        .validate(mesh)
+        .map_err(|message| MeshError::Write {
+            path: path.to_path_buf(),
+            message: format!("the attributes do not fit the mesh: {message}"),
+        })
+}
+
 /// The bytes [`save_with_attributes`] writes for `mesh` with `attributes` in `format`, and what
 /// the format cannot keep (as warnings): OBJ keeps normals, texture coordinates (`uv0`), colours
 /// (per vertex) and materials; PLY keeps normals, `uv0` and colours, one vertex record per wedge
@@ -388,12 +399,7 @@ pub fn encode_with_attributes(
     format: Format,
     path: &Path,
 ) -> Result<(Vec<u8>, Vec<MeshWarning>), MeshError> {
-    attributes
-        .validate(mesh)
-        .map_err(|message| MeshError::Write {
-            path: path.to_path_buf(),
-            message: format!("the attributes do not fit the mesh: {message}"),
-        })?;
+    check_attributes(mesh, attributes, path)?;
     if matches!(format, Format::Gltf | Format::Glb) {
         // `validate` has checked every corner against the positions.
         let (converted, flip_v, warnings) =
@@ -497,12 +503,7 @@ fn save_gltf(
     materials: Option<&Materials>,
     path: &Path,
 ) -> Result<Vec<MeshWarning>, MeshError> {
-    attributes
-        .validate(mesh)
-        .map_err(|message| MeshError::Write {
-            path: path.to_path_buf(),
-            message: format!("the attributes do not fit the mesh: {message}"),
-        })?;
+    check_attributes(mesh, attributes, path)?;
     let stem = path.file_stem().map_or_else(
         || "buffer".to_string(),
         |s| s.to_string_lossy().into_owned(),
