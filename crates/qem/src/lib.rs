@@ -322,10 +322,14 @@ pub fn simplify(mesh: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemRepor
 /// [`QemParams::boundary_weight`]), a vertex on a seam is contracted only with a neighbour along
 /// the same seam, a vertex off the seams only with another vertex off them, and seam ends,
 /// crossings and vertices whose values differ around them without a seam (a sphere's pole) are
-/// not contracted; so every output triangle lies on one side of every seam. The output's values
-/// are the original's at the closest point of the original surface to each corner, on that
-/// corner's side of the seams ([`mesh::transfer::transfer_attributes`]). Always runs the
-/// sequential engine (no spatial parts), so the result does not depend on the thread count.
+/// not contracted; so every output triangle lies on one side of every seam. The values travel
+/// with the contractions, one set per side of a seam: a vertex never contracted keeps each
+/// corner's input values exactly; a merged vertex gets, for texture coordinates and colours,
+/// the area-weighted least-squares fit of the linear functions of the original faces merged
+/// into it, evaluated at its new position (Hoppe 1999's attribute optimum; colours clamped to
+/// [0, 1]), and for normals their interpolation along the contracted edges, normalised. Always
+/// runs the sequential engine (no spatial parts), so the result does not depend on the thread
+/// count.
 ///
 /// ```
 /// use gng3d_qem::{QemParams, Target, simplify_with_attributes};

@@ -253,21 +253,64 @@ fn vertex_colours_without_seams_stay_one_per_vertex() {
     let (out, kept, _) = simplify_with_attributes(&knight, &attributes, &params).unwrap();
     assert_eq!(kept.wedge_count(), out.vertex_count());
     assert!(kept.seam_edges(&out).is_empty());
-    let reach = 2e-3 * knight.bbox_diagonal();
+    // Each output colour stands for the region merged into its vertex (a fit of the faces'
+    // colours there), so it is compared with the original's colours near the vertex, within a
+    // reach of the output's typical edge: close on average, and never outside [0, 1].
+    let reach = 0.02 * knight.bbox_diagonal();
     let colors_in = attributes.colors.as_ref().unwrap();
     let colors = kept.colors.as_ref().unwrap();
+    let mut total = 0.0;
     for (w, color) in colors.iter().enumerate() {
+        assert!(
+            color.cmpge(Vec4::ZERO).all() && color.cmple(Vec4::ONE).all(),
+            "wedge {w}: colour {color} outside [0, 1]"
+        );
         let near = mesh::fixtures::attribute_values_near(
             &knight,
             &attributes,
             colors_in,
-            out.positions[w],
+            out.positions[kept.wedge_vertex[w] as usize],
             reach,
         );
         let err = near
             .iter()
             .map(|c| (*c - *color).abs().max_element())
             .fold(f32::INFINITY, f32::min);
-        assert!(err < 1e-4, "wedge {w}: colour error {err}");
+        total += err;
+    }
+    // The knight's colours change from vertex to vertex; a 0.05 mean is what the fit gives
+    // (0.041 measured; the sampled colour deviation in docs/notes/attributes.md is the measure).
+    let mean = total / colors.len() as f32;
+    assert!(mean < 0.05, "mean colour error {mean}");
+}
+
+#[test]
+fn linear_attributes_of_a_flat_mesh_are_kept_exactly() {
+    // On a plane, every face's linear interpolation of a linear field is the field itself, so
+    // a merged vertex's values must be the field at its new position, wherever the placement
+    // put it (keeping the survivor's values, or mixing the wrong sides, would be off).
+    let grid = mesh::procedural::unit_square_grid(40);
+    let color = |p: Vec3| Vec4::new(0.2 + 0.5 * p.x, 0.1 + 0.3 * p.y, 0.5, 1.0);
+    let uv = |p: Vec3| Vec2::new(2.0 * p.x - 0.5, 3.0 * p.y + 0.25);
+    let attributes = Attributes {
+        colors: Some(grid.positions.iter().map(|&p| color(p)).collect()),
+        uv0: Some(grid.positions.iter().map(|&p| uv(p)).collect()),
+        ..Attributes::per_vertex(&grid)
+    };
+    let params = QemParams::with_target(Target::Ratio(0.1));
+    let (out, kept, _) = simplify_with_attributes(&grid, &attributes, &params).unwrap();
+    kept.validate(&out).unwrap();
+    assert!(out.vertex_count() < grid.vertex_count() / 5);
+    let (colors, uvs) = (kept.colors.unwrap(), kept.uv0.unwrap());
+    for (w, &v) in kept.wedge_vertex.iter().enumerate() {
+        let p = out.positions[v as usize];
+        let (dc, du) = (
+            (colors[w] - color(p)).abs().max_element(),
+            (uvs[w] - uv(p)).abs().max_element(),
+        );
+        assert!(
+            dc < 1e-4 && du < 1e-4,
+            "wedge {w} at {p}: colour off by {dc}, uv by {du}"
+        );
     }
 }

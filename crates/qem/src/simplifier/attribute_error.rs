@@ -109,28 +109,11 @@ impl AttributeError {
         }
     }
 
-    /// The sides of `b` that merge with `a`'s sides 0 and 1 (`a`, `b` a pair the seams allow).
-    #[inline]
-    fn matching(a: usize, b: usize, seams: &Seams) -> [usize; 2] {
-        if !seams.seam[a] {
-            return [0, 1];
-        }
-        // Walking a's seam from along[0] to along[1] goes a → b iff along[a][1] = b; b's walk
-        // goes a → b iff along[b][0] = a. Same direction: the left sides match.
-        let a_forward = seams.along[a][1] == b as u32;
-        let b_forward = seams.along[b][0] == a as u32;
-        if a_forward == b_forward {
-            [0, 1]
-        } else {
-            [1, 0]
-        }
-    }
-
     /// The attribute error of contracting `a` and `b` to `p`.
     #[inline]
     pub(super) fn error(&self, a: usize, b: usize, p: DVec3, seams: &Seams) -> f64 {
         let len = self.side_len();
-        let m = Self::matching(a, b, seams);
+        let m = seams.matching(a, b);
         let sides = if seams.seam[a] { 2 } else { 1 };
         let mut total = 0.0;
         for (sa, &sb) in m.iter().enumerate().take(sides) {
@@ -162,7 +145,7 @@ impl AttributeError {
     /// `b` was contracted into `a` (called before the seams are merged).
     pub(super) fn merge(&mut self, a: usize, b: usize, seams: &Seams) {
         let len = self.side_len();
-        let m = Self::matching(a, b, seams);
+        let m = seams.matching(a, b);
         for (sa, sb) in m.into_iter().enumerate() {
             let (from, to) = ((b * 2 + sb) * len, (a * 2 + sa) * len);
             for i in 0..len {

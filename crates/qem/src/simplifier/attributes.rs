@@ -1,16 +1,16 @@
 //! QEM that keeps normals, texture coordinates, colours and materials
 //! ([`crate::simplify_with_attributes`]).
 //!
-//! The collapse order stays Garland–Heckbert's geometric one; what changes is what may be
-//! contracted (seams only along themselves, seam ends and crossings locked, [`Seams`]), the
-//! constraint planes along the seams (Garland–Heckbert 1997's boundary planes, which the paper
-//! proposes for any discontinuity), and the attribute values of the output, taken from the
-//! original surface at each output corner on its side of the seams
-//! (`mesh::transfer::transfer_attributes`).
+//! The collapse order stays Garland–Heckbert's geometric one (plus the optional attribute
+//! term, [`AttributeError`]); what changes is what may be contracted (seams only along
+//! themselves, seam ends and crossings locked, [`Seams`]), the constraint planes along the seams
+//! (Garland–Heckbert 1997's boundary planes, which the paper proposes for any discontinuity),
+//! and the values, which travel with the contractions ([`wedges`]).
 
 use super::attribute_error::AttributeError;
 use super::engine::{Seams, Vertex};
-use super::{Run, prepare};
+use super::wedges::{self, WedgeValues};
+use super::{AttributeRun, Run, prepare};
 use crate::{QemError, QemParams, QemReport, Quadric};
 use glam::DVec3;
 use mesh::TriMesh;
@@ -52,12 +52,6 @@ pub(super) fn seam_planes(
     }
 }
 
-/// Bit pattern of a normalised position (the key that finds an input vertex among the prepared
-/// ones).
-fn key(p: DVec3) -> [u64; 3] {
-    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
-}
-
 /// The whole run with attributes.
 pub(crate) fn run(
     input: &TriMesh,
@@ -70,40 +64,15 @@ pub(crate) fn run(
     attributes
         .validate(input)
         .map_err(QemError::InvalidAttributes)?;
-    let prepared = prepare::prepare(input)?;
+    let (prepared, index) = prepare::prepare_with_index(input, true)?;
     super::check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
     let (input_vertices, input_faces) = (prepared.pos.len(), prepared.faces.len());
     let n = prepared.pos.len();
-
-    // Each referenced input vertex's prepared index, found by its normalised position (the
-    // prepare pass renumbers along a Morton curve). Positions held by two vertices (touching
-    // points the weld kept apart) are ambiguous: those vertices are locked.
-    const AMBIGUOUS: u32 = u32::MAX - 1;
-    let mut by_position: HashMap<[u64; 3], u32> = HashMap::with_capacity(n);
-    for (k, &p) in prepared.pos.iter().enumerate() {
-        by_position
-            .entry(key(p))
-            .and_modify(|e| *e = AMBIGUOUS)
-            .or_insert(k as u32);
-    }
     let frame = prepared.frame;
-    let to_prepared: Vec<u32> = input
-        .positions
-        .iter()
-        .map(|&p| {
-            by_position
-                .get(&key(frame.to_frame(p)))
-                .copied()
-                .unwrap_or(u32::MAX)
-        })
-        .collect();
+    // Each input vertex's prepared index (`u32::MAX`: unreferenced).
+    let to_prepared = index.vertex;
+    let real = |i: u32| (i != u32::MAX).then_some(i as usize);
     let mut locked = vec![false; n];
-    for (k, &p) in prepared.pos.iter().enumerate() {
-        if by_position.get(&key(p)) == Some(&AMBIGUOUS) {
-            locked[k] = true;
-        }
-    }
-    let real = |i: u32| (i < AMBIGUOUS).then_some(i as usize);
     // The caller's locks (input numbering).
     for (v, _) in user_locked
         .unwrap_or_default()
@@ -149,8 +118,7 @@ pub(crate) fn run(
         }
         match neighbours {
             Some(list) if list.len() == 2 => {
-                along[k] = [to_prepared[list[0] as usize], to_prepared[list[1] as usize]]
-                    .map(|i| if i < AMBIGUOUS { i } else { u32::MAX });
+                along[k] = [to_prepared[list[0] as usize], to_prepared[list[1] as usize]];
             }
             _ if count > 0 || *is_multi => locked[k] = true,
             _ => {}
@@ -166,20 +134,61 @@ pub(crate) fn run(
         })
         .collect();
     let seams = Seams { seam, along };
-    let attr = attribute_error(
-        input,
-        attributes,
+    let side = corner_sides(input, &along_input);
+    let attr = attribute_error(input, attributes, params, (&to_prepared, n), frame, &side);
+    let values = WedgeValues::new(input, attributes, &to_prepared, n, &side, &frame);
+    let attribute_run = AttributeRun {
+        seams,
+        edges,
+        attr,
+        values,
+    };
+    let face_origin = index.face;
+    let (run, out) = super::simplify_prepared_with(
+        prepared,
         params,
-        (&to_prepared, n),
-        frame,
-        &along_input,
+        Some(&locked),
+        Some(attribute_run),
+        |e, frame, carried| match carried {
+            Some((values, seams)) => {
+                wedges::output(e, values, seams, frame, attributes, &face_origin)
+            }
+            // Not reached: an attribute run always carries its values.
+            None => (e.output(frame).0, Attributes::default()),
+        },
     );
-    let (run, _kept) =
-        super::simplify_prepared_with(prepared, params, Some(&locked), Some((seams, edges)), attr);
-    let out = mesh::transfer::transfer_attributes(input, attributes, &run.mesh);
     let report = super::report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;
     Ok((mesh, out, report))
+}
+
+/// The side of every input face corner at a seam vertex (`along_input`: each seam vertex's seam
+/// neighbours; only those with two have sides), `side[3 f + k]` for corner `k` of face `f`: 0
+/// on the left of the seam walked from the first neighbour through the vertex to the second
+/// ([`wedges::fan_sides`]), 1 on the other side; 0 everywhere else.
+fn corner_sides(input: &TriMesh, along_input: &HashMap<u32, Vec<u32>>) -> Vec<u8> {
+    let tris = &input.triangles;
+    let mut side = vec![0u8; tris.len() * 3];
+    let vf = mesh::topology::VertexFaces::new(tris, input.positions.len());
+    let (mut reached, mut stack) = (Vec::new(), Vec::new());
+    for (&v, list) in along_input {
+        let &[n0, n1] = list.as_slice() else {
+            continue;
+        };
+        let fan = &vf.faces[vf.start[v as usize] as usize..vf.start[v as usize + 1] as usize];
+        let faces = |f: u32| tris[f as usize];
+        wedges::fan_sides(fan, faces, [v, n0, n1], &mut reached, &mut stack);
+        if !reached.iter().any(|&r| r) {
+            continue;
+        }
+        for (&f, &r) in fan.iter().zip(&reached) {
+            if !r {
+                let k = tris[f as usize].iter().position(|&x| x == v).unwrap_or(0);
+                side[f as usize * 3 + k] = 1;
+            }
+        }
+    }
+    side
 }
 
 /// The attribute error sums of `input`'s triangles ([`AttributeError`] over the `vertices`
@@ -196,7 +205,7 @@ fn attribute_error(
     params: &QemParams,
     (to_prepared, vertices): (&[u32], usize),
     frame: super::prepare::Frame,
-    along_input: &HashMap<u32, Vec<u32>>,
+    side: &[u8],
 ) -> Option<AttributeError> {
     let w = params.attribute_weights;
     // (weight, per-wedge values, components)
@@ -239,50 +248,7 @@ fn attribute_error(
         }
     }
 
-    // Side 1 corners of the seam vertices, per face corner.
     let tris = &input.triangles;
-    let mut side = vec![0u8; tris.len() * 3];
-    let vf = mesh::topology::VertexFaces::new(tris, input.positions.len());
-    let mut reached = Vec::new();
-    let mut stack = Vec::new();
-    for (&v, list) in along_input {
-        let &[n0, n1] = list.as_slice() else {
-            continue;
-        };
-        let fan = &vf.faces[vf.start[v as usize] as usize..vf.start[v as usize + 1] as usize];
-        let corner = |f: u32| tris[f as usize].iter().position(|&x| x == v).unwrap_or(0);
-        let first = fan
-            .iter()
-            .position(|&f| tris[f as usize][(corner(f) + 1) % 3] == n1)
-            .or_else(|| fan.iter().position(|&f| tris[f as usize].contains(&n1)));
-        let Some(first) = first else {
-            continue;
-        };
-        reached.clear();
-        reached.resize(fan.len(), false);
-        reached[first] = true;
-        stack.clear();
-        stack.push(first);
-        while let Some(i) = stack.pop() {
-            for x in tris[fan[i] as usize] {
-                if x == v || x == n0 || x == n1 {
-                    continue;
-                }
-                for (j, &g) in fan.iter().enumerate() {
-                    if !reached[j] && tris[g as usize].contains(&x) {
-                        reached[j] = true;
-                        stack.push(j);
-                    }
-                }
-            }
-        }
-        for (i, &f) in fan.iter().enumerate() {
-            if !reached[i] {
-                side[f as usize * 3 + corner(f)] = 1;
-            }
-        }
-    }
-
     let mut out = AttributeError::new(vertices, channels);
     let mut corner_values = vec![0.0; 3 * channels];
     for (f, (t, c)) in tris.iter().zip(&attributes.corners).enumerate() {

@@ -7,6 +7,7 @@ use super::attribute_error::AttributeError;
 use super::candidates::{Cand, key_of};
 use super::prefetch;
 use super::prepare::Frame;
+use super::wedges::{WedgeValues, segment_parameter};
 use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use crate::pairs::VirtualPairs;
 use crate::{QemParams, Quadric};
@@ -88,6 +89,8 @@ pub(super) struct Engine {
     /// the cost is the geometric one). Outside `Vertex`: positions-only runs keep their
     /// 128-byte record.
     pub(super) attr: Option<AttributeError>,
+    /// The attribute values carried through the contractions, when the run keeps attributes.
+    pub(super) values: Option<WedgeValues>,
     /// Summed face area of each vertex's quadric (normalised frame), with
     /// `QemParams::max_relative_error` only.
     pub(super) area: Option<Vec<f64>>,
@@ -123,6 +126,23 @@ impl Seams {
                     && other(na, b) != other(nb, a)
             }
             _ => false,
+        }
+    }
+
+    /// The sides of `b` that merge with `a`'s sides 0 and 1 (`a`, `b` a pair the seams allow).
+    #[inline]
+    pub(super) fn matching(&self, a: usize, b: usize) -> [usize; 2] {
+        if !self.seam[a] {
+            return [0, 1];
+        }
+        // Walking a's seam from along[0] to along[1] goes a → b iff along[a][1] = b; b's walk
+        // goes a → b iff along[b][0] = a. Same direction: the left sides match.
+        let a_forward = self.along[a][1] == b as u32;
+        let b_forward = self.along[b][0] == a as u32;
+        if a_forward == b_forward {
+            [0, 1]
+        } else {
+            [1, 0]
         }
     }
 
@@ -200,6 +220,7 @@ impl Engine {
             prefetching: prefetch::worth_it(n),
             seams: None,
             attr: None,
+            values: None,
             area: None,
         }
     }
@@ -456,6 +477,10 @@ impl Engine {
     /// Contract `b` into `a`, moving `a` to `p`.
     pub(super) fn collapse(&mut self, a: usize, b: usize, p: DVec3) {
         let (au, bu) = (a as u32, b as u32);
+        let t = match self.values {
+            Some(_) => segment_parameter(self.vx[a].p, self.vx[b].p, p),
+            None => 0.0,
+        };
         self.vx[a].p = p;
         let qb = self.vx[b].q;
         self.vx[a].q += qb;
@@ -508,6 +533,9 @@ impl Engine {
             // Before the seams merge: the sides are matched by the seam neighbours of `a`, `b`.
             if let Some(attr) = self.attr.as_mut() {
                 attr.merge(a, b, seams);
+            }
+            if let Some(values) = self.values.as_mut() {
+                values.merge(a, b, t, seams);
             }
             seams.merge(a, b);
         }

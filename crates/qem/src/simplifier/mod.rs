@@ -26,6 +26,7 @@ mod partition;
 mod prefetch;
 mod prepare;
 mod setup;
+mod wedges;
 
 use crate::radix::sort_by_u32_key;
 use crate::{QemError, QemParams, QemReport, StopReason, Target, pairs};
@@ -113,7 +114,8 @@ pub fn run_locked(
     let started = Instant::now();
     validate(params)?;
     check_lock_mask(input, Some(locked))?;
-    let (prepared, new_index) = prepare::prepare_with_index(input, true)?;
+    let (prepared, index) = prepare::prepare_with_index(input, true)?;
+    let new_index = index.vertex;
     check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
     let input_faces = prepared.faces.len();
     let input_vertices = prepared.pos.len();
@@ -204,19 +206,35 @@ fn simplify_prepared(
     params: &QemParams,
     locked: Option<&[bool]>,
 ) -> (Run, Vec<u32>) {
-    simplify_prepared_with(prepared, params, locked, None, None)
+    simplify_prepared_with(prepared, params, locked, None, |e, frame, _| {
+        e.output(frame)
+    })
 }
 
-/// [`simplify_prepared`], with the attribute seams of `seams` (prepared numbering) kept: their
-/// edges get constraint planes and their vertices are contracted only along them
-/// ([`engine::Seams`]), and the attribute error `attr` added to the cost (with seams only).
-fn simplify_prepared_with(
+/// What an attribute run adds to the passes (prepared numbering): the seams, whose `edges` get
+/// constraint planes and whose vertices are contracted only along them ([`engine::Seams`]), the
+/// attribute error added to the cost (`None`: all weights 0), and the values carried through the
+/// contractions ([`wedges`]).
+struct AttributeRun {
+    seams: engine::Seams,
+    edges: Vec<[u32; 2]>,
+    attr: Option<attribute_error::AttributeError>,
+    values: wedges::WedgeValues,
+}
+
+/// [`simplify_prepared`] with an attribute run's additions, the result made by `output` from the
+/// engine after the passes (with the attribute run's values and seams, when there is one).
+fn simplify_prepared_with<T>(
     prepared: prepare::Prepared,
     params: &QemParams,
     locked: Option<&[bool]>,
-    seams: Option<(engine::Seams, Vec<[u32; 2]>)>,
-    attr: Option<attribute_error::AttributeError>,
-) -> (Run, Vec<u32>) {
+    attribute_run: Option<AttributeRun>,
+    output: impl FnOnce(
+        &Engine,
+        &prepare::Frame,
+        Option<(&wedges::WedgeValues, &engine::Seams)>,
+    ) -> (TriMesh, T),
+) -> (Run, T) {
     let prepare::Prepared {
         pos,
         faces,
@@ -227,11 +245,11 @@ fn simplify_prepared_with(
     let input_faces = faces.len();
     let setup::VertexSetup { mut vx, mut list } =
         setup::vertex_setup(&pos, &faces, &refs, &face_start, params, locked);
-    let seams = seams.map(|(seams, edges)| {
-        attributes::seam_planes(&mut vx, &pos, &faces, &refs, &face_start, &edges, params);
-        list.retain(|c| seams.pair_ok(c.a as usize, c.b as usize));
-        seams
-    });
+    if let Some(run) = &attribute_run {
+        let edges = &run.edges;
+        attributes::seam_planes(&mut vx, &pos, &faces, &refs, &face_start, edges, params);
+        list.retain(|c| run.seams.pair_ok(c.a as usize, c.b as usize));
+    }
     let area = params
         .max_relative_error
         .map(|_| vertex_areas(&pos, &faces));
@@ -240,12 +258,14 @@ fn simplify_prepared_with(
     e.area = area;
     let mut schedule = Schedule::new(list);
     let virtual_pairs = add_virtual_pairs(&mut e, &mut schedule.list, params, frame.scale);
-    if let Some(seams) = seams {
+    if let Some(run) = attribute_run {
+        let seams = run.seams;
         schedule
             .list
             .retain(|c| seams.pair_ok(c.a as usize, c.b as usize));
         e.seams = Some(seams);
-        e.attr = attr;
+        e.attr = run.attr;
+        e.values = Some(run.values);
     }
     e.cost_all(&mut schedule.list);
     schedule.sort();
@@ -322,7 +342,8 @@ fn simplify_prepared_with(
         schedule.next_list(&mut e, pass, outcome.consumed);
     };
     drop(schedule);
-    let (mesh, kept) = e.output(&frame);
+    let carried = e.values.as_ref().zip(e.seams.as_ref());
+    let (mesh, made) = output(&e, &frame, carried);
     let run = Run {
         mesh,
         collapses: totals.done,
@@ -335,7 +356,7 @@ fn simplify_prepared_with(
             .max_relative_error
             .map(|_| totals.worst_relative2.sqrt()),
     };
-    (run, kept)
+    (run, made)
 }
 
 /// Per vertex, the summed area of its faces (normalised frame): the weight of its plane quadric

@@ -53,23 +53,46 @@ pub(super) fn prepare(input: &TriMesh) -> Result<Prepared, QemError> {
     prepare_with_index(input, false).map(|(p, _)| p)
 }
 
-/// [`prepare`], also returning each input vertex's prepared index (`u32::MAX` for an
-/// unreferenced one) when `keep_index` (else an empty list: it is dropped as soon as the faces
-/// are renumbered, which lowers the peak memory of ordinary runs).
+/// Where the prepared vertices and faces came from ([`prepare_with_index`]).
+pub(super) struct PreparedIndex {
+    /// Each input vertex's prepared index (`u32::MAX` for an unreferenced one).
+    pub(super) vertex: Vec<u32>,
+    /// Each prepared face's input face (its corners in the same order).
+    pub(super) face: Vec<u32>,
+}
+
+/// [`prepare`], also returning where the prepared vertices and faces came from when
+/// `keep_index` (else empty lists: the vertex index is dropped as soon as the faces are
+/// renumbered, which lowers the peak memory of ordinary runs).
 pub(super) fn prepare_with_index(
     input: &TriMesh,
     keep_index: bool,
-) -> Result<(Prepared, Vec<u32>), QemError> {
-    let faces = usable_faces(input)?;
+) -> Result<(Prepared, PreparedIndex), QemError> {
+    let (faces, usable) = usable_faces(input, keep_index)?;
     let face_len = faces_per_vertex(input.positions.len(), &faces);
     let frame = normalised_frame(&input.positions, &face_len)?;
     let (pos, face_len, new_index) = morton_renumbering(&input.positions, face_len, &frame);
-    let faces = sort_faces(&faces, &new_index, pos.len());
-    let new_index = if keep_index {
-        new_index // DEAD is u32::MAX
+    let mut face_origin = Vec::new();
+    let faces = sort_faces(
+        &faces,
+        &new_index,
+        pos.len(),
+        keep_index.then_some(&mut face_origin),
+    );
+    let index = if keep_index {
+        for f in &mut face_origin {
+            *f = usable[*f as usize];
+        }
+        PreparedIndex {
+            vertex: new_index, // DEAD is u32::MAX
+            face: face_origin,
+        }
     } else {
         drop(new_index);
-        Vec::new()
+        PreparedIndex {
+            vertex: Vec::new(),
+            face: Vec::new(),
+        }
     };
     let mesh::topology::VertexFaces {
         start: face_start,
@@ -83,12 +106,13 @@ pub(super) fn prepare_with_index(
             face_start,
             frame,
         },
-        new_index,
+        index,
     ))
 }
 
-/// Validate the indices and keep the faces with three distinct corners.
-fn usable_faces(input: &TriMesh) -> Result<Vec<[u32; 3]>, QemError> {
+/// Validate the indices and keep the faces with three distinct corners; with `keep_index`, also
+/// the input index of each kept face (else an empty list).
+fn usable_faces(input: &TriMesh, keep_index: bool) -> Result<(Vec<[u32; 3]>, Vec<u32>), QemError> {
     let n = input.positions.len();
     if n >= u32::MAX as usize || input.triangles.len() >= u32::MAX as usize / 2 {
         return Err(QemError::InvalidParameter(
@@ -96,6 +120,7 @@ fn usable_faces(input: &TriMesh) -> Result<Vec<[u32; 3]>, QemError> {
         ));
     }
     let mut faces: Vec<[u32; 3]> = Vec::with_capacity(input.triangles.len());
+    let mut kept = Vec::new();
     for (fi, t) in input.triangles.iter().enumerate() {
         for &v in t {
             if v as usize >= n {
@@ -108,12 +133,15 @@ fn usable_faces(input: &TriMesh) -> Result<Vec<[u32; 3]>, QemError> {
         }
         if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
             faces.push(*t);
+            if keep_index {
+                kept.push(fi as u32);
+            }
         }
     }
     if faces.is_empty() {
         return Err(QemError::EmptyMesh);
     }
-    Ok(faces)
+    Ok((faces, kept))
 }
 
 /// Number of faces around each of the `n` vertices (0: unreferenced).
@@ -191,8 +219,13 @@ fn morton(p: DVec3) -> u64 {
 }
 
 /// The faces over the new indices, in order of their smallest vertex (a stable counting sort
-/// over the `n` new vertices).
-fn sort_faces(faces: &[[u32; 3]], new_index: &[u32], n: usize) -> Vec<[u32; 3]> {
+/// over the `n` new vertices); with `origin`, also each sorted face's index in `faces`.
+fn sort_faces(
+    faces: &[[u32; 3]],
+    new_index: &[u32],
+    n: usize,
+    mut origin: Option<&mut Vec<u32>>,
+) -> Vec<[u32; 3]> {
     let renumbered = |t: &[u32; 3]| t.map(|v| new_index[v as usize]);
     let smallest = |t: &[u32; 3]| t[0].min(t[1]).min(t[2]) as usize;
     let mut slot = vec![0u32; n + 1];
@@ -203,10 +236,16 @@ fn sort_faces(faces: &[[u32; 3]], new_index: &[u32], n: usize) -> Vec<[u32; 3]> 
         slot[v + 1] += slot[v];
     }
     let mut sorted = vec![[0u32; 3]; faces.len()];
-    for t in faces {
+    if let Some(o) = origin.as_deref_mut() {
+        o.resize(faces.len(), 0);
+    }
+    for (i, t) in faces.iter().enumerate() {
         let r = renumbered(t);
         let s = &mut slot[smallest(&r)];
         sorted[*s as usize] = r;
+        if let Some(o) = origin.as_deref_mut() {
+            o[*s as usize] = i as u32;
+        }
         *s += 1;
     }
     sorted

@@ -1,0 +1,435 @@
+//! The attribute values of an attribute run, carried through the contractions (as
+//! meshoptimizer keeps its wedges) instead of looked up on the original surface afterwards.
+//!
+//! Each engine vertex holds one set of values per side of the seam through it: side 0 is the
+//! fan on the left of the seam walked from `along[0]` through the vertex to `along[1]` (the
+//! faces reached from the one holding the directed edge vertex → `along[1]` without crossing
+//! the seam), side 1 the rest; a vertex off the seams uses side 0 only. When `b` is contracted
+//! into `a` at `p`, each side of `a` becomes the interpolation of its values and those of the
+//! matching side of `b` ([`Seams::matching`]) at the parameter of `p`'s projection onto the
+//! segment `a`–`b`: the values the original surface had between the two, to first order.
+//!
+//! A vertex never merged keeps every corner's own input wedge, exactly: that covers the seam
+//! ends, crossings and poles (locked, with more than two sets of values) and the vertices the
+//! target left alone. The output's corners take their vertex's set on the corner's side; the
+//! side of a merged seam vertex's faces is found by the same fan walk as the input's
+//! ([`fan_sides`]).
+//!
+//! Measured against the closest-point transfer it replaces (docs/notes/attributes.md, "Values
+//! from the contractions"): see the note for the texture error and time figures.
+
+use super::engine::{DEAD, Engine, Seams, corner_after};
+use super::prepare::Frame;
+use glam::{DVec3, Vec2, Vec3, Vec4};
+use mesh::TriMesh;
+use mesh::attributes::Attributes;
+
+/// Which attributes a run carries, and where each sits in a side's components.
+#[derive(Debug, Clone, Copy)]
+struct Layout {
+    normals: Option<usize>,
+    uv0: Option<usize>,
+    uv1: Option<usize>,
+    colors: Option<usize>,
+    /// Components per side.
+    stride: usize,
+}
+
+impl Layout {
+    fn of(attributes: &Attributes) -> Layout {
+        let mut stride = 0;
+        let mut slot = |present: bool, dims: usize| {
+            present.then(|| {
+                stride += dims;
+                stride - dims
+            })
+        };
+        let normals = slot(attributes.normals.is_some(), 3);
+        let uv0 = slot(attributes.uv0.is_some(), 2);
+        let uv1 = slot(attributes.uv1.is_some(), 2);
+        let colors = slot(attributes.colors.is_some(), 4);
+        Layout {
+            normals,
+            uv0,
+            uv1,
+            colors,
+            stride,
+        }
+    }
+
+    /// The first fitted component: every one after the normals.
+    fn fit_from(&self) -> usize {
+        self.normals.map_or(0, |n| n + 3)
+    }
+
+    /// Numbers per side of the fit sums (1 when nothing is fitted).
+    fn fit_len(&self) -> usize {
+        1 + 4 * (self.stride - self.fit_from())
+    }
+
+    /// Input wedge `w`'s values into `out` (`stride` components).
+    fn gather(&self, attributes: &Attributes, w: usize, out: &mut [f32]) {
+        let mut put = |at: Option<usize>, values: &[f32]| {
+            if let Some(at) = at {
+                out[at..at + values.len()].copy_from_slice(values);
+            }
+        };
+        if let Some(n) = &attributes.normals {
+            put(self.normals, &n[w].to_array());
+        }
+        if let Some(t) = &attributes.uv0 {
+            put(self.uv0, &t[w].to_array());
+        }
+        if let Some(t) = &attributes.uv1 {
+            put(self.uv1, &t[w].to_array());
+        }
+        if let Some(c) = &attributes.colors {
+            put(self.colors, &c[w].to_array());
+        }
+    }
+}
+
+/// Per engine vertex, two sides of values (see the module docs).
+pub(super) struct WedgeValues {
+    /// Per vertex, two sides of `stride` values interpolated along the contractions.
+    lerp: Vec<f32>,
+    /// Per vertex, two sides of `1 + 4 fitted` sums: the area `W`, then per fitted channel
+    /// `G` (3) and `D` ([`FIT_FROM`](Layout::fit_from) onwards: every channel but the normals).
+    fit: Vec<f64>,
+    layout: Layout,
+    /// Merged at least once as the survivor of a contraction (its values are interpolated).
+    merged: Vec<bool>,
+}
+
+impl WedgeValues {
+    /// The values of `attributes` (over `input`) on the `vertices` engine vertices:
+    /// `to_prepared` maps input vertices to engine ones (`u32::MAX`: none), `side[3 f + k]` is
+    /// the side of corner `k` of input face `f`, `frame` the engine's.
+    pub(super) fn new(
+        input: &TriMesh,
+        attributes: &Attributes,
+        to_prepared: &[u32],
+        vertices: usize,
+        side: &[u8],
+        frame: &Frame,
+    ) -> WedgeValues {
+        let layout = Layout::of(attributes);
+        let (s, from, len) = (layout.stride, layout.fit_from(), layout.fit_len());
+        let mut lerp = vec![0.0; vertices * 2 * s];
+        let mut fit = vec![0.0f64; if len > 1 { vertices * 2 * len } else { 0 }];
+        let mut corner = vec![0.0f32; 3 * s];
+        for (f, (t, c)) in input.triangles.iter().zip(&attributes.corners).enumerate() {
+            for k in 0..3 {
+                layout.gather(attributes, c[k] as usize, &mut corner[k * s..(k + 1) * s]);
+            }
+            let pos = t.map(|v| frame.to_frame(input.positions[v as usize]));
+            // A degenerate face adds its values with a negligible weight and no gradient, so
+            // that a side with degenerate faces only still has a value.
+            let basis = gradient_basis(pos).unwrap_or((1e-300, DVec3::ZERO, DVec3::ZERO));
+            for k in 0..3 {
+                let v = to_prepared[t[k] as usize];
+                if v == u32::MAX {
+                    continue;
+                }
+                let slot = v as usize * 2 + side[f * 3 + k] as usize;
+                lerp[slot * s..(slot + 1) * s].copy_from_slice(&corner[k * s..(k + 1) * s]);
+                if len > 1 {
+                    let x = &mut fit[slot * len..(slot + 1) * len];
+                    let (area, t1, t2) = basis;
+                    x[0] += area;
+                    for j in from..s {
+                        let s0 = f64::from(corner[j]);
+                        let (s1, s2) = (f64::from(corner[s + j]), f64::from(corner[2 * s + j]));
+                        let g = (s1 - s0) * t1 + (s2 - s0) * t2;
+                        let o = 1 + 4 * (j - from);
+                        x[o] += area * g.x;
+                        x[o + 1] += area * g.y;
+                        x[o + 2] += area * g.z;
+                        x[o + 3] += area * (s0 - g.dot(pos[0]));
+                    }
+                }
+            }
+        }
+        WedgeValues {
+            lerp,
+            fit,
+            layout,
+            merged: vec![false; vertices],
+        }
+    }
+
+    /// `b` is contracted into `a` at `t` along `a`–`b` (0: at `a`), matched by `seams` (called
+    /// before the seams are merged).
+    pub(super) fn merge(&mut self, a: usize, b: usize, t: f32, seams: &Seams) {
+        let (s, len) = (self.layout.stride, self.layout.fit_len());
+        let sides = if seams.seam[a] { 2 } else { 1 };
+        for (sa, sb) in seams.matching(a, b).into_iter().enumerate().take(sides) {
+            let (to, from) = ((a * 2 + sa) * s, (b * 2 + sb) * s);
+            for i in 0..s {
+                let (x, y) = (self.lerp[to + i], self.lerp[from + i]);
+                self.lerp[to + i] = x + t * (y - x);
+            }
+            if len > 1 {
+                let (to, from) = ((a * 2 + sa) * len, (b * 2 + sb) * len);
+                for i in 0..len {
+                    self.fit[to + i] += self.fit[from + i];
+                }
+            }
+        }
+        self.merged[a] = true;
+    }
+
+    /// The values of side `slot` (vertex × 2 + side) at `p` into `out`: the normals
+    /// interpolated, the rest fitted.
+    fn values_at(&self, slot: usize, p: DVec3, out: &mut [f32]) {
+        let (s, from, len) = (
+            self.layout.stride,
+            self.layout.fit_from(),
+            self.layout.fit_len(),
+        );
+        out.copy_from_slice(&self.lerp[slot * s..(slot + 1) * s]);
+        if len > 1 {
+            let x = &self.fit[slot * len..(slot + 1) * len];
+            for (value, sums) in out[from..].iter_mut().zip(x[1..].chunks_exact(4)) {
+                let fitted = sums[0] * p.x + sums[1] * p.y + sums[2] * p.z + sums[3];
+                *value = (fitted / x[0]) as f32;
+            }
+        }
+    }
+}
+
+/// For a triangle at `pos`, its area and the two vectors `t1`, `t2` in its plane such that the
+/// linear function with values `s0`, `s1`, `s2` at its corners has the gradient
+/// `(s1 − s0) t1 + (s2 − s0) t2` (`g·e1 = s1 − s0`, `g·e2 = s2 − s0`, `g` in the plane);
+/// `None` for a degenerate triangle.
+pub(super) fn gradient_basis(pos: [DVec3; 3]) -> Option<(f64, DVec3, DVec3)> {
+    let (e1, e2) = (pos[1] - pos[0], pos[2] - pos[0]);
+    let n = e1.cross(e2);
+    let n2 = n.length_squared();
+    (n2 > 0.0 && n2.is_finite()).then(|| (0.5 * n2.sqrt(), e2.cross(n) / n2, n.cross(e1) / n2))
+}
+
+/// Where `p` projects onto the segment `pa`–`pb`, as a parameter in [0, 1] (½ for a point
+/// segment): the interpolation parameter of a contraction.
+#[inline]
+pub(super) fn segment_parameter(pa: DVec3, pb: DVec3, p: DVec3) -> f32 {
+    let d = pb - pa;
+    let len2 = d.length_squared();
+    if len2 > 0.0 {
+        ((p - pa).dot(d) / len2).clamp(0.0, 1.0) as f32
+    } else {
+        0.5
+    }
+}
+
+/// The sides of the faces `fan` around seam vertex `v` with seam neighbours `n0`, `n1`
+/// (`faces(f)` gives face `f`'s corners): `reached[i]` is true for side 0, the faces reached from
+/// the one holding the directed edge `v → n1` (else one holding `n1`) through edges off the seam.
+/// With no such face every entry stays false. `stack` is scratch.
+pub(super) fn fan_sides(
+    fan: &[u32],
+    faces: impl Fn(u32) -> [u32; 3],
+    [v, n0, n1]: [u32; 3],
+    reached: &mut Vec<bool>,
+    stack: &mut Vec<usize>,
+) {
+    reached.clear();
+    reached.resize(fan.len(), false);
+    let first = fan
+        .iter()
+        .position(|&f| corner_after(&faces(f), v) == n1)
+        .or_else(|| fan.iter().position(|&f| faces(f).contains(&n1)));
+    let Some(first) = first else {
+        return;
+    };
+    reached[first] = true;
+    stack.clear();
+    stack.push(first);
+    while let Some(i) = stack.pop() {
+        for x in faces(fan[i]) {
+            if x == v || x == n0 || x == n1 {
+                continue;
+            }
+            for (j, &g) in fan.iter().enumerate() {
+                if !reached[j] && faces(g).contains(&x) {
+                    reached[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+    }
+}
+
+/// The engine's result as a mesh in model units with its attributes: the live faces less
+/// duplicates (`mesh::clean`), each corner with its vertex's values on its side, or its own
+/// input wedge where the vertex was never merged; materials per face. `face_origin[f]` is the
+/// input face of engine face `f` (same corner order); `attributes` are the input's.
+pub(super) fn output(
+    e: &Engine,
+    values: &WedgeValues,
+    seams: &Seams,
+    frame: &Frame,
+    attributes: &Attributes,
+    face_origin: &[u32],
+) -> (TriMesh, Attributes) {
+    // 1. The live faces and their engine indices, degenerate and duplicate faces dropped.
+    let mut face_id = Vec::with_capacity(e.live_faces);
+    let mut triangles = Vec::with_capacity(e.live_faces);
+    for (f, t) in e.faces.iter().enumerate() {
+        if t[0] != DEAD {
+            face_id.push(f as u32);
+            triangles.push(*t);
+        }
+    }
+    let mut out = TriMesh::new(Vec::new(), triangles);
+    if let (_, Some(keep)) = mesh::clean::drop_faces_with_mask(&mut out) {
+        let mut k = keep.iter();
+        face_id.retain(|_| *k.next().unwrap_or(&false));
+    }
+
+    // 2. Side 1 corners of the merged seam vertices (bit k of the engine face's entry).
+    let mut side1 = vec![0u8; e.faces.len()];
+    let (mut fan, mut reached, mut stack) = (Vec::new(), Vec::new(), Vec::new());
+    for v in 0..e.vx.len() {
+        if !(values.merged[v] && seams.seam[v] && e.vx[v].alive) {
+            continue;
+        }
+        fan.clear();
+        fan.extend(
+            e.list(v)
+                .map(|i| e.refs[i])
+                .filter(|&f| e.faces[f as usize][0] != DEAD),
+        );
+        let [n0, n1] = seams.along[v];
+        let faces = |f: u32| e.faces[f as usize];
+        fan_sides(&fan, faces, [v as u32, n0, n1], &mut reached, &mut stack);
+        if !reached.iter().any(|&r| r) {
+            // No face on the seam edge to start from: one side (as for the input's corners).
+            continue;
+        }
+        for (&f, &r) in fan.iter().zip(&reached) {
+            if !r {
+                let t = e.faces[f as usize];
+                let k = t.iter().position(|&x| x == v as u32).unwrap_or(0);
+                side1[f as usize] |= 1 << k;
+            }
+        }
+    }
+
+    // 3. One output wedge per (vertex, side) of the merged vertices and per input wedge of the
+    // others, numbered in order of first use; `slot_of[w]`: the side slot of output wedge `w`
+    // (`u32::MAX` for an input wedge).
+    let layout = values.layout;
+    let s = layout.stride;
+    let mut slot_wedge = vec![u32::MAX; e.vx.len() * 2];
+    let mut input_wedge = vec![u32::MAX; attributes.wedge_count()];
+    let mut wedge_vertex = Vec::new();
+    let mut slot_of = Vec::new();
+    let mut wedge_values: Vec<f32> = Vec::new();
+    let mut corners = Vec::with_capacity(face_id.len());
+    for (t, &f) in out.triangles.iter().zip(&face_id) {
+        let mut c = [0u32; 3];
+        for k in 0..3 {
+            let v = t[k] as usize;
+            let input = attributes.corners[face_origin[f as usize] as usize][k] as usize;
+            let (id, slot) = if values.merged[v] {
+                let slot = v * 2 + usize::from(side1[f as usize] >> k & 1);
+                (&mut slot_wedge[slot], slot as u32)
+            } else {
+                (&mut input_wedge[input], u32::MAX)
+            };
+            if *id == u32::MAX {
+                *id = wedge_vertex.len() as u32;
+                wedge_vertex.push(t[k]);
+                slot_of.push(slot);
+                let at = wedge_values.len();
+                wedge_values.resize(at + s, 0.0);
+                let out = &mut wedge_values[at..];
+                match slot {
+                    u32::MAX => layout.gather(attributes, input, out),
+                    slot => values.values_at(slot as usize, e.vx[v].p, out),
+                }
+            }
+            c[k] = *id;
+        }
+        corners.push(c);
+    }
+    // A fitted value can fold a small triangle over in texture space where the interpolated
+    // ones do not (fandisk atlas at 20 %: 19 of 2,588 triangles UV-flipped with fitted values
+    // only, 0 with interpolated ones): the merged corners of such a triangle take their
+    // interpolated values.
+    for at in [layout.uv0, layout.uv1].into_iter().flatten() {
+        let uv = |w: &[f32], c: u32| Vec2::from_slice(&w[c as usize * s + at..][..2]);
+        let lerp = |c: u32| match slot_of[c as usize] {
+            u32::MAX => uv(&wedge_values, c),
+            slot => Vec2::from_slice(&values.lerp[slot as usize * s + at..][..2]),
+        };
+        let area = |[a, b, c]: [Vec2; 3]| (b - a).perp_dot(c - a);
+        let mut fold: Vec<u32> = Vec::new();
+        for c in &corners {
+            if area(c.map(|w| uv(&wedge_values, w))) * area(c.map(lerp)) < 0.0 {
+                fold.extend(c.iter().filter(|&&w| slot_of[w as usize] != u32::MAX));
+            }
+        }
+        for w in fold {
+            let slot = slot_of[w as usize] as usize;
+            let from = layout.fit_from();
+            wedge_values[w as usize * s + from..(w as usize + 1) * s]
+                .copy_from_slice(&values.lerp[slot * s + from..(slot + 1) * s]);
+        }
+    }
+
+    // 4. The referenced vertices only, in engine order.
+    let kept = mesh::clean::compact_vertex_indices(&mut out.triangles, e.vx.len());
+    let mut new_index = vec![u32::MAX; e.vx.len()];
+    for (i, &v) in kept.iter().enumerate() {
+        new_index[v as usize] = i as u32;
+    }
+    out.positions = kept
+        .iter()
+        .map(|&v| frame.to_model(e.vx[v as usize].p))
+        .collect();
+    for v in &mut wedge_vertex {
+        *v = new_index[*v as usize];
+    }
+    let column = |at: Option<usize>, dims: usize| {
+        at.map(|at| {
+            wedge_values
+                .chunks_exact(s)
+                .map(|w| &w[at..at + dims])
+                .collect::<Vec<_>>()
+        })
+    };
+    let mut result = Attributes {
+        wedge_vertex,
+        corners,
+        // Interpolated normals are shorter than one: normalised (a zero one, from opposite
+        // normals, stays as it is rather than becoming NaN).
+        normals: column(layout.normals, 3).map(|c| {
+            c.iter()
+                .map(|n| {
+                    let n = Vec3::from_slice(n);
+                    n.try_normalize().unwrap_or(n)
+                })
+                .collect()
+        }),
+        uv0: column(layout.uv0, 2).map(|c| c.iter().map(|t| Vec2::from_slice(t)).collect()),
+        uv1: column(layout.uv1, 2).map(|c| c.iter().map(|t| Vec2::from_slice(t)).collect()),
+        // A fit can leave [0, 1] where the colours change fastest: clamped.
+        colors: column(layout.colors, 4).map(|c| {
+            c.iter()
+                .map(|x| Vec4::from_slice(x).clamp(Vec4::ZERO, Vec4::ONE))
+                .collect()
+        }),
+        face_material: attributes.face_material.as_ref().map(|m| {
+            face_id
+                .iter()
+                .map(|&f| m[face_origin[f as usize] as usize])
+                .collect()
+        }),
+    };
+    // Input wedges of one vertex can hold equal values (an OBJ with repeated `vt` lines):
+    // one wedge each, so that a format with one vertex per wedge splits no vertex for nothing.
+    result.compact();
+    (out, result)
+}
