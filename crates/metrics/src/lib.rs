@@ -54,8 +54,8 @@ pub use paper::{NearestVertexIndex, SurfaceError, VertexErrors, surface_error, v
 pub use quality::{AspectBin, TriangleQuality, triangle_quality};
 pub use render::{
     AMBIENT, CHECKER_SQUARE, CHECKER_VALUES, DIFFERENCE_GAIN, ImageError, ImageErrorParams,
-    ImageStats, MAX_IMAGE_SIZE, Shading, Texture, VIEWS, ViewError, ViewImages, image_error,
-    image_error_with_images,
+    ImageStats, MAX_IMAGE_SIZE, Shading, Surface, Texture, VIEWS, ViewError, ViewImages,
+    image_error, image_error_with_images,
 };
 pub use report::{
     Evaluation, Evaluator, MeshSummary, MetricsParams, MetricsReport, NormalDeviations, Pair,

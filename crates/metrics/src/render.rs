@@ -14,7 +14,8 @@
 //! oriented), perspective-correct interpolation of the corners' wedge values.
 //!
 //! **Shading**, chosen once from the original ([`Shading`]): the texture, sampled bilinearly at
-//! UV0 with wrapping, when one is given and the original has UV0; else a procedural checker on
+//! UV0 with wrapping, when the original has one and UV0 (each mesh its own texture, the
+//! simplified mesh the original's when it has none); else a procedural checker on
 //! UV0 ([`CHECKER_SQUARE`]); else the vertex colours (linear, shown as sRGB); else white. A mesh
 //! without the attribute the shading needs is drawn white. The colour is lit by a Lambert term
 //! with a headlight plus [`AMBIENT`], on the mesh's interpolated normals when it has them, else
@@ -299,7 +300,7 @@ pub struct ImageError {
     pub threshold: f64,
     /// What the colour was taken from.
     pub shading: Shading,
-    /// The texture's source when the shading is [`Shading::Texture`].
+    /// The original's texture's source when the shading is [`Shading::Texture`].
     pub texture: Option<String>,
     /// All views' pixels together.
     pub overall: ImageStats,
@@ -374,61 +375,76 @@ fn max_channel_difference(a: [f32; 3], b: [f32; 3]) -> f32 {
     (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f32::max)
 }
 
-/// Image-space error of `simplified` against `original` (see the module docs). The attributes
-/// (`None`: positions only) must fit their meshes; `texture` is the base-colour texture of
-/// both (the simplified mesh keeps the original's materials), used when the original has UV0.
+/// One side of an [`image_error`]: a mesh, its attributes (`None`: positions only) and its
+/// base-colour texture.
+#[derive(Debug, Clone, Copy)]
+pub struct Surface<'a> {
+    /// The mesh.
+    pub mesh: &'a TriMesh,
+    /// Its attributes, which must fit it.
+    pub attributes: Option<&'a Attributes>,
+    /// Its base-colour texture, sampled at UV0 (its texture coordinates follow the texture's
+    /// `v_down`). A simplified mesh without one is drawn with the original's: its materials
+    /// are the original's.
+    pub texture: Option<&'a Texture>,
+}
+
+impl<'a> Surface<'a> {
+    /// A mesh without attributes or texture.
+    pub fn new(mesh: &'a TriMesh) -> Surface<'a> {
+        Surface {
+            mesh,
+            attributes: None,
+            texture: None,
+        }
+    }
+
+    /// With attributes.
+    pub fn with_attributes(self, attributes: Option<&'a Attributes>) -> Surface<'a> {
+        Surface { attributes, ..self }
+    }
+
+    /// With a texture.
+    pub fn with_texture(self, texture: Option<&'a Texture>) -> Surface<'a> {
+        Surface { texture, ..self }
+    }
+}
+
+/// Image-space error of `simplified` against `original` (see the module docs).
 pub fn image_error(
-    original: &TriMesh,
-    original_attributes: Option<&Attributes>,
-    simplified: &TriMesh,
-    simplified_attributes: Option<&Attributes>,
-    texture: Option<&Texture>,
+    original: &Surface<'_>,
+    simplified: &Surface<'_>,
     params: &ImageErrorParams,
 ) -> Result<ImageError, MetricsError> {
-    image_error_with_images(
-        original,
-        original_attributes,
-        simplified,
-        simplified_attributes,
-        texture,
-        params,
-        false,
-    )
-    .map(|(report, _)| report)
+    image_error_with_images(original, simplified, params, false).map(|(report, _)| report)
 }
 
 /// [`image_error`], also returning each view's renderings when `keep_images` (else an empty
 /// list).
 pub fn image_error_with_images(
-    original: &TriMesh,
-    original_attributes: Option<&Attributes>,
-    simplified: &TriMesh,
-    simplified_attributes: Option<&Attributes>,
-    texture: Option<&Texture>,
+    original: &Surface<'_>,
+    simplified: &Surface<'_>,
     params: &ImageErrorParams,
     keep_images: bool,
 ) -> Result<(ImageError, Vec<ViewImages>), MetricsError> {
     params.validate()?;
     let start = Instant::now();
-    crate::validate_mesh(original, "original")?;
-    crate::validate_mesh(simplified, "simplified")?;
-    if original.triangles.is_empty() {
+    crate::validate_mesh(original.mesh, "original")?;
+    crate::validate_mesh(simplified.mesh, "simplified")?;
+    if original.mesh.triangles.is_empty() {
         return Err(MetricsError::NoTriangles { mesh: "original" });
     }
-    for (mesh, attributes, which) in [
-        (original, original_attributes, "original"),
-        (simplified, simplified_attributes, "simplified"),
-    ] {
-        if let Some(a) = attributes {
-            a.validate(mesh)
+    for (surface, which) in [(original, "original"), (simplified, "simplified")] {
+        if let Some(a) = surface.attributes {
+            a.validate(surface.mesh)
                 .map_err(|problem| MetricsError::Attributes {
                     mesh: which,
                     problem,
                 })?;
         }
     }
-    let shading = Shading::of(original_attributes, texture);
-    let bounds = original.referenced_bounding_box();
+    let shading = Shading::of(original.attributes, original.texture);
+    let bounds = original.mesh.referenced_bounding_box();
     let centre = bounds.center();
     // A point-like original still gets a frame (of unit radius) rather than a division by 0.
     let radius = match (bounds.diagonal() / 2.0) as f32 {
@@ -436,8 +452,13 @@ pub fn image_error_with_images(
         _ => 1.0,
     };
     let scenes = [
-        Scene::new(original, original_attributes, texture, shading, centre),
-        Scene::new(simplified, simplified_attributes, texture, shading, centre),
+        Scene::new(original, original.texture, shading, centre),
+        Scene::new(
+            simplified,
+            simplified.texture.or(original.texture),
+            shading,
+            centre,
+        ),
     ];
     let results: Vec<(Sums, Option<ViewImages>)> = VIEWS
         .par_iter()
@@ -475,7 +496,7 @@ pub fn image_error_with_images(
         threshold: params.threshold,
         shading,
         texture: (shading == Shading::Texture)
-            .then(|| texture.map(|t| t.source.clone()))
+            .then(|| original.texture.map(|t| t.source.clone()))
             .flatten(),
         overall: overall.stats(),
         views,
@@ -634,12 +655,12 @@ struct Corner {
 
 impl<'a> Scene<'a> {
     fn new(
-        mesh: &'a TriMesh,
-        attributes: Option<&'a Attributes>,
+        surface: &Surface<'a>,
         texture: Option<&'a Texture>,
         shading: Shading,
         centre: Vec3,
     ) -> Scene<'a> {
+        let (mesh, attributes) = (surface.mesh, surface.attributes);
         // Centred before the camera transform: f32 keeps its precision for models far from
         // the origin.
         let positions: Vec<Vec3> = mesh.positions.iter().map(|&p| p - centre).collect();
@@ -683,12 +704,7 @@ impl<'a> Scene<'a> {
             for k in 1..count.saturating_sub(1) {
                 let triangle = [polygon[0], polygon[k], polygon[k + 1]];
                 rasterize(
-                    camera,
-                    &triangle,
-                    f as u32,
-                    &mut depth,
-                    &mut face,
-                    &mut bary,
+                    camera, &triangle, f as u32, &mut depth, &mut face, &mut bary,
                 );
             }
         }
@@ -732,7 +748,8 @@ impl<'a> Scene<'a> {
             },
             (Shading::Checker, Some(a), Some(c)) => uv(a, c).map_or([1.0; 3], checker),
             (Shading::Colors, Some(a), Some(c)) => a.colors.as_ref().map_or([1.0; 3], |col| {
-                let v = w.x * col[c[0] as usize] + w.y * col[c[1] as usize] + w.z * col[c[2] as usize];
+                let v =
+                    w.x * col[c[0] as usize] + w.y * col[c[1] as usize] + w.z * col[c[2] as usize];
                 [v.x, v.y, v.z].map(linear_to_srgb)
             }),
             _ => [1.0; 3],

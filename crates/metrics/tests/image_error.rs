@@ -5,8 +5,8 @@
 
 use glam::{Vec2, Vec3};
 use gng3d_metrics::{
-    AMBIENT, CHECKER_SQUARE, CHECKER_VALUES, ImageError, ImageErrorParams, MetricsError, Texture,
-    VIEWS, image_error, image_error_with_images,
+    AMBIENT, CHECKER_SQUARE, CHECKER_VALUES, ImageError, ImageErrorParams, MetricsError, Surface,
+    Texture, VIEWS, image_error, image_error_with_images,
 };
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
@@ -51,22 +51,22 @@ fn identical_meshes_have_no_error_and_infinite_psnr() {
     let texture = Texture::from_rgb(
         2,
         2,
-        vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 0.0]],
+        vec![
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 1.0, 0.0],
+        ],
         false,
         "test",
     )
     .unwrap();
     let params = ImageErrorParams::default();
     for texture in [None, Some(&texture)] {
-        let r = image_error(
-            &mesh,
-            Some(&attributes),
-            &mesh,
-            Some(&attributes),
-            texture,
-            &params,
-        )
-        .unwrap();
+        let s = Surface::new(&mesh)
+            .with_attributes(Some(&attributes))
+            .with_texture(texture);
+        let r = image_error(&s, &s, &params).unwrap();
         assert_eq!(r.views.len(), VIEWS.len());
         for s in std::iter::once(&r.overall).chain(r.views.iter().map(|v| &v.stats)) {
             assert!(s.pixels > 0, "{s:?}");
@@ -92,11 +92,8 @@ fn a_half_period_uv_shift_swaps_every_checker_square() {
     let (mesh, a) = quad(Vec2::ZERO);
     let (_, b) = quad(Vec2::new(CHECKER_SQUARE, 0.0));
     let r = image_error(
-        &mesh,
-        Some(&a),
-        &mesh,
-        Some(&b),
-        None,
+        &Surface::new(&mesh).with_attributes(Some(&a)),
+        &Surface::new(&mesh).with_attributes(Some(&b)),
         &ImageErrorParams::default(),
     )
     .unwrap();
@@ -109,7 +106,10 @@ fn a_half_period_uv_shift_swaps_every_checker_square() {
         assert!((s.rmse - contrast).abs() < 1e-3, "{name}: {s:?}");
         assert!((s.mean_abs - contrast).abs() < 1e-3, "{name}: {s:?}");
         assert!(s.over_threshold > 0.999, "{name}: {s:?}");
-        assert!((s.psnr_db - (-20.0 * contrast.log10())).abs() < 0.02, "{s:?}");
+        assert!(
+            (s.psnr_db - (-20.0 * contrast.log10())).abs() < 0.02,
+            "{s:?}"
+        );
     }
     // Seen at an angle the contrast is dimmed by the light: |n·l| = 1/√3 on a diagonal.
     let light = f64::from(AMBIENT) + f64::from(1.0 - AMBIENT) / 3f64.sqrt();
@@ -122,11 +122,8 @@ fn a_half_period_uv_shift_swaps_every_checker_square() {
     // Shifting by a whole period changes nothing.
     let (_, c) = quad(Vec2::new(2.0 * CHECKER_SQUARE, 0.0));
     let r = image_error(
-        &mesh,
-        Some(&a),
-        &mesh,
-        Some(&c),
-        None,
+        &Surface::new(&mesh).with_attributes(Some(&a)),
+        &Surface::new(&mesh).with_attributes(Some(&c)),
         &ImageErrorParams::default(),
     )
     .unwrap();
@@ -141,7 +138,8 @@ fn a_quad_seen_head_on_covers_its_projected_area() {
             size,
             ..ImageErrorParams::default()
         };
-        let r = image_error(&mesh, None, &mesh, None, None, &params).unwrap();
+        let s = Surface::new(&mesh);
+        let r = image_error(&s, &s, &params).unwrap();
         // The camera sits where the bounding sphere (radius half the box diagonal) touches the
         // view cone: distance r / sin(fov / 2); a length L at that distance spans
         // L / (distance · tan(fov / 2)) half-images.
@@ -171,7 +169,7 @@ fn silhouette_mismatch_shrinks_as_the_sphere_is_subdivided() {
     let errors: Vec<_> = (1..=3)
         .map(|k| {
             let coarse = mesh::procedural::icosphere(k);
-            image_error(&fine, None, &coarse, None, None, &params)
+            image_error(&Surface::new(&fine), &Surface::new(&coarse), &params)
                 .unwrap()
                 .overall
         })
@@ -205,16 +203,10 @@ fn texture_rows_are_the_right_way_up() {
     let n = params.size as usize;
     for (v_down, upper) in [(false, red), (true, blue)] {
         let texture = Texture::from_rgb(1, 4, vec![red, red, blue, blue], v_down, "t").unwrap();
-        let (r, images) = image_error_with_images(
-            &mesh,
-            Some(&a),
-            &mesh,
-            Some(&a),
-            Some(&texture),
-            &params,
-            true,
-        )
-        .unwrap();
+        let s = Surface::new(&mesh)
+            .with_attributes(Some(&a))
+            .with_texture(Some(&texture));
+        let (r, images) = image_error_with_images(&s, &s, &params, true).unwrap();
         assert_eq!(r.texture.as_deref(), Some("t"));
         let plus_z = images.iter().find(|i| i.view == "+z").unwrap();
         // A quarter of the quad's height above and below the centre of the image (texel rows'
@@ -278,7 +270,11 @@ fn bad_parameters_and_textures_are_typed_errors() {
     let empty = TriMesh::new(vec![Vec3::ZERO], vec![]);
     let (mesh, _) = quad(Vec2::ZERO);
     assert!(matches!(
-        image_error(&empty, None, &mesh, None, None, &ImageErrorParams::default()),
+        image_error(
+            &Surface::new(&empty),
+            &Surface::new(&mesh),
+            &ImageErrorParams::default()
+        ),
         Err(MetricsError::NoTriangles { mesh: "original" })
     ));
 }

@@ -7,7 +7,7 @@ use mesh::attributes::Attributes;
 use mesh::attributes::Materials;
 use metrics::{
     AttributeDeviation, AttributeErrors, AttributeParams, HausdorffParams, ImageError,
-    ImageErrorParams, MetricsParams, MetricsReport, OneSided, SamplingPlan, Texture,
+    ImageErrorParams, MetricsParams, MetricsReport, OneSided, SamplingPlan, Surface, Texture,
     attribute_deviation, evaluate,
 };
 use std::path::{Path, PathBuf};
@@ -125,7 +125,10 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
     params.hausdorff.validate().context("--samples")?;
     attribute_params.validate()?;
     image_params.validate().map_err(|e| match e {
-        metrics::MetricsError::Parameter { name: "size", message } => {
+        metrics::MetricsError::Parameter {
+            name: "size",
+            message,
+        } => {
             anyhow::anyhow!("--image-size: {message}")
         }
         metrics::MetricsError::Parameter {
@@ -144,15 +147,15 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
         (original, original_attributes, original_materials),
         (simplified, simplified_attributes, simplified_materials),
     ) = (original?, simplified?);
-    // The original's texture for both meshes (the simplified mesh keeps the original's
-    // materials; a PLY output has none), else the simplified mesh's own.
-    let texture = if args.image_error {
-        match texture(original_materials.as_ref())? {
-            Some(t) => Some(t),
-            None => texture(simplified_materials.as_ref())?,
-        }
+    // Each mesh's own texture (a simplified mesh without one, e.g. a PLY output, is drawn with
+    // the original's); read only when rendering.
+    let (original_texture, simplified_texture) = if args.image_error {
+        (
+            texture(original_materials.as_ref())?,
+            texture(simplified_materials.as_ref())?,
+        )
     } else {
-        None
+        (None, None)
     };
     progress.set_message("measuring: paper errors, surface distance both ways, quality");
     let report = evaluate(&original, &simplified, &params).and_then(|mut report| {
@@ -176,11 +179,12 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
         (Ok(_), true) => {
             progress.set_message("measuring: image-space error (rendering 14 views of both)");
             Some(metrics::image_error_with_images(
-                &original,
-                original_attributes.as_ref(),
-                &simplified,
-                simplified_attributes.as_ref(),
-                texture.as_ref(),
+                &Surface::new(&original)
+                    .with_attributes(original_attributes.as_ref())
+                    .with_texture(original_texture.as_ref()),
+                &Surface::new(&simplified)
+                    .with_attributes(simplified_attributes.as_ref())
+                    .with_texture(simplified_texture.as_ref()),
                 &image_params,
                 args.image_out.is_some(),
             ))
