@@ -19,7 +19,8 @@
 //! UV0 ([`CHECKER_SQUARE`]); else the vertex colours (linear, shown as sRGB); else white. A mesh
 //! without the attribute the shading needs is drawn white. The colour is lit by a Lambert term
 //! with a headlight plus [`AMBIENT`], on the mesh's interpolated normals when it has them, else
-//! on the face normal. Background pixels are black.
+//! on its area-weighted vertex normals (or its face normals with
+//! [`ImageErrorParams::flat_shading`]). Background pixels are black.
 //!
 //! **Error**: per view and over all views, on the pixels covered in either image (a pixel
 //! covered in one image only is an error, a silhouette change): RMSE and mean absolute error of
@@ -86,6 +87,12 @@ pub struct ImageErrorParams {
     /// [`ImageStats::over_threshold`]. 0 to 1; default 0.1 (about 26 of 255 levels: a visible
     /// change, above the texture's bilinear blur across a few pixels).
     pub threshold: f64,
+    /// Light a mesh without normals with its face normals (faceted) instead of its
+    /// area-weighted vertex normals. Default false: a renderer given a mesh without normals
+    /// usually computes smooth ones, and with face normals the facets' lighting outweighs
+    /// everything else at low vertex counts (docs/notes/attributes.md, "Image-space error").
+    #[serde(default)]
+    pub flat_shading: bool,
 }
 
 impl Default for ImageErrorParams {
@@ -94,6 +101,7 @@ impl Default for ImageErrorParams {
             size: 256,
             fov_degrees: 30.0,
             threshold: 0.1,
+            flat_shading: false,
         }
     }
 }
@@ -298,6 +306,9 @@ pub struct ImageError {
     pub fov_degrees: f64,
     /// The threshold of [`ImageStats::over_threshold`] (0-1).
     pub threshold: f64,
+    /// Whether meshes without normals were lit with face normals (else vertex normals).
+    #[serde(default)]
+    pub flat_shading: bool,
     /// What the colour was taken from.
     pub shading: Shading,
     /// The original's texture's source when the shading is [`Shading::Texture`].
@@ -452,12 +463,13 @@ pub fn image_error_with_images(
         _ => 1.0,
     };
     let scenes = [
-        Scene::new(original, original.texture, shading, centre),
+        Scene::new(original, original.texture, shading, centre, params),
         Scene::new(
             simplified,
             simplified.texture.or(original.texture),
             shading,
             centre,
+            params,
         ),
     ];
     let results: Vec<(Sums, Option<ViewImages>)> = VIEWS
@@ -494,6 +506,7 @@ pub fn image_error_with_images(
         size: params.size,
         fov_degrees: params.fov_degrees,
         threshold: params.threshold,
+        flat_shading: params.flat_shading,
         shading,
         texture: (shading == Shading::Texture)
             .then(|| original.texture.map(|t| t.source.clone()))
@@ -631,6 +644,8 @@ struct Scene<'a> {
     positions: Vec<Vec3>,
     triangles: &'a [[u32; 3]],
     face_normals: Vec<Vec3>,
+    /// Area-weighted vertex normals, for a mesh without normals unless flat shading is asked.
+    vertex_normals: Option<Vec<Vec3>>,
     attributes: Option<&'a Attributes>,
     texture: Option<&'a Texture>,
     shading: Shading,
@@ -659,8 +674,11 @@ impl<'a> Scene<'a> {
         texture: Option<&'a Texture>,
         shading: Shading,
         centre: Vec3,
+        params: &ImageErrorParams,
     ) -> Scene<'a> {
         let (mesh, attributes) = (surface.mesh, surface.attributes);
+        let has_normals = attributes.is_some_and(|a| a.normals.is_some());
+        let vertex_normals = (!has_normals && !params.flat_shading).then(|| mesh.vertex_normals());
         // Centred before the camera transform: f32 keeps its precision for models far from
         // the origin.
         let positions: Vec<Vec3> = mesh.positions.iter().map(|&p| p - centre).collect();
@@ -676,6 +694,7 @@ impl<'a> Scene<'a> {
             positions,
             triangles: &mesh.triangles,
             face_normals,
+            vertex_normals,
             attributes,
             texture,
             shading,
@@ -730,7 +749,16 @@ impl<'a> Scene<'a> {
                     + w.z * normals[c[2] as usize];
                 n.try_normalize().unwrap_or(self.face_normals[f])
             }
-            _ => self.face_normals[f],
+            _ => match &self.vertex_normals {
+                Some(normals) => {
+                    let t = self.triangles[f];
+                    let n = w.x * normals[t[0] as usize]
+                        + w.y * normals[t[1] as usize]
+                        + w.z * normals[t[2] as usize];
+                    n.try_normalize().unwrap_or(self.face_normals[f])
+                }
+                None => self.face_normals[f],
+            },
         };
         // A headlight at infinity (light along the view direction, not from the eye): a flat
         // face is lit evenly, so a texture difference is not mixed with a lighting gradient.

@@ -182,9 +182,24 @@ fn silhouette_mismatch_shrinks_as_the_sphere_is_subdivided() {
         );
         assert!(pair[1].rmse < pair[0].rmse, "{errors:?}");
     }
-    // Inscribed polyhedra: the coarse sphere never covers a pixel the fine one does not... up
-    // to pixels on the fine sphere's own facets' edges.
+    // Inscribed polyhedra: the coarse sphere covers less.
     assert!(errors[0].covered_simplified < errors[0].covered_original);
+    // Lit with face normals the coarse sphere's facets show: more error than with smooth
+    // vertex normals, the same silhouette.
+    let flat = ImageErrorParams {
+        flat_shading: true,
+        ..params
+    };
+    let coarse = mesh::procedural::icosphere(1);
+    let faceted = image_error(&Surface::new(&fine), &Surface::new(&coarse), &flat)
+        .unwrap()
+        .overall;
+    assert!(
+        faceted.rmse > errors[0].rmse,
+        "{faceted:?} vs {:?}",
+        errors[0]
+    );
+    assert_eq!(faceted.coverage_mismatch, errors[0].coverage_mismatch);
 }
 
 #[test]

@@ -54,6 +54,10 @@ pub struct MetricsArgs {
     /// (0 to 1; default 0.1, about 26 of 255 levels).
     #[arg(long, requires = "image_error")]
     pub image_threshold: Option<f64>,
+    /// Light meshes without normals with their face normals (faceted) instead of smooth
+    /// area-weighted vertex normals.
+    #[arg(long, requires = "image_error")]
+    pub image_flat: bool,
     /// Folder (created if missing) for one PNG per view: original, simplified, and their
     /// difference (red: covered in one image only; grey: largest channel's difference × 4).
     #[arg(long, requires = "image_error")]
@@ -119,6 +123,7 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
         threshold: args
             .image_threshold
             .unwrap_or(ImageErrorParams::default().threshold),
+        flat_shading: args.image_flat,
         ..ImageErrorParams::default()
     };
     // Checked before loading: --samples 0 or a count beyond the memory limit is an error.
@@ -248,10 +253,15 @@ fn print_image(r: &ImageError, out: Option<&Path>) -> anyhow::Result<()> {
         (None, _) => "white".to_string(),
     };
     outln!(
-        "image error           {} views of {}² px, {:.0}° field of view, shading: {shading} ({:.3} s)",
+        "image error           {} views of {}² px, {:.0}° field of view, shading: {shading}, {} ({:.3} s)",
         r.views.len(),
         r.size,
         r.fov_degrees,
+        if r.flat_shading {
+            "face normals where a mesh has none"
+        } else {
+            "vertex normals where a mesh has none"
+        },
         r.seconds
     );
     let o = &r.overall;
