@@ -20,7 +20,10 @@
 //! without the attribute the shading needs is drawn white. The colour is lit by a Lambert term
 //! with a headlight plus [`AMBIENT`], on the mesh's interpolated normals when it has them, else
 //! on its area-weighted vertex normals (or its face normals with
-//! [`ImageErrorParams::flat_shading`]). Background pixels are black.
+//! [`ImageErrorParams::flat_shading`]). Background pixels are black. One texture covers the
+//! whole mesh (a mesh with several textured materials is drawn with the one given), and colour
+//! factors (OBJ `Kd`, glTF `baseColorFactor`) and alpha are not applied: both meshes share their
+//! material, so these would scale both pictures alike.
 //!
 //! **Error**: per view and over all views, on the pixels covered in either image (a pixel
 //! covered in one image only is an error, a silhouette change): RMSE and mean absolute error of
