@@ -293,3 +293,25 @@ fn bad_parameters_and_textures_are_typed_errors() {
         Err(MetricsError::NoTriangles { mesh: "original" })
     ));
 }
+
+#[test]
+fn the_error_does_not_depend_on_the_thread_count() {
+    let (mesh, attributes) = mesh::procedural::textured_sphere(12, 24);
+    let coarse = mesh::procedural::icosphere(2);
+    let original = Surface::new(&mesh).with_attributes(Some(&attributes));
+    let params = ImageErrorParams::default();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut r = pool
+            .install(|| image_error(&original, &Surface::new(&coarse), &params))
+            .unwrap();
+        r.seconds = 0.0;
+        r
+    };
+    let one = run(1);
+    assert!(one.overall.rmse > 0.0);
+    assert_eq!(one, run(3));
+}

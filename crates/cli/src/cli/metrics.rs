@@ -40,8 +40,8 @@ pub struct MetricsArgs {
     #[arg(long, default_value_t = 0.05)]
     pub uv_threshold: f64,
     /// Also measure the image-space error: both meshes rendered headlessly (CPU) from 14 fixed
-    /// views (6 axes, 8 diagonals) framing the original, with the original's base-colour
-    /// texture at UV0 (PNG), else a checker on UV0 (squares of 1/8 UV), else the vertex
+    /// views (6 axes, 8 diagonals) framing the original, with the materials' base-colour
+    /// texture at UV0 (PNG; the original's for a simplified mesh without one), else a checker on UV0 (squares of 1/8 UV), else the vertex
     /// colours, else white, lit by a headlight; RMSE and mean absolute error of RGB (0-1),
     /// PSNR (dB), the share of pixels off and of silhouette mismatch, over the pixels covered
     /// in either image.
