@@ -8,6 +8,9 @@
 //!   direction, symmetric Hausdorff), exact closest points through [`SurfaceDistanceIndex`].
 //! - [`attribute_deviation`]: Metro-style deviation of texture coordinates (UV units and
 //!   texels), normals (degrees) and colours (RGB) between the two surfaces, both directions.
+//! - [`image_error`]: what a player sees: both meshes rendered (texture, checker, vertex
+//!   colours or white, lit) from 14 fixed views by a deterministic CPU rasterizer, compared per
+//!   pixel (RMSE, PSNR, share of pixels off, silhouette mismatch).
 //! - [`Evaluator`] / [`evaluate`]: everything above in one serde-serializable record,
 //!   [`MetricsReport`] (alias [`Evaluation`]), with the original indexed once.
 //!
@@ -31,6 +34,7 @@ mod hausdorff;
 mod index;
 pub mod paper;
 mod quality;
+mod render;
 mod report;
 mod sliver;
 
@@ -48,6 +52,11 @@ pub use index::{ClosestPoint, SurfaceDistanceIndex};
 pub use mesh::sampling::{EdgeSampling, FaceSampling};
 pub use paper::{NearestVertexIndex, SurfaceError, VertexErrors, surface_error, vertex_errors};
 pub use quality::{AspectBin, TriangleQuality, triangle_quality};
+pub use render::{
+    AMBIENT, CHECKER_SQUARE, CHECKER_VALUES, DIFFERENCE_GAIN, ImageError, ImageErrorParams,
+    ImageStats, MAX_IMAGE_SIZE, Shading, Surface, Texture, VIEWS, ViewError, ViewImages,
+    image_error, image_error_with_images,
+};
 pub use report::{
     Evaluation, Evaluator, MeshSummary, MetricsParams, MetricsReport, NormalDeviations, Pair,
     evaluate,
@@ -111,6 +120,14 @@ pub enum MetricsError {
         /// Which mesh.
         mesh: &'static str,
         /// What does not fit.
+        problem: String,
+    },
+    /// A texture image cannot be used (unreadable, or not a PNG image).
+    #[error("texture {file}: {problem}")]
+    Texture {
+        /// The image file, or what else it came from.
+        file: String,
+        /// What is wrong.
         problem: String,
     },
     /// The mesh is malformed (bad index, non-finite coordinate) or has no area to sample.

@@ -278,3 +278,39 @@ fn what_does_not_convert_is_named_and_the_geometry_still_writes() {
     );
     assert_eq!(p, q);
 }
+
+#[test]
+fn the_base_color_texture_is_found_in_obj_glb_and_gltf_materials() {
+    let obj = load(&assets().join("fandisk_atlas.obj")).unwrap();
+    let materials = obj.materials.as_ref().unwrap();
+    let t = base_color_texture(materials).unwrap();
+    assert_eq!(t.material, "checker");
+    assert!(t.source.ends_with("checker.png"), "{}", t.source);
+    assert_eq!(&t.bytes.unwrap()[..], &checker_png()[..]);
+    assert!(!t.v_down, "OBJ: v = 0 is the bottom row");
+    let a = obj.attributes.as_ref().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["atlas.glb", "atlas.gltf"] {
+        let path = dir.path().join(name);
+        save_with_attributes(&obj.mesh, a, Some(materials), &path).unwrap();
+        let back = load(&path).unwrap();
+        let t = base_color_texture(back.materials.as_ref().unwrap()).unwrap();
+        assert_eq!(t.material, "checker");
+        assert_eq!(&t.bytes.unwrap()[..], &checker_png()[..], "{name}");
+        assert!(t.v_down, "glTF: v = 0 is the top row");
+    }
+    // A material library naming a missing image: found, with the reason it cannot be read.
+    let lonely = dir.path().join("lonely");
+    std::fs::create_dir(&lonely).unwrap();
+    for name in ["fandisk_atlas.obj", "fandisk_atlas.mtl"] {
+        std::fs::copy(assets().join(name), lonely.join(name)).unwrap();
+    }
+    let loaded = load(&lonely.join("fandisk_atlas.obj")).unwrap();
+    let t = base_color_texture(loaded.materials.as_ref().unwrap()).unwrap();
+    assert!(
+        t.source.ends_with("checker.png") && t.bytes.is_err(),
+        "{t:?}"
+    );
+    // No texture: none.
+    assert!(base_color_texture(&Materials::default()).is_none());
+}

@@ -15,6 +15,7 @@ mod ply;
 mod stl;
 
 pub use gltf::GltfAssets;
+pub use matconv::{BaseColorTexture, base_color_texture};
 
 use crate::TriMesh;
 use crate::attributes::{Attributes, Materials};
