@@ -18,6 +18,7 @@
 //! Measured against the closest-point transfer it replaces (docs/notes/attributes.md, "Values
 //! from the contractions"): see the note for the texture error and time figures.
 
+use super::attributes::View;
 use super::engine::{DEAD, Engine, Seams, corner_after};
 use super::prepare::Frame;
 use glam::{DVec3, Vec2, Vec3, Vec4};
@@ -102,36 +103,27 @@ pub(super) struct WedgeValues {
 }
 
 impl WedgeValues {
-    /// The values of `attributes` (over `input`) on the `vertices` engine vertices:
-    /// `to_prepared` maps input vertices to engine ones (`u32::MAX`: none), `side[3 f + k]` is
-    /// the side of corner `k` of input face `f`, `frame` the engine's.
-    pub(super) fn new(
-        input: &TriMesh,
-        attributes: &Attributes,
-        to_prepared: &[u32],
-        vertices: usize,
-        side: &[u8],
-        frame: &Frame,
-    ) -> WedgeValues {
+    /// The values of the prepared faces of `view` (positions `pos`, normalised frame) on their
+    /// vertices: `side[3 f + k]` is the side of corner `k` of prepared face `f`.
+    pub(super) fn new(view: &View, pos: &[DVec3], side: &[u8]) -> WedgeValues {
+        let attributes = view.attributes;
+        let vertices = pos.len();
         let layout = Layout::of(attributes);
         let (s, from, len) = (layout.stride, layout.fit_from(), layout.fit_len());
         let mut lerp = vec![0.0; vertices * 2 * s];
         let mut fit = vec![0.0f64; if len > 1 { vertices * 2 * len } else { 0 }];
         let mut corner = vec![0.0f32; 3 * s];
-        for (f, (t, c)) in input.triangles.iter().zip(&attributes.corners).enumerate() {
+        for (f, t) in view.faces.iter().enumerate() {
             for k in 0..3 {
-                layout.gather(attributes, c[k] as usize, &mut corner[k * s..(k + 1) * s]);
+                let w = view.wedge(f, k) as usize;
+                layout.gather(attributes, w, &mut corner[k * s..(k + 1) * s]);
             }
-            let pos = t.map(|v| frame.to_frame(input.positions[v as usize]));
+            let p = t.map(|v| pos[v as usize]);
             // A degenerate face adds its values with a negligible weight and no gradient, so
             // that a side with degenerate faces only still has a value.
-            let basis = gradient_basis(pos).unwrap_or((1e-300, DVec3::ZERO, DVec3::ZERO));
+            let basis = gradient_basis(p).unwrap_or((1e-300, DVec3::ZERO, DVec3::ZERO));
             for k in 0..3 {
-                let v = to_prepared[t[k] as usize];
-                if v == u32::MAX {
-                    continue;
-                }
-                let slot = v as usize * 2 + side[f * 3 + k] as usize;
+                let slot = t[k] as usize * 2 + side[f * 3 + k] as usize;
                 lerp[slot * s..(slot + 1) * s].copy_from_slice(&corner[k * s..(k + 1) * s]);
                 if len > 1 {
                     let x = &mut fit[slot * len..(slot + 1) * len];
@@ -145,7 +137,7 @@ impl WedgeValues {
                         x[o] += area * g.x;
                         x[o + 1] += area * g.y;
                         x[o + 2] += area * g.z;
-                        x[o + 3] += area * (s0 - g.dot(pos[0]));
+                        x[o + 3] += area * (s0 - g.dot(p[0]));
                     }
                 }
             }
