@@ -665,8 +665,10 @@ fn visit(
             return Continue(());
         }
     }
-    // Keep the vertex with the longer face list (less relinking).
-    let (a, b) = if e.vx[b].len > e.vx[a].len {
+    // Keep the seam vertex of a pair with one end off the seams (it stays), else the vertex
+    // with the longer face list (less relinking).
+    let anchor = e.seams.as_ref().and_then(|s| s.anchor(a, b));
+    let (a, b) = if anchor == Some(b) || (anchor.is_none() && e.vx[b].len > e.vx[a].len) {
         (b, a)
     } else {
         (a, b)

@@ -153,6 +153,12 @@ impl WedgeValues {
     /// `b` is contracted into `a` at `t` along `a`–`b` (0: at `a`), matched by `seams` (called
     /// before the seams are merged).
     pub(super) fn merge(&mut self, a: usize, b: usize, t: f32, seams: &Seams) {
+        self.merged[a] = true;
+        if seams.anchor(a, b) == Some(a) {
+            // `a` stays where it is: its values too (the fit of its own faces at its own
+            // position is its value exactly, and b's faces would only blur it).
+            return;
+        }
         let (s, len) = (self.layout.stride, self.layout.fit_len());
         let sides = if seams.seam[a] { 2 } else { 1 };
         for (sa, sb) in seams.matching(a, b).into_iter().enumerate().take(sides) {
@@ -168,7 +174,6 @@ impl WedgeValues {
                 }
             }
         }
-        self.merged[a] = true;
     }
 
     /// The values of side `slot` (vertex × 2 + side) at `p` into `out`: the normals
