@@ -37,6 +37,7 @@ use std::time::{Duration, Instant};
 /// | [`Step::Flip`] | edges flipped toward the original surface |
 /// | [`Step::Refit`] | vertices refitted so the triangles, not only the corners, fit the surface |
 /// | [`Step::DetailRound`] | new nodes where the mesh stays farthest from the original; the build steps above run again |
+/// | [`Step::CutSeams`] | with an input whose attributes have seams: the network's mesh is cut along them |
 /// | [`Step::Decimate`] | the oversampled network's mesh is decimated (QEM) to the output count |
 /// | [`Step::Relax`] | decimated vertices relax toward the original vertices they stand for |
 /// | [`Step::RepairDeviations`] | vertices standing off the original move back; edges across grooves flip |
@@ -64,6 +65,9 @@ pub enum Step {
     Refit,
     /// One round of detail nodes (option (g)); the build steps run again after it.
     DetailRound,
+    /// The network's mesh cut along the original's attribute seams, for a decimation that
+    /// keeps them (inputs with seams only: [`crate::Trainer::with_attributes`]).
+    CutSeams,
     /// QEM decimation of an oversampled network's mesh to the output count.
     Decimate,
     /// Tangential relaxation of the decimated mesh (option (h)).
@@ -85,6 +89,7 @@ impl Step {
             Step::Flip => "flip",
             Step::Refit => "refit",
             Step::DetailRound => "detail_round",
+            Step::CutSeams => "cut_seams",
             Step::Decimate => "decimate",
             Step::Relax => "relax",
             Step::RepairDeviations => "repair_deviations",
@@ -103,6 +108,7 @@ impl Step {
             Step::Flip => "edges flipped",
             Step::Refit => "vertex moves",
             Step::DetailRound => "nodes added",
+            Step::CutSeams => "vertices added on seams",
             Step::Decimate => "vertices removed",
             Step::Relax => "vertices moved",
             Step::RepairDeviations => "vertex moves and flips",
@@ -113,7 +119,10 @@ impl Step {
 impl Step {
     /// Whether the step works on the network's finished mesh (not part of a build round).
     fn after_build(self) -> bool {
-        matches!(self, Step::Decimate | Step::Relax | Step::RepairDeviations)
+        matches!(
+            self,
+            Step::CutSeams | Step::Decimate | Step::Relax | Step::RepairDeviations
+        )
     }
 
     /// Whether every run needs this step for an exact vertex count (the rest may be left out
@@ -151,6 +160,8 @@ impl Step {
             Step::Flip => (0.15, 2.6),
             Step::Refit => (0.25, 7.7),
             Step::DetailRound => (0.67, 2.2),
+            // With the decimation's extra cost along seams (QEM's attribute path).
+            Step::CutSeams => (0.4, 8.0),
             Step::Decimate => (0.0, 0.62),
             Step::Relax => (0.03, 2.3),
             Step::RepairDeviations => (0.5, 9.2),
@@ -175,8 +186,11 @@ impl Step {
 ///    the last build;
 /// 4. the deviation repair (9 %; ×1.004, ×1.35), the relaxation and the cell splits (≤ 2 %
 ///    each: the relaxation is what wins E_avg, the splits keep thin parts attached);
-/// 5. then the oversampling (72 %; ×1.60, ×2.67).
-pub(crate) const CUT_ORDER: [Cut; 8] = [
+/// 5. the seam cut of an input with attribute seams (geometry unchanged; without it the
+///    output's triangles straddle the seams: docs/notes/attributes.md, "Seams that follow the
+///    original's");
+/// 6. then the oversampling (72 %; ×1.60, ×2.67).
+pub(crate) const CUT_ORDER: [Cut; 9] = [
     Cut::DetailBuilds,
     Cut::Step(Step::DetailRound),
     Cut::Step(Step::Flip),
@@ -184,6 +198,7 @@ pub(crate) const CUT_ORDER: [Cut; 8] = [
     Cut::Step(Step::RepairDeviations),
     Cut::Step(Step::Relax),
     Cut::Step(Step::SplitBadCells),
+    Cut::Step(Step::CutSeams),
     Cut::Oversampling,
 ];
 
@@ -234,7 +249,17 @@ impl Plan {
     ///   `detail_rounds` [`Step::DetailRound`]s;
     /// - [`Step::Decimate`], then [`Step::Relax`] and [`Step::RepairDeviations`] when asked
     ///   for, only when `decimates`.
+    ///
+    /// For an input whose attributes have seams, [`Plan::with_seams`].
     pub fn of(params: &ReconstructionParams, decimates: bool) -> Plan {
+        Plan::with_seams(params, decimates, false)
+    }
+
+    /// [`Plan::of`], and with `seams` (the input's attributes have seams:
+    /// [`crate::Trainer::with_attributes`]) [`Step::CutSeams`] then [`Step::Decimate`] after the
+    /// last build whether or not `decimates`: the cut adds vertices, the decimation takes the
+    /// mesh back to the output count along the seams.
+    pub fn with_seams(params: &ReconstructionParams, decimates: bool, seams: bool) -> Plan {
         let mut steps = Vec::new();
         let mut add = |step, round| steps.push(PlannedStep { step, round });
         add(Step::Label, 0);
@@ -259,9 +284,14 @@ impl Plan {
                 add(Step::Refit, round);
             }
         }
+        if seams {
+            add(Step::CutSeams, detail_rounds);
+        }
+        if decimates || seams {
+            add(Step::Decimate, detail_rounds);
+        }
         if decimates {
             let last = detail_rounds;
-            add(Step::Decimate, last);
             if params.relax {
                 add(Step::Relax, last);
             }
@@ -312,13 +342,7 @@ impl Plan {
             .steps
             .iter()
             .filter(|s| match (step, last) {
-                (Step::DetailRound, Some(last)) => {
-                    s.round != last
-                        || matches!(
-                            s.step,
-                            Step::Decimate | Step::Relax | Step::RepairDeviations
-                        )
-                }
+                (Step::DetailRound, Some(last)) => s.round != last || s.step.after_build(),
                 _ => s.step != step,
             })
             .copied()
@@ -416,8 +440,8 @@ pub(crate) struct TimePlan {
 /// of a run that is not oversampled; below it the warning
 /// [`GngWarning::TimeLimitBelowMinimum`] says so, and the run is that fastest run (growth is
 /// never cut short: the vertex count stays exact).
-pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
-    let plan = Plan::of(&params.reconstruction, params.decimates());
+pub(crate) fn plan_for_time(params: GngParams, original: usize, seams: bool) -> TimePlan {
+    let plan = Plan::with_seams(&params.reconstruction, params.decimates(), seams);
     let Some(limit) = params.time_limit else {
         return TimePlan {
             params,
@@ -473,7 +497,7 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
                     // decimation, no cell splits or detail nodes (they would break the count).
                     oversampling_cut = Some(network_vertices);
                     params = params.not_oversampled();
-                    let full = Plan::of(&params.reconstruction, false);
+                    let full = Plan::with_seams(&params.reconstruction, false, seams);
                     // What was cut stays cut.
                     plan = Plan {
                         steps: full
@@ -500,7 +524,7 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
             cuts.next();
         }
     }
-    let full = Plan::of(&params.reconstruction, params.decimates());
+    let full = Plan::with_seams(&params.reconstruction, params.decimates(), seams);
     let mut warnings: Vec<GngWarning> = Vec::new();
     if let Some(network_vertices) = oversampling_cut {
         warnings.push(GngWarning::OversamplingSkippedForTime { network_vertices });
@@ -514,7 +538,7 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
     let minimum = MINIMUM_MARGIN
         * (setup
             + GROWTH_SECONDS_PER_NODE * n as f64
-            + Plan::of(&params.clone().not_oversampled().reconstruction, false)
+            + Plan::with_seams(&params.clone().not_oversampled().reconstruction, false, seams)
                 .estimate(0, true, fastest)
             + fastest.finish());
     // (The limit went through a Duration: nanoseconds.)
@@ -567,8 +591,11 @@ pub(crate) struct Input<'a> {
     pub edges: &'a [[u32; 2]],
     /// The reconstruction options.
     pub params: &'a ReconstructionParams,
-    /// The output count of an oversampled run (the decimation's target).
+    /// The output count of an oversampled run or one with seams (the decimation's target).
     pub decimate_to: Option<usize>,
+    /// The chart of each original triangle, when the input's attributes have seams
+    /// ([`mesh::attributes::Attributes::charts`]): [`Step::CutSeams`] cuts along their borders.
+    pub charts: Option<&'a [u32]>,
     /// Most threads the steps use, the caller's included ([`crate::parallel::threads`]).
     pub threads: usize,
 }
@@ -690,8 +717,14 @@ pub(crate) fn run(
                 }
                 added => added,
             },
-            Step::Decimate => {
+            Step::CutSeams => {
                 work.end_build(start, build_seconds);
+                work.cut_seams()
+            }
+            Step::Decimate => {
+                if !work.build_ended {
+                    work.end_build(start, build_seconds);
+                }
                 work.decimate()?
             }
             Step::Relax => work.relax(),
@@ -726,6 +759,11 @@ struct Work<'a> {
     gng_edges: &'a [[u32; 2]],
     params: &'a ReconstructionParams,
     decimate_to: Option<usize>,
+    /// The original's chart of each triangle, when it has seams.
+    charts: Option<&'a [u32]>,
+    /// After [`Step::CutSeams`]: the chart of each triangle of the mesh (until a decimation
+    /// that could not keep the seams).
+    triangle_charts: Option<Vec<u32>>,
     /// Most threads the steps use, the caller's included.
     threads: usize,
     /// Node of each original vertex (`u32::MAX`: none).
@@ -768,6 +806,8 @@ impl<'a> Work<'a> {
             gng_edges: input.edges,
             params: input.params,
             decimate_to: input.decimate_to,
+            charts: input.charts,
+            triangle_charts: None,
             threads: input.threads,
             labels: Vec::new(),
             node_comp: Vec::new(),
@@ -1036,8 +1076,48 @@ impl<'a> Work<'a> {
         self.report.seconds = build_seconds.min(start.elapsed().as_secs_f64());
     }
 
+    /// [`Step::CutSeams`]: the network's mesh cut along the original's seams
+    /// ([`crate::seams::cut`]).
+    fn cut_seams(&mut self) -> usize {
+        let Some(charts) = self.charts else {
+            return 0;
+        };
+        let cut = crate::seams::cut(
+            self.original,
+            charts,
+            std::mem::take(&mut self.positions),
+            std::mem::take(&mut self.triangles),
+            self.threads,
+        );
+        self.positions = cut.positions;
+        self.triangles = cut.triangles;
+        self.triangle_charts = (cut.added > 0).then_some(cut.charts);
+        cut.added
+    }
+
+    /// Vertices of the mesh between triangles of different charts (on a seam), when the mesh
+    /// follows the seams: the relaxation leaves them where they are (its moves are along the
+    /// surface, off the seam), the deviation repair flips no edge between two of them.
+    fn seam_vertices(&self) -> Option<Vec<bool>> {
+        let charts = self.triangle_charts.as_ref()?;
+        let mut first = vec![u32::MAX; self.positions.len()];
+        let mut seam = vec![false; self.positions.len()];
+        for (t, &c) in self.triangles.iter().zip(charts) {
+            for &v in t {
+                let f = &mut first[v as usize];
+                if *f == u32::MAX {
+                    *f = c;
+                } else if *f != c {
+                    seam[v as usize] = true;
+                }
+            }
+        }
+        Some(seam)
+    }
+
     /// [`Step::Decimate`]: error first down to the output count, when the network's mesh has
-    /// more vertices.
+    /// more vertices; along the seams after [`Step::CutSeams`]
+    /// ([`crate::decimate::decimate_along_seams`]).
     fn decimate(&mut self) -> Result<usize, qem::QemError> {
         let Some(n) = self.decimate_to else {
             return Ok(0);
@@ -1050,7 +1130,14 @@ impl<'a> Work<'a> {
             std::mem::take(&mut self.triangles),
         );
         let before = mesh.vertex_count();
-        let out = crate::decimate::decimate(&mesh, n)?;
+        let out = match self.triangle_charts.take() {
+            Some(charts) => {
+                let (out, charts) = crate::decimate::decimate_along_seams(&mesh, &charts, n)?;
+                self.triangle_charts = charts;
+                out
+            }
+            None => crate::decimate::decimate(&mesh, n)?,
+        };
         self.decimated = true;
         let TriMesh {
             positions,
@@ -1067,10 +1154,12 @@ impl<'a> Work<'a> {
         if !self.decimated {
             return 0;
         }
+        let seams = self.seam_vertices();
         let relaxed = crate::relax::relax(
             &mut self.positions,
             &self.triangles,
             self.original,
+            seams.as_deref(),
             self.threads,
         );
         self.report.relaxed_vertices = relaxed.moves;
@@ -1082,10 +1171,12 @@ impl<'a> Work<'a> {
         if !self.decimated {
             return 0;
         }
+        let seams = self.seam_vertices();
         let repaired = crate::deviation::repair_until(
             &mut self.positions,
             &mut self.triangles,
             self.original,
+            seams.as_deref(),
             self.step_deadline,
             self.threads,
         );

@@ -1,0 +1,195 @@
+//! [`crate::Step::CutSeams`]: the network's mesh is cut along the original's attribute seams
+//! (UV, normal and colour seams, material borders), so that the decimation that follows
+//! ([`crate::decimate::decimate_along_seams`]) keeps them as QEM keeps the original's: each
+//! triangle on one side, seams contracted only along themselves.
+//!
+//! The network's triangulation does not know the seams: its triangles straddle them, a corner
+//! on each side, and the texture is smeared across the atlas inside them (or, after the
+//! chart-per-triangle transfer, stretched from the chart's border). The cut:
+//! 1. each vertex of the network's mesh takes the chart ([`mesh::attributes::Attributes::charts`])
+//!    of the original triangle closest to it;
+//! 2. each edge whose ends lie in different charts gets a new vertex where the chart of the
+//!    closest original triangle changes along it (bisection on the edge, to 1/4096 of its
+//!    length: on the network's mesh, so the faces stay where they were);
+//! 3. each triangle with new vertices on its edges is split along the segments between them:
+//!    a corner alone in its chart keeps a corner triangle and the other two a quad (two
+//!    triangles, the shorter diagonal); a triangle with three charts a corner triangle each
+//!    and one in the middle (its chart: the original's at its centroid).
+//!
+//! Every triangle of the result lies in one chart (returned per triangle); the seams run along
+//! its edges, through the new vertices.
+
+use glam::Vec3;
+use mesh::TriMesh;
+use mesh::transfer::FaceGrid;
+use rustc_hash::FxHashMap as HashMap;
+
+/// Bisection steps per crossed edge (the crossing within 2⁻¹² of the edge's length).
+const BISECTIONS: usize = 12;
+
+/// The network's mesh cut along the seams.
+pub(crate) struct SeamCut {
+    /// Vertices: the mesh's, then one per crossed edge.
+    pub positions: Vec<Vec3>,
+    /// Triangles, each within one chart.
+    pub triangles: Vec<[u32; 3]>,
+    /// Chart of each triangle (the original's chart numbers).
+    pub charts: Vec<u32>,
+    /// Vertices added on the seams.
+    pub added: usize,
+}
+
+/// Cuts the mesh `positions`, `triangles` along the seams between the `charts` (one per
+/// triangle) of `original` (module docs).
+pub(crate) fn cut(
+    original: &TriMesh,
+    charts: &[u32],
+    positions: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    threads: usize,
+) -> SeamCut {
+    let grid = FaceGrid::new(original);
+    let chart_at = |p: Vec3| {
+        grid.closest(p, |_| true)
+            .map_or(u32::MAX, |(f, _)| charts[f as usize])
+    };
+    let vertex_chart =
+        crate::parallel::map_indexed(positions.len(), threads, 256, |v| chart_at(positions[v]));
+    // The crossed edges, smaller end first, in a fixed order.
+    let mut crossed: Vec<[u32; 2]> = triangles
+        .iter()
+        .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+        .filter(|&[u, v]| vertex_chart[u as usize] != vertex_chart[v as usize])
+        .map(|[u, v]| [u.min(v), u.max(v)])
+        .collect();
+    crossed.sort_unstable();
+    crossed.dedup();
+    let points = crate::parallel::map_indexed(crossed.len(), threads, 64, |i| {
+        let [u, v] = crossed[i];
+        let (a, b) = (positions[u as usize], positions[v as usize]);
+        let own = vertex_chart[u as usize];
+        let (mut lo, mut hi) = (0.0f32, 1.0f32);
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if chart_at(a.lerp(b, mid)) == own {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        a.lerp(b, 0.5 * (lo + hi))
+    });
+    let added = crossed.len();
+    let mut out_positions = positions;
+    let mut on_edge: HashMap<[u32; 2], u32> = HashMap::default();
+    on_edge.reserve(added);
+    for (edge, p) in crossed.into_iter().zip(points) {
+        on_edge.insert(edge, out_positions.len() as u32);
+        out_positions.push(p);
+    }
+    let mut out_triangles = Vec::with_capacity(triangles.len() + 3 * added);
+    let mut out_charts = Vec::with_capacity(triangles.len() + 3 * added);
+    let at = |u: u32, v: u32| on_edge.get(&[u.min(v), u.max(v)]).copied();
+    for t in &triangles {
+        let c = t.map(|v| vertex_chart[v as usize]);
+        // The new vertex on the edge from corner k to corner k + 1.
+        let x: [Option<u32>; 3] = [0, 1, 2].map(|k| at(t[k], t[(k + 1) % 3]));
+        match x {
+            [None, None, None] => {
+                out_triangles.push(*t);
+                out_charts.push(c[0]);
+            }
+            [Some(x0), Some(x1), Some(x2)] => {
+                // Three charts: a corner triangle each, one in the middle.
+                for (k, tri) in [[t[0], x0, x2], [t[1], x1, x0], [t[2], x2, x1]]
+                    .into_iter()
+                    .enumerate()
+                {
+                    out_triangles.push(tri);
+                    out_charts.push(c[k]);
+                }
+                let middle = [x0, x1, x2];
+                let centroid = middle
+                    .iter()
+                    .map(|&v| out_positions[v as usize])
+                    .sum::<Vec3>()
+                    / 3.0;
+                out_triangles.push(middle);
+                out_charts.push(chart_at(centroid));
+            }
+            _ => {
+                // Two crossed edges: the corner k between them is alone in its chart.
+                let Some(k) = (0..3).find(|&k| x[k].is_some() && x[(k + 2) % 3].is_some()) else {
+                    // One crossed edge cannot happen (the charts of three corners); keep it.
+                    out_triangles.push(*t);
+                    out_charts.push(c[0]);
+                    continue;
+                };
+                let (a, b, cc) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+                let (xab, xca) = (x[k].unwrap_or(b), x[(k + 2) % 3].unwrap_or(cc));
+                out_triangles.push([a, xab, xca]);
+                out_charts.push(c[k]);
+                // The quad xab → b → c → xca, split along its shorter diagonal.
+                let p = |v: u32| out_positions[v as usize];
+                let other = c[(k + 1) % 3];
+                if p(xab).distance_squared(p(cc)) <= p(b).distance_squared(p(xca)) {
+                    out_triangles.push([xab, b, cc]);
+                    out_triangles.push([xab, cc, xca]);
+                } else {
+                    out_triangles.push([xab, b, xca]);
+                    out_triangles.push([b, cc, xca]);
+                }
+                out_charts.push(other);
+                out_charts.push(other);
+            }
+        }
+    }
+    SeamCut {
+        positions: out_positions,
+        triangles: out_triangles,
+        charts: out_charts,
+        added,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat 1 × 1 square of 2 × 8 × 8 triangles whose charts are x < 0.375 and x > 0.375,
+    /// and a coarse mesh over it of 2 × 2 × 2 triangles: every triangle of the cut lies on one
+    /// side of x = 0.375, the new vertices on the line, and the cut covers the square.
+    #[test]
+    fn a_coarse_mesh_is_cut_along_the_charts_border() {
+        let original = mesh::procedural::unit_square_grid(8);
+        let border = 0.375;
+        let charts: Vec<u32> = (0..original.triangles.len())
+            .map(|f| {
+                let [a, b, c] = original.triangles[f].map(|v| original.positions[v as usize]);
+                u32::from((a + b + c).x / 3.0 >= border)
+            })
+            .collect();
+        let coarse = mesh::procedural::unit_square_grid(2);
+        let cut = cut(
+            &original,
+            &charts,
+            coarse.positions.clone(),
+            coarse.triangles.clone(),
+            1,
+        );
+        assert!(cut.added >= 2, "{}", cut.added);
+        for v in coarse.positions.len()..cut.positions.len() {
+            assert!((cut.positions[v].x - border).abs() < 1e-3, "{:?}", cut.positions[v]);
+        }
+        let area: f32 = (0..cut.triangles.len())
+            .map(|f| {
+                let [a, b, c] = cut.triangles[f].map(|v| cut.positions[v as usize]);
+                let side = (a + b + c).x / 3.0 >= border;
+                assert_eq!(u32::from(side), cut.charts[f]);
+                assert!(a.x.max(b.x).max(c.x) <= border + 1e-3 || a.x.min(b.x).min(c.x) >= border - 1e-3);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        assert!((area - 1.0).abs() < 1e-4, "{area}");
+    }
+}
