@@ -538,8 +538,12 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize, seams: bool) -> 
     let minimum = MINIMUM_MARGIN
         * (setup
             + GROWTH_SECONDS_PER_NODE * n as f64
-            + Plan::with_seams(&params.clone().not_oversampled().reconstruction, false, seams)
-                .estimate(0, true, fastest)
+            + Plan::with_seams(
+                &params.clone().not_oversampled().reconstruction,
+                false,
+                seams,
+            )
+            .estimate(0, true, fastest)
             + fastest.finish());
     // (The limit went through a Duration: nanoseconds.)
     if limit_seconds < minimum - 1e-9 {

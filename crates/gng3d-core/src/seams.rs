@@ -179,14 +179,21 @@ mod tests {
         );
         assert!(cut.added >= 2, "{}", cut.added);
         for v in coarse.positions.len()..cut.positions.len() {
-            assert!((cut.positions[v].x - border).abs() < 1e-3, "{:?}", cut.positions[v]);
+            assert!(
+                (cut.positions[v].x - border).abs() < 1e-3,
+                "{:?}",
+                cut.positions[v]
+            );
         }
         let area: f32 = (0..cut.triangles.len())
             .map(|f| {
                 let [a, b, c] = cut.triangles[f].map(|v| cut.positions[v as usize]);
                 let side = (a + b + c).x / 3.0 >= border;
                 assert_eq!(u32::from(side), cut.charts[f]);
-                assert!(a.x.max(b.x).max(c.x) <= border + 1e-3 || a.x.min(b.x).min(c.x) >= border - 1e-3);
+                assert!(
+                    a.x.max(b.x).max(c.x) <= border + 1e-3
+                        || a.x.min(b.x).min(c.x) >= border - 1e-3
+                );
                 0.5 * (b - a).cross(c - a).length()
             })
             .sum();
