@@ -392,6 +392,12 @@ fn network_at(network: usize, round: usize) -> usize {
 const SETUP_SECONDS_PER_VERTEX: f64 = 0.35e-6;
 const GROWTH_SECONDS_PER_NODE: f64 = 1.8e-6;
 
+/// The decimation along the seams ([`Step::CutSeams`]) is kept when its mean distance to the
+/// original (at vertices, edge midpoints and centroids) is at most this many times that of the
+/// decimation without them; otherwise the output does not follow the seams
+/// ([`GngWarning::SeamsNotFollowed`]).
+pub(crate) const SEAM_DISTANCE_RATIO: f64 = 2.0;
+
 /// Fixed cost of a run (threads started, result checked): ~1 ms on the smallest meshes.
 const FIXED_SECONDS: f64 = 2e-3;
 
@@ -617,6 +623,8 @@ pub(crate) struct Output {
     /// Runs of optional steps left out to keep the deadline (a detail round left out counts
     /// the later ones too).
     pub skipped: Vec<Step>,
+    /// The decimation did not follow the seams ([`GngWarning::SeamsNotFollowed`]'s ratio).
+    pub seams_not_followed: Option<Option<f64>>,
 }
 
 /// The reconstruction alone of `input` (its options as given, no decimation, no deadline):
@@ -768,6 +776,13 @@ struct Work<'a> {
     /// After [`Step::CutSeams`]: the chart of each triangle of the mesh (until a decimation
     /// that could not keep the seams).
     triangle_charts: Option<Vec<u32>>,
+    /// After [`Step::CutSeams`]: the network's mesh before the cut, for the decimation's
+    /// comparison.
+    uncut: Option<TriMesh>,
+    /// The original's closest-point grid, once built ([`Step::CutSeams`]).
+    grid: Option<mesh::transfer::FaceGrid<'a>>,
+    /// The decimation did not follow the seams: the ratio of [`GngWarning::SeamsNotFollowed`].
+    seams_not_followed: Option<Option<f64>>,
     /// Most threads the steps use, the caller's included.
     threads: usize,
     /// Node of each original vertex (`u32::MAX`: none).
@@ -812,6 +827,9 @@ impl<'a> Work<'a> {
             decimate_to: input.decimate_to,
             charts: input.charts,
             triangle_charts: None,
+            uncut: None,
+            grid: None,
+            seams_not_followed: None,
             threads: input.threads,
             labels: Vec::new(),
             node_comp: Vec::new(),
@@ -1086,13 +1104,23 @@ impl<'a> Work<'a> {
         let Some(charts) = self.charts else {
             return 0;
         };
-        let cut = crate::seams::cut(
-            self.original,
-            charts,
+        let original = self.original;
+        let grid = self
+            .grid
+            .get_or_insert_with(|| mesh::transfer::FaceGrid::new(original));
+        let uncut = TriMesh::new(
             std::mem::take(&mut self.positions),
             std::mem::take(&mut self.triangles),
+        );
+        let cut = crate::seams::cut(
+            self.original,
+            grid,
+            charts,
+            &uncut.positions,
+            &uncut.triangles,
             self.threads,
         );
+        self.uncut = Some(uncut);
         self.positions = cut.positions;
         self.triangles = cut.triangles;
         self.triangle_charts = (cut.added > 0).then_some(cut.charts);
@@ -1134,13 +1162,37 @@ impl<'a> Work<'a> {
             std::mem::take(&mut self.triangles),
         );
         let before = mesh.vertex_count();
-        let out = match self.triangle_charts.take() {
-            Some(charts) => {
-                let (out, charts) = crate::decimate::decimate_along_seams(&mesh, &charts, n)?;
-                self.triangle_charts = charts;
-                out
+        let out = match (self.triangle_charts.take(), self.uncut.take()) {
+            (Some(charts), Some(uncut)) => {
+                let (along, charts) = crate::decimate::decimate_along_seams(&mesh, &charts, n)?;
+                // The same count without the seams, from the mesh before the cut: kept when
+                // the seams would cost too much of the surface (SEAM_DISTANCE_RATIO).
+                let plain = if uncut.vertex_count() > n {
+                    crate::decimate::decimate(&uncut, n)?
+                } else {
+                    uncut
+                };
+                let original = self.original;
+                let grid = self
+                    .grid
+                    .get_or_insert_with(|| mesh::transfer::FaceGrid::new(original));
+                let ratio = match charts {
+                    Some(_) => Some({
+                        let (along_mean, _) = crate::seams::distance_to(grid, original, &along);
+                        let (plain_mean, _) = crate::seams::distance_to(grid, original, &plain);
+                        along_mean / plain_mean.max(f64::MIN_POSITIVE)
+                    }),
+                    None => None,
+                };
+                if ratio.is_some_and(|r| r <= SEAM_DISTANCE_RATIO) {
+                    self.triangle_charts = charts;
+                    along
+                } else {
+                    self.seams_not_followed = Some(ratio);
+                    plain
+                }
             }
-            None => crate::decimate::decimate(&mesh, n)?,
+            _ => crate::decimate::decimate(&mesh, n)?,
         };
         self.decimated = true;
         let TriMesh {
@@ -1198,6 +1250,7 @@ impl<'a> Work<'a> {
             report: self.report,
             steps,
             skipped,
+            seams_not_followed: self.seams_not_followed,
         }
     }
 }

@@ -43,12 +43,13 @@ pub(crate) struct SeamCut {
 /// triangle) of `original` (module docs).
 pub(crate) fn cut(
     original: &TriMesh,
+    grid: &FaceGrid,
     charts: &[u32],
-    positions: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
     threads: usize,
 ) -> SeamCut {
-    let grid = FaceGrid::new(original);
+    debug_assert_eq!(charts.len(), original.triangles.len());
     let chart_at = |p: Vec3| {
         grid.closest(p, |_| true)
             .map_or(u32::MAX, |(f, _)| charts[f as usize])
@@ -80,7 +81,7 @@ pub(crate) fn cut(
         a.lerp(b, 0.5 * (lo + hi))
     });
     let added = crossed.len();
-    let mut out_positions = positions;
+    let mut out_positions = positions.to_vec();
     let mut on_edge: HashMap<[u32; 2], u32> = HashMap::default();
     on_edge.reserve(added);
     for (edge, p) in crossed.into_iter().zip(points) {
@@ -90,7 +91,7 @@ pub(crate) fn cut(
     let mut out_triangles = Vec::with_capacity(triangles.len() + 3 * added);
     let mut out_charts = Vec::with_capacity(triangles.len() + 3 * added);
     let at = |u: u32, v: u32| on_edge.get(&[u.min(v), u.max(v)]).copied();
-    for t in &triangles {
+    for t in triangles {
         let c = t.map(|v| vertex_chart[v as usize]);
         // The new vertex on the edge from corner k to corner k + 1.
         let x: [Option<u32>; 3] = [0, 1, 2].map(|k| at(t[k], t[(k + 1) % 3]));
@@ -152,6 +153,38 @@ pub(crate) fn cut(
     }
 }
 
+/// Mean and largest distance to the original (`grid`, over its faces) of `mesh`'s vertices,
+/// edge midpoints (each edge once per face) and face centroids.
+pub(crate) fn distance_to(grid: &FaceGrid, original: &TriMesh, mesh: &TriMesh) -> (f64, f64) {
+    let distance = |p: Vec3| {
+        grid.closest(p, |_| true).map_or(0.0, |(f, w)| {
+            let [a, b, c] = original.triangle_f64(f as usize);
+            (a * w[0] + b * w[1] + c * w[2]).distance(p.as_dvec3())
+        })
+    };
+    let (mut sum, mut max, mut count) = (0.0, 0.0f64, 0usize);
+    let mut add = |d: f64| {
+        sum += d;
+        max = max.max(d);
+        count += 1;
+    };
+    for &p in &mesh.positions {
+        add(distance(p));
+    }
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+        for p in [
+            (a + b) * 0.5,
+            (b + c) * 0.5,
+            (c + a) * 0.5,
+            (a + b + c) / 3.0,
+        ] {
+            add(distance(p));
+        }
+    }
+    (sum / count.max(1) as f64, max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -170,11 +203,13 @@ mod tests {
             })
             .collect();
         let coarse = mesh::procedural::unit_square_grid(2);
+        let grid = FaceGrid::new(&original);
         let cut = cut(
             &original,
+            &grid,
             &charts,
-            coarse.positions.clone(),
-            coarse.triangles.clone(),
+            &coarse.positions,
+            &coarse.triangles,
             1,
         );
         assert!(cut.added >= 2, "{}", cut.added);

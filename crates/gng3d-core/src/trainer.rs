@@ -1125,6 +1125,9 @@ impl Trainer {
                 });
             }
         }
+        if let Some(ratio) = out.seams_not_followed {
+            warnings.push(GngWarning::SeamsNotFollowed { ratio });
+        }
         if out.report.unreferenced_nodes > 0 {
             warnings.push(GngWarning::UnattachedNodes {
                 nodes: out.report.unreferenced_nodes,
