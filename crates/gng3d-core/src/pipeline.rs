@@ -399,7 +399,7 @@ const GROWTH_SECONDS_PER_NODE: f64 = 1.8e-6;
 /// original (at vertices, edge midpoints and centroids) is at most this many times that of the
 /// decimation without them; otherwise the output does not follow the seams
 /// ([`GngWarning::SeamsNotFollowed`]).
-pub(crate) const SEAM_DISTANCE_RATIO: f64 = 2.0;
+pub(crate) const SEAM_DISTANCE_RATIO: f64 = 1.5;
 
 /// Fixed cost of a run (threads started, result checked): ~1 ms on the smallest meshes.
 const FIXED_SECONDS: f64 = 2e-3;
@@ -1126,8 +1126,8 @@ impl<'a> Work<'a> {
         self.uncut = Some(uncut);
         self.positions = cut.positions;
         self.triangles = cut.triangles;
-        self.triangle_charts = (cut.added > 0).then_some(cut.charts);
-        cut.added
+        self.triangle_charts = (cut.added + cut.snapped > 0).then_some(cut.charts);
+        cut.added + cut.snapped
     }
 
     /// Vertices of the mesh between triangles of different charts (on a seam), when the mesh
