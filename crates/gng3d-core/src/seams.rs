@@ -29,6 +29,7 @@
 
 use glam::Vec3;
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use mesh::transfer::FaceGrid;
 use rustc_hash::FxHashMap as HashMap;
 
@@ -212,6 +213,135 @@ pub(crate) fn cut(
     }
 }
 
+/// Shortest chain of seam edges inside one chart that [`seam_sides`] separates (a pole's fan of
+/// one-edge seams is left alone).
+const MIN_CHAIN: usize = 3;
+
+/// Each triangle's side of the seams for the cut: its chart ([`Attributes::charts`]), except in
+/// a chart whose border meets itself (the meridian of a UV sphere, the seam of an unwrapped
+/// cylinder: the same chart on both sides of a seam). There each chain of such seam edges of at
+/// least [`MIN_CHAIN`] edges (through vertices on two of them) gets a label on its left and one
+/// on its right, and the labels grow from those triangles across the chart's other edges,
+/// breadth first, until they meet (for a UV sphere: at the antipode of the meridian, where the
+/// values are continuous: a border the cut follows for nothing, but only one).
+pub(crate) fn seam_sides(mesh: &TriMesh, attributes: &Attributes) -> Vec<u32> {
+    let mut sides = attributes.charts(mesh);
+    let seams = attributes.seam_edges(mesh);
+    let mut faces_of: HashMap<[u32; 2], Vec<u32>> = HashMap::default();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (u, v) = (t[k], t[(k + 1) % 3]);
+            faces_of
+                .entry([u.min(v), u.max(v)])
+                .or_default()
+                .push(f as u32);
+        }
+    }
+    // Seam edges with the same chart on both sides, and their ends' count of them.
+    let inner: Vec<[u32; 2]> = seams
+        .iter()
+        .copied()
+        .filter(|e| {
+            faces_of
+                .get(e)
+                .is_some_and(|f| f.len() == 2 && sides[f[0] as usize] == sides[f[1] as usize])
+        })
+        .collect();
+    if inner.is_empty() {
+        return sides;
+    }
+    let mut at: HashMap<u32, Vec<usize>> = HashMap::default();
+    for (i, e) in inner.iter().enumerate() {
+        at.entry(e[0]).or_default().push(i);
+        at.entry(e[1]).or_default().push(i);
+    }
+    let mut next = sides.iter().copied().max().unwrap_or(0) + 1;
+    let mut label = vec![u32::MAX; mesh.triangles.len()];
+    let mut queue = std::collections::VecDeque::new();
+    let mut done = vec![false; inner.len()];
+    for first in 0..inner.len() {
+        if done[first] {
+            continue;
+        }
+        // The chain through `first`, oriented: walk back to an end, then forward.
+        let through = |v: u32, from: usize| -> Option<usize> {
+            match at.get(&v).map(Vec::as_slice) {
+                Some(&[a, b]) => Some(if a == from { b } else { a }),
+                _ => None,
+            }
+        };
+        let (mut edge, mut v) = (first, inner[first][0]);
+        let mut steps = 0;
+        while let Some(e) = through(v, edge) {
+            if e == first || steps > inner.len() {
+                break;
+            }
+            let w = if inner[e][0] == v {
+                inner[e][1]
+            } else {
+                inner[e][0]
+            };
+            (edge, v) = (e, w);
+            steps += 1;
+        }
+        // `v` is an end (or the loop's start), `edge` the chain's first edge from it.
+        let mut chain: Vec<(u32, u32)> = Vec::new();
+        let (mut e, mut from) = (edge, v);
+        loop {
+            done[e] = true;
+            let to = if inner[e][0] == from {
+                inner[e][1]
+            } else {
+                inner[e][0]
+            };
+            chain.push((from, to));
+            match through(to, e) {
+                Some(n) if !done[n] => (e, from) = (n, to),
+                _ => break,
+            }
+        }
+        if chain.len() < MIN_CHAIN {
+            continue;
+        }
+        let (left, right) = (next, next + 1);
+        next += 2;
+        for &(a, b) in &chain {
+            for &f in &faces_of[&[a.min(b), a.max(b)]] {
+                let t = mesh.triangles[f as usize];
+                let forward = (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
+                if label[f as usize] == u32::MAX {
+                    label[f as usize] = if forward { left } else { right };
+                    queue.push_back(f);
+                }
+            }
+        }
+    }
+    // Grow the labels across the edges that are not seams (within the seeds' charts).
+    let on_seam = |e: &[u32; 2]| seams.binary_search(e).is_ok();
+    while let Some(f) = queue.pop_front() {
+        let t = mesh.triangles[f as usize];
+        for k in 0..3 {
+            let (u, v) = (t[k], t[(k + 1) % 3]);
+            let e = [u.min(v), u.max(v)];
+            if on_seam(&e) {
+                continue;
+            }
+            for &g in &faces_of[&e] {
+                if label[g as usize] == u32::MAX {
+                    label[g as usize] = label[f as usize];
+                    queue.push_back(g);
+                }
+            }
+        }
+    }
+    for (s, l) in sides.iter_mut().zip(label) {
+        if l != u32::MAX {
+            *s = l;
+        }
+    }
+    sides
+}
+
 /// Mean and largest distance to the original (`grid`, over its faces) of `mesh`'s vertices,
 /// edge midpoints (each edge once per face) and face centroids.
 pub(crate) fn distance_to(grid: &FaceGrid, original: &TriMesh, mesh: &TriMesh) -> (f64, f64) {
@@ -247,6 +377,37 @@ pub(crate) fn distance_to(grid: &FaceGrid, original: &TriMesh, mesh: &TriMesh) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A UV sphere's meridian lies inside its one chart; its sides differ across every
+    /// meridian edge, and a chart without such seams keeps its charts.
+    #[test]
+    fn the_two_sides_of_a_seam_inside_a_chart_differ() {
+        let (sphere, uv) = mesh::procedural::textured_sphere(12, 24);
+        let charts = uv.charts(&sphere);
+        let sides = seam_sides(&sphere, &uv);
+        // The meridian: ring vertices 2 + (i - 1) * 24 for i = 1..12, j = 0.
+        let meridian: Vec<u32> = (1..12).map(|i| 2 + (i - 1) * 24).collect();
+        let faces_on = |a: u32, b: u32| -> Vec<usize> {
+            (0..sphere.triangles.len())
+                .filter(|&f| sphere.triangles[f].contains(&a) && sphere.triangles[f].contains(&b))
+                .collect()
+        };
+        for w in meridian.windows(2) {
+            let f = faces_on(w[0], w[1]);
+            assert_eq!(f.len(), 2);
+            assert_eq!(
+                charts[f[0]], charts[f[1]],
+                "the meridian is inside one chart"
+            );
+            assert_ne!(sides[f[0]], sides[f[1]], "{w:?}");
+        }
+        let (square, _) = (mesh::procedural::unit_square_grid(4), ());
+        let plain = Attributes {
+            face_material: Some((0..square.triangles.len() as u32).map(|f| f % 2).collect()),
+            ..Attributes::per_vertex(&square)
+        };
+        assert_eq!(seam_sides(&square, &plain), plain.charts(&square));
+    }
 
     /// A flat 1 × 1 square of 2 × 8 × 8 triangles whose charts are x < 0.375 and x > 0.375,
     /// and a coarse mesh over it of 2 × 2 × 2 triangles: every triangle of the cut lies on one

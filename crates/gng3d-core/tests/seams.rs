@@ -128,3 +128,21 @@ fn gngq_output_follows_a_uv_seam_and_keeps_its_vertex_count() {
         "{without}: the bound above no longer tells the two apart"
     );
 }
+
+/// A UV sphere (`mesh::procedural::textured_sphere`): its meridian seam runs inside its one
+/// chart (the chart's border meets itself), and its poles have one UV per slice. The output
+/// follows the meridian too.
+#[test]
+fn gngq_output_follows_a_seam_inside_one_chart() {
+    let (sphere, attributes) = mesh::procedural::textured_sphere(24, 48);
+    let n = 200;
+    let (out, uv) = simplify(&sphere, &attributes, n, true);
+    assert_eq!(out.vertex_count(), n);
+    let with_seams = share_off(&sphere, &attributes, &out, &uv);
+    let (plain, plain_uv) = simplify(&sphere, &attributes, n, false);
+    let without = share_off(&sphere, &attributes, &plain, &plain_uv);
+    eprintln!(
+        "area off by more than 0.05 UV: {with_seams:.4} following the seams, {without:.4} not"
+    );
+    assert!(with_seams < without, "{with_seams} {without}");
+}
