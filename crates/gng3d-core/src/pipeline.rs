@@ -606,8 +606,9 @@ pub(crate) struct Input<'a> {
     pub params: &'a ReconstructionParams,
     /// The output count of an oversampled run or one with seams (the decimation's target).
     pub decimate_to: Option<usize>,
-    /// The chart of each original triangle, when the input's attributes have seams
-    /// ([`mesh::attributes::Attributes::charts`]): [`Step::CutSeams`] cuts along their borders.
+    /// Each original triangle's side of the seams, when the input's attributes have seams
+    /// (its chart, [`mesh::attributes::Attributes::charts`], or finer: `seams::seam_sides`):
+    /// [`Step::CutSeams`] cuts along their borders.
     pub charts: Option<&'a [u32]>,
     /// Most threads the steps use, the caller's included ([`crate::parallel::threads`]).
     pub threads: usize,

@@ -556,8 +556,8 @@ pub struct Trainer {
     input: Pieces,
     /// Phase 2's tables of `original`, built on a helper thread while training runs.
     tables: Arc<BackgroundTables>,
-    /// The chart of each original triangle when the input's attributes have seams
-    /// ([`Trainer::with_attributes`]).
+    /// Each original triangle's side of the seams when the input's attributes have seams
+    /// ([`Trainer::with_attributes`], `seams::seam_sides`).
     charts: Option<Arc<Vec<u32>>>,
     params: GngParams,
     /// The steps after training ([`Plan::of`] the parameters, less what the time limit left
