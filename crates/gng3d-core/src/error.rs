@@ -35,6 +35,10 @@ pub enum GngError {
         /// The rule it breaks, for a person (e.g. `"must be in (0, 1]"`).
         rule: &'static str,
     },
+    /// The attributes given with the mesh do not fit it
+    /// ([`mesh::attributes::Attributes::validate`]).
+    #[error("the attributes do not fit the mesh: {0}")]
+    Attributes(String),
     /// A triangle refers to a vertex that does not exist.
     #[error("face {face} refers to a vertex index beyond the vertex list")]
     BadIndex {

@@ -132,6 +132,7 @@ mod reconstruct;
 mod refit;
 mod relax;
 mod report;
+mod seams;
 mod soundness;
 mod trainer;
 #[doc(hidden)]

@@ -37,6 +37,7 @@ use std::time::{Duration, Instant};
 /// | [`Step::Flip`] | edges flipped toward the original surface |
 /// | [`Step::Refit`] | vertices refitted so the triangles, not only the corners, fit the surface |
 /// | [`Step::DetailRound`] | new nodes where the mesh stays farthest from the original; the build steps above run again |
+/// | [`Step::CutSeams`] | with an input whose attributes have seams: the network's mesh is cut along them |
 /// | [`Step::Decimate`] | the oversampled network's mesh is decimated (QEM) to the output count |
 /// | [`Step::Relax`] | decimated vertices relax toward the original vertices they stand for |
 /// | [`Step::RepairDeviations`] | vertices standing off the original move back; edges across grooves flip |
@@ -64,6 +65,9 @@ pub enum Step {
     Refit,
     /// One round of detail nodes (option (g)); the build steps run again after it.
     DetailRound,
+    /// The network's mesh cut along the original's attribute seams, for a decimation that
+    /// keeps them (inputs with seams only: [`crate::Trainer::with_attributes`]).
+    CutSeams,
     /// QEM decimation of an oversampled network's mesh to the output count.
     Decimate,
     /// Tangential relaxation of the decimated mesh (option (h)).
@@ -85,6 +89,7 @@ impl Step {
             Step::Flip => "flip",
             Step::Refit => "refit",
             Step::DetailRound => "detail_round",
+            Step::CutSeams => "cut_seams",
             Step::Decimate => "decimate",
             Step::Relax => "relax",
             Step::RepairDeviations => "repair_deviations",
@@ -103,6 +108,7 @@ impl Step {
             Step::Flip => "edges flipped",
             Step::Refit => "vertex moves",
             Step::DetailRound => "nodes added",
+            Step::CutSeams => "vertices added on seams",
             Step::Decimate => "vertices removed",
             Step::Relax => "vertices moved",
             Step::RepairDeviations => "vertex moves and flips",
@@ -113,7 +119,10 @@ impl Step {
 impl Step {
     /// Whether the step works on the network's finished mesh (not part of a build round).
     fn after_build(self) -> bool {
-        matches!(self, Step::Decimate | Step::Relax | Step::RepairDeviations)
+        matches!(
+            self,
+            Step::CutSeams | Step::Decimate | Step::Relax | Step::RepairDeviations
+        )
     }
 
     /// Whether every run needs this step for an exact vertex count (the rest may be left out
@@ -151,6 +160,11 @@ impl Step {
             Step::Flip => (0.15, 2.6),
             Step::Refit => (0.25, 7.7),
             Step::DetailRound => (0.67, 2.2),
+            // Not fitted like the others: the cut plus what the decimation costs more after it
+            // (QEM's attribute path, the plain decimation beside it, both measured against the
+            // original), from spot and the fandisk atlas at 5-20 % (8-25 ms on 2,930 and 6,475
+            // original vertices, 220-1,100 network vertices, on a loaded 2-core machine).
+            Step::CutSeams => (1.0, 15.0),
             Step::Decimate => (0.0, 0.62),
             Step::Relax => (0.03, 2.3),
             Step::RepairDeviations => (0.5, 9.2),
@@ -175,8 +189,11 @@ impl Step {
 ///    the last build;
 /// 4. the deviation repair (9 %; ×1.004, ×1.35), the relaxation and the cell splits (≤ 2 %
 ///    each: the relaxation is what wins E_avg, the splits keep thin parts attached);
-/// 5. then the oversampling (72 %; ×1.60, ×2.67).
-pub(crate) const CUT_ORDER: [Cut; 8] = [
+/// 5. the seam cut of an input with attribute seams (geometry unchanged; without it the
+///    output's triangles straddle the seams: docs/notes/attributes.md, "Seams that follow the
+///    original's");
+/// 6. then the oversampling (72 %; ×1.60, ×2.67).
+pub(crate) const CUT_ORDER: [Cut; 9] = [
     Cut::DetailBuilds,
     Cut::Step(Step::DetailRound),
     Cut::Step(Step::Flip),
@@ -184,6 +201,7 @@ pub(crate) const CUT_ORDER: [Cut; 8] = [
     Cut::Step(Step::RepairDeviations),
     Cut::Step(Step::Relax),
     Cut::Step(Step::SplitBadCells),
+    Cut::Step(Step::CutSeams),
     Cut::Oversampling,
 ];
 
@@ -234,7 +252,17 @@ impl Plan {
     ///   `detail_rounds` [`Step::DetailRound`]s;
     /// - [`Step::Decimate`], then [`Step::Relax`] and [`Step::RepairDeviations`] when asked
     ///   for, only when `decimates`.
+    ///
+    /// For an input whose attributes have seams, [`Plan::with_seams`].
     pub fn of(params: &ReconstructionParams, decimates: bool) -> Plan {
+        Plan::with_seams(params, decimates, false)
+    }
+
+    /// [`Plan::of`], and with `seams` (the input's attributes have seams:
+    /// [`crate::Trainer::with_attributes`]) [`Step::CutSeams`] then [`Step::Decimate`] after the
+    /// last build whether or not `decimates`: the cut adds vertices, the decimation takes the
+    /// mesh back to the output count along the seams.
+    pub fn with_seams(params: &ReconstructionParams, decimates: bool, seams: bool) -> Plan {
         let mut steps = Vec::new();
         let mut add = |step, round| steps.push(PlannedStep { step, round });
         add(Step::Label, 0);
@@ -259,9 +287,14 @@ impl Plan {
                 add(Step::Refit, round);
             }
         }
+        if seams {
+            add(Step::CutSeams, detail_rounds);
+        }
+        if decimates || seams {
+            add(Step::Decimate, detail_rounds);
+        }
         if decimates {
             let last = detail_rounds;
-            add(Step::Decimate, last);
             if params.relax {
                 add(Step::Relax, last);
             }
@@ -312,13 +345,7 @@ impl Plan {
             .steps
             .iter()
             .filter(|s| match (step, last) {
-                (Step::DetailRound, Some(last)) => {
-                    s.round != last
-                        || matches!(
-                            s.step,
-                            Step::Decimate | Step::Relax | Step::RepairDeviations
-                        )
-                }
+                (Step::DetailRound, Some(last)) => s.round != last || s.step.after_build(),
                 _ => s.step != step,
             })
             .copied()
@@ -368,6 +395,12 @@ fn network_at(network: usize, round: usize) -> usize {
 const SETUP_SECONDS_PER_VERTEX: f64 = 0.35e-6;
 const GROWTH_SECONDS_PER_NODE: f64 = 1.8e-6;
 
+/// The decimation along the seams ([`Step::CutSeams`]) is kept when its mean distance to the
+/// original (at vertices, edge midpoints and centroids) is at most this many times that of the
+/// decimation without them; otherwise the output does not follow the seams
+/// ([`GngWarning::SeamsNotFollowed`]).
+pub(crate) const SEAM_DISTANCE_RATIO: f64 = 1.5;
+
 /// Fixed cost of a run (threads started, result checked): ~1 ms on the smallest meshes.
 const FIXED_SECONDS: f64 = 2e-3;
 
@@ -416,8 +449,8 @@ pub(crate) struct TimePlan {
 /// of a run that is not oversampled; below it the warning
 /// [`GngWarning::TimeLimitBelowMinimum`] says so, and the run is that fastest run (growth is
 /// never cut short: the vertex count stays exact).
-pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
-    let plan = Plan::of(&params.reconstruction, params.decimates());
+pub(crate) fn plan_for_time(params: GngParams, original: usize, seams: bool) -> TimePlan {
+    let plan = Plan::with_seams(&params.reconstruction, params.decimates(), seams);
     let Some(limit) = params.time_limit else {
         return TimePlan {
             params,
@@ -473,7 +506,7 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
                     // decimation, no cell splits or detail nodes (they would break the count).
                     oversampling_cut = Some(network_vertices);
                     params = params.not_oversampled();
-                    let full = Plan::of(&params.reconstruction, false);
+                    let full = Plan::with_seams(&params.reconstruction, false, seams);
                     // What was cut stays cut.
                     plan = Plan {
                         steps: full
@@ -500,7 +533,7 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
             cuts.next();
         }
     }
-    let full = Plan::of(&params.reconstruction, params.decimates());
+    let full = Plan::with_seams(&params.reconstruction, params.decimates(), seams);
     let mut warnings: Vec<GngWarning> = Vec::new();
     if let Some(network_vertices) = oversampling_cut {
         warnings.push(GngWarning::OversamplingSkippedForTime { network_vertices });
@@ -514,8 +547,12 @@ pub(crate) fn plan_for_time(params: GngParams, original: usize) -> TimePlan {
     let minimum = MINIMUM_MARGIN
         * (setup
             + GROWTH_SECONDS_PER_NODE * n as f64
-            + Plan::of(&params.clone().not_oversampled().reconstruction, false)
-                .estimate(0, true, fastest)
+            + Plan::with_seams(
+                &params.clone().not_oversampled().reconstruction,
+                false,
+                seams,
+            )
+            .estimate(0, true, fastest)
             + fastest.finish());
     // (The limit went through a Duration: nanoseconds.)
     if limit_seconds < minimum - 1e-9 {
@@ -567,8 +604,12 @@ pub(crate) struct Input<'a> {
     pub edges: &'a [[u32; 2]],
     /// The reconstruction options.
     pub params: &'a ReconstructionParams,
-    /// The output count of an oversampled run (the decimation's target).
+    /// The output count of an oversampled run or one with seams (the decimation's target).
     pub decimate_to: Option<usize>,
+    /// Each original triangle's side of the seams, when the input's attributes have seams
+    /// (its chart, [`mesh::attributes::Attributes::charts`], or finer: `seams::seam_sides`):
+    /// [`Step::CutSeams`] cuts along their borders.
+    pub charts: Option<&'a [u32]>,
     /// Most threads the steps use, the caller's included ([`crate::parallel::threads`]).
     pub threads: usize,
 }
@@ -586,6 +627,8 @@ pub(crate) struct Output {
     /// Runs of optional steps left out to keep the deadline (a detail round left out counts
     /// the later ones too).
     pub skipped: Vec<Step>,
+    /// The decimation did not follow the seams ([`GngWarning::SeamsNotFollowed`]'s ratio).
+    pub seams_not_followed: Option<Option<f64>>,
 }
 
 /// The reconstruction alone of `input` (its options as given, no decimation, no deadline):
@@ -690,8 +733,14 @@ pub(crate) fn run(
                 }
                 added => added,
             },
-            Step::Decimate => {
+            Step::CutSeams => {
                 work.end_build(start, build_seconds);
+                work.cut_seams()
+            }
+            Step::Decimate => {
+                if !work.build_ended {
+                    work.end_build(start, build_seconds);
+                }
                 work.decimate()?
             }
             Step::Relax => work.relax(),
@@ -726,6 +775,18 @@ struct Work<'a> {
     gng_edges: &'a [[u32; 2]],
     params: &'a ReconstructionParams,
     decimate_to: Option<usize>,
+    /// The original's chart of each triangle, when it has seams.
+    charts: Option<&'a [u32]>,
+    /// After [`Step::CutSeams`]: the chart of each triangle of the mesh (until a decimation
+    /// that could not keep the seams).
+    triangle_charts: Option<Vec<u32>>,
+    /// After [`Step::CutSeams`]: the network's mesh before the cut, for the decimation's
+    /// comparison.
+    uncut: Option<TriMesh>,
+    /// The original's closest-point grid, once built ([`Step::CutSeams`]).
+    grid: Option<mesh::transfer::FaceGrid<'a>>,
+    /// The decimation did not follow the seams: the ratio of [`GngWarning::SeamsNotFollowed`].
+    seams_not_followed: Option<Option<f64>>,
     /// Most threads the steps use, the caller's included.
     threads: usize,
     /// Node of each original vertex (`u32::MAX`: none).
@@ -768,6 +829,11 @@ impl<'a> Work<'a> {
             gng_edges: input.edges,
             params: input.params,
             decimate_to: input.decimate_to,
+            charts: input.charts,
+            triangle_charts: None,
+            uncut: None,
+            grid: None,
+            seams_not_followed: None,
             threads: input.threads,
             labels: Vec::new(),
             node_comp: Vec::new(),
@@ -1036,8 +1102,58 @@ impl<'a> Work<'a> {
         self.report.seconds = build_seconds.min(start.elapsed().as_secs_f64());
     }
 
+    /// [`Step::CutSeams`]: the network's mesh cut along the original's seams
+    /// ([`crate::seams::cut`]).
+    fn cut_seams(&mut self) -> usize {
+        let Some(charts) = self.charts else {
+            return 0;
+        };
+        let original = self.original;
+        let grid = self
+            .grid
+            .get_or_insert_with(|| mesh::transfer::FaceGrid::new(original));
+        let uncut = TriMesh::new(
+            std::mem::take(&mut self.positions),
+            std::mem::take(&mut self.triangles),
+        );
+        let cut = crate::seams::cut(
+            self.original,
+            grid,
+            charts,
+            &uncut.positions,
+            &uncut.triangles,
+            self.threads,
+        );
+        self.uncut = Some(uncut);
+        self.positions = cut.positions;
+        self.triangles = cut.triangles;
+        self.triangle_charts = (cut.added + cut.snapped > 0).then_some(cut.charts);
+        cut.added + cut.snapped
+    }
+
+    /// Vertices of the mesh between triangles of different charts (on a seam), when the mesh
+    /// follows the seams: the relaxation leaves them where they are (its moves are along the
+    /// surface, off the seam), the deviation repair flips no edge between two of them.
+    fn seam_vertices(&self) -> Option<Vec<bool>> {
+        let charts = self.triangle_charts.as_ref()?;
+        let mut first = vec![u32::MAX; self.positions.len()];
+        let mut seam = vec![false; self.positions.len()];
+        for (t, &c) in self.triangles.iter().zip(charts) {
+            for &v in t {
+                let f = &mut first[v as usize];
+                if *f == u32::MAX {
+                    *f = c;
+                } else if *f != c {
+                    seam[v as usize] = true;
+                }
+            }
+        }
+        Some(seam)
+    }
+
     /// [`Step::Decimate`]: error first down to the output count, when the network's mesh has
-    /// more vertices.
+    /// more vertices; along the seams after [`Step::CutSeams`]
+    /// ([`crate::decimate::decimate_along_seams`]).
     fn decimate(&mut self) -> Result<usize, qem::QemError> {
         let Some(n) = self.decimate_to else {
             return Ok(0);
@@ -1050,7 +1166,36 @@ impl<'a> Work<'a> {
             std::mem::take(&mut self.triangles),
         );
         let before = mesh.vertex_count();
-        let out = crate::decimate::decimate(&mesh, n)?;
+        let out = match (self.triangle_charts.take(), self.uncut.take()) {
+            (Some(charts), Some(uncut)) => {
+                let (along, charts) = crate::decimate::decimate_along_seams(&mesh, &charts, n)?;
+                // The same count without the seams, from the mesh before the cut: kept when
+                // the seams would cost too much of the surface (SEAM_DISTANCE_RATIO).
+                let plain = if uncut.vertex_count() > n {
+                    crate::decimate::decimate(&uncut, n)?
+                } else {
+                    uncut
+                };
+                let original = self.original;
+                let grid = self
+                    .grid
+                    .get_or_insert_with(|| mesh::transfer::FaceGrid::new(original));
+                // (No charts: the decimation along the seams could not reach the count.)
+                let ratio = charts.as_ref().map(|_| {
+                    let (along_mean, _) = crate::seams::distance_to(grid, original, &along);
+                    let (plain_mean, _) = crate::seams::distance_to(grid, original, &plain);
+                    along_mean / plain_mean.max(f64::MIN_POSITIVE)
+                });
+                if ratio.is_some_and(|r| r <= SEAM_DISTANCE_RATIO) {
+                    self.triangle_charts = charts;
+                    along
+                } else {
+                    self.seams_not_followed = Some(ratio);
+                    plain
+                }
+            }
+            _ => crate::decimate::decimate(&mesh, n)?,
+        };
         self.decimated = true;
         let TriMesh {
             positions,
@@ -1067,10 +1212,12 @@ impl<'a> Work<'a> {
         if !self.decimated {
             return 0;
         }
+        let seams = self.seam_vertices();
         let relaxed = crate::relax::relax(
             &mut self.positions,
             &self.triangles,
             self.original,
+            seams.as_deref(),
             self.threads,
         );
         self.report.relaxed_vertices = relaxed.moves;
@@ -1082,10 +1229,12 @@ impl<'a> Work<'a> {
         if !self.decimated {
             return 0;
         }
+        let seams = self.seam_vertices();
         let repaired = crate::deviation::repair_until(
             &mut self.positions,
             &mut self.triangles,
             self.original,
+            seams.as_deref(),
             self.step_deadline,
             self.threads,
         );
@@ -1103,6 +1252,7 @@ impl<'a> Work<'a> {
             report: self.report,
             steps,
             skipped,
+            seams_not_followed: self.seams_not_followed,
         }
     }
 }

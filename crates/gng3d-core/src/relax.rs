@@ -57,11 +57,13 @@ pub struct RelaxStats {
 }
 
 /// Relaxes the output vertices `positions` (faces `triangles`) toward the centroids of the
-/// `original`'s vertices nearest to them, along the surface.
+/// `original`'s vertices nearest to them, along the surface. Vertices flagged in `seams` (on
+/// an attribute seam the decimation kept) stay, as border vertices do.
 pub(crate) fn relax(
     positions: &mut [Vec3],
     triangles: &[[u32; 3]],
     original: &TriMesh,
+    seams: Option<&[bool]>,
     threads: usize,
 ) -> RelaxStats {
     let n = positions.len();
@@ -123,7 +125,12 @@ pub(crate) fn relax(
     let mut stats = RelaxStats::default();
     let mu = DMat3::from_diagonal(DVec3::splat(TANGENT_WEIGHT));
     for v in 0..n {
-        if count[v] == 0 || weight[v] <= 0.0 || fan[v].is_empty() || !border[v].is_empty() {
+        if count[v] == 0
+            || weight[v] <= 0.0
+            || fan[v].is_empty()
+            || !border[v].is_empty()
+            || seams.is_some_and(|s| s[v])
+        {
             continue;
         }
         let to_centroid = sum[v] / count[v] as f64 - old[v];
@@ -188,7 +195,7 @@ mod tests {
         }
         let before = e_sum(&original, &positions);
         let shifted = positions.clone();
-        let stats = relax(&mut positions, &coarse.triangles, &original, 2);
+        let stats = relax(&mut positions, &coarse.triangles, &original, None, 2);
         // All 9 interior vertices move; the 16 border vertices stay.
         assert_eq!(stats.moves, 9);
         let centroids = centroids(&original, &shifted);
@@ -238,7 +245,7 @@ mod tests {
         assert_eq!(positions[v], Vec3::new(0.5, 0.5, 0.0));
         positions[v] = Vec3::new(0.5, 0.56, 0.0);
         let on_crease = positions[v];
-        relax(&mut positions, &coarse.triangles, &original, 2);
+        relax(&mut positions, &coarse.triangles, &original, None, 2);
         let p = positions[v];
         // It came back toward y = 1/2 (its cell's centroid) ...
         assert!(p.y < on_crease.y - 0.01, "{on_crease:?} -> {p:?}");

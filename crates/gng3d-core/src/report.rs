@@ -95,6 +95,17 @@ pub enum GngWarning {
         /// Requested vertex count.
         target: usize,
     },
+    /// The output does not follow the input's attribute seams ([`crate::Step::CutSeams`]):
+    /// at this vertex count a decimation that keeps them would stand much farther from the
+    /// original than one that does not, or could not reach the count (the seams' ends and
+    /// crossings stay), so the output is the one that does not, and its triangles may straddle
+    /// seams.
+    SeamsNotFollowed {
+        /// Mean distance to the original (at vertices, edge midpoints and face centroids) of
+        /// the decimation along the seams over that of the one without them; `None`: it could
+        /// not reach the count.
+        ratio: Option<f64>,
+    },
 }
 
 impl fmt::Display for GngWarning {
@@ -158,6 +169,14 @@ impl fmt::Display for GngWarning {
             GngWarning::DecimationStopped { vertices, target } => write!(
                 f,
                 "the decimation to {target} vertices stopped at {vertices}: no further contraction keeps the mesh's topology (holes and pieces keep three vertices each)"
+            ),
+            GngWarning::SeamsNotFollowed { ratio: Some(ratio) } => write!(
+                f,
+                "the output's triangles do not follow the texture seams: at this vertex count keeping them would put the surface {ratio:.1} times as far from the original; more vertices keep them"
+            ),
+            GngWarning::SeamsNotFollowed { ratio: None } => write!(
+                f,
+                "the output's triangles do not follow the texture seams: their ends and crossings alone need more vertices than asked for; more vertices keep them"
             ),
         }
     }

@@ -22,6 +22,7 @@ use crate::reconstruct::{OriginalTables, Reconstruction};
 use crate::report::{GngReport, GngWarning};
 use glam::Vec3;
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use mesh::sampling::AreaSampler;
 use rand::Rng;
 use rand::SeedableRng;
@@ -555,6 +556,9 @@ pub struct Trainer {
     input: Pieces,
     /// Phase 2's tables of `original`, built on a helper thread while training runs.
     tables: Arc<BackgroundTables>,
+    /// Each original triangle's side of the seams when the input's attributes have seams
+    /// ([`Trainer::with_attributes`], `seams::seam_sides`).
+    charts: Option<Arc<Vec<u32>>>,
     params: GngParams,
     /// The steps after training ([`Plan::of`] the parameters, less what the time limit left
     /// out).
@@ -595,10 +599,39 @@ impl Trainer {
     /// Validate `params` against `mesh` and set up training (two nodes at random vertices of
     /// every trained component).
     pub fn new(mesh: &TriMesh, params: GngParams) -> Result<Trainer, GngError> {
+        Trainer::set_up(mesh, None, params)
+    }
+
+    /// [`Trainer::new`] for a mesh with attributes (normals, texture coordinates, colours,
+    /// materials; they must fit `mesh`: [`mesh::attributes::Attributes::validate`]). When they
+    /// have seams ([`mesh::attributes::Attributes::seam_edges`]) the output's triangles follow
+    /// them: the plan cuts the network's mesh along the seams and decimates it along them
+    /// ([`crate::Step::CutSeams`]), in every run, oversampled or not, so that the values a
+    /// front end then takes from the original (`mesh::transfer::transfer_attributes`) are never
+    /// interpolated across a seam. Without seams this is [`Trainer::new`]: the same output. The
+    /// output has no attributes; the vertex count stays exact.
+    pub fn with_attributes(
+        mesh: &TriMesh,
+        attributes: &Attributes,
+        params: GngParams,
+    ) -> Result<Trainer, GngError> {
+        attributes.validate(mesh).map_err(GngError::Attributes)?;
+        Trainer::set_up(mesh, Some(attributes), params)
+    }
+
+    fn set_up(
+        mesh: &TriMesh,
+        attributes: Option<&Attributes>,
+        params: GngParams,
+    ) -> Result<Trainer, GngError> {
         let started = Instant::now();
         params.validate()?;
+        let charts = attributes
+            .filter(|a| !a.seam_edges(mesh).is_empty())
+            .map(|a| Arc::new(crate::seams::seam_sides(mesh, a)));
         // The time limit is shared between the training and the steps after it, once.
-        let time_plan = crate::pipeline::plan_for_time(params, mesh.positions.len());
+        let time_plan =
+            crate::pipeline::plan_for_time(params, mesh.positions.len(), charts.is_some());
         let params = time_plan.params;
         for (f, t) in mesh.triangles.iter().enumerate() {
             if t.iter().any(|&v| v as usize >= mesh.positions.len()) {
@@ -642,6 +675,7 @@ impl Trainer {
         }
         Ok(Trainer {
             tables,
+            charts,
             original,
             input,
             plan: time_plan.plan,
@@ -1003,7 +1037,11 @@ impl Trainer {
     pub fn preview(&self) -> Result<GngResult, GngError> {
         let mut reconstruction = self.params.reconstruction.clone();
         reconstruction.detail_rounds = 0;
-        let plan = Plan::of(&reconstruction, self.params.decimates());
+        let plan = Plan::with_seams(
+            &reconstruction,
+            self.params.decimates(),
+            self.charts.is_some(),
+        );
         let snap = self.snapshot();
         let mut result = self.run_plan_with(&snap, &plan, &reconstruction, None, |_| {})?;
         result.report.warnings.clear();
@@ -1022,10 +1060,9 @@ impl Trainer {
             nodes: &snap.positions,
             edges: &snap.edges,
             params,
-            decimate_to: self
-                .params
-                .decimates()
+            decimate_to: (self.params.decimates() || self.charts.is_some())
                 .then_some(self.params.target_vertices),
+            charts: self.charts.as_deref().map(Vec::as_slice),
             threads: self.threads,
         }
     }
@@ -1088,6 +1125,9 @@ impl Trainer {
                 });
             }
         }
+        if let Some(ratio) = out.seams_not_followed {
+            warnings.push(GngWarning::SeamsNotFollowed { ratio });
+        }
         if out.report.unreferenced_nodes > 0 {
             warnings.push(GngWarning::UnattachedNodes {
                 nodes: out.report.unreferenced_nodes,
@@ -1095,7 +1135,7 @@ impl Trainer {
         }
         let target = self.params.target_vertices;
         let vertices = out.mesh.vertex_count();
-        if self.params.decimates() {
+        if self.params.decimates() || self.charts.is_some() {
             if vertices > target {
                 warnings.push(GngWarning::DecimationStopped { vertices, target });
             }

@@ -429,6 +429,7 @@ impl crate::Snapshot {
             edges: &self.edges,
             params,
             decimate_to: None,
+            charts: None,
             threads: crate::parallel::threads(None),
         };
         crate::pipeline::reconstruct_only(&input)

@@ -49,8 +49,12 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
         .resolve(&input)
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let start = Instant::now();
-    let mut trainer = Trainer::new(&input, params.clone())
-        .with_context(|| format!("GNG3D on {}", args.input.display()))?;
+    // With attributes whose seams the output's triangles are to follow (Trainer::with_attributes).
+    let trainer = match &extras.attributes {
+        Some(a) => Trainer::with_attributes(&input, a, params.clone()),
+        None => Trainer::new(&input, params.clone()),
+    };
+    let mut trainer = trainer.with_context(|| format!("GNG3D on {}", args.input.display()))?;
     let budget = trainer.stats().max_signals;
     // Progress on stderr (a terminal, no --json): signals while training, then the steps after
     // it, counted and named as they run (GNG3D-Q spends most of a run there).
