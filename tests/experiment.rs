@@ -583,3 +583,51 @@ fn reproduce_never_writes_an_empty_table() {
     assert_eq!(report.checkpoints[0].gng.vertices, 4);
     assert!(!checkpoint_table(&report).to_text().trim().is_empty());
 }
+
+#[test]
+fn the_survey_measures_the_meshes_simplify_writes_for_an_input_with_seams() {
+    use gng3d::experiment::survey::{SurveyParams, survey_mesh_with_attributes};
+    // A UV sphere: its meridian seam shapes QEM's attribute-keeping geometry, so the positions-
+    // only run differs and the survey's figures say which one it measured.
+    let (sphere, uv) = procedural::textured_sphere(16, 32);
+    let mut params = SurveyParams {
+        ratios: vec![0.25],
+        epochs: 2,
+        ..SurveyParams::default()
+    };
+    params.hausdorff = HausdorffParams::with_samples(5_000);
+    let rows = survey_mesh_with_attributes("sphere", &sphere, Some(&uv), &params).unwrap();
+    let row = &rows[0];
+    assert!(row.attributes.is_some(), "no attribute columns");
+    let area = sphere.area();
+    let target = gng3d::qem::Target::Vertices(row.qem.vertices);
+    let qp = gng3d::qem::QemParams::with_target(target);
+    let (kept, _, _) = gng3d::qem::simplify_with_attributes(&sphere, &uv, &qp).unwrap();
+    let (plain, _) = gng3d::qem::simplify(&sphere, &qp).unwrap();
+    let e_sur = |m: &gng3d::mesh::TriMesh| area - m.area();
+    assert!(
+        (e_sur(&kept) - e_sur(&plain)).abs() > 1e-6 * area,
+        "the two QEM runs coincide: the test cannot tell them apart"
+    );
+    assert!(
+        (row.qem.e_sur_signed - e_sur(&kept)).abs() < 1e-9 * area,
+        "survey QEM E_sur {} is not the attribute-keeping run's {} (positions only: {})",
+        row.qem.e_sur_signed,
+        e_sur(&kept),
+        e_sur(&plain)
+    );
+    // GNG3D-Q's triangles follow the seam as `simplify` makes them: the same mesh as the
+    // library's attribute path with the survey's options.
+    let gqp = gng3d::gng3d_core::GngOptions {
+        target: gng3d::gng3d_core::GngTarget::Vertices(
+            ((sphere.vertex_count() as f64 * 0.25).round() as usize)
+                .clamp(4, sphere.vertex_count()),
+        ),
+        ..params.gngq.clone()
+    };
+    let (gngq, _) = gng3d::gng3d_core::simplify_with_attributes(&sphere, &uv, &gqp).unwrap();
+    assert!(
+        (row.gngq.e_sur_signed - (area - gngq.mesh.area())).abs() < 1e-9 * area,
+        "survey GNG3D-Q is not the attribute path's"
+    );
+}

@@ -188,10 +188,9 @@ pub fn compare_with_progress(
     compare_with_attributes(original, None, params, on_stage)
 }
 
-/// [`compare_with_progress`] for an original with `attributes` (which must fit it): QEM keeps
-/// them through its contractions (`qem::simplify_with_attributes`, as `gng3d simplify` does),
-/// GNG3D's output takes them from the original surface (`mesh::transfer::transfer_attributes`,
-/// as `gng3d simplify` does), and each method's [`MetricsReport::attributes`] holds the
+/// [`compare_with_progress`] for an original with `attributes` (which must fit it): both
+/// methods run as `gng3d simplify` runs them (QEM keeps them through its contractions, GNG3D's
+/// triangles follow the seams and take the original's values), and each method's [`MetricsReport::attributes`] holds the
 /// attribute deviation ([`metrics::attribute_deviation`] with `params.attributes`). Without
 /// attributes this is [`compare_with_progress`].
 pub fn compare_with_attributes(
@@ -221,18 +220,12 @@ pub fn compare_with_attributes(
     qp.target = Target::Vertices(n);
     on_stage(CompareStage::Qem);
     let t = Instant::now();
-    let (qem_mesh, qem_attributes) = match attributes {
-        Some(a) => {
-            let (mesh, a, _) = qem::simplify_with_attributes(original, a, &qp)?;
-            (mesh, Some(a))
-        }
-        None => (qem::simplify(original, &qp)?.0, None),
-    };
+    let (qem_mesh, qem_attributes) = super::qem_as_simplify(original, attributes, &qp)?;
     let qem_seconds = t.elapsed().as_secs_f64();
 
     on_stage(CompareStage::Gng);
     let t = Instant::now();
-    let gng = gng3d_core::simplify(original, &gp)?;
+    let (gng, gng_attributes) = super::gng_as_simplify(original, attributes, &gp)?;
     let gng_seconds = t.elapsed().as_secs_f64();
     for (method, mesh) in [("QEM", &qem_mesh), ("GNG3D", &gng.mesh)] {
         if mesh.face_count() == 0 {
@@ -242,9 +235,6 @@ pub fn compare_with_attributes(
             });
         }
     }
-
-    let gng_attributes =
-        attributes.map(|a| mesh::transfer::transfer_attributes(original, a, &gng.mesh));
 
     on_stage(CompareStage::Metrics);
     let measure = |mesh: &TriMesh, kept: Option<&Attributes>| {

@@ -6,6 +6,7 @@ pub mod reproduce;
 pub mod survey;
 
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use metrics::{Evaluator, HausdorffParams, MetricsParams};
 use serde::{Deserialize, Serialize};
 
@@ -109,4 +110,38 @@ impl PaperEvaluator {
             &self.evaluator.evaluate(simplified)?,
         ))
     }
+}
+
+/// QEM as `gng3d simplify --method qem` runs it: keeping `attributes` through its contractions
+/// when there are some (`qem::simplify_with_attributes`, whose seams also shape the geometry),
+/// positions only otherwise. The one policy of `compare` and the survey (and the viewer's).
+pub(crate) fn qem_as_simplify(
+    original: &TriMesh,
+    attributes: Option<&Attributes>,
+    params: &qem::QemParams,
+) -> Result<(TriMesh, Option<Attributes>), ExperimentError> {
+    Ok(match attributes {
+        Some(a) => {
+            let (mesh, kept, _) = qem::simplify_with_attributes(original, a, params)?;
+            (mesh, Some(kept))
+        }
+        None => (qem::simplify(original, params)?.0, None),
+    })
+}
+
+/// GNG3D as `gng3d simplify --method gng` runs it: with `attributes`, triangles that follow
+/// their seams and values from the original (`gng3d_core::simplify_with_attributes`);
+/// positions only otherwise.
+pub(crate) fn gng_as_simplify(
+    original: &TriMesh,
+    attributes: Option<&Attributes>,
+    options: &gng3d_core::GngOptions,
+) -> Result<(gng3d_core::GngResult, Option<Attributes>), ExperimentError> {
+    Ok(match attributes {
+        Some(a) => {
+            let (result, kept) = gng3d_core::simplify_with_attributes(original, a, options)?;
+            (result, Some(kept))
+        }
+        None => (gng3d_core::simplify(original, options)?, None),
+    })
 }

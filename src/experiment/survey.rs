@@ -8,16 +8,13 @@
 //! count, but each comparison is at equal vertex count by construction); measure all four.
 //!
 //! An original with attributes (normals, texture coordinates, colours:
-//! [`survey_mesh_with_attributes`]) keeps them through every method as `gng3d simplify` and
-//! `gng3d compare` do (QEM through `qem::simplify_with_attributes`, both GNG3D variants'
-//! outputs through `mesh::transfer::transfer_attributes`), and each output's attribute
-//! deviation ([`metrics::attribute_deviation`]) is in [`SurveyRow::attributes`]. QEM's
-//! geometric figures and time stay those of its positions-only run: the attribute-keeping run
-//! holds the seams with constraint planes and contracts seam vertices only along them, which
-//! costs QEM geometry (spot at 10 %, `gng3d metrics`: mean distance 5.5e-3 against 3.3e-3,
-//! Hausdorff 3.8e-2 against 2.7e-2), while GNG3D's outputs are the same with or without
-//! attributes; so the geometric verdict compares the same QEM on every input, and that run is
-//! measured for the attribute columns only.
+//! [`survey_mesh_with_attributes`]) goes through every method as `gng3d simplify` runs it, so
+//! the figures are those of the files a user gets: QEM keeps the attributes through its
+//! contractions (`qem::simplify_with_attributes`; its seams shape the geometry), both GNG3D
+//! variants' triangles follow the seams and take the original's values
+//! (`gng3d_core::simplify_with_attributes`). Each output's attribute deviation
+//! ([`metrics::attribute_deviation`]) is in [`SurveyRow::attributes`]. `gng3d compare` and the
+//! viewer follow the same policy.
 
 use super::{ExperimentError, PaperEvaluator, PaperRow};
 use gng3d_core::{GngOptions, GngTarget};
@@ -166,17 +163,6 @@ pub fn survey_mesh_with_attributes(
         )?)),
         _ => Ok::<_, ExperimentError>(None),
     };
-    let transfer =
-        |mesh: &TriMesh| attributes.map(|a| mesh::transfer::transfer_attributes(original, a, mesh));
-    // QEM's attribute-keeping run at `qp`'s target, for the attribute columns only (see the
-    // module docs).
-    let qem_deviation_at = |qp: &QemParams| match attributes {
-        Some(a) => {
-            let (mesh, kept, _) = qem::simplify_with_attributes(original, a, qp)?;
-            deviation(&mesh, &Some(kept))
-        }
-        None => Ok(None),
-    };
     let topo = mesh::topology::analyze(original);
     let mut rows = Vec::new();
     for &ratio in &params.ratios {
@@ -188,13 +174,13 @@ pub fn survey_mesh_with_attributes(
             ..params.gng.clone()
         };
         let t = Instant::now();
-        let gng = gng3d_core::simplify(original, &gp)?;
+        let (gng, gng_kept) = super::gng_as_simplify(original, attributes, &gp)?;
         let gng_seconds = t.elapsed().as_secs_f64();
         // QEM gets exactly GNG3D's output vertex count (reconstruction may drop a few nodes).
         let mut qp = params.qem.clone();
         qp.target = Target::Vertices(gng.mesh.vertex_count().max(4));
         let t = Instant::now();
-        let qem_mesh = qem::simplify(original, &qp)?.0;
+        let (qem_mesh, qem_kept) = super::qem_as_simplify(original, attributes, &qp)?;
         let qem_seconds = t.elapsed().as_secs_f64();
         // GNG3D-Q with the defaults a user of `simplify --method gng` gets.
         let gqp = GngOptions {
@@ -202,22 +188,23 @@ pub fn survey_mesh_with_attributes(
             ..params.gngq.clone()
         };
         let t = Instant::now();
-        let gngq = gng3d_core::simplify(original, &gqp)?;
+        let (gngq, gngq_kept) = super::gng_as_simplify(original, attributes, &gqp)?;
         let gngq_seconds = t.elapsed().as_secs_f64();
-        let qem_deviation = qem_deviation_at(&qp)?;
+        let qem_deviation = deviation(&qem_mesh, &qem_kept)?;
         let qem_at_gngq_attributes;
         let qem_at_gngq = if gngq.mesh.vertex_count() == gng.mesh.vertex_count() {
             qem_at_gngq_attributes = qem_deviation.clone();
             evaluator.evaluate(&qem_mesh)?
         } else {
             qp.target = Target::Vertices(gngq.mesh.vertex_count().max(4));
-            qem_at_gngq_attributes = qem_deviation_at(&qp)?;
-            evaluator.evaluate(&qem::simplify(original, &qp)?.0)?
+            let (mesh, kept) = super::qem_as_simplify(original, attributes, &qp)?;
+            qem_at_gngq_attributes = deviation(&mesh, &kept)?;
+            evaluator.evaluate(&mesh)?
         };
         let deviations = match (
-            deviation(&gng.mesh, &transfer(&gng.mesh))?,
+            deviation(&gng.mesh, &gng_kept)?,
             qem_deviation,
-            deviation(&gngq.mesh, &transfer(&gngq.mesh))?,
+            deviation(&gngq.mesh, &gngq_kept)?,
             qem_at_gngq_attributes,
         ) {
             (Some(gng), Some(qem), Some(gngq), Some(qem_at_gngq)) => Some(SurveyAttributes {

@@ -182,6 +182,25 @@ pub fn simplify(mesh: &TriMesh, options: &GngOptions) -> Result<GngResult, GngEr
     finish(&trainer, |_| {})
 }
 
+/// [`simplify`] for a mesh with `attributes` (normals, texture coordinates, colours, materials;
+/// they must fit `mesh`), as `gng3d simplify --method gng` runs it: the output's triangles
+/// follow the seams ([`Trainer::with_attributes`]) and its corners take the original's values
+/// at their place, on their side of the seams (`mesh::transfer::transfer_attributes`). Returns
+/// the result and the output's attributes.
+pub fn simplify_with_attributes(
+    mesh: &TriMesh,
+    attributes: &mesh::attributes::Attributes,
+    options: &GngOptions,
+) -> Result<(GngResult, mesh::attributes::Attributes), GngError> {
+    let mut trainer = Trainer::with_attributes(mesh, attributes, options.resolve(mesh)?)?;
+    while !trainer.is_finished() {
+        trainer.step(u64::MAX);
+    }
+    let result = finish(&trainer, |_| {})?;
+    let kept = mesh::transfer::transfer_attributes(mesh, attributes, &result.mesh);
+    Ok((result, kept))
+}
+
 /// The run after training, on a trained (or stopped) `trainer`: the steps of its
 /// [`Trainer::plan`] (see [`Step`]), the checks and the warnings. `on_step` sees each step as it
 /// finishes (a front end's progress). Front ends that drive the trainer themselves (progress

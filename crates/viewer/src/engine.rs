@@ -124,7 +124,14 @@ impl Engine {
     /// mesh by `GngOptions::resolve`, the one rule of the CLI and the library (GNG3D-Q trains an
     /// oversampled network and decimates it to N); the UI's low-level knobs (α, decay, edge
     /// age, removal window, search) are then taken as edited.
-    pub fn new(mesh: &TriMesh, params: &TrainParams) -> Result<Engine> {
+    ///
+    /// With `attributes` whose seams the output is to follow, the run is
+    /// `Trainer::with_attributes`'s, as `gng3d simplify --method gng` runs it.
+    pub fn new(
+        mesh: &TriMesh,
+        attributes: Option<&Attributes>,
+        params: &TrainParams,
+    ) -> Result<Engine> {
         let options = gng3d_core::GngOptions {
             target: gng3d_core::GngTarget::Vertices(params.target_vertices),
             time_limit_seconds: params.time_limit.map(|t| t.as_secs_f64()),
@@ -151,12 +158,15 @@ impl Engine {
             search: params.search,
             ..resolved
         };
-        gng3d_core::Trainer::new(mesh, resolved)
-            .map(|trainer| Engine {
-                trainer,
-                finished: None,
-            })
-            .map_err(|e| ViewerError::Gng(e.to_string()))
+        match attributes {
+            Some(a) => gng3d_core::Trainer::with_attributes(mesh, a, resolved),
+            None => gng3d_core::Trainer::new(mesh, resolved),
+        }
+        .map(|trainer| Engine {
+            trainer,
+            finished: None,
+        })
+        .map_err(|e| ViewerError::Gng(e.to_string()))
     }
 
     /// The signal budget this run resolved to (the crate's default when none was given).

@@ -37,12 +37,16 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     use std::sync::Arc;
     use std::time::{Duration, Instant};
     let mut params = session::train_params(options)?;
-    let (name, mesh) = match &options.path {
+    let (name, mesh, attributes) = match &options.path {
         Some(path) => {
             let loaded = engine::load_mesh(path)?;
-            (path.display().to_string(), loaded.mesh)
+            let attributes = loaded.attributes.map(Arc::new);
+            (path.display().to_string(), loaded.mesh, attributes)
         }
-        None => engine::default_model(),
+        None => {
+            let (name, mesh) = engine::default_model();
+            (name, mesh, None)
+        }
     };
     let vertices = mesh.vertex_count();
     if options.target.is_none() {
@@ -52,6 +56,7 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     let trainer = worker::Trainer::spawn();
     trainer.send(worker::Command::Reset(Box::new(worker::TrainingJob {
         mesh: Arc::new(mesh),
+        attributes,
         params,
         checkpoint_every: match options.checkpoint_every {
             Some(0) => None,

@@ -261,8 +261,9 @@ pub struct Session {
     pub model_name: String,
     original: Arc<TriMesh>,
     /// The original's normals, texture coordinates and colours (`None` without any): QEM
-    /// keeps them, GNG3D's checkpoints take them from the original surface, and Table 1 shows
-    /// both methods' attribute deviation.
+    /// keeps them, GNG3D's triangles follow their seams and its checkpoints take them from the
+    /// original surface (as `gng3d simplify` does), and Table 1 shows both methods' attribute
+    /// deviation.
     attributes: Option<Arc<Attributes>>,
     loading: Option<(PathBuf, Job<Result<LoadedModel>>)>,
     /// Training parameters for the next reset (edited in the UI).
@@ -485,6 +486,7 @@ impl Session {
         self.trainer.send(Command::SetSpeed(self.speed));
         self.trainer.send(Command::Reset(Box::new(TrainingJob {
             mesh: Arc::clone(&self.original),
+            attributes: self.attributes.clone(),
             params: self.params.clone(),
             checkpoint_every: (self.checkpoint_every > 0).then_some(self.checkpoint_every),
             autoplay: !self.options.paused,

@@ -242,6 +242,9 @@ pub fn is_late(clock: f64, pace: f64) -> bool {
 pub struct TrainingJob {
     /// The (cleaned) original mesh.
     pub mesh: Arc<TriMesh>,
+    /// Its normals, texture coordinates and colours, when it has some: the network's triangles
+    /// then follow their seams, as `gng3d simplify --method gng` does.
+    pub attributes: Option<Arc<mesh::attributes::Attributes>>,
     /// Training parameters.
     pub params: TrainParams,
     /// Reconstruct automatically every this many signals (checkpoints for the table).
@@ -560,7 +563,7 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                         time_limit,
                         ..session.params.clone()
                     };
-                    match Engine::new(&session.mesh, &params) {
+                    match Engine::new(&session.mesh, session.attributes.as_deref(), &params) {
                         Ok(engine) => {
                             let _ = events.send(Event::Planned {
                                 session: t.session,
@@ -1028,7 +1031,7 @@ mod tests {
             time_limit,
             ..crate::session::train_params(&options).unwrap()
         };
-        let mut engine = Engine::new(&mesh, &params).unwrap();
+        let mut engine = Engine::new(&mesh, None, &params).unwrap();
         let pacer = Pacer::of(&engine, watch);
         let (limit, training_limit) = engine.limits().expect("a watched run has a limit");
         let steps_estimate = (limit - training_limit).as_secs_f64();
