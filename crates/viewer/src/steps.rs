@@ -101,6 +101,7 @@ impl StepGroup {
             Some(PipelineStep::Label | PipelineStep::ConnectCells) => {
                 Color32::from_rgb(150, 150, 160)
             }
+            Some(PipelineStep::CutSeams) => Color32::from_rgb(220, 150, 80),
             Some(PipelineStep::Decimate) => Color32::from_rgb(170, 120, 220),
             Some(PipelineStep::Relax | PipelineStep::RepairDeviations) => {
                 Color32::from_rgb(70, 190, 180)
@@ -364,13 +365,15 @@ impl StepStrip {
 
     /// [`StepStrip::rows`] grouped for the strip: the label and the cell connection alone, each
     /// build round together ("build" for the first, "detail r" for the r-th detail round and
-    /// the build after it), then the decimation, the relaxation and the repair alone.
+    /// the build after it), then the seam cut, the decimation, the relaxation and the repair
+    /// alone.
     pub fn groups(&self) -> Vec<StepGroup> {
         let mut groups: Vec<StepGroup> = Vec::new();
         for row in self.rows() {
             let label = match row.step {
                 PipelineStep::Label
                 | PipelineStep::ConnectCells
+                | PipelineStep::CutSeams
                 | PipelineStep::Decimate
                 | PipelineStep::Relax
                 | PipelineStep::RepairDeviations => short_name(row.step).to_string(),
@@ -411,6 +414,7 @@ pub fn short_name(step: PipelineStep) -> &'static str {
         PipelineStep::Flip => "flip",
         PipelineStep::Refit => "refit",
         PipelineStep::DetailRound => "detail",
+        PipelineStep::CutSeams => "seams",
         PipelineStep::Decimate => "decimate",
         PipelineStep::Relax => "relax",
         PipelineStep::RepairDeviations => "repair",
