@@ -525,7 +525,7 @@ pub struct Loaded {
     pub attributes: Option<Attributes>,
 }
 
-/// Load a mesh file (OBJ/PLY/STL) and clean it for display and training.
+/// Load a mesh file (OBJ, PLY, STL, glTF, GLB) and clean it for display and training.
 pub fn load_mesh(path: &Path) -> Result<Loaded> {
     let loaded = mesh::io::load(path).map_err(|e| ViewerError::Load {
         path: path.to_path_buf(),

@@ -36,7 +36,7 @@ pub const FILE_DIALOG_ENV: &str = "VIEWER_FILE_DIALOG";
 fn extensions(purpose: DialogPurpose) -> &'static [&'static str] {
     match purpose {
         DialogPurpose::OpenMesh | DialogPurpose::ExportGng | DialogPurpose::ExportQem => {
-            &["obj", "ply", "stl"]
+            &["obj", "ply", "stl", "gltf", "glb"]
         }
         DialogPurpose::ExportCsv => &["csv"],
         DialogPurpose::Screenshot => &["png"],

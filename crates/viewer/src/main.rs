@@ -8,7 +8,8 @@ use std::path::PathBuf;
 #[derive(Parser, Debug)]
 #[command(name = "viewer", version, about)]
 struct Args {
-    /// Mesh to open (OBJ, PLY or STL); without it a built-in procedural model is shown.
+    /// Mesh to open (OBJ, PLY, STL, glTF or GLB); without it a built-in procedural model is
+    /// shown.
     mesh: Option<PathBuf>,
     /// Vertex target for GNG3D and QEM.
     #[arg(long)]

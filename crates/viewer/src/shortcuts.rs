@@ -74,7 +74,10 @@ pub const MOUSE: [(&str, &str); 5] = [
     ("right / middle drag, shift + left drag", "pan"),
     ("wheel, pinch", "zoom"),
     ("double click", "reset the camera"),
-    ("drop a file on the window", "open it (OBJ, PLY, STL)"),
+    (
+        "drop a file on the window",
+        "open it (OBJ, PLY, STL, glTF, GLB)",
+    ),
 ];
 
 const fn plain(key: Key) -> KeyboardShortcut {
