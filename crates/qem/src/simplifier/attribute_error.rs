@@ -61,16 +61,9 @@ impl AttributeError {
         vertex: [u32; 3],
         side: [u8; 3],
     ) {
-        let (e1, e2) = (pos[1] - pos[0], pos[2] - pos[0]);
-        let n = e1.cross(e2);
-        let n2 = n.length_squared();
-        if !(n2 > 0.0 && n2.is_finite()) {
+        let Some((area, t1, t2)) = super::wedges::gradient_basis(pos) else {
             return;
-        }
-        let area = 0.5 * n2.sqrt();
-        // g·e1 = s1 − s0 and g·e2 = s2 − s0 with g in the plane: g = ((s1 − s0) (e2 × n) +
-        // (s2 − s0) (n × e1)) / |n|².
-        let (t1, t2) = (e2.cross(n) / n2, n.cross(e1) / n2);
+        };
         let c = self.channels;
         let len = self.side_len();
         for k in 0..3 {

@@ -198,11 +198,13 @@ impl WedgeValues {
 /// For a triangle at `pos`, its area and the two vectors `t1`, `t2` in its plane such that the
 /// linear function with values `s0`, `s1`, `s2` at its corners has the gradient
 /// `(s1 − s0) t1 + (s2 − s0) t2` (`g·e1 = s1 − s0`, `g·e2 = s2 − s0`, `g` in the plane);
-/// `None` for a degenerate triangle.
+/// `None` for a degenerate triangle. The one gradient of the attribute error's sums and of the
+/// carried values' fit.
 pub(super) fn gradient_basis(pos: [DVec3; 3]) -> Option<(f64, DVec3, DVec3)> {
     let (e1, e2) = (pos[1] - pos[0], pos[2] - pos[0]);
     let n = e1.cross(e2);
     let n2 = n.length_squared();
+    // With g in the plane: g = ((s1 − s0) (e2 × n) + (s2 − s0) (n × e1)) / |n|².
     (n2 > 0.0 && n2.is_finite()).then(|| (0.5 * n2.sqrt(), e2.cross(n) / n2, n.cross(e1) / n2))
 }
 
