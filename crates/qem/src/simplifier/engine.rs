@@ -63,8 +63,15 @@ pub(super) struct Engine {
     pub(super) faces: Vec<[u32; 3]>,
     /// Face lists, appended to on every collapse (capacity reserved up to `refs_limit`).
     pub(super) refs: Vec<u32>,
-    /// Length of `refs` above which it is compacted.
+    /// Length of `refs` above which it is compacted (verbatim: the lists keep their dead faces).
     refs_limit: usize,
+    /// What `refs` would hold had it only ever been compacted by dropping dead faces, at three
+    /// times its length (the rule until 2026-12-05), and that length: such a compaction shortens
+    /// the lists, and the list lengths decide which end of a pair is kept, so it still happens
+    /// exactly when it used to, and the output does not depend on the verbatim compactions.
+    lists_total: usize,
+    /// See `lists_total`.
+    lists_limit: usize,
     /// The other buffer of the compaction.
     refs_spare: Vec<u32>,
     /// Current scratch-mark value.
@@ -206,6 +213,30 @@ pub(super) fn corner_after(t: &[u32; 3], u: u32) -> u32 {
     t[[1, 2, 0][k]]
 }
 
+/// The length `refs` may grow to from `len` before it is compacted verbatim: the room for the
+/// appended lists is reserved up front (growing by doubling would copy and fault in pages), and
+/// only the part the appends reach is touched. Twice the length for large meshes since
+/// 2026-12-05 (three times before, and compactions dropped dead faces): on igea-1m at 10 % the
+/// lists are now compacted once, after the third pass, instead of growing into their room to
+/// the end (docs/notes/qem.md).
+fn refs_limit(len: usize) -> usize {
+    if len >= TWICE_MIN_REFS {
+        len * 2
+    } else {
+        lists_limit(len)
+    }
+}
+
+/// Face lists shorter than this (entries; 3 a face) keep three times their length of room: their
+/// room is not at a peak that matters, and a compaction costs a sweep over the vertex records.
+const TWICE_MIN_REFS: usize = 1_200_000;
+
+/// The length of `lists_total` past which the lists are compacted dropping their dead faces (the
+/// only compaction until 2026-12-05: the same moments, so the same output).
+fn lists_limit(len: usize) -> usize {
+    (len * 3).max(1024)
+}
+
 impl Engine {
     /// The engine over the set-up vertex records `vx`, the (renumbered, sorted) `faces` and the
     /// vertex → face lists `refs` that the records point into.
@@ -215,7 +246,7 @@ impl Engine {
         mut refs: Vec<u32>,
         params: &QemParams,
     ) -> Engine {
-        let refs_limit = (refs.len() * 3).max(1024);
+        let refs_limit = refs_limit(refs.len());
         // Room for the appended lists up front: growing by doubling would copy and fault in pages.
         refs.reserve(refs_limit + 64 - refs.len());
         let n = vx.len();
@@ -225,6 +256,8 @@ impl Engine {
             generation: 0,
             live_faces: faces.len(),
             faces,
+            lists_total: refs.len(),
+            lists_limit: lists_limit(refs.len()),
             refs,
             refs_limit,
             refs_spare: Vec::new(),
@@ -567,8 +600,11 @@ impl Engine {
             }
             seams.merge(a, b);
         }
-        if self.refs.len() > self.refs_limit {
-            self.compact_refs();
+        self.lists_total += self.refs.len() - start;
+        if self.lists_total > self.lists_limit {
+            self.compact_refs(true);
+        } else if self.refs.len() > self.refs_limit {
+            self.compact_refs(false);
         }
     }
 
@@ -593,28 +629,38 @@ impl Engine {
         }
     }
 
-    /// Rewrite the face lists without dead faces and free space.
-    fn compact_refs(&mut self) {
+    /// Rewrite the face lists without the space of abandoned lists; with `drop_dead`, also
+    /// without dead faces (which shortens the lists).
+    fn compact_refs(&mut self, drop_dead: bool) {
         // Into the spare buffer (kept between compactions: no fresh pages to fault in).
         let mut fresh = std::mem::take(&mut self.refs_spare);
         fresh.clear();
-        fresh.reserve(self.refs_limit);
+        // Room for the growth after it (`refs_limit` of at most the present length).
+        fresh.reserve(refs_limit(self.refs.len()) + 64);
         for v in 0..self.vx.len() {
             let range = self.list(v);
             let start = fresh.len();
             if self.vx[v].alive {
-                for i in range {
-                    let f = self.refs[i];
-                    if self.faces[f as usize][0] != DEAD {
-                        fresh.push(f);
+                if drop_dead {
+                    for i in range {
+                        let f = self.refs[i];
+                        if self.faces[f as usize][0] != DEAD {
+                            fresh.push(f);
+                        }
                     }
+                } else {
+                    fresh.extend_from_slice(&self.refs[range]);
                 }
             }
             self.vx[v].start = start as u32;
             self.vx[v].len = (fresh.len() - start) as u32;
         }
         self.refs_spare = std::mem::replace(&mut self.refs, fresh);
-        self.refs_limit = (self.refs.len() * 3).max(1024);
+        self.refs_limit = refs_limit(self.refs.len());
+        if drop_dead {
+            self.lists_total = self.refs.len();
+            self.lists_limit = lists_limit(self.refs.len());
+        }
     }
 
     /// The result as a `TriMesh` in model units: the live faces, duplicates removed (two faces

@@ -45,7 +45,15 @@ pub(super) fn vertex_setup(
         let [p0, p1, p2] = t.map(|w| pos[w as usize]);
         mesh::quadric::area_weighted_plane(p0, p1, p2)
     };
-    let planes: Vec<[f64; 4]> = if parallel(faces.len(), PARALLEL_MIN) {
+    let in_parallel = parallel(n, PARALLEL_MIN / 4);
+    // On a pool, every face's plane is computed once into a buffer the tasks read; on one
+    // thread, where the vertices are visited in order, only a window of them is kept for large
+    // meshes (see `Planes`), without the buffer's 32 B a face beside the records (the one-thread
+    // peak of the set-up on igea-1m until 2026-12-05).
+    let windowed = !in_parallel && faces.len() >= WINDOWED_MIN_FACES;
+    let planes: Vec<[f64; 4]> = if windowed {
+        Vec::new()
+    } else if parallel(faces.len(), PARALLEL_MIN) {
         faces
             .par_iter()
             .with_min_len(PARALLEL_CHUNK)
@@ -56,6 +64,7 @@ pub(super) fn vertex_setup(
     };
     let mut vx: Vec<Vertex> = Vec::with_capacity(n);
     let chunk = |first: usize, out: &mut [std::mem::MaybeUninit<Vertex>]| {
+        let mut window = Planes::new(&planes, faces.len());
         let mut edges = Vec::with_capacity(out.len() * 3 + 16);
         // (neighbour, faces on the edge, last such face)
         let mut ring: Vec<(u32, u32, u32)> = Vec::with_capacity(64);
@@ -67,7 +76,7 @@ pub(super) fn vertex_setup(
             ring.clear();
             for &f in list {
                 let tri = faces[f as usize];
-                let [gx, gy, gz, gd] = planes[f as usize];
+                let [gx, gy, gz, gd] = window.get(f as usize, |g| plane(&faces[g]));
                 q += Quadric::from_plane(DVec3::new(gx, gy, gz), gd, 1.0);
                 // The two other corners (every face in the list has `u` exactly once).
                 let others = if tri[0] == uu {
@@ -140,7 +149,7 @@ pub(super) fn vertex_setup(
         edges
     };
     let out = &mut vx.spare_capacity_mut()[..n];
-    let lists: Vec<Vec<Cand>> = if parallel(n, PARALLEL_MIN / 4) {
+    let lists: Vec<Vec<Cand>> = if in_parallel {
         out.par_chunks_mut(VERTEX_CHUNK)
             .enumerate()
             .map(|(c, o)| chunk(c * VERTEX_CHUNK, o))
@@ -160,4 +169,91 @@ pub(super) fn vertex_setup(
         list
     };
     VertexSetup { vx, list }
+}
+
+/// Faces whose planes [`Planes`] keeps on one thread (2 MiB).
+const PLANE_WINDOW: usize = 1 << 16;
+/// Below this many faces the planes are all kept on one thread too: the buffer is not at a peak
+/// that matters there (12 MiB at most), and on armadillo the window was not measurably faster
+/// (±2 % noise); the output is the same either way.
+const WINDOWED_MIN_FACES: usize = 400_000;
+
+/// The face planes the vertex set-up reads: all of them, computed beforehand (on a pool), or a
+/// window of the most recent ones (on one thread, vertices in order). Faces are sorted by their
+/// smallest vertex, so all faces of vertex `u` lie in the blocks of vertices up to `u`, and the
+/// largest face index read only moves forward as the vertices are visited in order: the window
+/// computes each plane once as it does, and a face more than [`PLANE_WINDOW`] behind it (a Morton
+/// neighbour far away in index order; rare) is computed again. The same function of the same
+/// corners: the same bits either way.
+struct Planes<'a> {
+    /// All planes (empty: windowed).
+    all: &'a [[f64; 4]],
+    /// Plane of face `f` at `f % ring.len()` (a power of two), for the last `ring.len()` faces
+    /// below `computed`.
+    ring: Vec<[f64; 4]>,
+    /// Faces below this have been computed into the ring.
+    computed: usize,
+}
+
+impl<'a> Planes<'a> {
+    fn new(all: &'a [[f64; 4]], faces: usize) -> Planes<'a> {
+        let ring = if all.is_empty() {
+            vec![[0.0; 4]; faces.next_power_of_two().min(PLANE_WINDOW)]
+        } else {
+            Vec::new()
+        };
+        Planes {
+            all,
+            ring,
+            computed: 0,
+        }
+    }
+
+    /// The plane of face `f`, by `plane` when not stored.
+    #[inline]
+    fn get(&mut self, f: usize, plane: impl Fn(usize) -> [f64; 4]) -> [f64; 4] {
+        if !self.all.is_empty() {
+            return self.all[f];
+        }
+        let w = self.ring.len();
+        if f >= self.computed {
+            for g in self.computed.max((f + 1).saturating_sub(w))..=f {
+                self.ring[g & (w - 1)] = plane(g);
+            }
+            self.computed = f + 1;
+        } else if f + w < self.computed {
+            return plane(f);
+        }
+        self.ring[f & (w - 1)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_plane_window_returns_each_face_s_own_plane() {
+        let faces = 3 * PLANE_WINDOW + 17;
+        let plane = |g: usize| [g as f64, 1.0, -(g as f64), 0.5];
+        let mut window = Planes::new(&[], faces);
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        let mut top = 0usize;
+        while top < faces {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // Mostly forward in small steps; now and then a face far behind (outside the
+            // window) or a jump ahead past the whole window.
+            let f = match x % 16 {
+                0 => (top as u64 * (x >> 40) / (1 << 24)) as usize,
+                1 => (top + PLANE_WINDOW + 5).min(faces - 1),
+                _ => (top + (x >> 60) as usize).min(faces - 1),
+            };
+            top = top.max(f) + 1;
+            assert_eq!(window.get(f, plane), plane(f), "face {f}");
+            let back = f.saturating_sub((x >> 50) as usize % PLANE_WINDOW);
+            assert_eq!(window.get(back, plane), plane(back), "face {back}");
+        }
+    }
 }
