@@ -319,10 +319,12 @@ pub fn simplify(mesh: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemRepor
 /// The collapse order and placement are Garland–Heckbert's (the attributes do not enter the
 /// cost). Seams (edges across which a value or the material changes) keep their place: each
 /// seam edge gets a constraint plane as a boundary edge does (weight
-/// [`QemParams::boundary_weight`]), a vertex on a seam is contracted only with a neighbour along
-/// the same seam, a vertex off the seams only with another vertex off them, and seam ends,
-/// crossings and vertices whose values differ around them without a seam (a sphere's pole) are
-/// not contracted; so every output triangle lies on one side of every seam. The values travel
+/// [`QemParams::boundary_weight`]), a vertex on a seam moves only along it (contracted with a
+/// neighbour along the same seam), a vertex off the seams is contracted with another vertex off
+/// them or into a seam vertex, which then stays where it is (as meshoptimizer lets a manifold
+/// vertex collapse onto a seam), and seam ends, crossings and vertices whose values differ
+/// around them without a seam (a sphere's pole) are not contracted; so every output triangle
+/// lies on one side of every seam. The values travel
 /// with the contractions, one set per side of a seam: a vertex never contracted keeps each
 /// corner's input values exactly; a merged vertex gets, for texture coordinates and colours,
 /// the area-weighted least-squares fit of the linear functions of the original faces merged
