@@ -82,49 +82,69 @@ impl History {
         std::fs::write(path, text).map_err(|e| fail(e.to_string()))
     }
 
-    /// The checkpoint table as CSV text.
+    /// The checkpoint table as CSV text. With attributes (some row has their deviation), four
+    /// more columns: the UV deviation's mean in texels and its share of samples over the
+    /// threshold, the normals' mean angle in degrees and the colours' mean distance (empty
+    /// where a row lacks the attribute); positions-only tables keep their columns.
     pub fn csv_string(&self) -> Result<String, String> {
         let mut writer = csv::Writer::from_writer(Vec::new());
         let err = |e: csv::Error| e.to_string();
-        writer
-            .write_record([
-                "method",
-                "iteration",
-                "vertices",
-                "faces",
-                "e_avg",
-                "e_max",
-                "e_sur",
-                "hausdorff_max",
-                "hausdorff_mean",
-                "median_min_angle_deg",
-                "share_min_angle_below_20",
-                "seconds",
-            ])
-            .map_err(err)?;
+        let with_attributes = self.rows().any(|r| r.evaluation.attributes.is_some());
+        let mut header = vec![
+            "method",
+            "iteration",
+            "vertices",
+            "faces",
+            "e_avg",
+            "e_max",
+            "e_sur",
+            "hausdorff_max",
+            "hausdorff_mean",
+            "median_min_angle_deg",
+            "share_min_angle_below_20",
+            "seconds",
+        ];
+        if with_attributes {
+            header.extend([
+                "uv_texels_mean",
+                "uv_share_over_threshold",
+                "normal_deg_mean",
+                "color_mean",
+            ]);
+        }
+        writer.write_record(&header).map_err(err)?;
+        let value = |v: Option<f64>| v.map(|v| format!("{v:e}")).unwrap_or_default();
         for row in self.rows() {
-            writer
-                .write_record([
-                    row.method.to_string(),
-                    row.iteration.to_string(),
-                    row.evaluation.vertices.to_string(),
-                    row.evaluation.faces.to_string(),
-                    format!("{:e}", row.evaluation.e_avg),
-                    format!("{:e}", row.evaluation.e_max),
-                    format!("{:e}", row.evaluation.e_sur),
-                    row.evaluation
-                        .hausdorff
-                        .map(|h| format!("{h:e}"))
-                        .unwrap_or_default(),
-                    row.evaluation
-                        .hausdorff_mean
-                        .map(|h| format!("{h:e}"))
-                        .unwrap_or_default(),
-                    format!("{:.2}", row.evaluation.median_min_angle_degrees),
-                    format!("{:.4}", row.evaluation.below_20_degrees),
-                    format!("{:.3}", row.seconds),
-                ])
-                .map_err(err)?;
+            let mut record = vec![
+                row.method.to_string(),
+                row.iteration.to_string(),
+                row.evaluation.vertices.to_string(),
+                row.evaluation.faces.to_string(),
+                format!("{:e}", row.evaluation.e_avg),
+                format!("{:e}", row.evaluation.e_max),
+                format!("{:e}", row.evaluation.e_sur),
+                row.evaluation
+                    .hausdorff
+                    .map(|h| format!("{h:e}"))
+                    .unwrap_or_default(),
+                row.evaluation
+                    .hausdorff_mean
+                    .map(|h| format!("{h:e}"))
+                    .unwrap_or_default(),
+                format!("{:.2}", row.evaluation.median_min_angle_degrees),
+                format!("{:.4}", row.evaluation.below_20_degrees),
+                format!("{:.3}", row.seconds),
+            ];
+            if with_attributes {
+                let a = row.evaluation.attributes.unwrap_or_default();
+                record.extend([
+                    value(a.uv_texels_mean),
+                    value(a.uv_over_threshold),
+                    value(a.normal_degrees_mean),
+                    value(a.color_mean),
+                ]);
+            }
+            writer.write_record(&record).map_err(err)?;
         }
         let bytes = writer.into_inner().map_err(|e| e.to_string())?;
         String::from_utf8(bytes).map_err(|e| e.to_string())
@@ -1012,6 +1032,37 @@ mod tests {
         assert_eq!(rows[0][6].parse::<f64>().unwrap(), -0.5, "signed E_sur");
         assert_eq!(&rows[0][8], "");
         assert_eq!(&rows[0][9], "41.00");
+    }
+
+    #[test]
+    fn csv_has_attribute_columns_only_with_attributes() {
+        let mut history = History::default();
+        history.push_reconstruction(row("GNG3D", 1000, 2e-3));
+        let mut qem = row("QEM", 0, 5e-4);
+        qem.evaluation.attributes = Some(crate::engine::AttributeFigures {
+            uv_texels_mean: Some(3.25),
+            uv_over_threshold: Some(0.0004),
+            texture_size: 1024,
+            uv_threshold: 0.05,
+            ..Default::default()
+        });
+        history.qem = Some(qem);
+        let text = history.csv_string().unwrap();
+        let mut reader = csv::Reader::from_reader(text.as_bytes());
+        let headers = reader.headers().unwrap().clone();
+        assert_eq!(headers.len(), 16);
+        assert_eq!(&headers[12], "uv_texels_mean");
+        let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+        // GNG3D's row has no figures: empty cells, not zeros.
+        assert_eq!(&rows[0][12], "");
+        assert_eq!(rows[1][12].parse::<f64>().unwrap(), 3.25);
+        assert_eq!(rows[1][13].parse::<f64>().unwrap(), 0.0004);
+        assert_eq!(&rows[1][14], "");
+        // Without attributes the columns are the twelve of before.
+        history.qem = Some(row("QEM", 0, 5e-4));
+        let text = history.csv_string().unwrap();
+        let mut reader = csv::Reader::from_reader(text.as_bytes());
+        assert_eq!(reader.headers().unwrap().len(), 12);
     }
 
     #[test]
