@@ -62,8 +62,8 @@ pub struct SimplifyArgs {
     pub max_error: Option<f64>,
     /// QEM with attributes: weights of the attribute error in the collapse cost, e.g.
     /// `normal=0.05` (a deviation δ costs as much as a distance weight·δ of the bounding-box
-    /// diagonal; all 0 by default: the geometric order, seams still held and values taken
-    /// from the original; names not given stay 0).
+    /// diagonal; all 0 by default: the geometric order, seams still held and values carried
+    /// with the contractions; names not given stay 0).
     #[arg(long, value_name = "NAME=W,...")]
     pub attribute_weights: Option<String>,
     /// GNG3D maximum running time in seconds: training and every step after it, from the start
