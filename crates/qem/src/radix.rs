@@ -7,34 +7,9 @@ pub fn sort_by_u32_key<T: Copy, F: Fn(&T) -> u32>(items: &mut Vec<T>, tmp: &mut 
         items.sort_by_key(|x| key(x));
         return;
     }
-    let mut counts = [[0u32; 2048]; 3];
-    let mut max = 0u32;
-    for x in items.iter() {
-        let k = key(x);
-        max |= k;
-        counts[0][(k & 0x7ff) as usize] += 1;
-        counts[1][((k >> 11) & 0x7ff) as usize] += 1;
-        counts[2][(k >> 22) as usize] += 1;
-    }
     tmp.clear();
     tmp.extend_from_slice(items);
-    for (digit, count) in counts.iter_mut().enumerate() {
-        let shift = 11 * digit as u32;
-        // Skip digits that are zero for every key.
-        if (max >> shift) & 0x7ff == 0 && digit > 0 {
-            continue;
-        }
-        let mut sum = 0u32;
-        for c in count.iter_mut() {
-            let n = *c;
-            *c = sum;
-            sum += n;
-        }
-        for x in items.iter() {
-            let d = ((key(x) >> shift) & 0x7ff) as usize;
-            tmp[count[d] as usize] = *x;
-            count[d] += 1;
-        }
+    if radix_between(items, tmp, &key) {
         std::mem::swap(items, tmp);
     }
 }
@@ -99,7 +74,7 @@ fn radix_between<T: Copy, F: Fn(&T) -> u32>(a: &mut [T], b: &mut [T], key: &F) -
     let mut in_b = false;
     for (digit, count) in counts.iter_mut().enumerate() {
         let shift = 11 * digit as u32;
-        // Skip digits that are zero for every key (as `sort_by_u32_key` does).
+        // Skip digits that are zero for every key.
         if (max >> shift) & 0x7ff == 0 && digit > 0 {
             continue;
         }

@@ -267,19 +267,10 @@ fn corner_sides(view: &View, seams: &Seams, locked: &[bool]) -> Vec<u8> {
         let [n0, n1] = seams.along[v];
         let fan = view.fan(v);
         let faces = |f: u32| tris[f as usize];
-        wedges::fan_sides(fan, faces, [v as u32, n0, n1], &mut reached, &mut stack);
-        if !reached.iter().any(|&r| r) {
-            continue;
-        }
-        for (&f, &r) in fan.iter().zip(&reached) {
-            if !r {
-                let k = tris[f as usize]
-                    .iter()
-                    .position(|&x| x == v as u32)
-                    .unwrap_or(0);
-                side[f as usize * 3 + k] = 1;
-            }
-        }
+        let vn = [v as u32, n0, n1];
+        wedges::mark_side1(fan, faces, vn, &mut reached, &mut stack, |f, k| {
+            side[f as usize * 3 + k] = 1;
+        });
     }
     side
 }

@@ -259,6 +259,27 @@ pub(super) fn fan_sides(
     }
 }
 
+/// [`fan_sides`], then `mark(face, corner)` for each corner of `v` (`vn[0]`) on side 1; none
+/// when no face starts side 0 (the fan is one side). The one rule of the input's corners and
+/// the output's.
+pub(super) fn mark_side1(
+    fan: &[u32],
+    faces: impl Fn(u32) -> [u32; 3],
+    vn: [u32; 3],
+    reached: &mut Vec<bool>,
+    stack: &mut Vec<usize>,
+    mut mark: impl FnMut(u32, usize),
+) {
+    fan_sides(fan, &faces, vn, reached, stack);
+    if !reached.iter().any(|&r| r) {
+        return;
+    }
+    for (&f, _) in fan.iter().zip(reached.iter()).filter(|&(_, &r)| !r) {
+        let k = faces(f).iter().position(|&x| x == vn[0]).unwrap_or(0);
+        mark(f, k);
+    }
+}
+
 /// The engine's result as a mesh in model units with its attributes: the live faces less
 /// duplicates (`mesh::clean`), each corner with its vertex's values on its side, or its own
 /// input wedge where the vertex was never merged; materials per face. `face_origin[f]` is the
@@ -301,18 +322,10 @@ pub(super) fn output(
         );
         let [n0, n1] = seams.along[v];
         let faces = |f: u32| e.faces[f as usize];
-        fan_sides(&fan, faces, [v as u32, n0, n1], &mut reached, &mut stack);
-        if !reached.iter().any(|&r| r) {
-            // No face on the seam edge to start from: one side (as for the input's corners).
-            continue;
-        }
-        for (&f, &r) in fan.iter().zip(&reached) {
-            if !r {
-                let t = e.faces[f as usize];
-                let k = t.iter().position(|&x| x == v as u32).unwrap_or(0);
-                side1[f as usize] |= 1 << k;
-            }
-        }
+        let vn = [v as u32, n0, n1];
+        mark_side1(&fan, faces, vn, &mut reached, &mut stack, |f, k| {
+            side1[f as usize] |= 1 << k;
+        });
     }
 
     // 3. One output wedge per (vertex, side) of the merged vertices and per input wedge of the
