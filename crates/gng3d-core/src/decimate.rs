@@ -40,16 +40,30 @@ pub(crate) fn decimate(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh
     };
     let simplify =
         |mesh: &TriMesh, params: &qem::QemParams| qem::simplify(mesh, params).map(|(m, _)| m);
-    let mut out = simplify(mesh, &params)?;
+    let first = simplify(mesh, &params)?;
+    relaxing(first, &params, target_vertices, |m| m, simplify)
+}
+
+/// `out` (QEM's run with `params`), contracted again with the normal check relaxed in the steps
+/// of [`RELAXED_NORMAL_COS`] (by `again`, on the last result) while its mesh (`mesh_of`) has
+/// more than `target_vertices` vertices: the one relaxation of [`decimate`] and
+/// [`decimate_along_seams`].
+fn relaxing<T>(
+    mut out: T,
+    params: &qem::QemParams,
+    target_vertices: usize,
+    mesh_of: impl Fn(&T) -> &TriMesh,
+    mut again: impl FnMut(&T, &qem::QemParams) -> Result<T, qem::QemError>,
+) -> Result<T, qem::QemError> {
     for min_normal_cos in RELAXED_NORMAL_COS {
-        if out.vertex_count() <= target_vertices {
+        if mesh_of(&out).vertex_count() <= target_vertices {
             break;
         }
         let relaxed = qem::QemParams {
             min_normal_cos,
             ..params.clone()
         };
-        out = simplify(&out, &relaxed)?;
+        out = again(&out, &relaxed)?;
     }
     Ok(out)
 }
@@ -89,17 +103,13 @@ pub(crate) fn decimate_along_seams(
         boundary_weight: SEAM_WEIGHT,
         ..qem::QemParams::with_target(qem::Target::Vertices(target_vertices))
     };
-    let (mut out, mut attributes, _) = qem::simplify_with_attributes(mesh, &attributes, &params)?;
-    for min_normal_cos in RELAXED_NORMAL_COS {
-        if out.vertex_count() <= target_vertices {
-            break;
-        }
-        let relaxed = qem::QemParams {
-            min_normal_cos,
-            ..params.clone()
-        };
-        (out, attributes, _) = qem::simplify_with_attributes(&out, &attributes, &relaxed)?;
-    }
+    let simplify = |(mesh, attributes): &(TriMesh, mesh::attributes::Attributes),
+                    params: &qem::QemParams| {
+        qem::simplify_with_attributes(mesh, attributes, params).map(|(m, a, _)| (m, a))
+    };
+    let (first, kept, _) = qem::simplify_with_attributes(mesh, &attributes, &params)?;
+    let first = (first, kept);
+    let (out, attributes) = relaxing(first, &params, target_vertices, |(m, _)| m, simplify)?;
     if out.vertex_count() > target_vertices {
         return Ok((decimate(&out, target_vertices)?, None));
     }
