@@ -1,10 +1,20 @@
 //! The paper's protocol: train GNG3D with a checkpoint every |V| signals, reconstruct at each
 //! checkpoint, and measure it against QEM at the same vertex count and at the final target.
+//!
+//! An original with attributes (normals, texture coordinates, colours:
+//! [`reproduce_with_attributes`]) also gets each mesh's attribute deviation
+//! ([`metrics::attribute_deviation`]): QEM keeps the attributes through its contractions, as
+//! `gng3d simplify --method qem` and the survey run it (its seams then shape the geometry too);
+//! each GNG3D checkpoint is the protocol's reconstruction of the network as it stands (the
+//! paper's, without the seam cuts of a full `gng3d simplify` run) and takes the original's
+//! values at its corners' places (`mesh::transfer::transfer_attributes`), so a triangle that
+//! straddles a seam shows in the figures.
 
 use super::{ExperimentError, PaperEvaluator, PaperRow};
 use gng3d_core::{GngOptions, GngTarget, Trainer};
 use mesh::TriMesh;
-use metrics::HausdorffParams;
+use mesh::attributes::Attributes;
+use metrics::{AttributeDeviation, AttributeParams, HausdorffParams};
 use qem::{QemParams, Target};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -44,6 +54,9 @@ pub struct ReproduceParams {
     pub qem: QemParams,
     /// Surface sampling of the Hausdorff distance at every checkpoint.
     pub hausdorff: HausdorffParams,
+    /// Attribute-deviation settings, used by [`reproduce_with_attributes`] for an original
+    /// with attributes.
+    pub attributes: AttributeParams,
 }
 
 impl Default for ReproduceParams {
@@ -58,12 +71,13 @@ impl Default for ReproduceParams {
             },
             qem: QemParams::default(),
             hausdorff: HausdorffParams::with_samples(100_000),
+            attributes: AttributeParams::default(),
         }
     }
 }
 
 /// One row of the paper's Table 1, extended with QEM at the same vertex count.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Checkpoint {
     /// Signals presented so far (the paper's "iteration").
     pub iteration: u64,
@@ -73,6 +87,19 @@ pub struct Checkpoint {
     pub gng: PaperRow,
     /// QEM simplified to the reconstructed mesh's vertex count.
     pub qem_equal: PaperRow,
+    /// Both meshes' attribute deviation, when the original has attributes (absent from the
+    /// JSON otherwise, so a positions-only report is as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attributes: Option<CheckpointAttributes>,
+}
+
+/// The attribute deviation of both meshes of one [`Checkpoint`] against the original.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CheckpointAttributes {
+    /// GNG3D's reconstruction at the checkpoint (values taken from the original).
+    pub gng: AttributeDeviation,
+    /// QEM's at the same vertex count (attributes kept through its contractions).
+    pub qem_equal: AttributeDeviation,
 }
 
 /// Wall-clock seconds spent in each stage.
@@ -105,6 +132,10 @@ pub struct ReproduceReport {
     pub checkpoints: Vec<Checkpoint>,
     /// QEM held at the target vertex count, as in the paper.
     pub qem_fixed: PaperRow,
+    /// QEM's attribute deviation at the target vertex count, when the original has attributes
+    /// (absent from the JSON otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub qem_fixed_attributes: Option<AttributeDeviation>,
     /// Time per stage.
     pub seconds: Timings,
 }
@@ -140,6 +171,18 @@ pub fn reproduce(
     params: &ReproduceParams,
     on_progress: impl FnMut(Progress) + Send,
 ) -> Result<ReproduceReport, ExperimentError> {
+    reproduce_with_attributes(original, None, params, on_progress)
+}
+
+/// [`reproduce`] for an original with `attributes` (which must fit it; `None`: positions only,
+/// exactly [`reproduce`]): every checkpoint and QEM run also gets its attribute deviation,
+/// measured with `params.attributes` (see the module docs for how each method keeps them).
+pub fn reproduce_with_attributes(
+    original: &TriMesh,
+    attributes: Option<&Attributes>,
+    params: &ReproduceParams,
+    on_progress: impl FnMut(Progress) + Send,
+) -> Result<ReproduceReport, ExperimentError> {
     let on_progress = std::sync::Mutex::new(on_progress);
     let report = |stage, done, total| {
         if let Ok(mut f) = on_progress.lock() {
@@ -160,6 +203,25 @@ pub fn reproduce(
         )));
     }
     check_epochs(params.epochs).map_err(ExperimentError::BadTarget)?;
+    if let Some(a) = attributes {
+        params.attributes.validate()?;
+        a.validate(original)
+            .map_err(|problem| metrics::MetricsError::Attributes {
+                mesh: "original",
+                problem,
+            })?;
+    }
+    // The attribute deviation of an output with attributes `kept` (None without attributes).
+    let deviation = |mesh: &TriMesh, kept: Option<&Attributes>| match (attributes, kept) {
+        (Some(a), Some(b)) => Ok(Some(metrics::attribute_deviation(
+            original,
+            a,
+            mesh,
+            b,
+            &params.attributes,
+        )?)),
+        _ => Ok::<_, ExperimentError>(None),
+    };
     let target = ((n as f64 * params.target_ratio).round() as usize).max(4);
     let per_epoch = n as u64;
     let options = GngOptions {
@@ -197,32 +259,36 @@ pub fn reproduce(
 
     let eval_start = Instant::now();
     let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
-    let qem_at = |vertices: usize| -> Result<PaperRow, ExperimentError> {
+    type Measured = (PaperRow, Option<AttributeDeviation>);
+    let qem_at = |vertices: usize| -> Result<Measured, ExperimentError> {
         let mut qp = params.qem.clone();
         qp.target = Target::Vertices(vertices.max(4));
-        let (mesh, _) = qem::simplify(original, &qp)?;
-        evaluator.evaluate(&mesh)
+        let (mesh, kept) = super::qem_as_simplify(original, attributes, &qp)?;
+        Ok((evaluator.evaluate(&mesh)?, deviation(&mesh, kept.as_ref())?))
     };
     let evaluations = snapshots.len() as u64;
     report(Stage::Evaluating, 0, evaluations);
-    let gng_rows: Vec<(u64, usize, PaperRow)> = snapshots
+    let gng_rows: Vec<(u64, usize, Measured)> = snapshots
         .par_iter()
         .map(|snap| {
             let rec = snap.reconstruct(original, &params.gng.reconstruction);
             let row = evaluator.evaluate(&rec.mesh)?;
+            let kept =
+                attributes.map(|a| mesh::transfer::transfer_attributes(original, a, &rec.mesh));
+            let measured = (row, deviation(&rec.mesh, kept.as_ref())?);
             tick(Stage::Evaluating, evaluations);
-            Ok((snap.signals, snap.positions.len(), row))
+            Ok((snap.signals, snap.positions.len(), measured))
         })
         .collect::<Result<_, ExperimentError>>()?;
     // Many checkpoints share a vertex count once the network holds its target: QEM runs once each.
-    let mut counts: Vec<usize> = gng_rows.iter().map(|r| r.2.vertices).collect();
+    let mut counts: Vec<usize> = gng_rows.iter().map(|r| r.2.0.vertices).collect();
     counts.push(target);
     counts.sort_unstable();
     counts.dedup();
     let qem_runs = counts.len() as u64;
     done_count.store(0, std::sync::atomic::Ordering::Relaxed);
     report(Stage::Qem, 0, qem_runs);
-    let qem_rows: BTreeMap<usize, PaperRow> = counts
+    let qem_rows: BTreeMap<usize, Measured> = counts
         .par_iter()
         .map(|&v| {
             let row = qem_at(v)?;
@@ -232,13 +298,20 @@ pub fn reproduce(
         .collect::<Result<_, ExperimentError>>()?;
     let checkpoints = gng_rows
         .into_iter()
-        .map(|(iteration, nodes, gng)| Checkpoint {
-            iteration,
-            nodes,
-            gng,
-            qem_equal: qem_rows[&gng.vertices],
+        .map(|(iteration, nodes, (gng, gng_attributes))| {
+            let (qem_equal, qem_attributes) = &qem_rows[&gng.vertices];
+            Checkpoint {
+                iteration,
+                nodes,
+                gng,
+                qem_equal: *qem_equal,
+                attributes: gng_attributes
+                    .zip(qem_attributes.clone())
+                    .map(|(gng, qem_equal)| CheckpointAttributes { gng, qem_equal }),
+            }
         })
         .collect();
+    let (qem_fixed, qem_fixed_attributes) = qem_rows[&target].clone();
     let evaluation = eval_start.elapsed().as_secs_f64();
     Ok(ReproduceReport {
         original_vertices: n,
@@ -248,7 +321,8 @@ pub fn reproduce(
         target_vertices: target,
         signals_per_epoch: per_epoch,
         checkpoints,
-        qem_fixed: qem_rows[&target],
+        qem_fixed,
+        qem_fixed_attributes,
         seconds: Timings {
             training,
             evaluation,

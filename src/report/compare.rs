@@ -112,6 +112,7 @@ pub fn comparison_table(report: &CompareReport) -> Table {
         100.0,
     );
     attribute_rows(&mut t, qm.attributes.as_ref(), gm.attributes.as_ref());
+    image_rows(&mut t, qm.image_error.as_ref(), gm.image_error.as_ref());
     let mut int =
         |name: &str, a: String, b: String| t.push([name.to_string(), a, b, String::new()]);
     int("vertices", q.vertices.to_string(), g.vertices.to_string());
@@ -219,6 +220,61 @@ fn attribute_rows(
             (None, None) => "",
         };
         t.push([label, cell(q), cell(g), better.to_string()]);
+    }
+}
+
+/// The image-space error rows (each output rendered against the original from the same
+/// views), when both were measured: RMSE, PSNR, the share of pixels off by more than the
+/// threshold and the share of silhouette mismatch, over all views.
+fn image_rows(t: &mut Table, qem: Option<&metrics::ImageError>, gng: Option<&metrics::ImageError>) {
+    let (Some(q), Some(g)) = (qem, gng) else {
+        return;
+    };
+    let (qo, go) = (&q.overall, &g.overall);
+    t.push([
+        "image RMSE (RGB 0-1)".to_string(),
+        format!("{:.4}", qo.rmse),
+        format!("{:.4}", go.rmse),
+        winner(qo.rmse, go.rmse).to_string(),
+    ]);
+    // Higher is better; identical images have an infinite PSNR.
+    let psnr = |db: f64| {
+        if db.is_finite() {
+            format!("{db:.1} dB")
+        } else {
+            "∞".to_string()
+        }
+    };
+    let better = match (qo.psnr_db.is_finite(), go.psnr_db.is_finite()) {
+        (true, true) => winner(-qo.psnr_db, -go.psnr_db),
+        (false, false) => "tie",
+        (false, true) => "QEM",
+        (true, false) => "GNG3D",
+    };
+    t.push([
+        "image PSNR".to_string(),
+        psnr(qo.psnr_db),
+        psnr(go.psnr_db),
+        better.to_string(),
+    ]);
+    for (label, a, b) in [
+        (
+            format!("image pixels off by > {}", q.threshold),
+            qo.over_threshold,
+            go.over_threshold,
+        ),
+        (
+            "image silhouette mismatch".to_string(),
+            qo.coverage_mismatch,
+            go.coverage_mismatch,
+        ),
+    ] {
+        t.push([
+            label,
+            format!("{:.2}%", 100.0 * a),
+            format!("{:.2}%", 100.0 * b),
+            winner(a, b).to_string(),
+        ]);
     }
 }
 

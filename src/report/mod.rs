@@ -1,5 +1,6 @@
 //! Experiment reports: plots and tables written by `compare` and `reproduce`.
 
+pub mod attributes;
 pub mod compare;
 pub mod paper;
 pub mod plot;

@@ -1,16 +1,33 @@
 //! Files written by `gng3d reproduce`: the paper's Table 1 (CSV, Markdown) and its plots.
 
+use super::attributes::{AttributeColumn, attribute_columns_of};
 use super::eng;
 use super::plot::{Chart, Series};
 use super::table::Table;
 use crate::experiment::reproduce::ReproduceReport;
 use std::path::{Path, PathBuf};
 
+/// The attribute-deviation columns of `report` ([`attribute_columns_of`] its meshes'
+/// deviations): none for an original without attributes.
+pub fn attribute_columns(report: &ReproduceReport) -> Vec<AttributeColumn> {
+    attribute_columns_of(
+        report
+            .checkpoints
+            .iter()
+            .filter_map(|c| c.attributes.as_ref())
+            .flat_map(|a| [&a.gng, &a.qem_equal])
+            .chain(&report.qem_fixed_attributes),
+    )
+}
+
 /// The paper's Table 1 columns (iteration, vertices, faces, E_avg, E_max, E_sur) for GNG3D,
 /// followed by Hausdorff and the same measures for QEM at the same vertex count and at the
-/// fixed target.
+/// fixed target. For an original with attributes, the attribute-deviation columns
+/// ([`attribute_columns`]) follow, for GNG3D, `QEM=` and `QEM@target` each; a positions-only
+/// table has the 17 columns alone.
 pub fn checkpoint_table(report: &ReproduceReport) -> Table {
-    let mut t = Table::new([
+    let columns = attribute_columns(report);
+    let mut headers: Vec<String> = [
         "iteration",
         "vertices",
         "faces",
@@ -28,11 +45,20 @@ pub fn checkpoint_table(report: &ReproduceReport) -> Table {
         "QEM@target E_max",
         "QEM@target E_sur",
         "QEM@target Hausdorff",
-    ]);
+    ]
+    .map(String::from)
+    .to_vec();
+    for c in &columns {
+        headers.push(c.name.clone());
+        headers.push(format!("QEM= {}", c.name));
+        headers.push(format!("QEM@target {}", c.name));
+    }
+    let mut t = Table::new(headers);
     let f = &report.qem_fixed;
+    let fixed_attributes = report.qem_fixed_attributes.as_ref();
     for c in &report.checkpoints {
         let (g, q) = (&c.gng, &c.qem_equal);
-        t.push([
+        let mut row = vec![
             c.iteration.to_string(),
             g.vertices.to_string(),
             g.faces.to_string(),
@@ -50,9 +76,98 @@ pub fn checkpoint_table(report: &ReproduceReport) -> Table {
             eng(f.e_max),
             eng(f.e_sur_signed),
             eng(f.hausdorff_max),
-        ]);
+        ];
+        let a = c.attributes.as_ref();
+        for column in &columns {
+            row.push(column.cell(a.map(|a| &a.gng)));
+            row.push(column.cell(a.map(|a| &a.qem_equal)));
+            row.push(column.cell(fixed_attributes));
+        }
+        t.push(row);
     }
     t
+}
+
+/// The attribute deviation at each checkpoint for the terminal (`None` for an original without
+/// attributes): GNG3D and QEM at the same vertex count side by side per measure, under the
+/// columns' short names, within [`TERMINAL_WIDTH`]; [`terminal_attribute_legend`] explains
+/// them.
+pub fn terminal_attribute_table(report: &ReproduceReport) -> Option<Table> {
+    let columns = attribute_columns(report);
+    if columns.is_empty() {
+        return None;
+    }
+    let mut headers = vec!["iteration".to_string()];
+    for c in &columns {
+        headers.push(format!("{} GNG", c.short));
+        headers.push(format!("{} QEM", c.short));
+    }
+    let mut t = Table::new(headers);
+    for checkpoint in &report.checkpoints {
+        let a = checkpoint.attributes.as_ref();
+        let mut row = vec![checkpoint.iteration.to_string()];
+        for c in &columns {
+            row.push(c.cell(a.map(|a| &a.gng)));
+            row.push(c.cell(a.map(|a| &a.qem_equal)));
+        }
+        t.push(row);
+    }
+    Some(t)
+}
+
+/// Lines printed under [`terminal_attribute_table`] (empty without attributes): what the short
+/// names stand for and QEM's figures at the target, each line within [`TERMINAL_WIDTH`].
+pub fn terminal_attribute_legend(report: &ReproduceReport) -> String {
+    let columns = attribute_columns(report);
+    if columns.is_empty() {
+        return String::new();
+    }
+    let mut sentences: Vec<String> = vec![
+        "Attribute deviation: samples on each mesh against the original at their closest points;"
+            .into(),
+    ];
+    for c in &columns {
+        sentences.push(format!("{} = {};", c.short, c.name));
+    }
+    sentences.push(
+        "\"dropped\": the mesh lost the attribute. GNG3D takes the original's values at its \
+         corners, QEM keeps them through its contractions."
+            .into(),
+    );
+    let fixed = report.qem_fixed_attributes.as_ref();
+    let at_target: Vec<String> = columns
+        .iter()
+        .map(|c| format!("{} {}", c.short, c.cell(fixed)))
+        .collect();
+    sentences.push(format!(
+        "QEM at the target ({} vertices): {}.",
+        report.qem_fixed.vertices,
+        at_target.join(", ")
+    ));
+    wrap(&sentences.join(" "), TERMINAL_WIDTH)
+}
+
+/// `text` broken into lines of at most `width` characters at spaces (a longer word stands on
+/// its own line), each ending in a newline.
+fn wrap(text: &str, width: usize) -> String {
+    let mut out = String::new();
+    let mut line = String::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > width {
+            out.push_str(&line);
+            out.push('\n');
+            line.clear();
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() {
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
 }
 
 /// The checkpoint table for the terminal: at most [`TERMINAL_WIDTH`] characters wide, GNG3D
@@ -224,6 +339,18 @@ pub fn write_reproduction(
         report.bbox_diagonal,
         table.to_markdown()
     );
+    let text = if attribute_columns(report).is_empty() {
+        text
+    } else {
+        format!(
+            "{text}\nAttribute columns (an original with texture coordinates, normals or \
+             colours): each mesh's deviation, samples on it against the original at their \
+             closest points; GNG3D's reconstruction takes the original's values at its corners \
+             (the checkpoints are the protocol's meshes, without the seam cuts of a full \
+             `gng3d simplify` run), QEM keeps them through its contractions as `gng3d simplify` \
+             does. \"dropped\": the mesh lost the attribute.\n"
+        )
+    };
     mesh::io::write_atomic(&md, text.as_bytes())?;
     written.push(md);
     let json = dir.join("report.json");
@@ -239,7 +366,7 @@ pub fn write_reproduction(
 mod tests {
     use super::*;
     use crate::experiment::PaperRow;
-    use crate::experiment::reproduce::{Checkpoint, Timings};
+    use crate::experiment::reproduce::{Checkpoint, CheckpointAttributes, Timings};
 
     /// Worst-case widths: negative E_sur, 7-digit iterations and vertex counts.
     fn row(vertices: usize, e: f64) -> PaperRow {
@@ -272,9 +399,11 @@ mod tests {
                     nodes: 1_000_000,
                     gng: row(1_000_000, -1.5e-300),
                     qem_equal: row(1_000_000, 2.5e-7),
+                    attributes: None,
                 })
                 .collect(),
             qem_fixed: row(1_000_000, -9.999e-100),
+            qem_fixed_attributes: None,
             seconds: Timings::default(),
         }
     }
@@ -300,5 +429,115 @@ mod tests {
         assert!(legend.contains("GNG = GNG3D") && legend.contains("QEM = QEM"));
         // The full table keeps every measure, the terminal one a subset.
         assert_eq!(checkpoint_table(&r).headers.len(), 17);
+        // Positions only: no attribute columns anywhere.
+        assert!(terminal_attribute_table(&r).is_none());
+        assert!(terminal_attribute_legend(&r).is_empty());
+    }
+
+    /// Worst-case widths of every attribute measure: four-digit texel means, shares near
+    /// 100 %, and a dropped attribute.
+    fn deviation(colors_dropped: bool) -> metrics::AttributeDeviation {
+        let stats = |v: f64| metrics::DistanceStats {
+            max: v,
+            mean: v,
+            rms: v,
+        };
+        let uv = metrics::UvDeviation {
+            uv: stats(0.9),
+            texels: stats(1234.56),
+            over_threshold: 0.9999,
+        };
+        let errors = metrics::AttributeErrors {
+            samples: 100_000,
+            uv0: Some(uv),
+            uv1: None,
+            normals: Some(metrics::AngleDeviation {
+                mean_degrees: 179.99,
+                max_degrees: 180.0,
+            }),
+            colors: (!colors_dropped).then_some(stats(1.5)),
+        };
+        let mut compared = vec!["normals".to_string(), "uv0".to_string()];
+        let mut missing = Vec::new();
+        if colors_dropped {
+            missing.push("colors".to_string());
+        } else {
+            compared.push("colors".to_string());
+        }
+        metrics::AttributeDeviation {
+            backward: errors,
+            forward: errors,
+            compared,
+            missing,
+            texture_size: 1024,
+            uv_threshold: 0.05,
+            seconds: 1.0,
+        }
+    }
+
+    #[test]
+    fn attribute_columns_follow_the_paper_columns() {
+        let mut r = report();
+        for c in &mut r.checkpoints {
+            c.attributes = Some(CheckpointAttributes {
+                gng: deviation(true),
+                qem_equal: deviation(false),
+            });
+        }
+        r.qem_fixed_attributes = Some(deviation(false));
+        // Four measures (UV mean, UV share off, normals, colours) for three meshes each.
+        let table = checkpoint_table(&r);
+        assert_eq!(table.headers.len(), 17 + 4 * 3);
+        assert_eq!(
+            &table.headers[..17],
+            &checkpoint_table(&report()).headers[..]
+        );
+        let col = |name: &str| {
+            table
+                .headers
+                .iter()
+                .position(|h| h == name)
+                .unwrap_or_else(|| panic!("{name} not in {:?}", table.headers))
+        };
+        let row = &table.rows[0];
+        assert_eq!(row[col("UV deviation mean (texels of 1024²)")], "1234.56");
+        assert_eq!(row[col("QEM= UV samples off by > 0.05 UV")], "99.99 %");
+        assert_eq!(
+            row[col("QEM@target attribute normal deviation mean (degrees)")],
+            "179.99°"
+        );
+        assert_eq!(
+            row[col("colour deviation mean (linear RGB distance)")],
+            "dropped"
+        );
+        assert_eq!(
+            row[col("QEM= colour deviation mean (linear RGB distance)")],
+            "1.50"
+        );
+        // The terminal's attribute table and its legend fit the width.
+        let text = terminal_attribute_table(&r).unwrap().to_text();
+        let legend = terminal_attribute_legend(&r);
+        assert_eq!(text.lines().count(), 2 + r.checkpoints.len());
+        for line in text.lines().chain(legend.lines()) {
+            let width = line.chars().count();
+            assert!(
+                width <= TERMINAL_WIDTH,
+                "{width} > {TERMINAL_WIDTH}: {line}"
+            );
+        }
+        let header = text.lines().next().unwrap();
+        let joined = legend.replace('\n', " ");
+        for short in ["UV", "UV off", "normal", "RGB"] {
+            assert!(
+                header.contains(&format!("{short} GNG"))
+                    && header.contains(&format!("{short} QEM")),
+                "{header}"
+            );
+            assert!(joined.contains(&format!("{short} = ")), "{legend}");
+        }
+        assert!(
+            joined.contains("QEM at the target (1000000 vertices): UV 1234.56, UV off 99.99 %"),
+            "{legend}"
+        );
     }
 }

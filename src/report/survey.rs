@@ -2,6 +2,7 @@
 //! GNG3D-Q and QEM) on every mesh and ratio, with the verdict per metric against QEM at equal
 //! vertex count.
 
+use super::attributes::{AttributeColumn, attribute_columns_of};
 use super::plot::{Chart, Series};
 use super::table::Table;
 use super::{ReportError, eng};
@@ -218,85 +219,13 @@ fn yes_no(b: bool) -> &'static str {
     if b { "yes" } else { "no" }
 }
 
-/// An attribute-deviation measure of the survey's tables: samples on each output against the
-/// original at their closest points (the direction `gng3d compare` reports).
-#[derive(Debug, Clone)]
-pub struct AttributeColumn {
-    /// Name in the CSV headers and the Markdown table, with its unit.
-    pub name: String,
-    /// The attribute it measures (`uv0`, `normals`, `colors`).
-    pub attribute: &'static str,
-    /// The value, when the output has the attribute.
-    pub get: fn(&AttributeDeviation) -> Option<f64>,
-    /// Unit appended to the value in a cell ("", " %", "°").
-    pub unit: &'static str,
-}
-
-impl AttributeColumn {
-    /// The cell of one output: the value, "dropped" where the original has the attribute and
-    /// the output does not, "-" where the original does not have it.
-    pub fn cell(&self, deviation: Option<&AttributeDeviation>) -> String {
-        let Some(a) = deviation else {
-            return "-".into();
-        };
-        match (self.get)(a) {
-            Some(v) => format!("{v:.2}{}", self.unit),
-            None if a.missing.iter().any(|n| n == self.attribute) => "dropped".into(),
-            None => "-".into(),
-        }
-    }
-}
-
-/// The attribute-deviation columns of `rows`: UV mean in texels and the share of UV samples off
-/// by more than the threshold (inputs with texture coordinates), the mean normal angle (with
-/// normals), the mean colour distance (with colours); none when no input has attributes, so a
-/// positions-only survey's tables are as before.
+/// The attribute-deviation columns of `rows` ([`attribute_columns_of`] of GNG3D-Q's outputs);
+/// none when no input has attributes, so a positions-only survey's tables are as before.
 pub fn attribute_columns(rows: &[SurveyRow]) -> Vec<AttributeColumn> {
-    let measured: Vec<&AttributeDeviation> = rows
-        .iter()
-        .filter_map(|r| r.attributes.as_ref().map(|a| &a.gngq))
-        .collect();
-    let Some(first) = measured.first() else {
-        return Vec::new();
-    };
-    let had = |name: &str| {
-        measured
-            .iter()
-            .any(|a| a.compared.iter().chain(&a.missing).any(|n| n == name))
-    };
-    let (size, threshold) = (first.texture_size, first.uv_threshold);
-    let mut columns = Vec::new();
-    if had("uv0") {
-        columns.push(AttributeColumn {
-            name: format!("UV deviation mean (texels of {size}²)"),
-            attribute: "uv0",
-            get: |a| a.backward.uv0.map(|u| u.texels.mean),
-            unit: "",
-        });
-        columns.push(AttributeColumn {
-            name: format!("UV samples off by > {threshold} UV"),
-            attribute: "uv0",
-            get: |a| a.backward.uv0.map(|u| 100.0 * u.over_threshold),
-            unit: " %",
-        });
-    }
-    if had("normals") {
-        columns.push(AttributeColumn {
-            name: "attribute normal deviation mean (degrees)".into(),
-            attribute: "normals",
-            get: |a| a.backward.normals.map(|n| n.mean_degrees),
-            unit: "°",
-        });
-    }
-    if had("colors") {
-        columns.push(AttributeColumn {
-            name: "colour deviation mean (linear RGB distance)".into(),
-            attribute: "colors",
-            get: |a| a.backward.colors.map(|c| c.mean),
-            unit: "",
-        });
-    }
-    columns
+    attribute_columns_of(
+        rows.iter()
+            .filter_map(|r| r.attributes.as_ref().map(|a| &a.gngq)),
+    )
 }
 
 /// The attribute deviations of the three methods' outputs in one run, in table order

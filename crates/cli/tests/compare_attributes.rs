@@ -1,6 +1,6 @@
-//! `compare` measures attribute deviation per method but writes positions only, and
-//! `reproduce IN` uses positions only: a file with texture coordinates or normals says so on
-//! stderr instead of losing them silently; a positions-only file does not.
+//! `compare` measures attribute deviation per method but writes positions only: a file with
+//! texture coordinates or normals says so on stderr instead of losing them silently; a
+//! positions-only file does not.
 
 use std::process::Command;
 

@@ -188,3 +188,132 @@ fn a_missing_texture_or_a_bad_option_is_an_error() {
     assert_eq!(e["shading"], "colors", "{e}");
     assert!(e["texture"].is_null());
 }
+
+/// `compare --image-error` on the textured fandisk at 10 %: each method's output rendered with
+/// the original's texture against the original, in the table, in `--json` and in compare.json,
+/// with one folder of PNGs per method; a bad option names its flag before any work.
+#[test]
+fn compare_reports_each_methods_image_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let original = assets().join("fandisk_atlas.obj");
+    let (out, pngs) = (dir.path().join("out"), dir.path().join("png"));
+    let compare = |extra: &[&str]| {
+        let mut args = vec![
+            "compare",
+            s(&original),
+            "--vertices",
+            "648",
+            "--samples",
+            "2000",
+            "--image-error",
+            "--image-size",
+            "64",
+        ];
+        args.extend_from_slice(extra);
+        ok(gng3d(&args))
+    };
+    let o = compare(&["--json", "--out", s(&out), "--image-out", s(&pngs)]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    // The texture is used now: the warning says what else --out leaves out.
+    assert!(
+        stderr.contains("materials used for the image error's texture only"),
+        "{stderr}"
+    );
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let written: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("compare.json")).unwrap()).unwrap();
+    assert_eq!(json, written, "compare.json is what --json prints");
+    for method in ["qem", "gng"] {
+        let e = &json[method]["metrics"]["image_error"];
+        assert_eq!(e["shading"], "texture", "{method}: {e}");
+        assert!(
+            e["texture"].as_str().unwrap().ends_with("checker.png"),
+            "{e}"
+        );
+        assert_eq!(e["size"], 64);
+        assert_eq!(e["views"].as_array().unwrap().len(), 14);
+        let o = &e["overall"];
+        for key in [
+            "rmse",
+            "mean_abs",
+            "psnr_db",
+            "over_threshold",
+            "coverage_mismatch",
+        ] {
+            assert!(f(&o[key]).is_finite(), "{method} {key}: {o}");
+        }
+        assert!(
+            f(&o["rmse"]) > 0.0 && f(&o["psnr_db"]) > 0.0,
+            "{method}: {o}"
+        );
+        assert!(
+            (f(&o["psnr_db"]) + 20.0 * f(&o["rmse"]).log10()).abs() < 1e-9,
+            "{o}"
+        );
+        for share in ["over_threshold", "coverage_mismatch"] {
+            assert!((0.0..=1.0).contains(&f(&o[share])), "{method} {share}: {o}");
+        }
+        // The rest of the method's report is still there, attributes included.
+        assert!(json[method]["metrics"]["hausdorff"]["max"].is_number());
+        assert!(json[method]["metrics"]["attributes"]["backward"]["uv0"].is_object());
+        // One PNG per view, three panels of 64 pixels side by side.
+        let folder = pngs.join(method);
+        let files: Vec<_> = std::fs::read_dir(&folder)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        assert_eq!(files.len(), 14, "{files:?}");
+        let bytes = std::fs::read(folder.join("view+x.png")).unwrap();
+        let word = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
+        assert_eq!((word(16), word(20)), (3 * 64, 64));
+    }
+
+    // The text table has the four image rows with both methods' figures.
+    let o = compare(&[]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    for row in [
+        "image RMSE (RGB 0-1)",
+        "image PSNR",
+        "image pixels off by > 0.1",
+        "image silhouette mismatch",
+    ] {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(row))
+            .unwrap_or_else(|| panic!("no {row:?} row in {text}"));
+        assert!(
+            line.ends_with("QEM") || line.ends_with("GNG3D") || line.ends_with("tie"),
+            "{line}"
+        );
+    }
+    assert!(
+        text.contains("14 views of 64² px") && text.contains("checker.png"),
+        "{text}"
+    );
+
+    // Checked before loading or simplifying anything, the flag named.
+    for (flag, value) in [("--image-size", "8"), ("--image-threshold", "2")] {
+        let o = gng3d(&[
+            "compare",
+            s(&original),
+            "--vertices",
+            "648",
+            "--image-error",
+            flag,
+            value,
+        ]);
+        assert_eq!(o.status.code(), Some(1), "{flag} {value}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(&format!("{flag}: ")), "{err}");
+        assert!(!err.contains("warning"), "nothing loaded: {err}");
+    }
+    let o = gng3d(&[
+        "compare",
+        s(&original),
+        "--vertices",
+        "648",
+        "--image-size",
+        "64",
+    ]);
+    assert!(!o.status.success(), "--image-size needs --image-error");
+}

@@ -104,6 +104,10 @@ pub struct MetricsReport {
     /// when the caller measured it (the original has attributes); not in the JSON otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub attributes: Option<crate::AttributeDeviation>,
+    /// Image-space error ([`crate::image_error`]), when the caller measured it (`gng3d metrics
+    /// --image-error`, `gng3d compare --image-error`); not in the JSON otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub image_error: Option<crate::ImageError>,
 }
 
 /// The evaluation record (same type as [`MetricsReport`]).
@@ -347,6 +351,7 @@ fn assemble(
         meshes,
         seconds: start.elapsed().as_secs_f64(),
         attributes: None,
+        image_error: None,
     }
 }
 

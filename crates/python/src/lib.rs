@@ -267,8 +267,86 @@ fn simplify(
     SimplifyResult::new(py, outcome)
 }
 
+/// The image-space error's keywords of :func:`metrics` as checked parameters: `None` without
+/// ``image_error=True`` (then none of the others may be given, as the CLI's ``--image-*``
+/// flags need ``--image-error``); the ranges are `metrics::ImageErrorParams::validate`'s, its
+/// errors a ValueError naming the keyword.
+fn image_params(
+    image_error: bool,
+    size: Option<u32>,
+    threshold: Option<f64>,
+    flat: bool,
+    images: bool,
+) -> PyResult<Option<metrics::ImageErrorParams>> {
+    if !image_error {
+        let given = [
+            ("image_size", size.is_some()),
+            ("image_threshold", threshold.is_some()),
+            ("image_flat", flat),
+            ("images", images),
+        ];
+        if let Some((name, _)) = given.iter().find(|(_, given)| *given) {
+            return Err(PyValueError::new_err(format!(
+                "{name} applies with image_error=True only"
+            )));
+        }
+        return Ok(None);
+    }
+    let defaults = metrics::ImageErrorParams::default();
+    let params = metrics::ImageErrorParams {
+        size: size.unwrap_or(defaults.size),
+        threshold: threshold.unwrap_or(defaults.threshold),
+        flat_shading: flat,
+        ..defaults
+    };
+    params.validate().map_err(|e| match &e {
+        metrics::MetricsError::Parameter { name, message } => {
+            let keyword = match *name {
+                "size" => "image_size",
+                "threshold" => "image_threshold",
+                other => other,
+            };
+            PyValueError::new_err(format!("{keyword}: {message}"))
+        }
+        _ => PyValueError::new_err(e.to_string()),
+    })?;
+    Ok(Some(params))
+}
+
+/// Each view's renderings as a dict of numpy arrays (see :func:`metrics`, ``images=True``).
+fn view_images<'py>(
+    py: Python<'py>,
+    views: &[metrics::ViewImages],
+) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+    use numpy::IntoPyArray;
+    use numpy::ndarray::{Array2, Array3};
+    let list = pyo3::types::PyList::empty(py);
+    for view in views {
+        let n = view.size as usize;
+        let colours = |pixels: &[[f32; 3]]| {
+            Array3::from_shape_vec((n, n, 3), pixels.iter().flatten().copied().collect())
+                .map_err(|e| PyValueError::new_err(e.to_string()))
+                .map(|a| a.into_pyarray(py))
+        };
+        let covered = |pixels: &[bool]| {
+            Array2::from_shape_vec((n, n), pixels.to_vec())
+                .map_err(|e| PyValueError::new_err(e.to_string()))
+                .map(|a| a.into_pyarray(py))
+        };
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("view", &view.view)?;
+        d.set_item("original", colours(&view.original)?)?;
+        d.set_item("simplified", colours(&view.simplified)?)?;
+        d.set_item("covered_original", covered(&view.covered_original)?)?;
+        d.set_item("covered_simplified", covered(&view.covered_simplified)?)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
 /// Compare an original and a simplified mesh: the paper's errors, the symmetric surface
-/// (Hausdorff) distance, normal deviation, triangle quality and topology.
+/// (Hausdorff) distance, normal deviation, triangle quality and topology; with
+/// ``image_error=True`` also the image-space error.
 ///
 /// Args:
 ///     v0, f0: the original mesh (array-likes as for :func:`simplify`).
@@ -278,10 +356,32 @@ fn simplify(
 ///     meshlab: MeshLab's sampling plan (every vertex, plus ``samples`` edge and ``samples``
 ///         face samples per direction) instead of ``samples`` in total.
 ///     seed: the surface sampler's seed (the CLI's default, 1).
+///     image_error: also render both meshes headlessly (CPU) from 14 fixed views (6 axes, 8
+///         diagonals) framing the original and compare the pictures, as ``gng3d metrics
+///         --image-error`` does: RMSE and mean absolute error of RGB (0-1), PSNR (dB), the
+///         share of pixels off by more than ``image_threshold`` and the share of silhouette
+///         mismatch, over the pixels covered in either image. The meshes are positions only
+///         here, so they are drawn white, lit by a headlight on smooth vertex normals.
+///     image_size: side of the square images, pixels (16 to 4096; default 256).
+///     image_threshold: a pixel is off when its largest RGB channel differs by more than this
+///         (0 to 1; default 0.1).
+///     image_flat: light with face normals (faceted) instead of smooth vertex normals.
+///     images: also return each view's renderings as numpy arrays.
 ///
 /// Returns:
 ///     dict: the fields of ``gng3d metrics --json`` (``hausdorff``, ``e_avg``, ``e_max``,
-///     ``e_sur_signed``, ``normal_deviation``, ``quality``, ``topology``, ...).
+///     ``e_sur_signed``, ``normal_deviation``, ``quality``, ``topology``, ...). With
+///     ``image_error=True``, ``image_error`` holds the CLI's figures (``overall`` with
+///     ``rmse``, ``mean_abs``, ``psnr_db`` (None for identical images), ``over_threshold``,
+///     ``coverage_mismatch``; ``views``, one per view); with ``images=True``, ``images`` is a
+///     list of one dict per view: ``view`` (its name), ``original`` and ``simplified``
+///     (float32, (size, size, 3), RGB 0-1, row 0 at the top), ``covered_original`` and
+///     ``covered_simplified`` (bool, (size, size)).
+///
+/// Raises:
+///     ValueError: bad arrays or options (an image option names its keyword, e.g.
+///         ``image_size: 8 pixels is not in 16 to 4096 pixels``; an ``image_*`` keyword
+///         without ``image_error=True``).
 ///
 /// The meshes are measured as given (as the CLI measures files: not welded). The GIL is
 /// released while measuring.
@@ -291,8 +391,12 @@ fn simplify(
 ///     >>> v2, f2 = gng3d.simplify(v, f, ratio=0.05)               # doctest: +SKIP
 ///     >>> m = gng3d.metrics(v, f, v2, f2, samples=100_000)        # doctest: +SKIP
 ///     >>> m["hausdorff"]["max"], m["hausdorff"]["mean"]           # doctest: +SKIP
+///     >>> gng3d.metrics(v, f, v2, f2, image_error=True)["image_error"]["overall"]["rmse"]  # doctest: +SKIP
 #[pyfunction(name = "metrics")]
-#[pyo3(signature = (v0, f0, v1, f1, *, samples=None, meshlab=false, seed=1))]
+#[pyo3(signature = (
+    v0, f0, v1, f1, *, samples=None, meshlab=false, seed=1, image_error=false, image_size=None,
+    image_threshold=None, image_flat=false, images=false
+))]
 #[allow(clippy::too_many_arguments)]
 fn measure<'py>(
     py: Python<'py>,
@@ -303,6 +407,11 @@ fn measure<'py>(
     samples: Option<usize>,
     meshlab: bool,
     seed: u64,
+    image_error: bool,
+    image_size: Option<u32>,
+    image_threshold: Option<f64>,
+    image_flat: bool,
+    images: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = metrics::MetricsParams {
         hausdorff: metrics::HausdorffParams {
@@ -320,6 +429,7 @@ fn measure<'py>(
         .hausdorff
         .validate()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let image = image_params(image_error, image_size, image_threshold, image_flat, images)?;
     let (original, w0) = mesh_from(v0, f0, "original")?;
     let (simplified, w1) = mesh_from(v1, f1, "simplified")?;
     let sentences: Vec<String> = w0
@@ -328,11 +438,29 @@ fn measure<'py>(
         .chain(w1.iter().map(|w| format!("simplified: {w}")))
         .collect();
     warn_all(py, &sentences)?;
-    let report = py
-        .detach(|| metrics::evaluate(&original, &simplified, &params))
+    let (report, views) = py
+        .detach(|| {
+            let mut report = metrics::evaluate(&original, &simplified, &params)?;
+            let mut views = Vec::new();
+            if let Some(image) = &image {
+                let (measured, rendered) = metrics::image_error_with_images(
+                    &metrics::Surface::new(&original),
+                    &metrics::Surface::new(&simplified),
+                    image,
+                    images,
+                )?;
+                report.image_error = Some(measured);
+                views = rendered;
+            }
+            Ok::<_, metrics::MetricsError>((report, views))
+        })
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let value = serde_json::to_value(&report).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    to_python(py, &value)
+    let dict = to_python(py, &value)?;
+    if images {
+        dict.set_item("images", view_images(py, &views)?)?;
+    }
+    Ok(dict)
 }
 
 /// Read a mesh file (OBJ, PLY or STL, by extension) as ``(vertices, faces)``.

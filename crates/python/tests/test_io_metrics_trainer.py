@@ -69,6 +69,58 @@ def test_metrics_fields_and_values(small_torus):
     assert meshlab["hausdorff"]["forward"]["vertex_samples"] == len(v)
 
 
+def test_metrics_image_error(small_torus):
+    v, f = small_torus
+    # Identical meshes render identically: no error, an infinite PSNR (None, as JSON's null).
+    same = gng3d.metrics(v, f, v, f, samples=2000, image_error=True, image_size=64)
+    e = same["image_error"]
+    assert e["size"] == 64 and len(e["views"]) == 14 and e["shading"] == "white"
+    assert e["overall"]["rmse"] == 0.0 and e["overall"]["over_threshold"] == 0.0
+    assert e["overall"]["coverage_mismatch"] == 0.0 and e["overall"]["psnr_db"] is None
+    assert e["overall"]["pixels"] > 0
+    assert "images" not in same
+    # A copy moved by a fifth of the torus's tube radius: its silhouette and shading move.
+    moved = gng3d.metrics(v, f, v + [0.06, 0.0, 0.0], f, samples=2000, image_error=True,
+                          image_size=64, images=True)  # fmt: skip
+    o = moved["image_error"]["overall"]
+    assert 0.0 < o["rmse"] < 1.0 and o["psnr_db"] > 0.0
+    assert 0.0 < o["over_threshold"] <= 1.0 and 0.0 < o["coverage_mismatch"] <= 1.0
+    assert o["mean_abs"] <= o["rmse"]
+    # A heavy simplification (24 of 1152 vertices) is off by more than a light one.
+    def rmse(target):
+        v2, f2 = gng3d.simplify(v, f, vertices_target=target, method="qem")
+        m = gng3d.metrics(v, f, v2, f2, samples=2000, image_error=True, image_size=64)
+        return m["image_error"]["overall"]["rmse"]
+
+    assert rmse(24) > rmse(600) > 0.0
+    # The renderings as arrays, consistent with the figures: the masks differ where the
+    # silhouettes do, and the colours are RGB in 0-1 with black outside the mesh.
+    views = moved["images"]
+    assert [x["view"] for x in views] == [x["view"] for x in moved["image_error"]["views"]]
+    first = views[0]
+    assert first["original"].shape == (64, 64, 3) and first["original"].dtype == np.float32
+    assert first["covered_original"].shape == (64, 64) and first["covered_original"].dtype == bool
+    assert first["simplified"].min() >= 0.0 and first["simplified"].max() <= 1.0
+    assert not first["original"][~first["covered_original"]].any()
+    mismatch = sum(int((x["covered_original"] != x["covered_simplified"]).sum()) for x in views)
+    covered = sum(int((x["covered_original"] | x["covered_simplified"]).sum()) for x in views)
+    assert covered == o["pixels"]
+    assert mismatch / covered == pytest.approx(o["coverage_mismatch"])
+
+
+def test_metrics_image_error_options_are_checked(small_torus):
+    v, f = small_torus
+    for size in [8, 5000]:
+        with pytest.raises(ValueError, match=r"^image_size: .* is not in 16 to 4096 pixels"):
+            gng3d.metrics(v, f, v, f, image_error=True, image_size=size)
+    with pytest.raises(ValueError, match=r"^image_threshold: 1\.5 is not a colour difference"):
+        gng3d.metrics(v, f, v, f, image_error=True, image_threshold=1.5)
+    with pytest.raises(ValueError, match=r"^image_size applies with image_error=True only"):
+        gng3d.metrics(v, f, v, f, image_size=64)
+    with pytest.raises(ValueError, match=r"^images applies with image_error=True only"):
+        gng3d.metrics(v, f, v, f, images=True)
+
+
 def test_trainer_steps_snapshots_and_mesh(small_torus):
     v, f = small_torus
     t = gng3d.Trainer(v, f, vertices_target=300, seed=4)

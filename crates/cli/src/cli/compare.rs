@@ -1,11 +1,14 @@
 //! `gng3d compare`: QEM and GNG3D-Q (or, with `--paper`, GNG3D as published) to the same
-//! vertex count, all metrics, an aligned table.
+//! vertex count, all metrics, an aligned table; with `--image-error`, each output rendered
+//! against the original (`metrics`' image-space error, its flags, texture and PNGs).
 
+use super::image;
 use anyhow::Context;
 use clap::Args;
 use gng3d::experiment::compare::{CompareParams, compare_with_attributes};
 use gng3d::report::compare::comparison_table;
 use gng3d_core::{GngOptions, GngTarget};
+use metrics::Surface;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `gng3d compare`.
@@ -39,6 +42,9 @@ pub struct CompareArgs {
     /// UV distance above which a sample counts as off (inputs with texture coordinates).
     #[arg(long, default_value_t = 0.05)]
     pub uv_threshold: f64,
+    /// The image-space error of each method's output.
+    #[command(flatten)]
+    pub image: image::ImageErrorArgs,
     /// Print the JSON report instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -84,13 +90,60 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
         uv_threshold: args.uv_threshold,
     };
     params.attributes.validate()?;
+    let image_params = args.image.params()?;
     if let Some(dir) = &args.out {
         super::prepare_output_folder(dir)?;
     }
-    let (original, attributes) = load(&args.input)?;
+    args.image.prepare_out(&["qem", "gng"])?;
+    let (original, attributes, materials) = load(&args.input, image_params.is_some())?;
+    // The texture the image error draws with (the outputs, positions and attributes only,
+    // are drawn with the original's).
+    let texture = match image_params {
+        Some(_) => image::texture(materials.as_ref())?,
+        None => None,
+    };
     let progress = super::progress::spinner(args.json);
     let result = compare_with_attributes(&original, attributes.as_ref(), &params, |stage| {
         progress.set_message(stage.to_string())
+    })
+    .map_err(anyhow::Error::from)
+    .and_then(|mut result| {
+        let Some(image_params) = &image_params else {
+            return Ok(result);
+        };
+        progress.set_message(
+            "measuring: image-space error (rendering 14 views of the original and both outputs)",
+        );
+        let original = Surface::new(&original)
+            .with_attributes(attributes.as_ref())
+            .with_texture(texture.as_ref());
+        let keep = args.image.image_out.is_some();
+        let (qem, gng) = rayon::join(
+            || {
+                let qem =
+                    Surface::new(&result.qem_mesh).with_attributes(result.qem_attributes.as_ref());
+                metrics::image_error_with_images(&original, &qem, image_params, keep)
+            },
+            || {
+                let gng =
+                    Surface::new(&result.gng_mesh).with_attributes(result.gng_attributes.as_ref());
+                metrics::image_error_with_images(&original, &gng, image_params, keep)
+            },
+        );
+        for (method, measured) in [("qem", qem), ("gng", gng)] {
+            let (image, views) =
+                measured.with_context(|| format!("rendering {method}'s output"))?;
+            if let Some(dir) = &args.image.image_out {
+                image::write_views(&dir.join(method), &views)?;
+            }
+            let run = if method == "qem" {
+                &mut result.report.qem
+            } else {
+                &mut result.report.gng
+            };
+            run.metrics.image_error = Some(image);
+        }
+        Ok(result)
     });
     progress.finish_and_clear();
     let result = result.with_context(|| format!("comparing on {}", args.input.display()))?;
@@ -115,49 +168,54 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
         );
         outln!("GNG3D column: {}", result.report.gng_variant);
         out!("{}", comparison_table(&result.report).to_text());
+        if let Some(image) = &result.report.qem.metrics.image_error {
+            outln!(
+                "image rows: each output rendered against the original, over the pixels covered \
+                 in either image;\n  {}",
+                image::setup_in_words(image)
+            );
+            if let Some(dir) = &args.image.image_out {
+                outln!(
+                    "images: {0}/qem/view*.png, {0}/gng/view*.png (original | output | difference)",
+                    dir.display()
+                );
+            }
+        }
         Ok(())
     }
 }
 
-/// The input, cleaned as `load_prepared` does, with its normals, texture coordinates and
-/// colours following the cleaning (`None` without any); what compare does not use or write is
-/// a warning: attributes are measured (attribute-deviation rows) but `--out` writes positions
-/// only, and materials are not used.
-fn load(path: &Path) -> anyhow::Result<(mesh::TriMesh, Option<mesh::attributes::Attributes>)> {
-    crate::process::working_on(path);
-    let loaded = mesh::io::load(path)?;
-    for w in &loaded.warnings {
-        eprintln!("warning: {}: {w}", path.display());
-    }
-    let Some(attributes) = loaded.attributes.filter(super::has_attribute_values) else {
-        if loaded.materials.is_some() {
-            eprintln!(
-                "warning: {}: materials not used: this command measures and writes positions \
-                 only (`gng3d simplify` keeps them)",
-                path.display()
-            );
-        }
-        return Ok((mesh::clean::prepare(&loaded.mesh).0, None));
-    };
-    if attributes.face_material.is_some() || loaded.materials.is_some() {
+/// A mesh with its attributes and materials, as [`load`] returns it.
+type Loaded = (
+    mesh::TriMesh,
+    Option<mesh::attributes::Attributes>,
+    Option<mesh::attributes::Materials>,
+);
+
+/// The input, cleaned (`super::load_input`), with its normals, texture coordinates and colours
+/// following the cleaning (`None` without any) and its materials; what compare does not use or
+/// write is a warning: attributes are measured (attribute-deviation rows) but `--out` writes
+/// positions only, and materials are used only for the image error's texture (`rendering`).
+fn load(path: &Path, rendering: bool) -> anyhow::Result<Loaded> {
+    let input = super::load_input(path, true)?;
+    if input.has_materials {
+        let used = if rendering {
+            "materials used for the image error's texture only: --out writes positions only"
+        } else {
+            "materials not used: this command measures and writes positions only"
+        };
         eprintln!(
-            "warning: {}: materials not used: this command measures and writes positions only \
-             (`gng3d simplify` keeps them)",
+            "warning: {}: {used} (`gng3d simplify` keeps them)",
             path.display()
         );
     }
-    let names: Vec<&str> = attributes
-        .names()
-        .into_iter()
-        .filter(|&name| name != "materials")
-        .map(super::attribute_in_words)
-        .collect();
-    eprintln!(
-        "warning: {}: {} measured (attribute deviation) but not written: --out writes \
-         positions only (`gng3d simplify` keeps them)",
-        path.display(),
-        names.join(", ")
-    );
-    let (mesh, attributes, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &attributes);
-    Ok((mesh, Some(attributes)))
+    if let Some(attributes) = &input.attributes {
+        eprintln!(
+            "warning: {}: {} measured (attribute deviation) but not written: --out writes \
+             positions only (`gng3d simplify` keeps them)",
+            path.display(),
+            super::attributes_in_words(attributes).join(", ")
+        );
+    }
+    Ok((input.mesh, input.attributes, input.materials))
 }

@@ -1,16 +1,16 @@
 //! `gng3d metrics`: paper errors and symmetric surface distance between two meshes.
 
+use super::Input;
+use super::image::{self, texture};
 use anyhow::Context;
 use clap::Args;
 use gng3d::report::eng;
 use mesh::attributes::Attributes;
-use mesh::attributes::Materials;
 use metrics::{
-    AttributeDeviation, AttributeErrors, AttributeParams, HausdorffParams, ImageError,
-    ImageErrorParams, MetricsParams, MetricsReport, OneSided, SamplingPlan, Surface, Texture,
-    attribute_deviation, evaluate,
+    AttributeDeviation, AttributeErrors, AttributeParams, HausdorffParams, MetricsParams,
+    MetricsReport, OneSided, SamplingPlan, Surface, attribute_deviation, evaluate,
 };
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `gng3d metrics`.
 #[derive(Debug, Args)]
@@ -39,63 +39,12 @@ pub struct MetricsArgs {
     /// UV distance (UV units) above which a sample counts as off in the share reported.
     #[arg(long, default_value_t = 0.05)]
     pub uv_threshold: f64,
-    /// Also measure the image-space error: both meshes rendered headlessly (CPU) from 14 fixed
-    /// views (6 axes, 8 diagonals) framing the original, with the materials' base-colour
-    /// texture at UV0 (PNG; the original's for a simplified mesh without one), else a checker on UV0 (squares of 1/8 UV), else the vertex
-    /// colours, else white, lit by a headlight; RMSE and mean absolute error of RGB (0-1),
-    /// PSNR (dB), the share of pixels off and of silhouette mismatch, over the pixels covered
-    /// in either image.
-    #[arg(long)]
-    pub image_error: bool,
-    /// Side of the rendered square images, pixels (16 to 4096; default 256).
-    #[arg(long, requires = "image_error")]
-    pub image_size: Option<u32>,
-    /// A pixel counts as off when its largest RGB channel (0-1) differs by more than this
-    /// (0 to 1; default 0.1, about 26 of 255 levels).
-    #[arg(long, requires = "image_error")]
-    pub image_threshold: Option<f64>,
-    /// Light meshes without normals with their face normals (faceted) instead of smooth
-    /// area-weighted vertex normals.
-    #[arg(long, requires = "image_error")]
-    pub image_flat: bool,
-    /// Folder (created if missing) for one PNG per view: original, simplified, and their
-    /// difference (red: covered in one image only; grey: largest channel's difference × 4).
-    #[arg(long, requires = "image_error")]
-    pub image_out: Option<PathBuf>,
+    /// The image-space error.
+    #[command(flatten)]
+    pub image: super::image::ImageErrorArgs,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
-}
-
-/// A mesh with its attributes and materials, as [`load`] returns it.
-type Loaded = (mesh::TriMesh, Option<Attributes>, Option<Materials>);
-
-/// Loads a mesh and its attributes (normals, texture coordinates, colours; `None` without
-/// any), naming the file in errors and printing loader warnings to stderr.
-fn load(path: &Path) -> anyhow::Result<Loaded> {
-    // MeshError names the file already; no extra context, so the path is said once.
-    crate::process::working_on(path);
-    let loaded = mesh::io::load(path)?;
-    for warning in &loaded.warnings {
-        eprintln!("warning: {}: {warning}", path.display());
-    }
-    let attributes = loaded.attributes.filter(super::has_attribute_values);
-    Ok((loaded.mesh, attributes, loaded.materials))
-}
-
-/// The base-colour texture of the first material of `materials` that has one, decoded
-/// (`None` without one); a texture that cannot be read or decoded is an error naming its file.
-fn texture(materials: Option<&Materials>) -> anyhow::Result<Option<Texture>> {
-    let Some(found) = materials.and_then(mesh::io::base_color_texture) else {
-        return Ok(None);
-    };
-    let bytes = found.bytes.map_err(|e| metrics::MetricsError::Texture {
-        file: found.source.clone(),
-        problem: format!("cannot read it ({e})"),
-    })?;
-    let texture = Texture::decode(&bytes, &found.source, found.v_down)
-        .with_context(|| format!("the texture of material {}", found.material))?;
-    Ok(Some(texture))
 }
 
 /// Run `gng3d metrics`.
@@ -118,43 +67,35 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
         texture_size: args.texture_size,
         uv_threshold: args.uv_threshold,
     };
-    let image_params = ImageErrorParams {
-        size: args.image_size.unwrap_or(ImageErrorParams::default().size),
-        threshold: args
-            .image_threshold
-            .unwrap_or(ImageErrorParams::default().threshold),
-        flat_shading: args.image_flat,
-        ..ImageErrorParams::default()
-    };
     // Checked before loading: --samples 0 or a count beyond the memory limit is an error.
     params.hausdorff.validate().context("--samples")?;
     attribute_params.validate()?;
-    image_params.validate().map_err(|e| match e {
-        metrics::MetricsError::Parameter {
-            name: "size",
-            message,
-        } => {
-            anyhow::anyhow!("--image-size: {message}")
-        }
-        metrics::MetricsError::Parameter {
-            name: "threshold",
-            message,
-        } => anyhow::anyhow!("--image-threshold: {message}"),
-        e => e.into(),
-    })?;
-    if let Some(dir) = &args.image_out {
-        super::prepare_output_folder(dir)?;
-    }
+    let image_params = args.image.params()?;
+    args.image.prepare_out(&[])?;
     let progress = super::progress::spinner(args.json);
     progress.set_message("loading both meshes");
-    let (original, simplified) = rayon::join(|| load(&args.original), || load(&args.simplified));
+    // As the files are: not welded or cleaned (the measures are of the files).
+    let (original, simplified) = rayon::join(
+        || super::load_input(&args.original, false),
+        || super::load_input(&args.simplified, false),
+    );
     let (
-        (original, original_attributes, original_materials),
-        (simplified, simplified_attributes, simplified_materials),
+        Input {
+            mesh: original,
+            attributes: original_attributes,
+            materials: original_materials,
+            ..
+        },
+        Input {
+            mesh: simplified,
+            attributes: simplified_attributes,
+            materials: simplified_materials,
+            ..
+        },
     ) = (original?, simplified?);
     // Each mesh's own texture (a simplified mesh without one, e.g. a PLY output, is drawn with
     // the original's); read only when rendering.
-    let (original_texture, simplified_texture) = if args.image_error {
+    let (original_texture, simplified_texture) = if image_params.is_some() {
         (
             texture(original_materials.as_ref())?,
             texture(simplified_materials.as_ref())?,
@@ -180,8 +121,8 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
         }
         Ok(report)
     });
-    let image = match (&report, args.image_error) {
-        (Ok(_), true) => {
+    let image = match (&report, &image_params) {
+        (Ok(_), Some(image_params)) => {
             progress.set_message("measuring: image-space error (rendering 14 views of both)");
             Some(metrics::image_error_with_images(
                 &Surface::new(&original)
@@ -190,109 +131,38 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
                 &Surface::new(&simplified)
                     .with_attributes(simplified_attributes.as_ref())
                     .with_texture(simplified_texture.as_ref()),
-                &image_params,
-                args.image_out.is_some(),
+                image_params,
+                args.image.image_out.is_some(),
             ))
         }
         _ => None,
     };
     progress.finish_and_clear();
-    let report = report.with_context(|| {
+    let mut report = report.with_context(|| {
         format!(
             "measuring {} against {}",
             args.simplified.display(),
             args.original.display()
         )
     })?;
-    let image = match image.transpose().with_context(|| {
+    if let Some((image, views)) = image.transpose().with_context(|| {
         format!(
             "rendering {} against {}",
             args.simplified.display(),
             args.original.display()
         )
     })? {
-        Some((image, views)) => {
-            if let Some(dir) = &args.image_out {
-                for view in &views {
-                    super::write_atomic(&dir.join(format!("view{}.png", view.view)), &view.png()?)?;
-                }
-            }
-            Some(image)
+        if let Some(dir) = &args.image.image_out {
+            image::write_views(dir, &views)?;
         }
-        None => None,
-    };
+        report.image_error = Some(image);
+    }
     if args.json {
-        let mut json = serde_json::to_value(&report)?;
-        if let Some(image) = &image {
-            json["image_error"] = serde_json::to_value(image)?;
-        }
-        return super::print_json(&json);
+        return super::print_json(&report);
     }
     print_text(&args, &report)?;
-    if let Some(image) = &image {
-        print_image(image, args.image_out.as_deref())?;
-    }
-    Ok(())
-}
-
-/// A PSNR for text: infinite for identical images.
-fn psnr(db: f64) -> String {
-    if db.is_finite() {
-        format!("{db:.1} dB")
-    } else {
-        "∞ (identical)".to_string()
-    }
-}
-
-/// The image-space error's lines.
-fn print_image(r: &ImageError, out: Option<&Path>) -> anyhow::Result<()> {
-    let shading = match (&r.texture, r.shading) {
-        (Some(file), _) => format!("texture {file}"),
-        (None, metrics::Shading::Checker) => "checker on UV0".to_string(),
-        (None, metrics::Shading::Colors) => "vertex colours".to_string(),
-        (None, _) => "white".to_string(),
-    };
-    outln!(
-        "image error           {} views of {}² px, {:.0}° field of view, shading: {shading}, {} ({:.3} s)",
-        r.views.len(),
-        r.size,
-        r.fov_degrees,
-        if r.flat_shading {
-            "face normals where a mesh has none"
-        } else {
-            "vertex normals where a mesh has none"
-        },
-        r.seconds
-    );
-    let o = &r.overall;
-    outln!(
-        "  all views           RMSE {:.4}  mean abs {:.4}  (RGB 0-1)  PSNR {}  {:.2} % of pixels off by > {}  silhouette mismatch {:.2} %  ({} pixels covered in either)",
-        o.rmse,
-        o.mean_abs,
-        psnr(o.psnr_db),
-        100.0 * o.over_threshold,
-        r.threshold,
-        100.0 * o.coverage_mismatch,
-        o.pixels
-    );
-    if let Some(worst) = r
-        .views
-        .iter()
-        .max_by(|a, b| a.stats.rmse.total_cmp(&b.stats.rmse))
-    {
-        outln!(
-            "  worst view          {}: RMSE {:.4}  PSNR {}  silhouette mismatch {:.2} %",
-            worst.view,
-            worst.stats.rmse,
-            psnr(worst.stats.psnr_db),
-            100.0 * worst.stats.coverage_mismatch
-        );
-    }
-    if let Some(dir) = out {
-        outln!(
-            "  images              {}/view*.png (original | simplified | difference)",
-            dir.display()
-        );
+    if let Some(image) = &report.image_error {
+        image::print(image, args.image.image_out.as_deref())?;
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 
 mod batch;
 mod compare;
+mod image;
 mod info;
 mod metrics;
 mod progress;
@@ -200,46 +201,66 @@ pub(crate) fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) -> anyh
     }
 }
 
-/// Load a mesh for the algorithms: welded, without degenerate/duplicate faces or unreferenced
-/// vertices unless `raw`; loader warnings and what cleaning removed go to stderr.
 /// Whether `a` holds values the attribute deviation measures (materials alone do not count).
 pub(crate) fn has_attribute_values(a: &mesh::attributes::Attributes) -> bool {
     a.normals.is_some() || a.uv0.is_some() || a.uv1.is_some() || a.colors.is_some()
 }
 
-pub(crate) fn load_prepared(path: &std::path::Path, raw: bool) -> anyhow::Result<mesh::TriMesh> {
+/// A mesh file as [`load_input`] returns it.
+pub(crate) struct Input {
+    /// The mesh.
+    pub mesh: mesh::TriMesh,
+    /// Its normals, texture coordinates and colours (`None` without any: materials alone do
+    /// not count), fitting `mesh`.
+    pub attributes: Option<mesh::attributes::Attributes>,
+    /// Its materials, as the file gives them.
+    pub materials: Option<mesh::attributes::Materials>,
+    /// Whether the file has materials: a library, or per-face material indices (which
+    /// `attributes` keeps only beside other values).
+    pub has_materials: bool,
+}
+
+/// Loads a mesh file with its attributes and materials, the one loader of the commands that
+/// measure meshes (`metrics`, `compare`, `reproduce`): loader warnings on stderr (the errors
+/// name the file), and with `clean` the mesh welded, without degenerate or duplicate faces or
+/// unreferenced vertices (`mesh::clean::prepare`), its attributes following the cleaning.
+pub(crate) fn load_input(path: &std::path::Path, clean: bool) -> anyhow::Result<Input> {
     // MeshError names the file already; no extra context, so the path is said once.
     crate::process::working_on(path);
     let loaded = mesh::io::load(path)?;
     for w in &loaded.warnings {
         eprintln!("warning: {}: {w}", path.display());
     }
-    // compare and reproduce (this function's callers) measure and write geometry only: say
-    // what of the file they leave out instead of dropping it silently.
-    let mut unused: Vec<&str> = loaded
-        .attributes
-        .as_ref()
-        .map(|a| a.names())
-        .unwrap_or_default()
+    let has_materials = loaded.materials.is_some()
+        || loaded
+            .attributes
+            .as_ref()
+            .is_some_and(|a| a.face_material.is_some());
+    let attributes = loaded.attributes.filter(has_attribute_values);
+    let (mesh, attributes) = match (clean, attributes) {
+        (false, attributes) => (loaded.mesh, attributes),
+        (true, Some(a)) => {
+            let (mesh, a, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
+            (mesh, Some(a))
+        }
+        (true, None) => (mesh::clean::prepare(&loaded.mesh).0, None),
+    };
+    Ok(Input {
+        mesh,
+        attributes,
+        materials: loaded.materials,
+        has_materials,
+    })
+}
+
+/// The names of `attributes` (materials aside) as the warnings write them.
+pub(crate) fn attributes_in_words(attributes: &mesh::attributes::Attributes) -> Vec<&'static str> {
+    attributes
+        .names()
         .into_iter()
+        .filter(|&name| name != "materials")
         .map(attribute_in_words)
-        .collect();
-    if loaded.materials.is_some() && !unused.contains(&"materials") {
-        unused.push("materials");
-    }
-    if !unused.is_empty() {
-        eprintln!(
-            "warning: {}: {} not used: this command measures and writes positions only \
-             (`gng3d simplify` keeps them)",
-            path.display(),
-            unused.join(", ")
-        );
-    }
-    if raw {
-        return Ok(loaded.mesh);
-    }
-    let (prepared, _report) = mesh::clean::prepare(&loaded.mesh);
-    Ok(prepared)
+        .collect()
 }
 
 /// Checks an output mesh path before any work: a known extension (.obj, .ply, .stl, .gltf,

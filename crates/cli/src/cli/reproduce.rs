@@ -1,11 +1,13 @@
 //! `gng3d reproduce`: the paper's checkpoint protocol on one mesh, or a survey of a folder.
 
-use super::load_prepared;
 use anyhow::Context;
 use clap::Args;
-use gng3d::experiment::reproduce::{Progress, ReproduceParams, Stage, reproduce};
+use gng3d::experiment::reproduce::{Progress, ReproduceParams, Stage, reproduce_with_attributes};
 use gng3d::experiment::survey::{SurveyParams, SurveyRow, survey_mesh_with_attributes};
-use gng3d::report::paper::{terminal_legend, terminal_table, write_reproduction};
+use gng3d::report::paper::{
+    terminal_attribute_legend, terminal_attribute_table, terminal_legend, terminal_table,
+    write_reproduction,
+};
 use gng3d::report::survey::{terminal_summary, write_survey};
 use indicatif::{ProgressBar, ProgressStyle};
 use metrics::HausdorffParams;
@@ -32,7 +34,7 @@ pub struct ReproduceArgs {
     /// Output folder (default: reproduce-<mesh> or survey).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Surface samples per direction for every Hausdorff distance.
+    /// Surface samples per direction for every Hausdorff distance (and attribute deviation).
     #[arg(long, default_value_t = 100_000)]
     pub samples: usize,
     /// Random seed for GNG3D and the surface sampler.
@@ -41,12 +43,12 @@ pub struct ReproduceArgs {
     /// With --all: skip meshes with more faces than this.
     #[arg(long)]
     pub max_faces: Option<usize>,
-    /// With --all: side of the texture, in texels, that UV deviations are given in (inputs with
-    /// texture coordinates).
+    /// Side of the texture, in texels, that UV deviations are given in (inputs with texture
+    /// coordinates; an input with texture coordinates, normals or colours gets
+    /// attribute-deviation columns).
     #[arg(long, default_value_t = 1024)]
     pub texture_size: u32,
-    /// With --all: UV distance above which a sample counts as off (inputs with texture
-    /// coordinates).
+    /// UV distance above which a sample counts as off (inputs with texture coordinates).
     #[arg(long, default_value_t = 0.05)]
     pub uv_threshold: f64,
     /// Print the report as JSON on stdout.
@@ -94,7 +96,18 @@ fn check_args(args: &ReproduceArgs) -> anyhow::Result<()> {
             args.target_ratio
         );
     }
+    attribute_params(args).validate()?;
     Ok(())
+}
+
+/// The attribute-deviation settings of both modes (used for inputs with attributes).
+fn attribute_params(args: &ReproduceArgs) -> metrics::AttributeParams {
+    metrics::AttributeParams {
+        samples: Some(args.samples),
+        seed: args.seed,
+        texture_size: args.texture_size,
+        uv_threshold: args.uv_threshold,
+    }
 }
 
 fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
@@ -105,11 +118,12 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("reproduce-{}", stem(input))));
     super::prepare_output_folder(&dir)?;
-    let original = load_prepared(input, false)?;
+    let (original, attributes) = load_with_attributes(input)?;
     let mut params = ReproduceParams {
         epochs: args.epochs,
         target_ratio: args.target_ratio,
         hausdorff: HausdorffParams::with_samples(args.samples),
+        attributes: attribute_params(args),
         ..Default::default()
     };
     params.gng.seed = args.seed;
@@ -131,7 +145,7 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
             state.set_pos(p.done);
         });
     };
-    let report = reproduce(&original, &params, on_progress)
+    let report = reproduce_with_attributes(&original, attributes.as_ref(), &params, on_progress)
         .with_context(|| format!("reproducing on {}", input.display()))?;
     progress.finish_and_clear();
     let name = stem(input);
@@ -142,6 +156,10 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
     // The full table (faces, E_sur, QEM at the target) is in table.md / table.csv.
     out!("{}", terminal_table(&report).to_text());
     out!("{}", terminal_legend(&report));
+    if let Some(table) = terminal_attribute_table(&report) {
+        out!("\n{}", table.to_text());
+        out!("{}", terminal_attribute_legend(&report));
+    }
     outln!(
         "training {:.2} s, evaluation {:.2} s, total {:.2} s; wrote {} files to {}",
         report.seconds.training,
@@ -180,13 +198,7 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     };
     params.gng.seed = args.seed;
     params.hausdorff.seed = args.seed;
-    params.attributes = metrics::AttributeParams {
-        samples: Some(args.samples),
-        seed: args.seed,
-        texture_size: args.texture_size,
-        uv_threshold: args.uv_threshold,
-    };
-    params.attributes.validate()?;
+    params.attributes = attribute_params(args);
     // The output folder exists before the (long) survey starts.
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("survey"));
     super::prepare_output_folder(&out)?;
@@ -243,35 +255,19 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A survey input, cleaned as `load_prepared` does, with its normals, texture coordinates and
-/// colours following the cleaning (`None` without any): every method keeps them and their
-/// deviation is measured. Materials are not used (a warning).
+/// An input of either mode, cleaned (`super::load_input`), with its normals, texture
+/// coordinates and colours following the cleaning (`None` without any): every method keeps them
+/// and their deviation is measured. Materials are not used (a warning).
 fn load_with_attributes(
     path: &Path,
 ) -> anyhow::Result<(mesh::TriMesh, Option<mesh::attributes::Attributes>)> {
-    crate::process::working_on(path);
-    let loaded = mesh::io::load(path)?;
-    for w in &loaded.warnings {
-        eprintln!("warning: {}: {w}", path.display());
-    }
-    let face_materials = loaded
-        .attributes
-        .as_ref()
-        .is_some_and(|a| a.face_material.is_some());
-    if face_materials || loaded.materials.is_some() {
+    let input = super::load_input(path, true)?;
+    if input.has_materials {
         eprintln!(
-            "warning: {}: materials not used: the survey measures positions, normals, texture \
+            "warning: {}: materials not used: this command measures positions, normals, texture \
              coordinates and colours (`gng3d simplify` keeps materials)",
             path.display()
         );
     }
-    Ok(
-        match loaded.attributes.filter(super::has_attribute_values) {
-            Some(a) => {
-                let (mesh, a, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
-                (mesh, Some(a))
-            }
-            None => (mesh::clean::prepare(&loaded.mesh).0, None),
-        },
-    )
+    Ok((input.mesh, input.attributes))
 }

@@ -65,8 +65,17 @@ def metrics(
     samples: Optional[int] = None,
     meshlab: bool = False,
     seed: int = 1,
+    image_error: bool = False,
+    image_size: Optional[int] = None,
+    image_threshold: Optional[float] = None,
+    image_flat: bool = False,
+    images: bool = False,
 ) -> dict[str, Any]:
-    """The fields of ``gng3d metrics --json`` for an original and a simplified mesh."""
+    """The fields of ``gng3d metrics --json`` for an original and a simplified mesh.
+
+    With ``image_error=True`` also ``image_error`` (``gng3d metrics --image-error``'s figures);
+    with ``images=True`` also ``images``, one dict of numpy arrays per view.
+    """
 
 def load(path: _PathLike) -> Tuple[_Vertices, _Faces]:
     """Read an OBJ, PLY or STL file as ``(vertices, faces)``."""

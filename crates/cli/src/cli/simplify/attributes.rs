@@ -30,7 +30,7 @@ pub(crate) struct Kept {
     pub(crate) dropped: Vec<String>,
 }
 
-/// Load `path` (warnings on stderr) and clean it as `load_prepared` does (weld, degenerate and
+/// Load `path` (warnings on stderr) and clean it as `load_input` does (weld, degenerate and
 /// duplicate faces, unreferenced vertices), the attributes following (`raw`: as stored).
 pub(crate) fn load(path: &Path, raw: bool) -> anyhow::Result<(TriMesh, Extras)> {
     crate::process::working_on(path);
