@@ -216,4 +216,14 @@ fn bad_weights_and_bounds_are_refused() {
         params.max_relative_error = Some(bad);
         assert!(params.validate().is_err(), "{bad}");
     }
+    params.max_relative_error = None;
+    for bad in [f64::NAN, -1.0, f64::INFINITY] {
+        params.seam_weight = bad;
+        assert!(
+            matches!(params.validate(), Err(QemError::InvalidParameter(ref m)) if m.contains("seam weight")),
+            "{bad}"
+        );
+    }
+    params.seam_weight = 0.0;
+    assert!(params.validate().is_ok());
 }

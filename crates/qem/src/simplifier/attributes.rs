@@ -19,7 +19,8 @@ use std::time::Instant;
 
 /// Seam constraint planes: for each seam edge `[u, v]` (prepared numbering), the plane through
 /// the edge perpendicular to its two faces' mean normal, weighted by
-/// `params.boundary_weight × |edge|²` as a boundary edge's, added to both ends' quadrics.
+/// `params.seam_weight × |edge|²` (as a boundary edge's by `boundary_weight`), added to both
+/// ends' quadrics.
 pub(super) fn seam_planes(
     vx: &mut [Vertex],
     pos: &[DVec3],
@@ -43,7 +44,7 @@ pub(super) fn seam_planes(
         let edge = pos[v] - pos[u];
         let m = edge.cross(normal).normalize_or_zero();
         if m != DVec3::ZERO {
-            let w = params.boundary_weight * edge.length_squared();
+            let w = params.seam_weight * edge.length_squared();
             let q = Quadric::from_plane(m, -m.dot(pos[u]), w);
             vx[u].q += q;
             vx[v].q += q;

@@ -804,6 +804,12 @@ pub(crate) fn validate(p: &QemParams) -> Result<(), QemError> {
             p.boundary_weight
         ));
     }
+    if !(p.seam_weight >= 0.0 && p.seam_weight.is_finite()) {
+        return bad(format!(
+            "seam weight {} must be finite and >= 0",
+            p.seam_weight
+        ));
+    }
     if let Some(m) = p.max_error
         && m.is_nan()
     {

@@ -336,6 +336,9 @@ fn uv_area([a, b, c]: [Vec2; 3]) -> f32 {
     (b - a).perp_dot(c - a)
 }
 
+/// Sweeps of [`untangle_uv`]'s projections over a wedge's triangles.
+const PROJECTION_SWEEPS: usize = 8;
+
 /// Most rounds of [`untangle_uv`], a bound only: on spot at 2-50 % the first round moves all that
 /// any round does, and the fandisk atlas, the knight and the horse have no fold left to untangle.
 const UNTANGLE_ROUNDS: usize = 4;
@@ -344,7 +347,8 @@ const UNTANGLE_ROUNDS: usize = 4;
 /// the `movable` corners of every folded triangle, a triangle whose orientation in texture space
 /// is the reverse of `expected` (its input face's sign; 0: not checked), to the candidate with
 /// the fewest folded triangles among the wedge's: its interpolated value (`lerp`), the centroid
-/// of the other corners of its triangles, or halfway to it. A wedge moves only when that
+/// of the other corners of its triangles, halfway to it, or its projection into every
+/// triangle's unfolded side. A wedge moves only when that
 /// lowers its count, so the number of folds never grows. Geometry is not touched.
 fn untangle_uv(
     corners: &[[u32; 3]],
@@ -390,6 +394,32 @@ fn untangle_uv(
             })
             .count()
     };
+    // `w`'s coordinates moved into each of its triangles' unfolded side in turn (alternating
+    // projections onto the half-planes, each to a tenth of the opposite edge inside): what
+    // unfolds an open fan (a seam side), whose ring centroid need not lie in it.
+    let project = |values: &[f32], w: u32| {
+        let mut p = uv(values, w);
+        for _ in 0..PROJECTION_SWEEPS {
+            for &t in around(w) {
+                let c = corners[t as usize];
+                let k = c.iter().position(|&x| x == w).unwrap_or(0);
+                let (a, b) = (uv(values, c[(k + 1) % 3]), uv(values, c[(k + 2) % 3]));
+                let d = b - a;
+                let len2 = d.length_squared();
+                let sign = expected[t as usize];
+                if len2 == 0.0 || sign == 0.0 {
+                    continue;
+                }
+                // Twice the area of (p, a, b), `sign`-oriented; it grows by |d|² per step d⊥.
+                let area = sign * uv_area([p, a, b]);
+                let inside = 0.1 * len2;
+                if area < inside {
+                    p += sign * (inside - area) / len2 * d.perp();
+                }
+            }
+        }
+        p
+    };
     for _ in 0..UNTANGLE_ROUNDS {
         let mut moved = false;
         for t in 0..corners.len() {
@@ -410,14 +440,19 @@ fn untangle_uv(
                     }
                 }
                 let centroid = sum / n;
-                let best = [lerp(w), centroid, 0.5 * (here + centroid)]
-                    .into_iter()
-                    .map(|p| (count(values, w, p), p.distance_squared(here), p))
-                    .min_by(|a, b| {
-                        (a.0, a.1)
-                            .partial_cmp(&(b.0, b.1))
-                            .unwrap_or(std::cmp::Ordering::Equal)
-                    });
+                let best = [
+                    lerp(w),
+                    centroid,
+                    0.5 * (here + centroid),
+                    project(values, w),
+                ]
+                .into_iter()
+                .map(|p| (count(values, w, p), p.distance_squared(here), p))
+                .min_by(|a, b| {
+                    (a.0, a.1)
+                        .partial_cmp(&(b.0, b.1))
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                });
                 if let Some((_, _, p)) = best.filter(|b| b.0 < now) {
                     values[w as usize * stride + at..][..2].copy_from_slice(&p.to_array());
                     moved = true;
