@@ -65,6 +65,9 @@ pub struct ViewerOptions {
     pub print_stats: bool,
     /// Inner window size in points (default 1600×900).
     pub window_size: Option<[f32; 2]>,
+    /// Start with the parameter panel open (`true`) or closed (`false`); `None`: open from
+    /// 1350 points wide ([`crate::app::Panels::for_width`]).
+    pub controls: Option<bool>,
 }
 
 /// The one mapping from user options to GNG3D parameters, shared by the window and headless
