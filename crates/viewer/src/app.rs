@@ -88,6 +88,22 @@ impl Panels {
     }
 }
 
+/// Where the panels around the viewports were drawn in the last frame, points: what a test
+/// checks for "no panel over another" (`None`: not shown).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PanelRects {
+    /// The status bar at the bottom of the window.
+    pub status: Option<egui::Rect>,
+    /// The area the plots panel gave its contents (the panel less its margins).
+    pub plots: Option<egui::Rect>,
+    /// Everything the plots panel drew: its button row and the row of plots and Table 1.
+    pub plots_content: Option<egui::Rect>,
+    /// The plots panel's button row ("Hide plots", the column toggles, "Export CSV…").
+    pub plots_toolbar: Option<egui::Rect>,
+    /// The step strip (its entries and time bar) between the plots and the viewports.
+    pub strip: Option<egui::Rect>,
+}
+
 /// The viewer application.
 pub struct ViewerApp {
     /// Everything that is not UI: model, training, QEM, evaluations, history, messages.
@@ -110,6 +126,10 @@ pub struct ViewerApp {
     pub table_layout: Option<crate::plots::TableLayout>,
     /// Height of the step strip in the last frame, points (the plots' height cap counts it).
     pub(crate) strip_height: f32,
+    /// Where the panels were drawn in the last frame.
+    pub panel_rects: PanelRects,
+    /// Width of the parameter panel's rows in the last frame, points.
+    pub(crate) controls_width: f32,
     /// The model the camera was last framed on (re-framed when the session replaces it).
     framed: Option<std::sync::Arc<mesh::TriMesh>>,
     /// The context that draws (for screenshots requested outside a frame).
@@ -141,6 +161,8 @@ impl ViewerApp {
             viewport_rects: [None, None],
             table_layout: None,
             strip_height: crate::panels::STRIP_HEIGHT_GUESS,
+            panel_rects: PanelRects::default(),
+            controls_width: 0.0,
             framed: None,
             automation_ctx: Some(ctx.clone()),
             ctx_bound: false,
@@ -344,25 +366,24 @@ impl ViewerApp {
             (None, false, Some(e)) => format!("QEM failed: {e} (original shown)"),
             (None, false, None) => "QEM".into(),
         };
-        let mut left_end = rects[0].min.x;
-        for (rect, text) in rects.iter().zip([left, right]) {
-            let drawn = painter.text(
-                rect.min + egui::vec2(8.0, 6.0),
-                egui::Align2::LEFT_TOP,
-                text,
-                font.clone(),
-                Color32::from_gray(230),
-            );
-            if left_end == rects[0].min.x {
-                left_end = drawn.max.x;
+        // Each title wraps inside its view (in a narrow window the left one ran into the right).
+        let color = Color32::from_gray(230);
+        let mut title_bottom = rects[0].min.y;
+        for (i, (rect, text)) in rects.iter().zip([left, right]).enumerate() {
+            let galley = painter.layout(text, font.clone(), color, (rect.width() - 16.0).max(1.0));
+            let at = rect.min + egui::vec2(8.0, 6.0);
+            if i == 0 {
+                title_bottom = at.y + galley.size().y;
             }
+            painter.galley(at, galley, color);
         }
-        self.method_switch(ui, rects[0], left_end);
+        self.method_switch(ui, rects[0], title_bottom);
     }
 
-    /// A one-click switch between the paper's GNG3D and GNG3D-Q under the left view's title:
-    /// sets the method's parameters and restarts the run with them (issue 37).
-    fn method_switch(&mut self, ui: &mut egui::Ui, view: egui::Rect, _title_end: f32) {
+    /// A one-click switch between the paper's GNG3D and GNG3D-Q under the left view's title
+    /// (whose bottom is at `title_bottom`): sets the method's parameters and restarts the run
+    /// with them (issue 37).
+    fn method_switch(&mut self, ui: &mut egui::Ui, view: egui::Rect, title_bottom: f32) {
         use crate::engine::Method;
         let current = Method::of(self.session.applied_params());
         let (other, text) = match current {
@@ -370,7 +391,7 @@ impl ViewerApp {
             Method::Paper | Method::Custom => (Method::Q, "Switch to GNG3D-Q"),
         };
         let at = egui::Rect::from_min_size(
-            view.min + egui::vec2(8.0, 26.0),
+            egui::pos2(view.min.x + 8.0, title_bottom + 2.0),
             egui::vec2(view.width() - 16.0, 22.0),
         );
         let clicked = ui

@@ -169,7 +169,7 @@ impl ViewerApp {
             "viewer stats: model={} frames={} mean_fps={:.1} last_frame_ms={:.1} \
              drawing_cpu_ms_per_frame={:.1} max_nodes={} signals={} mean_signals_per_s={:.0} \
              train_s={:.2} gng_mesh_faces={} qem_faces={} error_points={} checkpoints={} \
-             skipped_checkpoints={} run_s={} pace_s={} steps_estimate_s={} training_wall_s={} \
+             skipped_checkpoints={} skipped_error_points={} skipped_evaluations={} run_s={} pace_s={} steps_estimate_s={} training_wall_s={} \
              pipeline_s={} steps_done={} \
              steps_skipped={} steps={} backend={} gng_viewport={} qem_viewport={}",
             self.session.model_name,
@@ -187,6 +187,8 @@ impl ViewerApp {
             self.session.history.errors.len(),
             self.session.history.reconstructions.len(),
             live.skipped_checkpoints,
+            live.skipped_error_points,
+            self.session.skipped_evaluations(),
             seconds(steps.run_seconds),
             seconds(live.pace_seconds),
             seconds(steps.limit.map(|l| l.steps_estimate)),

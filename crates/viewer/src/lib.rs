@@ -23,7 +23,7 @@ pub mod shortcuts;
 pub mod steps;
 pub mod worker;
 
-pub use app::ViewerApp;
+pub use app::{PanelRects, ViewerApp};
 pub use error::ViewerError;
 pub use session::{Session, ViewerOptions};
 

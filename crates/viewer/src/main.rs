@@ -54,9 +54,21 @@ struct Args {
     /// Window size in points, e.g. 1280x720 (default 1600x900).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     window: Option<[f32; 2]>,
+    /// Start with the parameter panel open or closed (default: open from 1350 points wide).
+    #[arg(long, value_name = "open|closed", value_parser = parse_open)]
+    controls: Option<bool>,
     /// Print frame rate and training throughput when quitting.
     #[arg(long)]
     stats: bool,
+}
+
+/// Parse `open` / `closed`.
+fn parse_open(text: &str) -> Result<bool, String> {
+    match text {
+        "open" => Ok(true),
+        "closed" => Ok(false),
+        _ => Err(format!("expected open or closed, got {text:?}")),
+    }
 }
 
 /// Parse `WIDTHxHEIGHT` (points).
@@ -126,6 +138,7 @@ fn main() {
         paused: args.paused,
         print_stats: args.stats || args.quit_after.is_some(),
         window_size: args.window,
+        controls: args.controls,
     };
     // A file given on the command line that cannot be opened is an error with a non-zero exit,
     // before any window: never the built-in model standing in for it. (Files opened from the

@@ -3,7 +3,7 @@
 //! the window's area at every size down to 800×600 (both panels collapse; the plots panel's
 //! height is capped by that rule and the table scrolls).
 
-use crate::app::{Panels, ViewerApp};
+use crate::app::{PanelRects, Panels, ViewerApp};
 use crate::io::DialogPurpose;
 use crate::plots;
 use crate::render::Shading;
@@ -45,9 +45,14 @@ impl ViewerApp {
     /// Lay out all panels and the viewports.
     pub(crate) fn layout(&mut self, ui: &mut egui::Ui) {
         let window = ui.max_rect();
+        let controls = self.session.options().controls;
         let panels = self
             .panels
-            .get_or_insert_with(|| Panels::for_width(window.width()))
+            .get_or_insert_with(|| {
+                let mut panels = Panels::for_width(window.width());
+                panels.controls = controls.unwrap_or(panels.controls);
+                panels
+            })
             .clone();
         // Panels paint no background: the window's clear colour is the panel colour
         // (`clear_color`), so a CPU rasterizer does not shade every pixel a second time.
@@ -56,17 +61,30 @@ impl ViewerApp {
         egui::Panel::top("menu")
             .frame(bar)
             .show(ui, |ui| self.menu_bar(ui));
-        egui::Panel::bottom("status")
-            .frame(bar)
-            .show(ui, |ui| self.status_bar(ui));
+        let mut rects = PanelRects {
+            status: Some(
+                egui::Panel::bottom("status")
+                    .frame(bar)
+                    .show(ui, |ui| self.status_bar(ui))
+                    .response
+                    .rect,
+            ),
+            ..PanelRects::default()
+        };
         if panels.controls {
+            let max_width = (0.3 * window.width()).clamp(180.0, 380.0);
+            // The panel grows to its rows up to its widest; rows wider than that (a narrow
+            // window) scroll sideways instead of being cut off.
+            let sideways = self.controls_width > max_width - bar.total_margin().sum().x + 0.5;
             egui::Panel::left("controls")
                 .frame(bar)
                 .resizable(true)
                 .default_size(250.0)
-                .size_range(180.0..=(0.3 * window.width()).clamp(180.0, 380.0))
+                .size_range(180.0..=max_width)
                 .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui));
+                    let scroll =
+                        egui::ScrollArea::new([sideways, true]).show(ui, |ui| self.controls(ui));
+                    self.controls_width = scroll.content_size.x;
                 });
         }
         if panels.plots {
@@ -87,7 +105,11 @@ impl ViewerApp {
                         .clamp(PLOTS_MIN_HEIGHT, max),
                 )
                 .size_range(PLOTS_MIN_HEIGHT..=max)
-                .show(ui, |ui| self.plots(ui));
+                .show(ui, |ui| {
+                    rects.plots = Some(ui.max_rect());
+                    rects.plots_toolbar = Some(self.plots(ui));
+                    rects.plots_content = Some(ui.min_rect());
+                });
         }
         if panels.steps {
             let strip = egui::Panel::bottom("steps")
@@ -100,7 +122,9 @@ impl ViewerApp {
                     self.panels_mut().step_details = details;
                 });
             self.strip_height = strip.response.rect.height();
+            rects.strip = Some(strip.response.rect);
         }
+        self.panel_rects = rects;
         if panels.history {
             let mut open = true;
             egui::Window::new("All checkpoints (Table 1 history)")
@@ -556,9 +580,12 @@ impl ViewerApp {
         self.session.step(u64::from(lambda));
     }
 
-    fn plots(&mut self, ui: &mut egui::Ui) {
+    /// The plots panel's contents; returns where its button row went.
+    fn plots(&mut self, ui: &mut egui::Ui) -> egui::Rect {
         let columns = self.panels_mut().columns;
-        ui.horizontal(|ui| {
+        // Wrapped, so a narrow panel (the parameter panel open in a small window) puts the
+        // buttons on a second line instead of cutting them off.
+        let toolbar = ui.horizontal_wrapped(|ui| {
             if ui
                 .small_button("Hide plots")
                 .on_hover_text("hide the plots panel (P)")
@@ -583,10 +610,11 @@ impl ViewerApp {
                 self.open_dialog(DialogPurpose::ExportCsv);
             }
         });
+        let toolbar = toolbar.response.rect;
         let shown: Vec<usize> = (0..4).filter(|&i| columns[i]).collect();
         if shown.is_empty() {
             self.table_layout = None;
-            return;
+            return toolbar;
         }
         // The table takes the width it needs (Table 1 fits without scrolling, issue 37); the
         // plots share the rest.
@@ -605,7 +633,7 @@ impl ViewerApp {
         let method = crate::engine::Method::of(self.session.applied_params()).name();
         let history = &self.session.history;
         let mut layout = None;
-        let mut row = |ui: &mut egui::Ui| {
+        let row = |ui: &mut egui::Ui| {
             ui.horizontal_top(|ui| {
                 ui.spacing_mut().item_spacing.x = gap;
                 for &i in &shown {
@@ -636,21 +664,34 @@ impl ViewerApp {
                                 0 => plots::vertex_error_plot(ui, history, h, x_max),
                                 1 => plots::surface_error_plot(ui, history, h, x_max),
                                 2 => plots::hausdorff_plot(ui, history, h, x_max),
-                                _ => layout = Some(plots::comparison_table(ui, history, method)),
+                                _ => {
+                                    // Table 1 scrolls when its rows (a textured input adds
+                                    // some) are taller than the panel may be.
+                                    ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
+                                    egui::ScrollArea::vertical()
+                                        .id_salt("table1")
+                                        .show(ui, |ui| {
+                                            layout =
+                                                Some(plots::comparison_table(ui, history, method));
+                                        });
+                                }
                             }
                         },
                     );
                 }
             });
         };
-        if total > available + 1.0 {
-            egui::ScrollArea::horizontal()
-                .id_salt("plots_row")
-                .show(ui, row);
-        } else {
-            row(ui);
-        }
+        // Nothing the panel draws may be taller than the panel: egui lays a bottom panel's
+        // contents out from its top and, when they are taller than the panel's size cap,
+        // reports the panel's top lower by the overflow, so the step strip above it was laid
+        // out over the button row (1400×800 with the parameter panel open, Table 1 with
+        // attribute rows). The row scrolls instead: sideways when its columns do not fit, down
+        // when a column (a narrow plot's wrapped title and legend) is taller than the panel.
+        egui::ScrollArea::new([total > available + 1.0, true])
+            .id_salt("plots_row")
+            .show(ui, row);
         self.table_layout = layout;
+        toolbar
     }
 }
 

@@ -65,6 +65,9 @@ pub struct ViewerOptions {
     pub print_stats: bool,
     /// Inner window size in points (default 1600×900).
     pub window_size: Option<[f32; 2]>,
+    /// Start with the parameter panel open (`true`) or closed (`false`); `None`: open from
+    /// 1350 points wide ([`crate::app::Panels::for_width`]).
+    pub controls: Option<bool>,
 }
 
 /// The one mapping from user options to GNG3D parameters, shared by the window and headless
@@ -286,6 +289,8 @@ pub struct Session {
     /// cool-down wait).
     last_evaluation: Option<(std::time::Instant, f64)>,
     evaluation_queue: VecDeque<PendingEvaluation>,
+    /// Checkpoints of this run left unevaluated because a newer one was waiting.
+    skipped_evaluations: u64,
     qem: QemState,
     /// Recent messages (newest last).
     pub messages: Vec<Message>,
@@ -319,6 +324,7 @@ impl Session {
             evaluating: None,
             last_evaluation: None,
             evaluation_queue: VecDeque::new(),
+            skipped_evaluations: 0,
             qem: QemState::default(),
             messages: Vec::new(),
         };
@@ -426,6 +432,13 @@ impl Session {
         self.evaluation_queue.len() + usize::from(self.evaluating.is_some())
     }
 
+    /// Checkpoints of this run that were not evaluated because the evaluator fell behind and a
+    /// newer one was waiting (a loaded machine, a big mesh): evaluated rows plus these are every
+    /// checkpoint the training sent.
+    pub fn skipped_evaluations(&self) -> u64 {
+        self.skipped_evaluations
+    }
+
     /// The latest state of the training thread.
     pub fn live(&self) -> &Live {
         &self.live
@@ -478,6 +491,7 @@ impl Session {
         self.steps.clear();
         self.reconstruction = None;
         self.evaluation_queue.clear();
+        self.skipped_evaluations = 0;
         self.evaluating = None;
         self.applied = self.params.clone();
         if self.original.face_count() == 0 {
@@ -747,6 +761,7 @@ impl Session {
         // always evaluated.
         while self.evaluation_queue.len() > 1 {
             self.evaluation_queue.pop_front();
+            self.skipped_evaluations += 1;
         }
         if self.evaluating.is_none()
             && let Some(next) = self.evaluation_queue.pop_front()

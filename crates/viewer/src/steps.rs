@@ -555,21 +555,37 @@ fn group_tooltip(group: &StepGroup) -> String {
 
 /// A coloured square, then `text` in the status colour.
 fn chip(ui: &mut egui::Ui, color: Color32, text: &str, status: StepStatus) -> egui::Response {
-    ui.horizontal(|ui| {
-        ui.spacing_mut().item_spacing.x = 3.0;
-        let (rect, _) = ui.allocate_exact_size(egui::vec2(8.0, 8.0), egui::Sense::hover());
-        let fill = if matches!(status, StepStatus::Done { .. } | StepStatus::Running) {
-            color
-        } else {
-            color.gamma_multiply(0.3)
-        };
-        ui.painter().rect_filled(rect, 1.0, fill);
-        let mut rich = RichText::new(text).small().color(status_color(ui, status));
-        if status == StepStatus::Skipped {
-            rich = rich.strikethrough();
-        }
-        ui.add(egui::Label::new(rich).wrap_mode(egui::TextWrapMode::Extend))
-    })
+    let mut rich = RichText::new(text).small().color(status_color(ui, status));
+    if status == StepStatus::Skipped {
+        rich = rich.strikethrough();
+    }
+    // The text is laid out first so the chip is one unit of known width: the strip's wrapping
+    // row then moves a chip that does not fit to the next line (a nested `horizontal` of unknown
+    // width ran off the window's edge at 800 points).
+    let galley = egui::WidgetText::from(rich).into_galley(
+        ui,
+        Some(egui::TextWrapMode::Extend),
+        f32::INFINITY,
+        egui::TextStyle::Small,
+    );
+    let (marker, gap) = (8.0, 3.0);
+    let size = egui::vec2(marker + gap + galley.size().x, galley.size().y.max(marker));
+    ui.allocate_ui_with_layout(
+        size,
+        egui::Layout::left_to_right(egui::Align::Center),
+        |ui| {
+            ui.spacing_mut().item_spacing.x = gap;
+            let (rect, _) =
+                ui.allocate_exact_size(egui::vec2(marker, marker), egui::Sense::hover());
+            let fill = if matches!(status, StepStatus::Done { .. } | StepStatus::Running) {
+                color
+            } else {
+                color.gamma_multiply(0.3)
+            };
+            ui.painter().rect_filled(rect, 1.0, fill);
+            ui.add(egui::Label::new(galley))
+        },
+    )
     .inner
 }
 
@@ -625,11 +641,18 @@ pub fn strip_ui(ui: &mut egui::Ui, strip: &StepStrip, clock: TrainingClock, deta
             } else {
                 ui.visuals().text_color()
             };
-            ui.label(RichText::new(total).small().strong().color(color))
-                .on_hover_text(
-                    "training plus the steps after it (wall time, start to final mesh); the \
-                     run's time limit is the run length unless a shorter one is set",
+            // One unit, like the chips: it moves to the next line whole instead of breaking.
+            let total = egui::WidgetText::from(RichText::new(total).small().strong().color(color))
+                .into_galley(
+                    ui,
+                    Some(egui::TextWrapMode::Extend),
+                    f32::INFINITY,
+                    egui::TextStyle::Small,
                 );
+            ui.add(egui::Label::new(total)).on_hover_text(
+                "training plus the steps after it (wall time, start to final mesh); the \
+                     run's time limit is the run length unless a shorter one is set",
+            );
         }
     });
     time_bar(ui, strip, clock, &groups);

@@ -374,8 +374,13 @@ pub struct Live {
     /// The run's signal budget (0 before a run starts).
     pub max_signals: u64,
     /// Checkpoints skipped to keep reconstructions within [`CHECKPOINT_TIME_SHARE`] (as fast
-    /// as possible) or the run on pace ([`paced_preview_fits`], watched).
+    /// as possible) or the run on pace ([`paced_preview_fits`], watched), and those a late
+    /// watched run did not reach because it stopped training at its pace's end.
     pub skipped_checkpoints: u64,
+    /// A watched run: points of the vertex-error schedule ([`PACED_ERROR_POINTS`]) left out
+    /// because the run was behind it (a loaded machine), reached or not. Measured points plus
+    /// these are the whole schedule whatever the machine's speed.
+    pub skipped_error_points: u64,
     /// Wall time training has run, seconds (pauses excluded).
     pub run_seconds: f64,
     /// A paced run: the running wall time its signal budget is spread over ([`pace_seconds`]).
@@ -474,8 +479,10 @@ struct Training {
     /// Checkpoint reconstructions since the reset, and the seconds of the last one.
     previews: u64,
     last_preview: f64,
-    /// Checkpoints skipped by [`CHECKPOINT_TIME_SHARE`] since the reset.
+    /// Checkpoints skipped by [`CHECKPOINT_TIME_SHARE`] since the reset (see [`Live`]).
     skipped_checkpoints: u64,
+    /// Points of a paced run's error schedule left out since the reset (see [`Live`]).
+    skipped_error_points: u64,
     /// Wall time spent running (pauses excluded) since the reset: the clock of a paced run.
     paced_clock: Duration,
     /// When `paced_clock` was last advanced.
@@ -511,6 +518,7 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
         previews: 0,
         last_preview: 0.0,
         skipped_checkpoints: 0,
+        skipped_error_points: 0,
         paced_clock: Duration::ZERO,
         clock_tick: Instant::now(),
         next_error_signals: 0,
@@ -549,6 +557,7 @@ fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>, shared: &
                     t.previews = 0;
                     t.last_preview = 0.0;
                     t.skipped_checkpoints = 0;
+                    t.skipped_error_points = 0;
                     t.paced_clock = Duration::ZERO;
                     // The run's clock (the core's, from `Engine::new`) and the pace start together.
                     t.clock_tick = Instant::now();
@@ -669,6 +678,12 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
         )
         && engine.holds_target()
     {
+        // What the rest of the budget would have had: left out, and counted so.
+        let left = budget.saturating_sub(engine.signals());
+        t.skipped_error_points += left / (budget / PACED_ERROR_POINTS).max(1);
+        if let Some(every) = t.checkpoint_every {
+            t.skipped_checkpoints += left / every;
+        }
         engine.stop();
         t.finished = true;
     }
@@ -748,8 +763,15 @@ fn train_batch(t: &mut Training, shared: &Shared, events: &Sender<Event>) {
     if measure || t.finished {
         measure_errors(t, events);
     }
+    let error_step = (budget / PACED_ERROR_POINTS).max(1);
     if measure || t.finished || signals >= t.next_error_signals {
-        t.next_error_signals = signals + (budget / PACED_ERROR_POINTS).max(1);
+        // Scheduled points passed and not measured (a late run; one batch past the pace's end
+        // may pass several).
+        if paced.is_some() && signals >= t.next_error_signals {
+            let passed = (signals - t.next_error_signals) / error_step + 1;
+            t.skipped_error_points += passed - u64::from(measure || t.finished);
+        }
+        t.next_error_signals = signals + error_step;
     }
     if signals >= t.next_checkpoint && !t.finished {
         while t.next_checkpoint <= signals {
@@ -891,6 +913,7 @@ fn publish(t: &mut Training, shared: &Shared) {
             train_seconds: t.train_time.as_secs_f64(),
             max_signals: t.engine.as_ref().map_or(0, Engine::max_signals),
             skipped_checkpoints: t.skipped_checkpoints,
+            skipped_error_points: t.skipped_error_points,
             run_seconds: t.paced_clock.as_secs_f64(),
             pace_seconds: match (t.speed, t.engine.as_ref()) {
                 (Speed::Paced { seconds }, Some(engine)) => {

@@ -593,25 +593,47 @@ fn default_run_is_watchable_and_fills_the_figure_live() {
         std::thread::sleep(Duration::from_millis(20));
     }
     let wall = start.elapsed().as_secs_f64();
-    let history = &h.state().session.history;
+    let session = &h.state().session;
+    let (history, live) = (&session.history, session.live());
+    // A loaded machine makes a watched run late, and a late run leaves error points and
+    // checkpoint previews out (by design: it keeps its length), and the evaluator skips to the
+    // newest checkpoint when it falls behind. Each one left out is counted, so what is shown
+    // plus what was left out is the run's schedule, whatever the machine's speed (this test
+    // failed under load with 29 and 40 points when it asked for 100 shown).
+    let points = history.errors.len() as u64;
     assert!(
-        history.errors.len() >= 100,
-        "{} vertex-error points",
-        history.errors.len()
+        points >= 2 && points + live.skipped_error_points >= 100,
+        "{points} vertex-error points, {} left out",
+        live.skipped_error_points
     );
+    let shown = history.reconstructions.len() as u64;
+    let left_out = live.skipped_checkpoints + session.skipped_evaluations();
     assert!(
-        history.reconstructions.len() >= 5,
-        "{} reconstructions",
-        history.reconstructions.len()
+        shown >= 1 && shown + left_out >= 5,
+        "{shown} reconstructions, {} checkpoints skipped, {} evaluations skipped",
+        live.skipped_checkpoints,
+        session.skipped_evaluations()
     );
     assert!(
         wall >= 0.6 * viewer::session::DEFAULT_WATCH_SECONDS,
         "the default run took only {wall:.1} s"
     );
-    // Reconstructions spread over the run, not all at the end.
+    // Reconstructions spread over the run, not all at the end (when none was left out: a
+    // late run may skip its early ones).
     let first = history.reconstructions[0].iteration as f64;
     let last = history.reconstructions.last().unwrap().iteration as f64;
-    assert!(first < 0.5 * last, "checkpoints at {first} … {last}");
+    if left_out == 0 {
+        assert!(first < 0.5 * last, "checkpoints at {first} … {last}");
+    }
+    if left_out + live.skipped_error_points > 0 {
+        println!(
+            "note: a late run (a loaded machine): {points} error points shown, {} left out; \
+             {shown} reconstructions shown, {} checkpoints and {} evaluations left out",
+            live.skipped_error_points,
+            live.skipped_checkpoints,
+            session.skipped_evaluations()
+        );
+    }
 }
 
 #[test]
@@ -832,4 +854,138 @@ fn table1_shows_the_attribute_deviation_of_a_textured_input() {
         h.get_by_label(label);
     }
     assert!(h.query_by_label("colour dev. mean (RGB)").is_none());
+}
+
+/// No panel draws over another, at every window size from 800×600 to 1920×1080, with the
+/// parameter panel closed and open. Before, at 1400×800 with the parameter panel open, the step
+/// strip covered the plots' button row and Table 1's last rows were cut: the plots panel's
+/// contents (Table 1 with a textured input's attribute rows) were taller than its height cap,
+/// and egui then reports a bottom panel's top lower by the overflow, so the strip above it was
+/// laid out over the panel's first row. With a textured input (Table 1's attribute rows), the
+/// status bar, the plots panel, the step strip and the viewports stack without overlapping,
+/// everything the plots panel and the strip draw lies inside them and the window, and with the
+/// panels a window of that width starts with the viewports keep half of the window.
+#[test]
+fn panels_never_overlap_at_any_window_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("globe.obj");
+    let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
+    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    let options = ViewerOptions {
+        path: Some(path),
+        ..fast(120)
+    };
+    // The size of the fault first, with the panels it starts with (the parameter panel open).
+    let first = egui::vec2(1400.0, 800.0);
+    let Some(mut h) = harness_sized(options, first) else {
+        return;
+    };
+    step_until(
+        &mut h,
+        Duration::from_secs(90),
+        "QEM, the final mesh and the evaluation of both",
+        |a| {
+            let measured = |c: Option<&viewer::plots::Checkpoint>| {
+                c.is_some_and(|c| c.evaluation.attributes.is_some())
+            };
+            a.session.live().finished
+                && a.session.evaluations_pending() == 0
+                && measured(a.session.history.reconstructions.last())
+                && measured(a.session.history.qem.as_ref())
+        },
+    );
+    assert!(h.state().panels.as_ref().unwrap().controls);
+    let mut cases = vec![(first, true)];
+    for (w, h) in [
+        (800.0, 600.0),
+        (1024.0, 600.0),
+        (1280.0, 800.0),
+        (1400.0, 800.0),
+        (1600.0, 900.0),
+        (1920.0, 1080.0),
+    ] {
+        cases.push((egui::vec2(w, h), false));
+        cases.push((egui::vec2(w, h), true));
+    }
+    let mut failures = Vec::new();
+    for (size, controls) in cases {
+        h.set_size(size);
+        h.state_mut().panels.as_mut().unwrap().controls = controls;
+        for _ in 0..4 {
+            h.step();
+        }
+        let name = format!(
+            "{}x{} controls {}",
+            size.x,
+            size.y,
+            if controls { "open" } else { "closed" }
+        );
+        save_snapshot(
+            &mut h,
+            &format!("panels_{}x{}_{}.png", size.x, size.y, controls),
+        );
+        let app = h.state();
+        let r = app.panel_rects;
+        let (Some(status), Some(plots), Some(content), Some(toolbar), Some(strip)) =
+            (r.status, r.plots, r.plots_content, r.plots_toolbar, r.strip)
+        else {
+            panic!("{name}: a panel was not laid out: {r:?}");
+        };
+        let [Some(left), Some(right)] = app.viewport_rects else {
+            panic!("{name}: no viewports");
+        };
+        let window = egui::Rect::from_min_size(egui::Pos2::ZERO, size);
+        let inside = |outer: egui::Rect, inner: egui::Rect| outer.expand(0.5).contains_rect(inner);
+        let mut check = |ok: bool, what: String| {
+            if !ok {
+                failures.push(format!("{name}: {what}"));
+            }
+        };
+        // Bottom up: status bar, plots panel, step strip, viewports.
+        check(
+            plots.max.y <= status.min.y + 0.5,
+            format!("plots {plots:?} over the status bar {status:?}"),
+        );
+        check(
+            inside(plots, content),
+            format!("the plots panel drew {content:?} outside its area {plots:?}"),
+        );
+        check(
+            inside(plots, toolbar),
+            format!("the plots' button row {toolbar:?} outside the panel {plots:?}"),
+        );
+        check(
+            strip.max.y <= plots.min.y + 0.5 && !strip.intersects(toolbar.shrink(0.5)),
+            format!("the step strip {strip:?} over the plots' button row {toolbar:?}"),
+        );
+        check(
+            inside(window, strip),
+            format!("the step strip {strip:?} outside the window"),
+        );
+        for (side, v) in [("GNG3D", left), ("QEM", right)] {
+            check(
+                v.max.y <= strip.min.y + 0.5 && inside(window, v),
+                format!("{side} viewport {v:?} over the step strip {strip:?}"),
+            );
+        }
+        if let Some(table) = &app.table_layout {
+            check(
+                inside(plots, table.clip),
+                format!(
+                    "Table 1's area {:?} outside the plots {plots:?}",
+                    table.clip
+                ),
+            );
+        } else {
+            check(false, "Table 1 not shown".into());
+        }
+        let share = (left.area() + right.area()) / (size.x * size.y);
+        if controls == viewer::app::Panels::for_width(size.x).controls {
+            check(
+                share >= 0.5,
+                format!("viewports cover {:.1} % of the window", 100.0 * share),
+            );
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
