@@ -132,13 +132,7 @@ pub(crate) fn run(
         params,
         Some(&locked),
         Some(attribute_run),
-        |e, frame, carried| match carried {
-            Some((values, seams)) => {
-                wedges::output(e, values, seams, frame, attributes, &face_origin)
-            }
-            // Not reached: an attribute run always carries its values.
-            None => (e.output(frame).0, Attributes::default()),
-        },
+        |e, frame| wedges::output(e, frame, attributes, &face_origin),
     );
     let report = super::report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;

@@ -221,9 +221,7 @@ fn simplify_prepared(
     params: &QemParams,
     locked: Option<&[bool]>,
 ) -> (Run, Vec<u32>) {
-    simplify_prepared_with(prepared, params, locked, None, |e, frame, _| {
-        e.output(frame)
-    })
+    simplify_prepared_with(prepared, params, locked, None, |e, frame| e.output(frame))
 }
 
 /// What an attribute run adds to the passes (prepared numbering): the seams, whose `edges` get
@@ -238,17 +236,13 @@ struct AttributeRun {
 }
 
 /// [`simplify_prepared`] with an attribute run's additions, the result made by `output` from the
-/// engine after the passes (with the attribute run's values and seams, when there is one).
+/// engine after the passes (which holds the attribute run's values and seams, when there is one).
 fn simplify_prepared_with<T>(
     prepared: prepare::Prepared,
     params: &QemParams,
     locked: Option<&[bool]>,
     attribute_run: Option<AttributeRun>,
-    output: impl FnOnce(
-        &Engine,
-        &prepare::Frame,
-        Option<(&wedges::WedgeValues, &engine::Seams)>,
-    ) -> (TriMesh, T),
+    output: impl FnOnce(&Engine, &prepare::Frame) -> (TriMesh, T),
 ) -> (Run, T) {
     let prepare::Prepared {
         pos,
@@ -357,8 +351,7 @@ fn simplify_prepared_with<T>(
         schedule.next_list(&mut e, pass, outcome.consumed);
     };
     drop(schedule);
-    let carried = e.values.as_ref().zip(e.seams.as_ref());
-    let (mesh, made) = output(&e, &frame, carried);
+    let (mesh, made) = output(&e, &frame);
     let run = Run {
         mesh,
         collapses: totals.done,

@@ -139,7 +139,6 @@ pub(super) struct WedgeValues {
     /// Per vertex, two sides of `1 + 4 fitted` sums: the area `W`, then per fitted channel
     /// `G` (3) and `D` ([`FIT_FROM`](Layout::fit_from) onwards: every channel but the normals).
     fit: Vec<f64>,
-    layout: Layout,
     /// The input wedges' values.
     input: InputValues,
     /// Merged at least once as the survivor of a contraction (its values are interpolated).
@@ -195,7 +194,6 @@ impl WedgeValues {
         WedgeValues {
             lerp,
             fit,
-            layout,
             input,
             merged: vec![false; vertices],
         }
@@ -210,7 +208,7 @@ impl WedgeValues {
             // position is its value exactly, and b's faces would only blur it).
             return;
         }
-        let (s, len) = (self.layout.stride, self.layout.fit_len());
+        let (s, len) = (self.input.layout.stride, self.input.layout.fit_len());
         let sides = if seams.seam[a] { 2 } else { 1 };
         for (sa, sb) in seams.matching(a, b).into_iter().enumerate().take(sides) {
             let (to, from) = ((a * 2 + sa) * s, (b * 2 + sb) * s);
@@ -231,9 +229,9 @@ impl WedgeValues {
     /// interpolated, the rest fitted.
     fn values_at(&self, slot: usize, p: DVec3, out: &mut [f32]) {
         let (s, from, len) = (
-            self.layout.stride,
-            self.layout.fit_from(),
-            self.layout.fit_len(),
+            self.input.layout.stride,
+            self.input.layout.fit_from(),
+            self.input.layout.fit_len(),
         );
         out.copy_from_slice(&self.lerp[slot * s..(slot + 1) * s]);
         if len > 1 {
@@ -471,12 +469,14 @@ fn untangle_uv(
 /// input face of engine face `f` (same corner order); `attributes` are the input's.
 pub(super) fn output(
     e: &Engine,
-    values: &WedgeValues,
-    seams: &Seams,
     frame: &Frame,
     attributes: &Attributes,
     face_origin: &[u32],
 ) -> (TriMesh, Attributes) {
+    let (Some(values), Some(seams)) = (&e.values, &e.seams) else {
+        // Not reached: an attribute run's engine always holds its values and seams.
+        return (e.output(frame).0, Attributes::default());
+    };
     // 1. The live faces and their engine indices, degenerate and duplicate faces dropped.
     let mut face_id = Vec::with_capacity(e.live_faces);
     let mut triangles = Vec::with_capacity(e.live_faces);
@@ -516,7 +516,7 @@ pub(super) fn output(
     // 3. One output wedge per (vertex, side) of the merged vertices and per input wedge of the
     // others, numbered in order of first use; `slot_of[w]`: the side slot of output wedge `w`
     // (`u32::MAX` for an input wedge).
-    let layout = values.layout;
+    let layout = values.input.layout;
     let s = layout.stride;
     let mut slot_wedge = vec![u32::MAX; e.vx.len() * 2];
     let mut input_wedge = vec![u32::MAX; attributes.wedge_count()];
