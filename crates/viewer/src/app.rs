@@ -75,6 +75,15 @@ impl Panels {
     /// closed (C opens it), so the viewports keep at least half of the window (issue 13: down
     /// to 800×600) and the plots panel still has the height Table 1 and the plots need (issue
     /// 37: at 1280×720 the open panel left the plots 92 points).
+    ///
+    /// That is the width half of the start-up rule. The other half is the height: the first
+    /// frame (`ViewerApp::layout`) also closes the panel when, open, it would leave the plots
+    /// panel a height cap ([`crate::panels::plots_max_height`], measured with the panel's
+    /// actual width) under [`crate::panels::PLOTS_WANTED_HEIGHT`] — 1366×768, 1400×800 and
+    /// 1440×900 start with it closed, 1600×900 and 1920×1080 with it open. `--controls
+    /// open|closed` overrides both. The rule applies once: after the first frame the panels
+    /// are the user's (C, the `Parameters` button, the View menu) and resizing the window
+    /// keeps them; the plots' cap still keeps the viewports half of the window.
     pub fn for_width(width: f32) -> Panels {
         Panels {
             controls: width >= 1350.0,
@@ -88,12 +97,29 @@ impl Panels {
     }
 }
 
+/// Where the first frame is in deciding whether the parameter panel starts open (see
+/// [`Panels::for_width`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ControlsStart {
+    /// Not yet laid out.
+    Undecided,
+    /// Laid out once (egui's first, narrow pass of its grids): measured in the next pass.
+    Primed,
+    /// Decided (or set by the user, or by `--controls`).
+    Decided,
+}
+
 /// Where the panels around the viewports were drawn in the last frame, points: what a test
 /// checks for "no panel over another" (`None`: not shown).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PanelRects {
+    /// The parameter panel on the left.
+    pub controls: Option<egui::Rect>,
     /// The status bar at the bottom of the window.
     pub status: Option<egui::Rect>,
+    /// The plots panel, margins included (what its height cap and
+    /// [`crate::panels::PLOTS_WANTED_HEIGHT`] are about).
+    pub plots_panel: Option<egui::Rect>,
     /// The area the plots panel gave its contents (the panel less its margins).
     pub plots: Option<egui::Rect>,
     /// Everything the plots panel drew: its button row and the row of plots and Table 1.
@@ -130,6 +156,8 @@ pub struct ViewerApp {
     pub panel_rects: PanelRects,
     /// Width of the parameter panel's rows in the last frame, points.
     pub(crate) controls_width: f32,
+    /// Whether the first frame has decided if the parameter panel starts open.
+    pub(crate) controls_start: ControlsStart,
     /// The model the camera was last framed on (re-framed when the session replaces it).
     framed: Option<std::sync::Arc<mesh::TriMesh>>,
     /// The context that draws (for screenshots requested outside a frame).
@@ -163,6 +191,7 @@ impl ViewerApp {
             strip_height: crate::panels::STRIP_HEIGHT_GUESS,
             panel_rects: PanelRects::default(),
             controls_width: 0.0,
+            controls_start: ControlsStart::Undecided,
             framed: None,
             automation_ctx: Some(ctx.clone()),
             ctx_bound: false,

@@ -54,7 +54,9 @@ struct Args {
     /// Window size in points, e.g. 1280x720 (default 1600x900).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     window: Option<[f32; 2]>,
-    /// Start with the parameter panel open or closed (default: open from 1350 points wide).
+    /// Start with the parameter panel open or closed (default: open where the window is at
+    /// least 1350 points wide and tall enough for the plots with it, e.g. 1600x900 but not
+    /// 1366x768).
     #[arg(long, value_name = "open|closed", value_parser = parse_open)]
     controls: Option<bool>,
     /// Print frame rate and training throughput when quitting.

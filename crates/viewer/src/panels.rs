@@ -3,7 +3,7 @@
 //! the window's area at every size down to 800×600 (both panels collapse; the plots panel's
 //! height is capped by that rule and the table scrolls).
 
-use crate::app::{PanelRects, Panels, ViewerApp};
+use crate::app::{ControlsStart, PanelRects, Panels, ViewerApp};
 use crate::io::DialogPurpose;
 use crate::plots;
 use crate::render::Shading;
@@ -45,15 +45,22 @@ impl ViewerApp {
     /// Lay out all panels and the viewports.
     pub(crate) fn layout(&mut self, ui: &mut egui::Ui) {
         let window = ui.max_rect();
-        let controls = self.session.options().controls;
-        let panels = self
+        if self.panels.is_some() && self.controls_start == ControlsStart::Undecided {
+            // Set before the first layout (a shortcut): the user's.
+            self.controls_start = ControlsStart::Decided;
+        }
+        let forced = self.session.options().controls;
+        let mut panels = self
             .panels
             .get_or_insert_with(|| {
                 let mut panels = Panels::for_width(window.width());
-                panels.controls = controls.unwrap_or(panels.controls);
+                panels.controls = forced.unwrap_or(panels.controls);
                 panels
             })
             .clone();
+        if forced.is_some() || !panels.controls {
+            self.controls_start = ControlsStart::Decided;
+        }
         // Panels paint no background: the window's clear colour is the panel colour
         // (`clear_color`), so a CPU rasterizer does not shade every pixel a second time.
         let bar = egui::Frame::side_top_panel(ui.style()).fill(Color32::TRANSPARENT);
@@ -71,32 +78,52 @@ impl ViewerApp {
             ),
             ..PanelRects::default()
         };
+        // What the plots panel and the viewports share when `beside` points are taken on the
+        // left: less the central panel's margins and the step strip (between the plots and
+        // the viewports).
+        let strip = if panels.steps { self.strip_height } else { 0.0 };
+        let rest = |ui: &egui::Ui, beside: f32| {
+            ui.available_rect_before_wrap().size()
+                - central.total_margin().sum()
+                - egui::vec2(beside, strip)
+        };
+        if panels.controls && self.controls_start != ControlsStart::Decided {
+            // The window is wide enough for the parameter panel: it starts open only if the
+            // plots panel still gets its wanted height beside it. Its width is its rows' (up
+            // to its widest), measured on an unseen copy. egui lays a new grid out narrow in
+            // its first pass, so the first pass lays out the copy and the panel (sizing their
+            // grids) and is discarded; the second measures the copy and decides.
+            let mut unseen = ui.new_child(
+                egui::UiBuilder::new()
+                    .id_salt("controls_measure")
+                    .max_rect(ui.available_rect_before_wrap())
+                    .invisible(),
+            );
+            let width = self
+                .controls_panel(&mut unseen, bar, window.width())
+                .width();
+            if self.controls_start == ControlsStart::Undecided {
+                self.controls_panel(ui, bar, window.width());
+                self.controls_start = ControlsStart::Primed;
+                ui.ctx()
+                    .request_discard("measuring the parameter panel's start-up width");
+                // Should the discard be refused (no pass left), the next frame decides.
+                ui.ctx().request_repaint();
+                // Nothing more: a panel shown now would keep this pass' size (egui stores it).
+                return;
+            }
+            let cap = plots_max_height(ui.ctx().content_rect().size(), rest(ui, width));
+            panels.controls = cap >= PLOTS_WANTED_HEIGHT;
+            self.panels_mut().controls = panels.controls;
+            self.controls_start = ControlsStart::Decided;
+        }
         if panels.controls {
-            let max_width = (0.3 * window.width()).clamp(180.0, 380.0);
-            // The panel grows to its rows up to its widest; rows wider than that (a narrow
-            // window) scroll sideways instead of being cut off.
-            let sideways = self.controls_width > max_width - bar.total_margin().sum().x + 0.5;
-            egui::Panel::left("controls")
-                .frame(bar)
-                .resizable(true)
-                .default_size(250.0)
-                .size_range(180.0..=max_width)
-                .show(ui, |ui| {
-                    let scroll =
-                        egui::ScrollArea::new([sideways, true]).show(ui, |ui| self.controls(ui));
-                    self.controls_width = scroll.content_size.x;
-                });
+            rects.controls = Some(self.controls_panel(ui, bar, window.width()));
         }
         if panels.plots {
-            // What the viewports get of the rest: less the central panel's margins and the step
-            // strip (between the plots and the viewports).
-            let mut rest = ui.available_rect_before_wrap().size() - central.total_margin().sum();
-            if panels.steps {
-                rest.y -= self.strip_height;
-            }
             // The share is of the whole window (the root ui may have a margin: test harnesses).
-            let max = plots_max_height(ui.ctx().content_rect().size(), rest);
-            egui::Panel::bottom("plots")
+            let max = plots_max_height(ui.ctx().content_rect().size(), rest(ui, 0.0));
+            let shown = egui::Panel::bottom("plots")
                 .frame(bar)
                 .resizable(true)
                 .default_size(
@@ -110,6 +137,7 @@ impl ViewerApp {
                     rects.plots_toolbar = Some(self.plots(ui));
                     rects.plots_content = Some(ui.min_rect());
                 });
+            rects.plots_panel = Some(shown.response.rect);
         }
         if panels.steps {
             let strip = egui::Panel::bottom("steps")
@@ -148,6 +176,32 @@ impl ViewerApp {
         egui::CentralPanel::default()
             .frame(central)
             .show(ui, |ui| self.viewports(ui));
+    }
+
+    /// The parameter panel on the left of `ui` in a window `window_width` points wide; its
+    /// rectangle.
+    fn controls_panel(
+        &mut self,
+        ui: &mut egui::Ui,
+        bar: egui::Frame,
+        window_width: f32,
+    ) -> egui::Rect {
+        let max_width = (0.3 * window_width).clamp(180.0, 380.0);
+        // The panel grows to its rows up to its widest; rows wider than that (a narrow
+        // window) scroll sideways instead of being cut off.
+        let sideways = self.controls_width > max_width - bar.total_margin().sum().x + 0.5;
+        egui::Panel::left("controls")
+            .frame(bar)
+            .resizable(true)
+            .default_size(250.0)
+            .size_range(180.0..=max_width)
+            .show(ui, |ui| {
+                let scroll =
+                    egui::ScrollArea::new([sideways, true]).show(ui, |ui| self.controls(ui));
+                self.controls_width = scroll.content_size.x;
+            })
+            .response
+            .rect
     }
 
     fn panels_mut(&mut self) -> &mut Panels {

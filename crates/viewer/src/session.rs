@@ -65,8 +65,9 @@ pub struct ViewerOptions {
     pub print_stats: bool,
     /// Inner window size in points (default 1600×900).
     pub window_size: Option<[f32; 2]>,
-    /// Start with the parameter panel open (`true`) or closed (`false`); `None`: open from
-    /// 1350 points wide ([`crate::app::Panels::for_width`]).
+    /// Start with the parameter panel open (`true`) or closed (`false`); `None`: open where
+    /// the window is at least 1350 points wide and the plots panel keeps its wanted height
+    /// with it ([`crate::app::Panels::for_width`]: 1600×900 yes, 1366×768 no).
     pub controls: Option<bool>,
 }
 
