@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """QEM with attributes (`gng3d simplify --method qem`) against meshoptimizer's
-`meshopt_simplifyWithAttributes` at equal face count (docs/notes/attributes.md).
+`meshopt_simplifyWithAttributes` and MeshLab's quadric edge collapse (with texture where the
+mesh has texture coordinates) at equal face count (docs/notes/attributes.md).
 
 Usage (from the repository root, after `cargo build --release -p gng3d-cli`):
 
@@ -8,7 +9,10 @@ Usage (from the repository root, after `cargo build --release -p gng3d-cli`):
         --gng3d $CARGO_TARGET_DIR/release/gng3d [--meshes DIR] [--samples N] [--repeats K]
 
 Needs numpy and the `meshoptimizer` package (its shared library is called through ctypes with
-the argument types declared here: the package's own wrapper declares none).
+the argument types declared here: the package's own wrapper declares none); with `pymeshlab`
+installed, MeshLab runs too (`meshing_decimation_quadric_edge_collapse_with_texture` for a mesh
+with texture coordinates, else `meshing_decimation_quadric_edge_collapse`; MeshLab's defaults,
+the target face count; it reads the file itself and keeps per-vertex normals and colours).
 
 Both outputs are measured the same way, independently of either simplifier:
 - geometry: N points sampled uniformly by area on the output and N on the input; each point's
@@ -192,6 +196,41 @@ def run_meshopt(fn, vpos, vattr, idx, weights, target_faces):
     return time.perf_counter() - t, dest[:n].reshape(-1, 3)
 
 
+def run_meshlab(path, target_faces, orig_attrs):
+    """MeshLab on the file at `path` to `target_faces`: (seconds of the filter alone, output as
+    (positions, faces, attributes) in the layout `load` gives)."""
+    import pymeshlab
+
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(path)
+    uv = orig_attrs.get("uv") is not None
+    t = time.perf_counter()
+    if uv:
+        ms.meshing_decimation_quadric_edge_collapse_with_texture(targetfacenum=target_faces)
+    else:
+        ms.meshing_decimation_quadric_edge_collapse(targetfacenum=target_faces)
+    dt = time.perf_counter() - t
+    m = ms.current_mesh()
+    pos = m.vertex_matrix().astype(np.float64)
+    faces = m.face_matrix().astype(np.int64)
+    attrs = {}
+    if uv:
+        attrs["uv"] = m.wedge_tex_coord_matrix().astype(np.float64).reshape(-1, 3, 2)
+    if orig_attrs.get("normal") is not None:
+        attrs["normal"] = m.vertex_normal_matrix().astype(np.float64)[faces]
+    if orig_attrs.get("color") is not None:
+        attrs["color"] = m.vertex_color_matrix().astype(np.float64)[faces]
+    return dt, (pos, faces, attrs)
+
+
+def has_meshlab():
+    try:
+        import pymeshlab  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 # --- the independent measurement ---
 
 
@@ -342,6 +381,7 @@ def main():
     ap.add_argument("--ours-weights", default=None,
                     help="gng3d's --attribute-weights when not --weights (weight experiments)")
     ap.add_argument("--only", default=None, help="comma-separated mesh file names to run")
+    ap.add_argument("--no-meshlab", action="store_true", help="leave MeshLab out")
     ap.add_argument("--extra", default="", help="more gng3d simplify flags")
     args = ap.parse_args()
     weights = {k: float(v) for k, v in (kv.split("=") for kv in args.weights.split(","))}
@@ -354,6 +394,9 @@ def main():
     if args.only:
         meshes = [m for m in meshes if os.path.basename(m) in args.only.split(",")]
     tmp = tempfile.mkdtemp(prefix="attr_vs_meshopt_")
+    meshlab = has_meshlab() and not args.no_meshlab
+    if not meshlab:
+        print("MeshLab: skipped (pymeshlab not installed, or --no-meshlab)")
     print(f"weights {args.weights}; {args.samples} samples per direction; time: min of "
           f"{args.repeats}, alternating")
     print("| mesh | share | method | faces | Hausdorff | mean | UV mean / 99 % | colour mean / 99 % "
@@ -368,11 +411,15 @@ def main():
             target = max(4, round(len(orig[1]) * share))
             ours = os.path.join(tmp, f"{name}-{share}-gng3d{ext}")
             extra = ["--attribute-weights", args.ours_weights or args.weights] + args.extra.split()
-            t_ours, t_mo = [], []
+            t_ours, t_mo, t_ml = [], [], []
+            ml = None
             for _ in range(args.repeats):
                 t_ours.append(gng3d_run(args.gng3d, mesh, ours, target, extra))
                 dt, mo_faces = run_meshopt(fn, vpos, vattr, idx, w, target)
                 t_mo.append(dt)
+                if meshlab:
+                    dt, ml = run_meshlab(mesh, target, orig[2])
+                    t_ml.append(dt)
             a = load(ours)
             # meshoptimizer's output: its kept wedge vertices with their values.
             mo_pos = vpos.astype(np.float64)
@@ -383,7 +430,10 @@ def main():
                     mo_attr[key] = vattr[:, col:col + k].astype(np.float64)[mo_faces]
                     col += k
             mo = (mo_pos, mo_faces.astype(np.int64), mo_attr)
-            for label, res, t in (("gng3d QEM", a, min(t_ours)), ("meshoptimizer", mo, min(t_mo))):
+            runs = [("gng3d QEM", a, min(t_ours)), ("meshoptimizer", mo, min(t_mo))]
+            if ml is not None:
+                runs.append(("MeshLab", ml, min(t_ml)))
+            for label, res, t in runs:
                 m = measure(orig, res, args.samples)
                 flips = uv_flips(orig, res)
 
