@@ -4,10 +4,12 @@
 //! are the doc comments here.
 
 mod convert;
+mod file;
 mod run;
 mod trainer;
 
 use convert::{mesh_error, mesh_from};
+use mesh::attributes::Attributes;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -109,14 +111,23 @@ impl SimplifyResult {
     /// The Python result of a finished run; its warnings are raised as `Gng3dWarning`s.
     fn new(py: Python<'_>, outcome: Outcome) -> PyResult<SimplifyResult> {
         warn_all(py, &outcome.warnings)?;
+        SimplifyResult::build(py, &outcome.mesh, &outcome.report)
+    }
+
+    /// The Python result of `mesh` and `report` (warnings already raised).
+    fn build(
+        py: Python<'_>,
+        mesh: &mesh::TriMesh,
+        report: &serde_json::Value,
+    ) -> PyResult<SimplifyResult> {
         Ok(SimplifyResult {
-            vertices: convert::positions_array(py, &outcome.mesh.positions)
+            vertices: convert::positions_array(py, &mesh.positions)
                 .into_any()
                 .unbind(),
-            faces: convert::index_array(py, &outcome.mesh.triangles)
+            faces: convert::index_array(py, &mesh.triangles)
                 .into_any()
                 .unbind(),
-            report: to_python(py, &outcome.report)?.unbind(),
+            report: to_python(py, report)?.unbind(),
         })
     }
 }
@@ -221,50 +232,275 @@ fn simplify(
     threshold: Option<f64>,
     threads: Option<usize>,
 ) -> PyResult<SimplifyResult> {
-    let method = Method::parse(method)?;
-    let size = Size::from_keywords(vertices_target, faces_target, ratio)?;
-    let gng = GngKeywords {
-        time_limit,
-        placement,
-        flips,
-        refit,
-        relax,
-        deviation_repair,
-        epochs,
-        signals,
-        oversample,
-        detail_rounds,
-        threads: None,
-    };
-    let pool = run::pool(threads)?;
-    let outcome = if method == Method::Qem {
-        gng.refuse_for_qem()?;
-        let input = prepared(py, vertices, faces, weld)?;
-        let target = run::qem_target(size, &input)?;
-        py.detach(|| run::run_qem(&input, target, threshold.unwrap_or(0.0), pool.as_ref()))?
-    } else {
-        if threshold.is_some() {
-            return Err(PyValueError::new_err(
-                "threshold applies to method 'qem' only",
-            ));
-        }
-        // Everything that does not need the mesh is checked before reading it, as the CLI does.
-        let options = GngKeywords { threads, ..gng }.options(method, size, seed)?;
-        let input = prepared(py, vertices, faces, weld)?;
+    let request = Request::new(
+        vertices_target,
+        faces_target,
+        ratio,
+        method,
+        GngKeywords {
+            time_limit,
+            placement,
+            flips,
+            refit,
+            relax,
+            deviation_repair,
+            epochs,
+            signals,
+            oversample,
+            detail_rounds,
+            threads,
+        },
+        seed,
+        threshold,
+    )?;
+    let input = prepared(py, vertices, faces, weld)?;
+    let outcome = request.run(py, &input, None)?;
+    SimplifyResult::new(py, outcome)
+}
+
+/// The keywords :func:`simplify` and :func:`simplify_file` share, mapped onto the library's
+/// options and checked before any mesh is read (as the CLI checks its flags before loading).
+struct Request {
+    method: Method,
+    size: Size,
+    /// QEM's pair distance threshold.
+    threshold: f64,
+    /// GNG3D's options (method "gng" and "paper").
+    gng: Option<gng3d_core::GngOptions>,
+    /// The pool of `threads=`.
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Request {
+    /// The request of a call's keywords (`gng.threads` is `threads=`), or the ValueError of the
+    /// first one that is wrong.
+    fn new(
+        vertices_target: Option<usize>,
+        faces_target: Option<usize>,
+        ratio: Option<f64>,
+        method: &str,
+        gng: GngKeywords,
+        seed: u64,
+        threshold: Option<f64>,
+    ) -> PyResult<Request> {
+        let method = Method::parse(method)?;
+        let size = Size::from_keywords(vertices_target, faces_target, ratio)?;
+        let pool = run::pool(gng.threads)?;
+        let options = if method == Method::Qem {
+            gng.refuse_for_qem()?;
+            None
+        } else {
+            if threshold.is_some() {
+                return Err(PyValueError::new_err(
+                    "threshold applies to method 'qem' only",
+                ));
+            }
+            Some(gng.options(method, size, seed)?)
+        };
+        Ok(Request {
+            method,
+            size,
+            threshold: threshold.unwrap_or(0.0),
+            gng: options,
+            pool,
+        })
+    }
+
+    /// The run on a prepared `input` (with `attributes`, kept by the method's attribute-aware
+    /// path), the GIL released.
+    fn run(
+        &self,
+        py: Python<'_>,
+        input: &mesh::TriMesh,
+        attributes: Option<&Attributes>,
+    ) -> PyResult<Outcome> {
+        let pool = self.pool.as_ref();
+        let Some(options) = &self.gng else {
+            let target = run::qem_target(self.size, input)?;
+            return py.detach(|| run::run_qem(input, attributes, target, self.threshold, pool));
+        };
         let run = py.detach(|| {
-            run::run_gng(&input, &options, method, pool.as_ref(), || {
+            run::run_gng(input, attributes, options, self.method, pool, || {
                 Python::attach(|py| py.check_signals().is_err())
             })
         });
         match run {
-            Ok(outcome) => outcome,
-            Err(Some(e)) => return Err(run::gng_error(e)),
-            Err(None) => {
-                return Err(PyKeyboardInterrupt::new_err("GNG3D training interrupted"));
-            }
+            Ok(outcome) => Ok(outcome),
+            Err(Some(e)) => Err(run::gng_error(e)),
+            Err(None) => Err(PyKeyboardInterrupt::new_err("GNG3D training interrupted")),
         }
-    };
-    SimplifyResult::new(py, outcome)
+    }
+}
+
+/// A Python exception of `e`'s type with its message behind `path` ("spot.obj: ..."), unless
+/// the message names it already.
+fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr {
+    let name = path.display().to_string();
+    let message = e.value(py).to_string();
+    if message.starts_with(&name) {
+        return e;
+    }
+    let named = PyErr::from_type(e.get_type(py), format!("{name}: {message}"));
+    named.set_cause(py, Some(e));
+    named
+}
+
+/// Simplify a mesh file into another, keeping its normals, texture coordinates, colours and
+/// materials, as ``gng3d simplify IN OUT`` does.
+///
+/// The file is loaded with its attributes and materials (OBJ, PLY, STL, glTF or GLB, by
+/// extension), welded and cleaned with them (unless ``weld=False``), simplified with the
+/// method's attribute-aware path (QEM keeps them through its contractions and its seams shape
+/// the geometry; GNG3D's triangles follow the seams and take their values from the input's
+/// surface), and written to ``output`` (format by extension) atomically, as :func:`save`
+/// writes. An OBJ output names the input's material libraries, copied next to it with the
+/// textures they name (files already there are left alone); a glTF output keeps a glTF
+/// input's materials and copies its images.
+///
+/// Args:
+///     input: the mesh file to simplify.
+///     output: where the result goes (.obj, .ply, .stl, .gltf, .glb); checked before the
+///         input is read.
+///     vertices_target, faces_target, ratio, method, time_limit, seed, weld, placement, flips,
+///         refit, relax, deviation_repair, epochs, signals, oversample, detail_rounds,
+///         threshold, threads: as for :func:`simplify`, which this function's mesh equals for
+///         a file without attributes.
+///
+/// Returns:
+///     SimplifyResult: as :func:`simplify` returns it (the output's positions and triangles);
+///     its ``.report`` also holds ``input`` and ``output`` (the paths), ``file_vertices``
+///     and ``file_faces`` (the input file's vertex records and triangles, as :func:`load`
+///     counts them) and ``attributes``, the CLI's ``--json`` object: ``input`` (the input's
+///     attributes: ``normals``, ``uv0``, ``uv1``, ``colors``, ``materials``), ``kept`` (those
+///     the output was read back with) and ``dropped`` (what was not written or not copied,
+///     one sentence each).
+///
+/// Warnings (:class:`gng3d.Gng3dWarning`, each naming its file): the loader's, the run's (as
+/// :func:`simplify`) and each entry of ``attributes["dropped"]`` (an attribute the output
+/// format cannot hold, a material file that could not be copied).
+///
+/// Raises:
+///     FileNotFoundError / OSError: the input cannot be read or the output written (its
+///         folder missing or read-only); the message names the file.
+///     ValueError: a malformed input, an unknown extension or bad options; the message names
+///         the file where one is at fault.
+///     RuntimeError: a run that ended without a mesh.
+///     KeyboardInterrupt: Ctrl-C during GNG3D training.
+///
+/// The GIL is released while the file is read, simplified and written.
+///
+/// Example:
+///     >>> r = gng3d.simplify_file("spot.obj", "spot-qem.obj", ratio=0.1, method="qem")  # doctest: +SKIP
+///     >>> r.report["attributes"]["kept"]                                                 # doctest: +SKIP
+///     ['uv0', 'materials']
+#[pyfunction]
+#[pyo3(signature = (
+    input, output, *, vertices_target=None, faces_target=None, ratio=None, method="gng",
+    time_limit=None, seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
+    deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
+    threshold=None, threads=None
+))]
+#[allow(clippy::too_many_arguments)]
+fn simplify_file(
+    py: Python<'_>,
+    input: PathBuf,
+    output: PathBuf,
+    vertices_target: Option<usize>,
+    faces_target: Option<usize>,
+    ratio: Option<f64>,
+    method: &str,
+    time_limit: Option<f64>,
+    seed: u64,
+    weld: bool,
+    placement: Option<String>,
+    flips: Option<bool>,
+    refit: Option<bool>,
+    relax: Option<bool>,
+    deviation_repair: Option<bool>,
+    epochs: Option<f64>,
+    signals: Option<String>,
+    oversample: Option<f64>,
+    detail_rounds: Option<usize>,
+    threshold: Option<f64>,
+    threads: Option<usize>,
+) -> PyResult<SimplifyResult> {
+    let request = Request::new(
+        vertices_target,
+        faces_target,
+        ratio,
+        method,
+        GngKeywords {
+            time_limit,
+            placement,
+            flips,
+            refit,
+            relax,
+            deviation_repair,
+            epochs,
+            signals,
+            oversample,
+            detail_rounds,
+            threads,
+        },
+        seed,
+        threshold,
+    )?;
+    // The output path is checked before reading or simplifying, so a typo costs nothing.
+    let format = mesh::io::Format::from_path(&output)
+        .ok_or_else(|| mesh::error::MeshError::UnknownFormat {
+            path: output.clone(),
+        })
+        .map_err(mesh_error)?;
+    mesh::io::check_writable(&output).map_err(mesh_error)?;
+    let loaded = py.detach(|| mesh::io::load(&input)).map_err(mesh_error)?;
+    let sentences: Vec<String> = loaded
+        .warnings
+        .iter()
+        .map(|w| format!("{}: {w}", input.display()))
+        .collect();
+    warn_all(py, &sentences)?;
+    let (file_vertices, file_faces) = (loaded.mesh.vertex_count(), loaded.mesh.face_count());
+    let materials = loaded.materials.clone();
+    // Welded and cleaned with its attributes, as the CLI prepares what it loads.
+    let (prepared, attributes) = py.detach(|| file::prepare(loaded, weld));
+    let outcome = request
+        .run(py, &prepared, attributes.as_ref())
+        .map_err(|e| naming(py, e, &input))?;
+    let kept = py
+        .detach(|| {
+            file::save(
+                &outcome.mesh,
+                outcome.attributes.as_ref(),
+                materials.as_ref(),
+                &output,
+                format,
+            )
+        })
+        .map_err(|e| naming(py, mesh_error(e), &output))?;
+    let mut sentences: Vec<String> = outcome
+        .warnings
+        .iter()
+        .map(|w| format!("{}: {w}", input.display()))
+        .collect();
+    sentences.extend(
+        kept.dropped
+            .iter()
+            .map(|w| format!("{}: {w}", output.display())),
+    );
+    warn_all(py, &sentences)?;
+    let mut report = outcome.report;
+    if let serde_json::Value::Object(fields) = &mut report {
+        let text = |p: &std::path::Path| serde_json::Value::String(p.display().to_string());
+        fields.insert("input".into(), text(&input));
+        fields.insert("output".into(), text(&output));
+        fields.insert("file_vertices".into(), file_vertices.into());
+        fields.insert("file_faces".into(), file_faces.into());
+        fields.insert(
+            "attributes".into(),
+            serde_json::to_value(&kept).unwrap_or(serde_json::Value::Null),
+        );
+    }
+    SimplifyResult::build(py, &outcome.mesh, &report)
 }
 
 /// The image-space error's keywords of :func:`metrics` as checked parameters: `None` without
@@ -469,6 +705,11 @@ fn measure<'py>(
 /// (m, 3)); polygons are fan-triangulated, degenerate and duplicate faces dropped with a
 /// :class:`gng3d.Gng3dWarning`, as the CLI loads files. Not welded: :func:`simplify` welds.
 ///
+/// Positions and triangles only: when the file also holds normals, texture coordinates,
+/// colours or materials, a :class:`gng3d.Gng3dWarning` names them (e.g. ``spot.obj: texture
+/// coordinates and 1 material not returned (load gives positions only); gng3d.simplify_file
+/// keeps them``). :func:`simplify_file` simplifies a file keeping them.
+///
 /// Raises:
 ///     FileNotFoundError / OSError: the file cannot be read.
 ///     ValueError: the content is malformed (the message names the file and the line).
@@ -480,11 +721,17 @@ fn measure<'py>(
 #[pyfunction]
 fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyTuple>> {
     let loaded = py.detach(|| mesh::io::load(&path)).map_err(mesh_error)?;
-    let sentences: Vec<String> = loaded
+    let mut sentences: Vec<String> = loaded
         .warnings
         .iter()
         .map(|w| format!("{}: {w}", path.display()))
         .collect();
+    if let Some(left_out) = file::not_returned(&loaded) {
+        sentences.push(format!(
+            "{}: {left_out} not returned (load gives positions only); gng3d.simplify_file keeps them",
+            path.display()
+        ));
+    }
     warn_all(py, &sentences)?;
     convert::mesh_tuple(py, &loaded.mesh)
 }
@@ -521,6 +768,7 @@ fn save(
 #[pymodule]
 fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simplify, m)?)?;
+    m.add_function(wrap_pyfunction!(simplify_file, m)?)?;
     m.add_function(wrap_pyfunction!(measure, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;

@@ -4,6 +4,7 @@
 
 use gng3d_core::{GngError, GngOptions, GngTarget, Placement, SignalSource, Trainer};
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use serde::Serialize;
@@ -254,6 +255,8 @@ pub fn gng_error(e: GngError) -> PyErr {
 pub struct Outcome {
     /// The simplified mesh.
     pub mesh: TriMesh,
+    /// The input's attributes on the simplified mesh, when the run was given some.
+    pub attributes: Option<Attributes>,
     /// The CLI's `--json` fields.
     pub report: Value,
     /// One sentence per warning (what the CLI prints on stderr).
@@ -309,6 +312,7 @@ pub fn summarize(
     with_messages(&mut report, &warnings);
     Outcome {
         mesh: result.mesh,
+        attributes: None,
         report,
         warnings,
     }
@@ -316,9 +320,13 @@ pub fn summarize(
 
 /// A GNG3D run on a prepared input, as `gng3d simplify --method gng` runs it (the same training
 /// rounds between progress reports, so the same mesh for the same options and seed).
+/// With `attributes`, the output's triangles follow their seams (`Trainer::with_attributes`)
+/// and its attributes come from the input's surface (`mesh::transfer::transfer_attributes`),
+/// as `gng3d_core::simplify_with_attributes` and the CLI give them.
 /// `interrupted` is asked between rounds (a Python KeyboardInterrupt): `Err(None)` then.
 pub fn run_gng(
     input: &TriMesh,
+    attributes: Option<&Attributes>,
     options: &GngOptions,
     method: Method,
     pool: Option<&rayon::ThreadPool>,
@@ -326,7 +334,10 @@ pub fn run_gng(
 ) -> Result<Outcome, Option<GngError>> {
     let params = options.resolve(input)?;
     let started = Instant::now();
-    let mut trainer = Trainer::new(input, params)?;
+    let mut trainer = match attributes {
+        Some(a) => Trainer::with_attributes(input, a, params)?,
+        None => Trainer::new(input, params)?,
+    };
     let budget = trainer.stats().max_signals;
     let mut stopped = false;
     trainer.train((budget / 20).clamp(1_000, 2_000_000), |_| {
@@ -340,7 +351,13 @@ pub fn run_gng(
     if stopped {
         return Err(None);
     }
-    Ok(finish_gng(&trainer, options, method, started, pool)?)
+    let mut outcome = finish_gng(&trainer, options, method, started, pool)?;
+    outcome.attributes = attributes.map(|a| {
+        in_pool(pool, || {
+            mesh::transfer::transfer_attributes(input, a, &outcome.mesh)
+        })
+    });
+    Ok(outcome)
 }
 
 /// `gng3d simplify --method qem --json`'s summary (crates/cli/src/cli/simplify/qem.rs), plus the
@@ -378,9 +395,11 @@ pub fn qem_target(size: Size, input: &TriMesh) -> PyResult<qem::Target> {
 }
 
 /// A QEM run with the library's parameters for `target` and `threshold`, as
-/// `gng3d simplify --method qem` runs it.
+/// `gng3d simplify --method qem` runs it: with `attributes`, kept through the contractions
+/// (`qem::simplify_with_attributes`, whose seams also shape the geometry).
 pub fn run_qem(
     input: &TriMesh,
+    attributes: Option<&Attributes>,
     target: qem::Target,
     threshold: f64,
     pool: Option<&rayon::ThreadPool>,
@@ -390,8 +409,12 @@ pub fn run_qem(
         pair_threshold: threshold,
         ..qem::QemParams::default()
     };
-    let (simplified, report) = in_pool(pool, || qem::simplify(input, &params))
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let (simplified, kept, report) = in_pool(pool, || match attributes {
+        Some(a) => qem::simplify_with_attributes(input, a, &params)
+            .map(|(mesh, kept, report)| (mesh, Some(kept), report)),
+        None => qem::simplify(input, &params).map(|(mesh, report)| (mesh, None, report)),
+    })
+    .map_err(|e| PyValueError::new_err(e.to_string()))?;
     if simplified.face_count() == 0 {
         return Err(PyRuntimeError::new_err(format!(
             "QEM produced an empty mesh ({} vertices, no triangles)",
@@ -415,6 +438,7 @@ pub fn run_qem(
     };
     Ok(Outcome {
         mesh: simplified,
+        attributes: kept,
         report: serde_json::to_value(&summary).unwrap_or(Value::Null),
         warnings,
     })

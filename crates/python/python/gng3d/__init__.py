@@ -2,8 +2,11 @@
 
 - :func:`simplify` -- GNG3D-Q (default, exact vertex counts), the published GNG3D
   (``method="paper"``) or Garland-Heckbert QEM (``method="qem"``).
+- :func:`simplify_file` -- a mesh file into another, keeping its normals, texture
+  coordinates, colours and materials (as ``gng3d simplify IN OUT``).
 - :func:`metrics` -- the paper's errors and the symmetric surface (Hausdorff) distance.
-- :func:`load` / :func:`save` -- OBJ, PLY and STL files (writes are atomic).
+- :func:`load` / :func:`save` -- OBJ, PLY and STL files as positions and triangles (writes are
+  atomic; ``load`` warns when a file holds attributes it does not return).
 - :class:`Trainer` -- GNG3D step by step (live plots in notebooks).
 - :mod:`gng3d.batch` -- many files at once, on a process pool or a Dask cluster.
 
@@ -18,7 +21,16 @@ Example::
     print(gng3d.metrics(v, f, v2, f2)["hausdorff"]["max"])
 """
 
-from ._gng3d import Gng3dWarning, SimplifyResult, Trainer, load, metrics, save, simplify
+from ._gng3d import (
+    Gng3dWarning,
+    SimplifyResult,
+    Trainer,
+    load,
+    metrics,
+    save,
+    simplify,
+    simplify_file,
+)
 
 __all__ = [
     "Gng3dWarning",
@@ -28,6 +40,7 @@ __all__ = [
     "metrics",
     "save",
     "simplify",
+    "simplify_file",
 ]
 
 

@@ -6,7 +6,16 @@ from typing import Any, Callable, Iterator, Literal, Optional, Tuple, Union, fin
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Gng3dWarning", "SimplifyResult", "Trainer", "load", "metrics", "save", "simplify"]
+__all__ = [
+    "Gng3dWarning",
+    "SimplifyResult",
+    "Trainer",
+    "load",
+    "metrics",
+    "save",
+    "simplify",
+    "simplify_file",
+]
 
 _ArrayLike = npt.ArrayLike
 _Vertices = npt.NDArray[np.float64]
@@ -56,6 +65,37 @@ def simplify(
 ) -> SimplifyResult:
     """Simplify a mesh; ``ratio`` is a share of the input's vertices for every method."""
 
+def simplify_file(
+    input: _PathLike,
+    output: _PathLike,
+    *,
+    vertices_target: Optional[int] = None,
+    faces_target: Optional[int] = None,
+    ratio: Optional[float] = None,
+    method: _Method = "gng",
+    time_limit: Optional[float] = None,
+    seed: int = 0,
+    weld: bool = True,
+    placement: Optional[Literal["node", "project", "quadric"]] = None,
+    flips: Optional[bool] = None,
+    refit: Optional[bool] = None,
+    relax: Optional[bool] = None,
+    deviation_repair: Optional[bool] = None,
+    epochs: Optional[float] = None,
+    signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
+    oversample: Optional[float] = None,
+    detail_rounds: Optional[int] = None,
+    threshold: Optional[float] = None,
+    threads: Optional[int] = None,
+) -> SimplifyResult:
+    """Simplify ``input`` into ``output`` (written atomically), keeping normals, texture
+    coordinates, colours and materials where the output format stores them.
+
+    The options are :func:`simplify`'s. ``report`` also holds ``input``, ``output``,
+    ``file_vertices``, ``file_faces`` and ``attributes`` (``input``, ``kept``, ``dropped``,
+    as ``gng3d simplify --json``); what is dropped is also a :class:`Gng3dWarning`.
+    """
+
 def metrics(
     v0: _ArrayLike,
     f0: _ArrayLike,
@@ -78,7 +118,11 @@ def metrics(
     """
 
 def load(path: _PathLike) -> Tuple[_Vertices, _Faces]:
-    """Read an OBJ, PLY or STL file as ``(vertices, faces)``."""
+    """Read an OBJ, PLY or STL file as ``(vertices, faces)``.
+
+    Warns (:class:`Gng3dWarning`) when the file holds normals, texture coordinates, colours or
+    materials, which are not returned (:func:`simplify_file` keeps them).
+    """
 
 def save(path: _PathLike, vertices: _ArrayLike, faces: _ArrayLike) -> None:
     """Write an OBJ, PLY or STL file atomically."""

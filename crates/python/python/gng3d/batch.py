@@ -1,7 +1,8 @@
 """Simplify many mesh files at once: on a local process pool, or on a Dask cluster.
 
 File paths travel to the workers, not arrays: each worker loads, simplifies and writes its
-files itself (atomically, as :func:`gng3d.save` does). Every file gives one status row -- ok,
+files itself with :func:`gng3d.simplify_file` (atomically, as :func:`gng3d.save` does, keeping
+normals, texture coordinates, colours and materials where the output format stores them). Every file gives one status row -- ok,
 skipped (its output was already there) or error with its message -- instead of an exception,
 so one broken file never stops the others, and nothing is retried silently (a file that fails
 says so in its row). Rows are written to ``stats.csv`` in the output folder as files complete,
@@ -109,7 +110,11 @@ def simplify_file(
     measure: bool = False,
     samples: Optional[int] = None,
 ) -> Dict[str, Any]:
-    """Simplify one file into ``out``; never raises: any error is the row's ``error``."""
+    """Simplify one file into ``out`` with :func:`gng3d.simplify_file`, which keeps its
+    normals, texture coordinates, colours and materials where the output format stores them
+    (what it cannot keep is one of the row's ``warnings``); never raises: any error is the
+    row's ``error``. ``input_vertices`` and ``input_faces`` are the file's vertex records and
+    triangles, as :func:`gng3d.load` counts them."""
     import gng3d
 
     path, out = Path(path), Path(out)
@@ -121,13 +126,16 @@ def simplify_file(
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            v, f = gng3d.load(path)
-            row["input_vertices"], row["input_faces"] = len(v), len(f)
-            result = gng3d.simplify(v, f, **options)
-            gng3d.save(out, result.vertices, result.faces)
+            result = gng3d.simplify_file(path, out, **options)
+        row["input_vertices"] = result.report["file_vertices"]
+        row["input_faces"] = result.report["file_faces"]
         row["warnings"] = "; ".join(str(w.message) for w in caught)
         row["vertices"], row["faces"] = len(result.vertices), len(result.faces)
         if measure:
+            # The geometry only: the file's warnings were raised (and recorded) above.
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", gng3d.Gng3dWarning)
+                v, f = gng3d.load(path)
             m = gng3d.metrics(v, f, result.vertices, result.faces, samples=samples)
             row["hausdorff_max"] = m["hausdorff"]["max"]
             row["hausdorff_mean"] = m["hausdorff"]["mean"]
