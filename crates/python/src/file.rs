@@ -57,21 +57,12 @@ pub fn prepare(loaded: LoadedMesh, weld: bool) -> (TriMesh, Option<Attributes>) 
 
 /// What writing an output did with the input's attributes: the `"attributes"` object of
 /// `gng3d simplify --json`.
-#[derive(Debug, Default, serde::Serialize)]
-pub struct Kept {
-    /// Attributes of the input (`normals`, `uv0`, `uv1`, `colors`, `materials`).
-    pub input: Vec<&'static str>,
-    /// Attributes written to the output (read back from what was written).
-    pub kept: Vec<&'static str>,
-    /// What was not written or not copied, one sentence each (also a warning).
-    pub dropped: Vec<String>,
-}
+pub type Kept = mesh::io::KeptAttributes;
 
-/// Writes `simplified` with `attributes` and `materials` to `path` (`format`) atomically: the
-/// bytes are encoded (`mesh::io::encode_with_attributes`), read back, then written, and the
-/// input's material libraries and textures (OBJ) or images (glTF) copied next to it. An
-/// attribute that does not read back and that no warning of the encoder names gets a sentence
-/// of its own: nothing is dropped silently.
+/// Writes `simplified` with `attributes` and `materials` to `path` (`format`) as `gng3d
+/// simplify` does (`mesh::io::save_checked_with_attributes`: encoded, read back, refused when
+/// an attribute the format stores does not read back, written atomically, the input's material
+/// files or images copied next to it); without attributes, as `gng3d.save` writes.
 pub fn save(
     simplified: &TriMesh,
     attributes: Option<&Attributes>,
@@ -83,45 +74,5 @@ pub fn save(
         mesh::io::save(simplified, path)?;
         return Ok(Kept::default());
     };
-    let (bytes, warnings) =
-        mesh::io::encode_with_attributes(simplified, attributes, materials, format, path)?;
-    let mut dropped: Vec<String> = warnings.iter().map(ToString::to_string).collect();
-    let reread = mesh::io::load_bytes(&bytes, format, path)?;
-    if reread.mesh.face_count() == 0 {
-        return Err(MeshError::Write {
-            path: path.to_path_buf(),
-            message: "the output reads back without faces; nothing written".into(),
-        });
-    }
-    let back = reread
-        .attributes
-        .as_ref()
-        .map(Attributes::names)
-        .unwrap_or_default();
-    let input = attributes.names();
-    let (kept, lost): (Vec<&'static str>, Vec<&'static str>) =
-        input.iter().copied().partition(|n| back.contains(n));
-    for name in lost {
-        if !dropped.iter().any(|w| w.contains(name)) {
-            dropped.push(format!(
-                "{name} not kept: the output does not read back with it"
-            ));
-        }
-    }
-    mesh::io::write_atomic(path, &bytes)?;
-    if attributes.face_material.is_some()
-        && let Some(m) = materials
-    {
-        let copied = match format {
-            Format::Obj => mesh::io::copy_material_files(m, path),
-            Format::Gltf | Format::Glb => mesh::io::copy_gltf_images(m, path),
-            Format::Ply | Format::Stl => Vec::new(),
-        };
-        dropped.extend(copied.iter().map(ToString::to_string));
-    }
-    Ok(Kept {
-        input,
-        kept,
-        dropped,
-    })
+    mesh::io::save_checked_with_attributes(simplified, attributes, materials, path, format)
 }

@@ -296,3 +296,53 @@ fn non_finite_attribute_values_drop_that_attribute_with_a_warning() {
     assert_eq!(a.names(), vec!["normals"]);
     a.validate(&loaded.mesh).unwrap();
 }
+
+#[test]
+fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, mut attributes) = textured_sphere(8, 16);
+    // A second UV set, which OBJ does not store.
+    attributes.uv1 = attributes.uv0.clone();
+    for (name, format, kept) in [
+        ("s.obj", Format::Obj, vec!["normals", "uv0"]),
+        ("s.ply", Format::Ply, vec!["normals", "uv0"]),
+        ("s.glb", Format::Glb, vec!["normals", "uv0", "uv1"]),
+        ("s.stl", Format::Stl, vec![]),
+    ] {
+        let path = dir.path().join(name);
+        let report = save_checked_with_attributes(&mesh, &attributes, None, &path, format)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(report.input, attributes.names(), "{name}");
+        assert_eq!(report.kept, kept, "{name}");
+        // Each attribute not kept is named in a sentence; nothing else is said.
+        for lost in attributes.names().iter().filter(|n| !kept.contains(n)) {
+            assert!(
+                report
+                    .dropped
+                    .iter()
+                    .any(|d| d.contains(lost) || d.contains("STL")),
+                "{name}: {lost} not named in {:?}",
+                report.dropped
+            );
+        }
+        assert_eq!(
+            report.dropped.is_empty(),
+            kept.len() == 3,
+            "{name}: {:?}",
+            report.dropped
+        );
+        // What was written reads back with exactly what is said to be kept.
+        let back = load(&path).unwrap();
+        let names = back.attributes.map(|a| a.names()).unwrap_or_default();
+        assert_eq!(names, kept, "{name}");
+    }
+    // A mesh the writer cannot give faces to is refused and nothing is written.
+    let empty = TriMesh::new(mesh.positions.clone(), Vec::new());
+    let none = Attributes {
+        corners: Vec::new(),
+        ..Attributes::default()
+    };
+    let path = dir.path().join("empty.obj");
+    assert!(save_checked_with_attributes(&empty, &none, None, &path, Format::Obj).is_err());
+    assert!(!path.exists());
+}

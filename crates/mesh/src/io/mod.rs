@@ -630,6 +630,91 @@ pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
     write_atomic(path, &encode(mesh, format, path)?)
 }
 
+/// What writing a mesh with its attributes did with them ([`save_with_attributes`]): the
+/// `"attributes"` object of `gng3d simplify --json` and of the Python report.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+#[non_exhaustive]
+pub struct KeptAttributes {
+    /// Attributes of the input (`normals`, `uv0`, `uv1`, `colors`, `materials`).
+    pub input: Vec<&'static str>,
+    /// Attributes written to the output (it reads back with each of them).
+    pub kept: Vec<&'static str>,
+    /// What was not written or not copied, one sentence each (the caller shows them as warnings).
+    pub dropped: Vec<String>,
+}
+
+impl Format {
+    /// Whether this format stores attribute `name` (as [`Attributes::names`] gives it).
+    pub fn stores(self, name: &str) -> bool {
+        match self {
+            Format::Stl => false,
+            Format::Obj => name != "uv1",
+            Format::Ply => matches!(name, "normals" | "uv0" | "colors"),
+            Format::Gltf | Format::Glb => true,
+        }
+    }
+}
+
+/// Write `mesh` with `attributes` to `path` as `format`, atomically, the one way the front
+/// ends (`gng3d simplify`, Python's `simplify_file`) do: encode ([`encode_with_attributes`]; a
+/// `.gltf` holds its buffer as a `data:` URI), read the bytes back, refuse (nothing written)
+/// when they do not load, hold no face, or lack an attribute the format stores, then write
+/// them ([`write_atomic`]) and copy the input's material files next to an OBJ and its images
+/// next to a glTF (`materials`). What the format cannot hold and what could not be copied are
+/// the returned `dropped` sentences, never silent.
+pub fn save_checked_with_attributes(
+    mesh: &TriMesh,
+    attributes: &Attributes,
+    materials: Option<&Materials>,
+    path: &Path,
+    format: Format,
+) -> Result<KeptAttributes, MeshError> {
+    let refuse = |message: String| MeshError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    let (bytes, warnings) = encode_with_attributes(mesh, attributes, materials, format, path)?;
+    let input = attributes.names();
+    let kept: Vec<&'static str> = input.iter().copied().filter(|n| format.stores(n)).collect();
+    let reread = load_bytes(&bytes, format, path).map_err(|e| {
+        refuse(format!(
+            "the output does not load back ({e}); nothing written"
+        ))
+    })?;
+    let back = reread
+        .attributes
+        .as_ref()
+        .map(Attributes::names)
+        .unwrap_or_default();
+    if reread.mesh.face_count() == 0 || kept.iter().any(|n| !back.contains(n)) {
+        return Err(refuse(format!(
+            "the output does not read back with {}; nothing written",
+            if kept.is_empty() {
+                "its faces".to_string()
+            } else {
+                kept.join(", ")
+            }
+        )));
+    }
+    write_atomic(path, &bytes)?;
+    let mut dropped: Vec<String> = warnings.iter().map(ToString::to_string).collect();
+    if attributes.face_material.is_some()
+        && let Some(m) = materials
+    {
+        let copied = match format {
+            Format::Obj => copy_material_files(m, path),
+            Format::Gltf | Format::Glb => copy_gltf_images(m, path),
+            Format::Ply | Format::Stl => Vec::new(),
+        };
+        dropped.extend(copied.iter().map(ToString::to_string));
+    }
+    Ok(KeptAttributes {
+        input,
+        kept,
+        dropped,
+    })
+}
+
 /// Write `bytes` to `path` atomically: into a hidden temporary sibling (same folder, so the
 /// rename cannot cross file systems), then renamed over `path`. A failure leaves `path` as it
 /// was (absent or the previous content) and removes the temporary file. Every file the project

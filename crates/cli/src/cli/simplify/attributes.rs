@@ -4,10 +4,8 @@
 //! stores them; what is not written is a warning and is named in `--json` (`"attributes"`), and
 //! an output that does not read back with what it was said to keep is an error, not exit 0.
 
-use anyhow::Context;
 use mesh::TriMesh;
 use mesh::attributes::{Attributes, Materials};
-use mesh::io::Format;
 use serde::Serialize;
 use std::path::Path;
 
@@ -20,15 +18,7 @@ pub(crate) struct Extras {
 }
 
 /// What a run did with the input's attributes: the `"attributes"` object of `--json`.
-#[derive(Debug, Default, Serialize)]
-pub(crate) struct Kept {
-    /// Attributes of the input (`normals`, `uv0`, `uv1`, `colors`, `materials`).
-    pub(crate) input: Vec<&'static str>,
-    /// Attributes written to the output.
-    pub(crate) kept: Vec<&'static str>,
-    /// Attributes not written, each with why (also a warning on stderr).
-    pub(crate) dropped: Vec<String>,
-}
+pub(crate) type Kept = mesh::io::KeptAttributes;
 
 /// Load `path` (warnings on stderr) and clean it as `load_input` does (weld, degenerate and
 /// duplicate faces, unreferenced vertices), the attributes following (`raw`: as stored).
@@ -103,16 +93,6 @@ pub(crate) fn transfer(
         .map(|a| mesh::transfer::transfer_attributes(input, a, simplified))
 }
 
-/// Whether `format` stores attribute `name`.
-fn stores(format: Format, name: &str) -> bool {
-    match format {
-        Format::Stl => false,
-        Format::Obj => name != "uv1",
-        Format::Ply => matches!(name, "normals" | "uv0" | "colors"),
-        Format::Gltf | Format::Glb => true,
-    }
-}
-
 /// Write `simplified` with `attributes` to `path` as `crate::cli::save_checked` writes a mesh
 /// (checked, read back, atomic), copying the input's material files next to an OBJ output and
 /// a glTF input's image files next to a glTF output (a `.gltf` holds its buffer as a `data:` URI).
@@ -136,57 +116,18 @@ pub(crate) fn save(
             path.display()
         );
     }
-    let (bytes, warnings) = mesh::io::encode_with_attributes(
+    let kept = mesh::io::save_checked_with_attributes(
         simplified,
         attributes,
         extras.materials.as_ref(),
-        format,
         path,
-    )?;
-    let names = attributes.names();
-    let kept: Vec<&'static str> = names
-        .iter()
-        .copied()
-        .filter(|n| stores(format, n))
-        .collect();
-    // The output must read back with every attribute it is said to keep.
-    let reread = mesh::io::load_bytes(&bytes, format, path).with_context(|| {
-        format!(
-            "{method} produced a mesh the loader refuses; nothing written to {}",
-            path.display()
-        )
-    })?;
-    let back = reread
-        .attributes
-        .as_ref()
-        .map(Attributes::names)
-        .unwrap_or_default();
-    if reread.mesh.face_count() == 0 || kept.iter().any(|n| !back.contains(n)) {
-        anyhow::bail!(
-            "{method}'s output does not read back with {}; nothing written to {}",
-            kept.join(", "),
-            path.display()
-        );
-    }
-    mesh::io::write_atomic(path, &bytes)?;
-    let mut all = warnings;
-    if attributes.face_material.is_some()
-        && let Some(m) = &extras.materials
-    {
-        match format {
-            Format::Obj => all.extend(mesh::io::copy_material_files(m, path)),
-            Format::Gltf | Format::Glb => all.extend(mesh::io::copy_gltf_images(m, path)),
-            Format::Ply | Format::Stl => {}
-        }
-    }
-    for w in &all {
+        format,
+    )
+    .map_err(|e| anyhow::anyhow!("{method}: {e}"))?;
+    for w in &kept.dropped {
         eprintln!("warning: {}: {w}", path.display());
     }
-    Ok(Kept {
-        input: names.clone(),
-        kept,
-        dropped: all.iter().map(ToString::to_string).collect(),
-    })
+    Ok(kept)
 }
 
 /// `summary` with the `"attributes"` object added, for `--json`.
