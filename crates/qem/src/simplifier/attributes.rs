@@ -104,14 +104,12 @@ pub(crate) fn run(
     let mut along = vec![[u32::MAX; 2]; n];
     for k in 0..n {
         let count = found.count[k];
-        // Vertices whose wedges differ without a seam through them (a cone, a pole) are locked
-        // like seam ends and crossings.
+        // Vertices whose wedges differ without a seam through them (a cone, a pole) are fixed
+        // like seam ends and crossings (no seam neighbours: `Seams::is_fixed`).
         if count > 0 || found.multi[k] {
             seam[k] = true;
             if count == 2 {
                 along[k] = found.first[k];
-            } else {
-                locked[k] = true;
             }
         }
     }
@@ -295,7 +293,7 @@ fn corner_sides(view: &View, seams: &Seams, locked: &[bool]) -> Vec<u8> {
     let tris = view.faces;
     let mut side = vec![0u8; tris.len() * 3];
     let (mut reached, mut stack) = (Vec::new(), Vec::new());
-    let movable = seams.seam.iter().zip(locked).map(|(&s, &l)| s && !l);
+    let movable = (0..seams.seam.len()).map(|v| seams.seam[v] && !seams.is_fixed(v) && !locked[v]);
     for (v, _) in movable.enumerate().filter(|&(_, m)| m) {
         let [n0, n1] = seams.along[v];
         let fan = view.fan(v);

@@ -143,6 +143,10 @@ pub(super) struct WedgeValues {
     input: InputValues,
     /// Merged at least once as the survivor of a contraction (its values are interpolated).
     merged: Vec<bool>,
+    /// Each engine face's input wedge per corner, for the vertices never merged: the face's own
+    /// input wedges, but where a face moved onto a fixed seam vertex, that vertex's wedge on
+    /// the face's side.
+    corners: Vec<[u32; 3]>,
 }
 
 impl WedgeValues {
@@ -196,18 +200,37 @@ impl WedgeValues {
             fit,
             input,
             merged: vec![false; vertices],
+            corners: (0..view.faces.len())
+                .map(|f| [0, 1, 2].map(|k| view.wedge(f, k)))
+                .collect(),
         }
+    }
+
+    /// The input wedge of engine face `f` (corners `t`) at its vertex `v`.
+    pub(super) fn corner_wedge(&self, f: usize, v: u32, t: &[u32; 3]) -> u32 {
+        let k = t.iter().position(|&x| x == v).unwrap_or(0);
+        self.corners[f][k]
+    }
+
+    /// Engine face `f` (corners `t`) takes input wedge `w` at its vertex `v`.
+    pub(super) fn set_corner_wedge(&mut self, f: usize, v: u32, t: &[u32; 3], w: u32) {
+        let k = t.iter().position(|&x| x == v).unwrap_or(0);
+        self.corners[f][k] = w;
     }
 
     /// `b` is contracted into `a` at `t` along `a`–`b` (0: at `a`), matched by `seams` (called
     /// before the seams are merged).
     pub(super) fn merge(&mut self, a: usize, b: usize, t: f32, seams: &Seams) {
-        self.merged[a] = true;
         if seams.anchor(a, b) == Some(a) {
             // `a` stays where it is: its values too (the fit of its own faces at its own
-            // position is its value exactly, and b's faces would only blur it).
+            // position is its value exactly, and b's faces would only blur it). A fixed one
+            // keeps its corners' input wedges, the moved faces' set by the engine.
+            if !seams.is_fixed(a) {
+                self.merged[a] = true;
+            }
             return;
         }
+        self.merged[a] = true;
         let (s, len) = (self.input.layout.stride, self.input.layout.fit_len());
         let sides = if seams.seam[a] { 2 } else { 1 };
         for (sa, sb) in seams.matching(a, b).into_iter().enumerate().take(sides) {
@@ -528,7 +551,7 @@ pub(super) fn output(
         let mut c = [0u32; 3];
         for k in 0..3 {
             let v = t[k] as usize;
-            let input = attributes.corners[face_origin[f as usize] as usize][k] as usize;
+            let input = values.corners[f as usize][k] as usize;
             let (id, slot) = if values.merged[v] {
                 let slot = v * 2 + usize::from(side1[f as usize] >> k & 1);
                 (&mut slot_wedge[slot], slot as u32)
