@@ -312,6 +312,24 @@ pub fn prepare(mesh: &TriMesh) -> (TriMesh, CleanReport) {
     (out, report)
 }
 
+/// [`prepare`] of a mesh whose attributes may be absent: with them, [`prepare_with_attributes`]
+/// (they follow the cleaning); without, [`prepare`]. The one branch every loader takes.
+pub fn prepare_with_optional_attributes(
+    mesh: &TriMesh,
+    attributes: Option<&Attributes>,
+) -> (TriMesh, Option<Attributes>, CleanReport) {
+    match attributes {
+        Some(a) => {
+            let (mesh, a, report) = prepare_with_attributes(mesh, a);
+            (mesh, Some(a), report)
+        }
+        None => {
+            let (mesh, report) = prepare(mesh);
+            (mesh, None, report)
+        }
+    }
+}
+
 /// [`prepare`] for a mesh with attributes: the wedges follow the weld and the renumbering,
 /// the corners and materials follow the dropped faces, and wedges no corner uses (or that
 /// repeat another wedge of their vertex) are dropped.

@@ -41,17 +41,16 @@ pub fn not_returned(loaded: &LoadedMesh) -> Option<String> {
 }
 
 /// A file's mesh for a run: welded and cleaned as the CLI prepares what it loads
-/// (`mesh::clean::prepare_with_attributes` with attributes) unless `weld` is false, with the
+/// (`mesh::clean::prepare_with_optional_attributes`) unless `weld` is false, with the
 /// attributes (when the file has any) following the mesh.
 pub fn prepare(loaded: LoadedMesh, weld: bool) -> (TriMesh, Option<Attributes>) {
     let attributes = loaded.attributes.filter(|a| !a.is_empty());
-    match (weld, attributes) {
-        (false, attributes) => (loaded.mesh, attributes),
-        (true, Some(a)) => {
-            let (mesh, a, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
-            (mesh, Some(a))
-        }
-        (true, None) => (mesh::clean::prepare(&loaded.mesh).0, None),
+    if weld {
+        let (mesh, a, _) =
+            mesh::clean::prepare_with_optional_attributes(&loaded.mesh, attributes.as_ref());
+        (mesh, a)
+    } else {
+        (loaded.mesh, attributes)
     }
 }
 

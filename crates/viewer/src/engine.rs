@@ -539,16 +539,10 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
     let values = |a: &Attributes| {
         a.normals.is_some() || a.uv0.is_some() || a.uv1.is_some() || a.colors.is_some()
     };
-    let (mesh, attributes, report) = match loaded.attributes.filter(values) {
-        Some(a) => {
-            let (mesh, a, report) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
-            (mesh, Some(a), report)
-        }
-        None => {
-            let (mesh, report) = mesh::clean::prepare(&loaded.mesh);
-            (mesh, None, report)
-        }
-    };
+    let (mesh, attributes, report) = mesh::clean::prepare_with_optional_attributes(
+        &loaded.mesh,
+        loaded.attributes.as_ref().filter(|a| values(a)),
+    );
     if report.welded_vertices > 0 || report.unreferenced_vertices > 0 {
         warnings.push(format!(
             "cleaned: {} vertices welded, {} unreferenced removed",

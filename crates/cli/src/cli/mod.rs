@@ -237,13 +237,12 @@ pub(crate) fn load_input(path: &std::path::Path, clean: bool) -> anyhow::Result<
             .as_ref()
             .is_some_and(|a| a.face_material.is_some());
     let attributes = loaded.attributes.filter(has_attribute_values);
-    let (mesh, attributes) = match (clean, attributes) {
-        (false, attributes) => (loaded.mesh, attributes),
-        (true, Some(a)) => {
-            let (mesh, a, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
-            (mesh, Some(a))
-        }
-        (true, None) => (mesh::clean::prepare(&loaded.mesh).0, None),
+    let (mesh, attributes) = if clean {
+        let (mesh, a, _) =
+            mesh::clean::prepare_with_optional_attributes(&loaded.mesh, attributes.as_ref());
+        (mesh, a)
+    } else {
+        (loaded.mesh, attributes)
     };
     Ok(Input {
         mesh,

@@ -39,26 +39,15 @@ pub(crate) fn load(path: &Path, raw: bool) -> anyhow::Result<(TriMesh, Extras)> 
             },
         ));
     }
-    Ok(match attributes {
-        Some(a) => {
-            let (mesh, attributes, _) = mesh::clean::prepare_with_attributes(&loaded.mesh, &a);
-            let attributes = Some(attributes);
-            (
-                mesh,
-                Extras {
-                    attributes,
-                    materials,
-                },
-            )
-        }
-        None => (
-            mesh::clean::prepare(&loaded.mesh).0,
-            Extras {
-                attributes: None,
-                materials,
-            },
-        ),
-    })
+    let (mesh, attributes, _) =
+        mesh::clean::prepare_with_optional_attributes(&loaded.mesh, attributes.as_ref());
+    Ok((
+        mesh,
+        Extras {
+            attributes,
+            materials,
+        },
+    ))
 }
 
 /// QEM on `input`, keeping its attributes when it has any; with `lock_border` the vertices on
