@@ -114,11 +114,16 @@ impl Engine {
         self.prefetch_record(b);
     }
 
-    /// Second prefetch stage: the face lists of `a` and `b`.
+    /// Second prefetch stage: the face lists of `a` and `b`, and their carried values in an
+    /// attribute run.
     #[inline]
     pub(super) fn prefetch_lists(&self, a: usize, b: usize) {
         self.prefetch_list(a);
         self.prefetch_list(b);
+        if let Some(values) = &self.values {
+            values.prefetch(a);
+            values.prefetch(b);
+        }
     }
 
     /// Third prefetch stage: the faces of `a` and `b`.

@@ -206,6 +206,27 @@ impl WedgeValues {
         }
     }
 
+    /// Hint the CPU to load vertex `v`'s rows (both sides of `lerp` and `fit`), which a
+    /// contraction of `v` reads and writes ([`WedgeValues::merge`]): in the pass walk these were
+    /// half of `Engine::collapse`'s time on a 69k-face atlas (cache misses on the values of the
+    /// contracted vertex), as the vertex records were before their prefetch.
+    #[inline]
+    pub(super) fn prefetch(&self, v: usize) {
+        let lines = |start: *const u8, bytes: usize| {
+            for offset in (0..bytes).step_by(64) {
+                super::prefetch::prefetch_ptr(start.wrapping_add(offset));
+            }
+            super::prefetch::prefetch_ptr(start.wrapping_add(bytes - 1));
+        };
+        let (s, len) = (self.input.layout.stride, self.input.layout.fit_len());
+        if (v + 1) * 2 * s <= self.lerp.len() {
+            lines(self.lerp[v * 2 * s..].as_ptr().cast(), 2 * s * 4);
+        }
+        if len > 1 && (v + 1) * 2 * len <= self.fit.len() {
+            lines(self.fit[v * 2 * len..].as_ptr().cast(), 2 * len * 8);
+        }
+    }
+
     /// The input wedge of engine face `f` (corners `t`) at its vertex `v`.
     pub(super) fn corner_wedge(&self, f: usize, v: u32, t: &[u32; 3]) -> u32 {
         let k = t.iter().position(|&x| x == v).unwrap_or(0);
