@@ -32,6 +32,17 @@ fn warn_all(py: Python<'_>, messages: &[String]) -> PyResult<()> {
     Ok(())
 }
 
+/// Raises each of `messages` as a `gng3d.Gng3dWarning` that names what it is about
+/// (`subject: message`, as the CLI's `warning:` lines name the file).
+fn warn_about(
+    py: Python<'_>,
+    subject: impl std::fmt::Display,
+    messages: &[impl std::fmt::Display],
+) -> PyResult<()> {
+    let sentences: Vec<String> = messages.iter().map(|m| format!("{subject}: {m}")).collect();
+    warn_all(py, &sentences)
+}
+
 /// A JSON value as the Python object `json.loads` makes of it.
 fn to_python<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?
@@ -141,8 +152,7 @@ fn prepared(
     weld: bool,
 ) -> PyResult<mesh::TriMesh> {
     let (input, warnings) = mesh_from(vertices, faces, "input")?;
-    let sentences: Vec<String> = warnings.iter().map(|w| format!("input: {w}")).collect();
-    warn_all(py, &sentences)?;
+    warn_about(py, "input", &warnings)?;
     if !weld {
         return Ok(input);
     }
@@ -453,12 +463,7 @@ fn simplify_file(
         .map_err(mesh_error)?;
     mesh::io::check_writable(&output).map_err(mesh_error)?;
     let loaded = py.detach(|| mesh::io::load(&input)).map_err(mesh_error)?;
-    let sentences: Vec<String> = loaded
-        .warnings
-        .iter()
-        .map(|w| format!("{}: {w}", input.display()))
-        .collect();
-    warn_all(py, &sentences)?;
+    warn_about(py, input.display(), &loaded.warnings)?;
     let (file_vertices, file_faces) = (loaded.mesh.vertex_count(), loaded.mesh.face_count());
     let materials = loaded.materials.clone();
     // Welded and cleaned with its attributes, as the CLI prepares what it loads.
@@ -477,17 +482,8 @@ fn simplify_file(
             )
         })
         .map_err(|e| naming(py, mesh_error(e), &output))?;
-    let mut sentences: Vec<String> = outcome
-        .warnings
-        .iter()
-        .map(|w| format!("{}: {w}", input.display()))
-        .collect();
-    sentences.extend(
-        kept.dropped
-            .iter()
-            .map(|w| format!("{}: {w}", output.display())),
-    );
-    warn_all(py, &sentences)?;
+    warn_about(py, input.display(), &outcome.warnings)?;
+    warn_about(py, output.display(), &kept.dropped)?;
     let mut report = outcome.report;
     if let serde_json::Value::Object(fields) = &mut report {
         let text = |p: &std::path::Path| serde_json::Value::String(p.display().to_string());
@@ -668,12 +664,8 @@ fn measure<'py>(
     let image = image_params(image_error, image_size, image_threshold, image_flat, images)?;
     let (original, w0) = mesh_from(v0, f0, "original")?;
     let (simplified, w1) = mesh_from(v1, f1, "simplified")?;
-    let sentences: Vec<String> = w0
-        .iter()
-        .map(|w| format!("original: {w}"))
-        .chain(w1.iter().map(|w| format!("simplified: {w}")))
-        .collect();
-    warn_all(py, &sentences)?;
+    warn_about(py, "original", &w0)?;
+    warn_about(py, "simplified", &w1)?;
     let (report, views) = py
         .detach(|| {
             let mut report = metrics::evaluate(&original, &simplified, &params)?;
@@ -721,18 +713,13 @@ fn measure<'py>(
 #[pyfunction]
 fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyTuple>> {
     let loaded = py.detach(|| mesh::io::load(&path)).map_err(mesh_error)?;
-    let mut sentences: Vec<String> = loaded
-        .warnings
-        .iter()
-        .map(|w| format!("{}: {w}", path.display()))
-        .collect();
+    let mut sentences: Vec<String> = loaded.warnings.iter().map(ToString::to_string).collect();
     if let Some(left_out) = file::not_returned(&loaded) {
         sentences.push(format!(
-            "{}: {left_out} not returned (load gives positions only); gng3d.simplify_file keeps them",
-            path.display()
+            "{left_out} not returned (load gives positions only); gng3d.simplify_file keeps them"
         ));
     }
-    warn_all(py, &sentences)?;
+    warn_about(py, path.display(), &sentences)?;
     convert::mesh_tuple(py, &loaded.mesh)
 }
 
@@ -758,8 +745,7 @@ fn save(
 ) -> PyResult<()> {
     let name = path.to_string_lossy().into_owned();
     let (mesh, warnings) = mesh_from(vertices, faces, &name)?;
-    let sentences: Vec<String> = warnings.iter().map(|w| format!("{name}: {w}")).collect();
-    warn_all(py, &sentences)?;
+    warn_about(py, &name, &warnings)?;
     py.detach(|| mesh::io::save(&mesh, &path))
         .map_err(mesh_error)
 }
