@@ -233,35 +233,54 @@ impl Attributes {
                 used[w as usize] = true;
             }
         }
-        let key = |w: usize| {
-            let mut k: Vec<u32> = vec![self.wedge_vertex[w]];
-            if let Some(a) = &self.normals {
-                k.extend(a[w].to_array().map(f32::to_bits));
-            }
-            if let Some(a) = &self.uv0 {
-                k.extend(a[w].to_array().map(f32::to_bits));
-            }
-            if let Some(a) = &self.uv1 {
-                k.extend(a[w].to_array().map(f32::to_bits));
-            }
-            if let Some(a) = &self.colors {
-                k.extend(a[w].to_array().map(f32::to_bits));
-            }
-            k
+        // Bit-identical values (`-0.0` and `0.0` apart, a NaN equal to itself), as a key of the
+        // values' bits would compare them.
+        fn same_bits<T: Copy + Into<[f32; N]>, const N: usize>(
+            v: &Option<Vec<T>>,
+            a: usize,
+            b: usize,
+        ) -> bool {
+            v.as_ref().is_none_or(|v| {
+                let (x, y): ([f32; N], [f32; N]) = (v[a].into(), v[b].into());
+                x.iter().zip(&y).all(|(x, y)| x.to_bits() == y.to_bits())
+            })
+        }
+        let same = |a: usize, b: usize| {
+            same_bits(&self.normals, a, b)
+                && same_bits(&self.uv0, a, b)
+                && same_bits(&self.uv1, a, b)
+                && same_bits(&self.colors, a, b)
         };
-        let mut seen: std::collections::HashMap<Vec<u32>, u32> = Default::default();
+        // The kept wedges of each vertex, chained from `first[vertex]` through `next_kept`: a
+        // wedge is compared with those of its own vertex only (one to three, typically),
+        // instead of hashing every wedge's values (a `Vec` key per wedge and SipHash were 1.0
+        // of QEM's 31 M instructions on spot with attributes).
+        let vertices = self
+            .wedge_vertex
+            .iter()
+            .max()
+            .map_or(0, |&v| v as usize + 1);
+        let mut first = vec![u32::MAX; vertices];
+        let mut next_kept = vec![u32::MAX; n];
         let mut new_index = vec![u32::MAX; n];
         let mut kept: Vec<usize> = Vec::new();
         for w in 0..n {
             if !used[w] {
                 continue;
             }
-            let next = kept.len() as u32;
-            let id = *seen.entry(key(w)).or_insert(next);
-            if id == next {
-                kept.push(w);
+            let v = self.wedge_vertex[w] as usize;
+            let mut k = first[v];
+            while k != u32::MAX && !same(k as usize, w) {
+                k = next_kept[k as usize];
             }
-            new_index[w] = id;
+            new_index[w] = if k == u32::MAX {
+                next_kept[w] = first[v];
+                first[v] = w as u32;
+                kept.push(w);
+                kept.len() as u32 - 1
+            } else {
+                new_index[k as usize]
+            };
         }
         for c in &mut self.corners {
             for w in c.iter_mut() {
@@ -485,5 +504,34 @@ mod tests {
         assert_eq!(one.corners, vec![[0, 1, 2]]);
         assert_eq!(one.uv0.unwrap()[1], Vec2::splat(6.0));
         let _ = mesh;
+    }
+
+    #[test]
+    fn compact_merges_bit_identical_wedges_of_one_vertex_only() {
+        // Vertex 0 has four wedges: 0 and 2 equal, 3 with -0.0 where 0 has 0.0 (bits differ),
+        // 4 unused; vertex 1's wedge 1 holds the same values as wedge 0 (another vertex);
+        // vertex 2's wedges 5 and 6 hold the same NaN bits.
+        let nan = f32::from_bits(0x7fc0_0001);
+        let mut a = Attributes {
+            wedge_vertex: vec![0, 1, 0, 0, 0, 2, 2],
+            corners: vec![[0, 1, 5], [2, 1, 6], [3, 1, 5]],
+            uv0: Some(vec![
+                Vec2::new(0.0, 0.5),
+                Vec2::new(0.0, 0.5),
+                Vec2::new(0.0, 0.5),
+                Vec2::new(-0.0, 0.5),
+                Vec2::new(9.0, 9.0),
+                Vec2::new(nan, 1.0),
+                Vec2::new(nan, 1.0),
+            ]),
+            ..Attributes::default()
+        };
+        a.compact();
+        // Kept in wedge order: 0, 1, 3, 5; 2 → 0, 4 dropped, 6 → 5.
+        assert_eq!(a.wedge_vertex, vec![0, 1, 0, 2]);
+        assert_eq!(a.corners, vec![[0, 1, 3], [0, 1, 3], [2, 1, 3]]);
+        let uv = a.uv0.unwrap();
+        assert_eq!(uv[2].x.to_bits(), (-0.0f32).to_bits());
+        assert_eq!(uv[3].x.to_bits(), nan.to_bits());
     }
 }
