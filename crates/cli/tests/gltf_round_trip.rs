@@ -1,5 +1,5 @@
 //! glTF in, `gng3d simplify` with either method, glTF out (issue 35's round trip): the output
-//! keeps every attribute, reloads, and passes the Khronos glTF-Validator with no error and no
+//! (`.glb`, or `.gltf` + `.bin`) keeps every attribute, reloads, and passes the Khronos glTF-Validator with no error and no
 //! warning (npm `gltf-validator`, found through GLTF_VALIDATOR_MODULE or Node's lookup; the
 //! validation says SKIPPED when node or the module is missing; CI installs both).
 
@@ -73,6 +73,18 @@ fn gltf_with_normals_and_uvs_survives_both_simplifiers_and_validates() {
             assert_eq!(j["attributes"]["input"], names, "{j}");
             assert_eq!(j["attributes"]["kept"], names, "{j}");
             assert_eq!(j["attributes"]["dropped"], serde_json::json!([]), "{j}");
+            if input_name.ends_with(".gltf") {
+                // A .gltf output is written with its buffer in `<stem>.bin` next to it.
+                let bin = format!("{method}-sphere.bin");
+                let json: serde_json::Value =
+                    serde_json::from_slice(&std::fs::read(&output).unwrap()).unwrap();
+                assert_eq!(json["buffers"][0]["uri"], bin.as_str(), "{method}");
+                assert_eq!(
+                    json["buffers"][0]["byteLength"].as_u64(),
+                    Some(std::fs::metadata(dir.path().join(&bin)).unwrap().len()),
+                    "{method}"
+                );
+            }
             let back = mesh::io::load(&output).unwrap();
             assert!(back.warnings.is_empty(), "{:?}", back.warnings);
             let a = back.attributes.expect("attributes in the output");

@@ -48,7 +48,8 @@ fn main() -> ExitCode {
             &attributes,
             l.materials.as_ref(),
             Path::new(output),
-        )?;
+        )?
+        .dropped;
         println!(
             "save {output}: {} warnings ({:.4} s)",
             warnings.len(),

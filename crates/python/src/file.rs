@@ -7,7 +7,7 @@
 use mesh::TriMesh;
 use mesh::attributes::{Attributes, Materials};
 use mesh::error::MeshError;
-use mesh::io::{Format, LoadedMesh};
+use mesh::io::LoadedMesh;
 use std::path::Path;
 
 /// What `load` (positions and triangles only) leaves out of `loaded`, in words ("texture
@@ -58,20 +58,20 @@ pub fn prepare(loaded: LoadedMesh, weld: bool) -> (TriMesh, Option<Attributes>) 
 /// `gng3d simplify --json`.
 pub type Kept = mesh::io::KeptAttributes;
 
-/// Writes `simplified` with `attributes` and `materials` to `path` (`format`) as `gng3d
-/// simplify` does (`mesh::io::save_checked_with_attributes`: encoded, read back, refused when
-/// an attribute the format stores does not read back, written atomically, the input's material
-/// files or images copied next to it); without attributes, as `gng3d.save` writes.
+/// Writes `simplified` with `attributes` and `materials` to `path` (format by extension) as
+/// `gng3d simplify` does, through the mesh crate's one checked writer
+/// (`mesh::io::save_with_attributes`, or `mesh::io::save` without attributes, as `gng3d.save`
+/// writes): encoded, read back, refused with nothing written when it does not load, holds no
+/// face or lacks an attribute the format stores, written atomically (a `.gltf` with its
+/// `<stem>.bin`), the input's material files or images copied next to it.
 pub fn save(
     simplified: &TriMesh,
     attributes: Option<&Attributes>,
     materials: Option<&Materials>,
     path: &Path,
-    format: Format,
 ) -> Result<Kept, MeshError> {
-    let Some(attributes) = attributes else {
-        mesh::io::save(simplified, path)?;
-        return Ok(Kept::default());
-    };
-    mesh::io::save_checked_with_attributes(simplified, attributes, materials, path, format)
+    match attributes {
+        Some(a) => mesh::io::save_with_attributes(simplified, a, materials, path),
+        None => mesh::io::save(simplified, path).map(|()| Kept::default()),
+    }
 }

@@ -456,7 +456,7 @@ fn simplify_file(
         threshold,
     )?;
     // The output path is checked before reading or simplifying, so a typo costs nothing.
-    let format = mesh::io::Format::from_path(&output)
+    mesh::io::Format::from_path(&output)
         .ok_or_else(|| mesh::error::MeshError::UnknownFormat {
             path: output.clone(),
         })
@@ -478,7 +478,6 @@ fn simplify_file(
                 outcome.attributes.as_ref(),
                 materials.as_ref(),
                 &output,
-                format,
             )
         })
         .map_err(|e| naming(py, mesh_error(e), &output))?;

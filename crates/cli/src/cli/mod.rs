@@ -290,16 +290,30 @@ pub(crate) fn prepare_output_folder(dir: &std::path::Path) -> anyhow::Result<()>
     Ok(())
 }
 
-/// Writes a simplified mesh, after making sure it is one: at least one triangle, and bytes that
-/// the project's own loader reads back (so a zero-vertex, non-finite or otherwise unloadable
-/// result is an error, never an exit-0 output). Atomic (temporary file + rename).
+/// Writes a simplified mesh (positions and triangles) as [`save_output`] does.
 pub(crate) fn save_checked(
     mesh: &mesh::TriMesh,
     path: &std::path::Path,
     method: &str,
 ) -> anyhow::Result<()> {
-    use anyhow::Context;
-    let format = check_output_mesh_path(path)?;
+    save_output(mesh, None, None, path, method).map(|_| ())
+}
+
+/// Writes the mesh `method` produced to `path`, with `attributes` (and the input's
+/// `materials`) when given, through the mesh crate's one checked writer
+/// (`mesh::io::save_with_attributes`, or `mesh::io::save` without attributes): an output
+/// without triangles, or one that does not read back (with what its format stores), is an error
+/// and nothing is written, never an exit-0 output. Atomic; a `.gltf` is written with its
+/// `<stem>.bin`. What the format cannot keep goes to stderr as `warning:` lines and into the
+/// returned report (the `"attributes"` object of `--json`).
+pub(crate) fn save_output(
+    mesh: &mesh::TriMesh,
+    attributes: Option<&mesh::attributes::Attributes>,
+    materials: Option<&mesh::attributes::Materials>,
+    path: &std::path::Path,
+    method: &str,
+) -> anyhow::Result<mesh::io::KeptAttributes> {
+    check_output_mesh_path(path)?;
     if mesh.face_count() == 0 {
         anyhow::bail!(
             "{method} produced an empty mesh ({} vertices, no triangles); nothing written to {}",
@@ -307,21 +321,15 @@ pub(crate) fn save_checked(
             path.display()
         );
     }
-    let bytes = mesh::io::encode(mesh, format, path)?;
-    let reread = mesh::io::load_bytes(&bytes, format, path).with_context(|| {
-        format!(
-            "{method} produced a mesh the loader refuses; nothing written to {}",
-            path.display()
-        )
-    })?;
-    if reread.mesh.face_count() == 0 {
-        anyhow::bail!(
-            "{method} produced a mesh without usable triangles; nothing written to {}",
-            path.display()
-        );
+    let kept = match attributes {
+        Some(a) => mesh::io::save_with_attributes(mesh, a, materials, path),
+        None => mesh::io::save(mesh, path).map(|()| mesh::io::KeptAttributes::default()),
     }
-    mesh::io::write_atomic(path, &bytes)?;
-    Ok(())
+    .map_err(|e| anyhow::anyhow!("{method}: {e}"))?;
+    for w in &kept.dropped {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+    Ok(kept)
 }
 
 /// Writes `bytes` to `path` atomically (`mesh::io::write_atomic`).

@@ -39,7 +39,9 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, attributes) = textured_sphere(8, 16);
     let path = dir.path().join("sphere.obj");
-    let warnings = save_with_attributes(&mesh, &attributes, None, &path).unwrap();
+    let warnings = save_with_attributes(&mesh, &attributes, None, &path)
+        .unwrap()
+        .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     let back = load(&path).unwrap();
     assert!(back.warnings.is_empty(), "{:?}", back.warnings);
@@ -79,6 +81,7 @@ fn ply_round_trip_keeps_normals_uvs_and_colours() {
     assert!(
         save_with_attributes(&mesh, &attributes, None, &path)
             .unwrap()
+            .dropped
             .is_empty()
     );
     let back = load(&path).unwrap();
@@ -87,7 +90,7 @@ fn ply_round_trip_keeps_normals_uvs_and_colours() {
     assert_eq!(back.mesh.vertex_count(), w);
     let a = back.attributes.unwrap();
     assert_eq!(a.names(), vec!["normals", "uv0", "colors"]);
-    assert_values_close(&a, &attributes, 1e-6);
+    assert_values_close(&a, &attributes, 1e-5);
     // ... and the weld joins it again: the sphere's vertices, the same seams.
     let (welded, wa, report) = crate::clean::prepare_with_attributes(&back.mesh, &a);
     assert_eq!(welded.vertex_count(), mesh.vertex_count());
@@ -125,7 +128,9 @@ fn obj_materials_are_read_written_and_copied() {
 
     let out = tempfile::tempdir().unwrap();
     let to = out.path().join("copy.obj");
-    let warnings = save_with_attributes(&loaded.mesh, &a, Some(&materials), &to).unwrap();
+    let warnings = save_with_attributes(&loaded.mesh, &a, Some(&materials), &to)
+        .unwrap()
+        .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(
         fs::read(out.path().join("box.mtl")).unwrap(),
@@ -148,9 +153,12 @@ fn obj_materials_are_read_written_and_copied() {
         Some(&materials),
         &out2.path().join("c.obj"),
     )
-    .unwrap();
+    .unwrap()
+    .dropped;
+    let gone = src.path().join("box.mtl");
     assert!(
-        matches!(&warnings[..], [MeshWarning::MaterialFileNotCopied { path, .. }] if path.ends_with("box.mtl"))
+        matches!(&warnings[..], [w] if w.starts_with(&format!("material file {} not copied", gone.display()))),
+        "{warnings:?}"
     );
 }
 
@@ -303,14 +311,16 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
     let (mesh, mut attributes) = textured_sphere(8, 16);
     // A second UV set, which OBJ does not store.
     attributes.uv1 = attributes.uv0.clone();
-    for (name, format, kept) in [
-        ("s.obj", Format::Obj, vec!["normals", "uv0"]),
-        ("s.ply", Format::Ply, vec!["normals", "uv0"]),
-        ("s.glb", Format::Glb, vec!["normals", "uv0", "uv1"]),
-        ("s.stl", Format::Stl, vec![]),
+    let all = vec!["normals", "uv0", "uv1"];
+    for (name, kept) in [
+        ("s.obj", vec!["normals", "uv0"]),
+        ("s.ply", vec!["normals", "uv0"]),
+        ("s.glb", all.clone()),
+        ("s.gltf", all.clone()),
+        ("s.stl", vec![]),
     ] {
         let path = dir.path().join(name);
-        let report = save_checked_with_attributes(&mesh, &attributes, None, &path, format)
+        let report = save_with_attributes(&mesh, &attributes, None, &path)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(report.input, attributes.names(), "{name}");
         assert_eq!(report.kept, kept, "{name}");
@@ -343,6 +353,92 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
         ..Attributes::default()
     };
     let path = dir.path().join("empty.obj");
-    assert!(save_checked_with_attributes(&empty, &none, None, &path, Format::Obj).is_err());
+    let err = save_with_attributes(&empty, &none, None, &path).unwrap_err();
+    assert!(err.to_string().contains("nothing written"), "{err}");
     assert!(!path.exists());
+}
+
+#[test]
+fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, mut attributes) = textured_sphere(8, 16);
+    attributes.uv1 = attributes.uv0.clone();
+    attributes.colors = Some(vec![
+        Vec4::new(0.25, 0.5, 0.75, 1.0);
+        attributes.wedge_count()
+    ]);
+    let path = dir.path().join("globe.gltf");
+    let report = save_with_attributes(&mesh, &attributes, None, &path).unwrap();
+    assert_eq!(report.kept, vec!["normals", "uv0", "uv1", "colors"]);
+    assert!(report.dropped.is_empty(), "{:?}", report.dropped);
+    // Two files and nothing else: the JSON names its buffer file, which holds the data.
+    let mut files: Vec<String> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(files, ["globe.bin", "globe.gltf"]);
+    let json: serde_json::Value = serde_json::from_slice(&fs::read(&path).unwrap()).unwrap();
+    assert_eq!(json["buffers"][0]["uri"], "globe.bin");
+    assert_eq!(
+        json["buffers"][0]["byteLength"].as_u64().unwrap(),
+        fs::metadata(dir.path().join("globe.bin")).unwrap().len()
+    );
+    let back = load(&path).unwrap();
+    assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+    assert_eq!(back.mesh.face_count(), mesh.face_count());
+    let a = back.attributes.unwrap();
+    assert_eq!(a.names(), attributes.names());
+    assert_values_close(&a, &attributes, 1e-5);
+    // Positions only through `save`: the same two files, the same check.
+    let plain = dir.path().join("plain.gltf");
+    save(&mesh, &plain).unwrap();
+    assert!(dir.path().join("plain.bin").exists());
+    assert_eq!(load(&plain).unwrap().mesh, mesh);
+}
+
+#[test]
+fn positions_only_and_attribute_saves_refuse_the_same_outputs_and_write_nothing() {
+    let (mesh, attributes) = textured_sphere(4, 8);
+    // No triangles; and a NaN position, which every format encodes but none reads back.
+    let empty = TriMesh::new(mesh.positions.clone(), Vec::new());
+    let no_corners = Attributes {
+        corners: Vec::new(),
+        ..Attributes::default()
+    };
+    let mut nan = mesh.clone();
+    nan.positions[3].x = f32::NAN;
+    for name in ["m.obj", "m.ply", "m.stl", "m.glb", "m.gltf"] {
+        for (what, m, a, refusal) in [
+            (
+                "empty",
+                &empty,
+                &no_corners,
+                "no triangles; nothing written",
+            ),
+            ("NaN", &nan, &attributes, "does not load back"),
+        ] {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join(name);
+            let plain = save(m, &path).unwrap_err();
+            let with = save_with_attributes(m, a, None, &path).unwrap_err();
+            for err in [&plain, &with] {
+                assert!(
+                    matches!(err, MeshError::Write { path: p, .. } if *p == path),
+                    "{name} {what}: {err}"
+                );
+                let text = err.to_string();
+                assert!(
+                    text.contains(refusal) && text.contains("nothing written"),
+                    "{name} {what}: {text}"
+                );
+            }
+            // Neither the mesh nor a .bin, nor a temporary file.
+            assert_eq!(
+                fs::read_dir(dir.path()).unwrap().count(),
+                0,
+                "{name} {what}"
+            );
+        }
+    }
 }

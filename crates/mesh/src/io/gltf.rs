@@ -595,8 +595,14 @@ struct Vertices {
 
 /// Parse a `.gltf` or `.glb` file (told apart by the GLB magic bytes; when `binary`, content
 /// that is neither is reported as a broken GLB header); external buffers are resolved against
-/// the folder of `path`.
-pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, MeshError> {
+/// the folder of `path`, except a buffer whose URI names `side` (file name, bytes): it is read
+/// from those bytes (the `.bin` of a `.gltf` being written, checked before either file exists).
+pub(crate) fn parse(
+    bytes: &[u8],
+    path: &Path,
+    binary: bool,
+    side: Option<SideBuffer>,
+) -> Result<RawMesh, MeshError> {
     let (json_bytes, bin) = if bytes.starts_with(GLB_MAGIC) {
         split_glb(bytes, path)?
     } else if binary && bytes.trim_ascii_start().first() != Some(&b'{') {
@@ -679,7 +685,10 @@ pub(crate) fn parse(bytes: &[u8], path: &Path, binary: bool) -> Result<RawMesh, 
     let doc = ::gltf::Document::from_json(root)
         .map_err(|e| MeshError::parse(path, "document", invalid_document(&e)))?;
     let dir = path.parent().unwrap_or(Path::new(""));
-    let buffers = doc.buffers().map(|b| load_buffer(&b, bin, dir)).collect();
+    let buffers = doc
+        .buffers()
+        .map(|b| load_buffer(&b, bin, side, dir))
+        .collect();
     let source = Source {
         doc: &doc,
         buffers,
@@ -1004,9 +1013,18 @@ fn invalid_document(e: &::gltf::Error) -> String {
     }
 }
 
-/// The bytes of `buffer`: the GLB BIN chunk, a `data:` URI or a file next to the glTF; checked
-/// against the declared `byteLength`.
-fn load_buffer(buffer: &::gltf::Buffer, bin: Option<&[u8]>, dir: &Path) -> Result<Vec<u8>, String> {
+/// A buffer file handed over in memory: its name next to the `.gltf` (as the URI names it,
+/// percent-decoded) and its bytes.
+pub(crate) type SideBuffer<'a> = (&'a str, &'a [u8]);
+
+/// The bytes of `buffer`: the GLB BIN chunk, a `data:` URI, the `side` buffer when the URI names
+/// it, or a file next to the glTF; checked against the declared `byteLength`.
+fn load_buffer(
+    buffer: &::gltf::Buffer,
+    bin: Option<&[u8]>,
+    side: Option<SideBuffer>,
+    dir: &Path,
+) -> Result<Vec<u8>, String> {
     let data = match buffer.source() {
         ::gltf::buffer::Source::Bin => match bin {
             Some(b) if buffer.index() == 0 => b.to_vec(),
@@ -1020,8 +1038,14 @@ fn load_buffer(buffer: &::gltf::Buffer, bin: Option<&[u8]>, dir: &Path) -> Resul
         ::gltf::buffer::Source::Uri(uri) => match data_uri(uri) {
             Some(r) => r?,
             None => {
-                let file = dir.join(percent_decode(uri));
-                std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))?
+                let name = percent_decode(uri);
+                if let Some((_, bytes)) = side.filter(|(n, _)| *n == name) {
+                    bytes.to_vec()
+                } else {
+                    let file = dir.join(name);
+                    std::fs::read(&file)
+                        .map_err(|e| format!("cannot read {}: {e}", file.display()))?
+                }
             }
         },
     };

@@ -5,8 +5,15 @@
 //! unreferenced ones) in file order, polygons are fan-triangulated, and only faces with a
 //! repeated vertex index or a vertex set equal to an earlier face are dropped (reported as
 //! [`MeshWarning`]s). Malformed input gives a [`MeshError`] naming the file and the line or
-//! element. [`save`] writes to a temporary file in the target directory and renames it, so a
-//! failed write never leaves a partial output; [`write_atomic`] does the same for any bytes.
+//! element.
+//!
+//! [`save_with_attributes`] is the one mesh writer ([`save`] is it without attributes): it
+//! encodes, reads the bytes back with the loader and refuses (writing nothing) an output that
+//! does not load, holds no face or lacks an attribute the format stores, then writes each file
+//! to a temporary sibling and renames it, so a failed write never leaves a partial or
+//! unloadable output; [`write_atomic`] does the same for any bytes. A `.gltf` is written with
+//! its buffer in `<stem>.bin` next to it; [`encode`] and [`encode_with_attributes`] give the
+//! bytes of one file (a `.gltf` then holds its buffer as a `data:` URI).
 
 mod gltf;
 mod matconv;
@@ -145,11 +152,22 @@ pub fn load_obj_with_tobj(path: &Path) -> Result<LoadedMesh, MeshError> {
 /// external buffers (`.bin` files) are read from (a `.gltf` and a `.glb` are told apart by their
 /// content, so either format reads both).
 pub fn load_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<LoadedMesh, MeshError> {
+    load_encoded(bytes, None, format, path)
+}
+
+/// [`load_bytes`], with the buffer file that a `.gltf` names as `side` read from memory (the
+/// check of [`save_with_attributes`] before anything is written).
+fn load_encoded(
+    bytes: &[u8],
+    side: Option<gltf::SideBuffer>,
+    format: Format,
+    path: &Path,
+) -> Result<LoadedMesh, MeshError> {
     let raw = match format {
         Format::Obj => obj::parse(bytes, path)?,
         Format::Ply => ply::parse(bytes, path)?,
         Format::Stl => stl::parse(bytes, path)?,
-        Format::Gltf | Format::Glb => gltf::parse(bytes, path, format == Format::Glb)?,
+        Format::Gltf | Format::Glb => gltf::parse(bytes, path, format == Format::Glb, side)?,
     };
     validate(raw, path)
 }
@@ -318,38 +336,12 @@ fn check_indices(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
     Ok(())
 }
 
-/// The bytes [`save`] would write for `mesh` in `format`; `path` only names the file in errors.
-/// Fails on out-of-range indices.
+/// The bytes of `mesh` (positions and triangles only) in `format`, as [`save`] writes them,
+/// except that a `.gltf` holds its buffer as a `data:` URI here (one self-contained file; [`save`]
+/// writes the buffer to `<stem>.bin` instead). `path` only names the file in errors. Fails on
+/// out-of-range indices.
 pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, MeshError> {
-    check_indices(mesh, path)?;
-    Ok(match format {
-        Format::Obj => obj::write(mesh),
-        Format::Ply => ply::write(mesh),
-        Format::Stl => stl::write(mesh).map_err(|e| MeshError::Write {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })?,
-        Format::Gltf | Format::Glb => {
-            gltf::write(
-                mesh,
-                &Attributes::per_vertex(mesh),
-                None,
-                gltf_storage(format),
-                false,
-            )
-            .main
-        }
-    })
-}
-
-/// How [`encode`] and [`encode_with_attributes`] store a glTF buffer: in the GLB container, or
-/// as a `data:` URI so that the one `.gltf` is complete ([`save`] writes a `.bin` instead).
-fn gltf_storage(format: Format) -> gltf::BufferStorage<'static> {
-    if format == Format::Glb {
-        gltf::BufferStorage::Glb
-    } else {
-        gltf::BufferStorage::DataUri
-    }
+    Ok(encode_parts(mesh, None, None, format, path, GltfBuffer::DataUri)?.main)
 }
 
 /// The materials a glTF output of `attributes` writes: a glTF input's as they are, or OBJ
@@ -391,8 +383,9 @@ fn check_attributes(mesh: &TriMesh, attributes: &Attributes, path: &Path) -> Res
 /// a `.gltf`, see [`copy_gltf_images`]), or materials named as in `materials`. An OBJ output of
 /// a glTF input names `<path stem>.mtl`, made from the glTF materials by
 /// [`copy_material_files`]. What does not cross is a warning. A `.gltf` from here holds its
-/// buffer as a `data:` URI; [`save_with_attributes`] writes it to a `.bin` file instead.
-/// Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the problem.
+/// buffer as a `data:` URI (one self-contained file); [`save_with_attributes`] writes it to
+/// `<stem>.bin` instead. Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the
+/// problem.
 pub fn encode_with_attributes(
     mesh: &TriMesh,
     attributes: &Attributes,
@@ -400,17 +393,74 @@ pub fn encode_with_attributes(
     format: Format,
     path: &Path,
 ) -> Result<(Vec<u8>, Vec<MeshWarning>), MeshError> {
-    check_attributes(mesh, attributes, path)?;
-    if matches!(format, Format::Gltf | Format::Glb) {
-        // `validate` has checked every corner against the positions.
-        let (converted, flip_v, warnings) =
-            gltf_materials(attributes, materials, format == Format::Glb);
-        let materials = converted.as_ref().or(materials);
-        let written = gltf::write(mesh, attributes, materials, gltf_storage(format), flip_v);
-        return Ok((written.main, warnings));
+    let encoded = encode_parts(
+        mesh,
+        Some(attributes),
+        materials,
+        format,
+        path,
+        GltfBuffer::DataUri,
+    )?;
+    Ok((encoded.main, encoded.warnings))
+}
+
+/// Where the buffer of a `.gltf` goes ([`encode_parts`]; a `.glb` always holds it in its BIN
+/// chunk).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum GltfBuffer {
+    /// A `data:` URI inside the JSON: one self-contained file ([`encode`],
+    /// [`encode_with_attributes`]).
+    DataUri,
+    /// `<stem>.bin` next to the `.gltf` (what [`save`] and [`save_with_attributes`] write).
+    BinFile,
+}
+
+/// The encoded output of one write, before it is checked and written.
+struct Encoded {
+    /// The file's bytes.
+    main: Vec<u8>,
+    /// The `.bin` file of a `.gltf` with [`GltfBuffer::BinFile`]: its name next to the `.gltf`
+    /// and its bytes.
+    bin: Option<(String, Vec<u8>)>,
+    /// What the format cannot keep, or what did not convert.
+    warnings: Vec<MeshWarning>,
+}
+
+/// The one encoder: `mesh` in `format`, with `attributes` (and their `materials`) when given,
+/// positions and triangles only when not.
+fn encode_parts(
+    mesh: &TriMesh,
+    attributes: Option<&Attributes>,
+    materials: Option<&Materials>,
+    format: Format,
+    path: &Path,
+    gltf_buffer: GltfBuffer,
+) -> Result<Encoded, MeshError> {
+    if let Some(a) = attributes {
+        check_attributes(mesh, a, path)?;
     }
-    let plain = encode(mesh, format, path)?;
+    check_indices(mesh, path)?;
     let mut warnings = Vec::new();
+    let plain = |main| Encoded {
+        main,
+        bin: None,
+        warnings: Vec::new(),
+    };
+    let Some(attributes) = attributes else {
+        return Ok(match format {
+            Format::Obj => plain(obj::write(mesh)),
+            Format::Ply => plain(ply::write(mesh)),
+            Format::Stl => plain(encode_stl(mesh, path)?),
+            Format::Gltf | Format::Glb => encode_gltf(
+                mesh,
+                &Attributes::per_vertex(mesh),
+                None,
+                format,
+                path,
+                gltf_buffer,
+            ),
+        });
+    };
     let mut dropped = |names: Vec<&str>, reason: &str| {
         if !names.is_empty() {
             warnings.push(MeshWarning::AttributesDropped {
@@ -419,10 +469,20 @@ pub fn encode_with_attributes(
             });
         }
     };
-    let bytes = match format {
+    let main = match format {
+        Format::Gltf | Format::Glb => {
+            return Ok(encode_gltf(
+                mesh,
+                attributes,
+                materials,
+                format,
+                path,
+                gltf_buffer,
+            ));
+        }
         Format::Stl => {
             dropped(attributes.names(), "STL stores positions only");
-            plain
+            encode_stl(mesh, path)?
         }
         Format::Obj => {
             let mut not = Vec::new();
@@ -458,75 +518,50 @@ pub fn encode_with_attributes(
             );
             ply::write_with_attributes(mesh, attributes)
         }
-        Format::Gltf | Format::Glb => unreachable!("returned above"),
     };
-    Ok((bytes, warnings))
+    Ok(Encoded {
+        main,
+        bin: None,
+        warnings,
+    })
 }
 
-/// [`save`] with attributes ([`encode_with_attributes`]); for OBJ, the material libraries of
-/// `materials` and the texture files they name are copied next to `path` when they are not
-/// there yet (an existing file of that name is left alone). Returns what was not kept or not
-/// copied, as warnings.
-pub fn save_with_attributes(
-    mesh: &TriMesh,
-    attributes: &Attributes,
-    materials: Option<&Materials>,
-    path: &Path,
-) -> Result<Vec<MeshWarning>, MeshError> {
-    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
+/// Binary STL of `mesh`.
+fn encode_stl(mesh: &TriMesh, path: &Path) -> Result<Vec<u8>, MeshError> {
+    stl::write(mesh).map_err(|e| MeshError::Write {
         path: path.to_path_buf(),
-    })?;
-    if format == Format::Gltf {
-        return save_gltf(mesh, attributes, materials, path);
-    }
-    let (bytes, mut warnings) = encode_with_attributes(mesh, attributes, materials, format, path)?;
-    write_atomic(path, &bytes)?;
-    if format == Format::Obj
-        && attributes.face_material.is_some()
-        && let Some(m) = materials
-    {
-        warnings.extend(copy_material_files(m, path));
-    }
-    if format == Format::Glb
-        && attributes.face_material.is_some()
-        && let Some(m) = materials
-    {
-        warnings.extend(copy_gltf_images(m, path));
-    }
-    Ok(warnings)
+        message: e.to_string(),
+    })
 }
 
-/// A `.gltf` with its buffer in `<file stem>.bin` next to it (written first, both atomically),
-/// and the images of a glTF input copied next to it.
-fn save_gltf(
+/// `mesh` with `attributes` (validated against it) as a `.glb`, or as a `.gltf` with its buffer
+/// stored as `gltf_buffer` says; OBJ materials are converted (textures embedded in a `.glb`).
+fn encode_gltf(
     mesh: &TriMesh,
     attributes: &Attributes,
     materials: Option<&Materials>,
+    format: Format,
     path: &Path,
-) -> Result<Vec<MeshWarning>, MeshError> {
-    check_attributes(mesh, attributes, path)?;
-    let stem = path.file_stem().map_or_else(
-        || "buffer".to_string(),
-        |s| s.to_string_lossy().into_owned(),
-    );
-    let bin_name = format!("{stem}.bin");
-    let (converted, flip_v, mut warnings) = gltf_materials(attributes, materials, false);
+    gltf_buffer: GltfBuffer,
+) -> Encoded {
+    let (converted, flip_v, warnings) =
+        gltf_materials(attributes, materials, format == Format::Glb);
     let materials = converted.as_ref().or(materials);
-    let written = gltf::write(
-        mesh,
-        attributes,
-        materials,
-        gltf::BufferStorage::File(&bin_name),
-        flip_v,
+    let bin_name = path.file_stem().map_or_else(
+        || "buffer.bin".to_string(),
+        |s| format!("{}.bin", s.to_string_lossy()),
     );
-    if let Some(bin) = &written.bin {
-        write_atomic(&path.with_file_name(&bin_name), bin)?;
+    let storage = match (format, gltf_buffer) {
+        (Format::Glb, _) => gltf::BufferStorage::Glb,
+        (_, GltfBuffer::DataUri) => gltf::BufferStorage::DataUri,
+        (_, GltfBuffer::BinFile) => gltf::BufferStorage::File(&bin_name),
+    };
+    let written = gltf::write(mesh, attributes, materials, storage, flip_v);
+    Encoded {
+        main: written.main,
+        bin: written.bin.map(|bytes| (bin_name, bytes)),
+        warnings,
     }
-    write_atomic(path, &written.main)?;
-    if let Some(m) = materials {
-        warnings.extend(copy_gltf_images(m, path));
-    }
-    Ok(warnings)
 }
 
 /// Copies each material library of `materials` and the texture files it names (`map_*`,
@@ -534,6 +569,8 @@ fn save_gltf(
 /// `output`, keeping their relative paths; files already there are left alone. For a glTF
 /// input's materials, writes the material library made from them (`<output stem>.mtl`, which
 /// the OBJ of [`encode_with_attributes`] names) and its texture images next to `output` instead.
+/// [`save_with_attributes`] calls it for an OBJ output; it is public for a caller writing the
+/// bytes of [`encode_with_attributes`] itself.
 pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
     if let Some(plan) = matconv::gltf_to_mtl(materials, output) {
         return matconv::write_mtl(&plan, output);
@@ -616,18 +653,13 @@ pub fn copy_gltf_images(materials: &Materials, output: &Path) -> Vec<MeshWarning
         .unwrap_or_default()
 }
 
-/// Write `mesh` to `path` (OBJ, binary little-endian PLY, binary STL, glTF with a `.bin` next
-/// to it, or GLB, by extension). The data goes to a temporary file in the same directory that
-/// is then renamed over `path`.
+/// Write `mesh` (positions and triangles only) to `path`: OBJ, binary little-endian PLY, binary
+/// STL, glTF (`.gltf` with its buffer in `<stem>.bin` next to it) or GLB, by extension. The
+/// same checked write as [`save_with_attributes`] without attributes: a mesh without
+/// triangles, or bytes that do not load back, are a [`MeshError::Write`] and nothing is
+/// written; each file goes to a temporary sibling that is then renamed over its name.
 pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
-    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
-        path: path.to_path_buf(),
-    })?;
-    if format == Format::Gltf {
-        check_indices(mesh, path)?;
-        return save_gltf(mesh, &Attributes::per_vertex(mesh), None, path).map(|_| ());
-    }
-    write_atomic(path, &encode(mesh, format, path)?)
+    write_checked(mesh, None, None, path).map(|_| ())
 }
 
 /// What writing a mesh with its attributes did with them ([`save_with_attributes`]): the
@@ -655,28 +687,67 @@ impl Format {
     }
 }
 
-/// Write `mesh` with `attributes` to `path` as `format`, atomically, the one way the front
-/// ends (`gng3d simplify`, Python's `simplify_file`) do: encode ([`encode_with_attributes`]; a
-/// `.gltf` holds its buffer as a `data:` URI), read the bytes back, refuse (nothing written)
-/// when they do not load, hold no face, or lack an attribute the format stores, then write
-/// them ([`write_atomic`]) and copy the input's material files next to an OBJ and its images
-/// next to a glTF (`materials`). What the format cannot hold and what could not be copied are
-/// the returned `dropped` sentences, never silent.
-pub fn save_checked_with_attributes(
+/// Write `mesh` with `attributes` to `path` (format by extension), the one checked writer that
+/// the library, `gng3d simplify` and Python's `simplify_file` use:
+///
+/// 1. encode ([`encode_with_attributes`]; a `.gltf` with its buffer in `<stem>.bin`);
+/// 2. read the bytes back with [`load_bytes`] (a `.gltf` with its `.bin` from memory) and
+///    refuse with a [`MeshError::Write`] naming `path` and the problem, writing nothing, when
+///    the mesh has no triangle or the bytes do not load, hold no face, or lack an attribute the
+///    format stores ([`Format::stores`]);
+/// 3. write atomically ([`write_atomic`]; a `.gltf`'s `.bin` first);
+/// 4. copy the material libraries and textures of `materials` next to an OBJ
+///    ([`copy_material_files`]) and the images of a glTF input next to a glTF
+///    ([`copy_gltf_images`]), when the faces have materials.
+///
+/// The returned [`KeptAttributes`] names the input's attributes, those written, and, as
+/// sentences, what the format cannot keep and what could not be copied (never silent). [`save`]
+/// is the same write without attributes.
+pub fn save_with_attributes(
     mesh: &TriMesh,
     attributes: &Attributes,
     materials: Option<&Materials>,
     path: &Path,
-    format: Format,
 ) -> Result<KeptAttributes, MeshError> {
+    write_checked(mesh, Some(attributes), materials, path)
+}
+
+/// [`save_with_attributes`] (`attributes` given) or [`save`] (none): encode, read back, refuse
+/// or write, copy the material files.
+fn write_checked(
+    mesh: &TriMesh,
+    attributes: Option<&Attributes>,
+    materials: Option<&Materials>,
+    path: &Path,
+) -> Result<KeptAttributes, MeshError> {
+    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
     let refuse = |message: String| MeshError::Write {
         path: path.to_path_buf(),
         message,
     };
-    let (bytes, warnings) = encode_with_attributes(mesh, attributes, materials, format, path)?;
-    let input = attributes.names();
+    if mesh.face_count() == 0 {
+        return Err(refuse(format!(
+            "the mesh has {} vertices and no triangles; nothing written",
+            mesh.vertex_count()
+        )));
+    }
+    let encoded = encode_parts(
+        mesh,
+        attributes,
+        materials,
+        format,
+        path,
+        GltfBuffer::BinFile,
+    )?;
+    let input = attributes.map(Attributes::names).unwrap_or_default();
     let kept: Vec<&'static str> = input.iter().copied().filter(|n| format.stores(n)).collect();
-    let reread = load_bytes(&bytes, format, path).map_err(|e| {
+    let side = encoded
+        .bin
+        .as_ref()
+        .map(|(name, bytes)| (name.as_str(), bytes.as_slice()));
+    let reread = load_encoded(&encoded.main, side, format, path).map_err(|e| {
         refuse(format!(
             "the output does not load back ({e}); nothing written"
         ))
@@ -696,10 +767,13 @@ pub fn save_checked_with_attributes(
             }
         )));
     }
-    write_atomic(path, &bytes)?;
-    let mut dropped: Vec<String> = warnings.iter().map(ToString::to_string).collect();
-    if attributes.face_material.is_some()
-        && let Some(m) = materials
+    if let Some((name, bytes)) = &encoded.bin {
+        write_atomic(&path.with_file_name(name), bytes)?;
+    }
+    write_atomic(path, &encoded.main)?;
+    let mut dropped: Vec<String> = encoded.warnings.iter().map(ToString::to_string).collect();
+    if let Some(m) = materials
+        && attributes.is_some_and(|a| a.face_material.is_some())
     {
         let copied = match format {
             Format::Obj => copy_material_files(m, path),

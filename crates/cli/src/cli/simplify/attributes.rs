@@ -82,10 +82,10 @@ pub(crate) fn transfer(
         .map(|a| mesh::transfer::transfer_attributes(input, a, simplified))
 }
 
-/// Write `simplified` with `attributes` to `path` as `crate::cli::save_checked` writes a mesh
-/// (checked, read back, atomic), copying the input's material files next to an OBJ output and
-/// a glTF input's image files next to a glTF output (a `.gltf` holds its buffer as a `data:` URI).
-/// Warnings for what the format cannot keep go to stderr and into the returned [`Kept`].
+/// Write `simplified` with `attributes` to `path` (`crate::cli::save_output`: checked, read
+/// back, atomic; the input's material files copied next to an OBJ output and a glTF input's
+/// image files next to a glTF output; a `.gltf` with its `<stem>.bin`). Warnings for what the
+/// format cannot keep go to stderr and into the returned [`Kept`].
 pub(crate) fn save(
     simplified: &TriMesh,
     attributes: Option<&Attributes>,
@@ -93,30 +93,13 @@ pub(crate) fn save(
     path: &Path,
     method: &str,
 ) -> anyhow::Result<Kept> {
-    let Some(attributes) = attributes else {
-        crate::cli::save_checked(simplified, path, method)?;
-        return Ok(Kept::default());
-    };
-    let format = crate::cli::check_output_mesh_path(path)?;
-    if simplified.face_count() == 0 {
-        anyhow::bail!(
-            "{method} produced an empty mesh ({} vertices, no triangles); nothing written to {}",
-            simplified.vertex_count(),
-            path.display()
-        );
-    }
-    let kept = mesh::io::save_checked_with_attributes(
+    crate::cli::save_output(
         simplified,
         attributes,
         extras.materials.as_ref(),
         path,
-        format,
+        method,
     )
-    .map_err(|e| anyhow::anyhow!("{method}: {e}"))?;
-    for w in &kept.dropped {
-        eprintln!("warning: {}: {w}", path.display());
-    }
-    Ok(kept)
 }
 
 /// `summary` with the `"attributes"` object added, for `--json`.
