@@ -158,13 +158,13 @@ impl WedgeValues {
         let (s, from, len) = (layout.stride, layout.fit_from(), layout.fit_len());
         let mut lerp = vec![0.0; vertices * 2 * s];
         let mut fit = vec![0.0f64; if len > 1 { vertices * 2 * len } else { 0 }];
-        let mut corner = vec![0.0f32; 3 * s];
+        // Whether a side's `lerp` row is written: every corner of a side holds the same values
+        // (a side is bounded by the seams), so the first corner's are copied and the other
+        // corners' skipped (the copies were a third of the set-up's instructions on spot).
+        let mut filled = vec![false; vertices * 2];
         let mut face_fit = vec![0.0f64; len];
         for (f, t) in view.faces.iter().enumerate() {
-            for k in 0..3 {
-                let w = view.wedge(f, k) as usize;
-                corner[k * s..(k + 1) * s].copy_from_slice(input.wedge(w));
-            }
+            let corner = [0, 1, 2].map(|k| input.wedge(view.wedge(f, k) as usize));
             let p = t.map(|v| pos[v as usize]);
             // A degenerate face adds its values with a negligible weight and no gradient, so
             // that a side with degenerate faces only still has a value.
@@ -174,8 +174,8 @@ impl WedgeValues {
             if len > 1 {
                 face_fit[0] = area;
                 for j in from..s {
-                    let s0 = f64::from(corner[j]);
-                    let (s1, s2) = (f64::from(corner[s + j]), f64::from(corner[2 * s + j]));
+                    let s0 = f64::from(corner[0][j]);
+                    let (s1, s2) = (f64::from(corner[1][j]), f64::from(corner[2][j]));
                     let g = (s1 - s0) * t1 + (s2 - s0) * t2;
                     let o = 1 + 4 * (j - from);
                     face_fit[o] = area * g.x;
@@ -186,7 +186,10 @@ impl WedgeValues {
             }
             for k in 0..3 {
                 let slot = t[k] as usize * 2 + side[f * 3 + k] as usize;
-                lerp[slot * s..(slot + 1) * s].copy_from_slice(&corner[k * s..(k + 1) * s]);
+                if !filled[slot] {
+                    filled[slot] = true;
+                    lerp[slot * s..(slot + 1) * s].copy_from_slice(corner[k]);
+                }
                 if len > 1 {
                     let x = &mut fit[slot * len..(slot + 1) * len];
                     for (sum, add) in x.iter_mut().zip(&face_fit) {
