@@ -767,10 +767,18 @@ fn write_checked(
             }
         )));
     }
-    if let Some((name, bytes)) = &encoded.bin {
-        write_atomic(&path.with_file_name(name), bytes)?;
-    }
-    write_atomic(path, &encoded.main)?;
+    // A `.gltf` and its `.bin` together: both written in full before either is renamed, the
+    // `.bin` first (a failed write leaves both files as they were).
+    let bin = encoded
+        .bin
+        .as_ref()
+        .map(|(name, bytes)| (path.with_file_name(name), bytes.as_slice()));
+    let files: Vec<(&Path, &[u8])> = bin
+        .iter()
+        .map(|(p, b)| (p.as_path(), *b))
+        .chain([(path, encoded.main.as_slice())])
+        .collect();
+    write_atomic_all(&files)?;
     let mut dropped: Vec<String> = encoded.warnings.iter().map(ToString::to_string).collect();
     if let Some(m) = materials
         && attributes.is_some_and(|a| a.face_material.is_some())
@@ -799,21 +807,41 @@ fn write_checked(
 /// name near the file system's 255-byte limit still works; temporaries that a process which no
 /// longer runs left in that folder (killed during a write) are removed on the way.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MeshError> {
-    let write_err = |message: String| MeshError::Write {
+    write_atomic_all(&[(path, bytes)])
+}
+
+/// [`write_atomic`] for files that belong together (a `.gltf` and its `.bin`): every file is
+/// written to its temporary sibling first, and only when all of them are complete are they
+/// renamed over their names, in the order given. A failed write removes every temporary and
+/// leaves all the files as they were.
+fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), MeshError> {
+    let write_err = |path: &Path, message: String| MeshError::Write {
         path: path.to_path_buf(),
         message,
     };
-    let target = through_links(path);
-    remove_stale_temporaries(&target);
-    let temp = temp_path(&target);
-    let _in_flight = InFlight::register(&temp);
-    if let Err(e) = std::fs::write(&temp, bytes) {
-        let _ = std::fs::remove_file(&temp);
-        return Err(write_err(e.to_string()));
+    let mut written: Vec<(PathBuf, PathBuf, InFlight)> = Vec::with_capacity(files.len());
+    let remove_all = |written: &[(PathBuf, PathBuf, InFlight)]| {
+        for (temp, _, _) in written {
+            let _ = std::fs::remove_file(temp);
+        }
+    };
+    for &(path, bytes) in files {
+        let target = through_links(path);
+        remove_stale_temporaries(&target);
+        let temp = temp_path(&target);
+        let in_flight = InFlight::register(&temp);
+        if let Err(e) = std::fs::write(&temp, bytes) {
+            let _ = std::fs::remove_file(&temp);
+            remove_all(&written);
+            return Err(write_err(path, e.to_string()));
+        }
+        written.push((temp, target, in_flight));
     }
-    if let Err(e) = std::fs::rename(&temp, &target) {
-        let _ = std::fs::remove_file(&temp);
-        return Err(write_err(e.to_string()));
+    for (i, (temp, target, _)) in written.iter().enumerate() {
+        if let Err(e) = std::fs::rename(temp, target) {
+            remove_all(&written[i..]);
+            return Err(write_err(files[i].0, e.to_string()));
+        }
     }
     Ok(())
 }

@@ -637,3 +637,21 @@ fn writes_in_progress_are_registered_until_they_end() {
     let err = super::check_writable(&missing).unwrap_err().to_string();
     assert!(err.contains("does not exist"), "{err}");
 }
+
+/// Files written together (a `.gltf` and its `.bin`): when one cannot be written, none is
+/// renamed, so the earlier one keeps its old content, and no temporary is left.
+#[test]
+fn files_written_together_are_all_kept_as_they_were_when_one_fails() {
+    let dir = tmp();
+    let bin = dir.path().join("m.bin");
+    std::fs::write(&bin, b"old").unwrap();
+    let unwritable = dir.path().join("no/such/folder/m.gltf");
+    let err = super::write_atomic_all(&[(&bin, b"new"), (&unwritable, b"{}")]).unwrap_err();
+    assert!(err.to_string().contains("m.gltf"), "{err}");
+    assert_eq!(std::fs::read(&bin).unwrap(), b"old");
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("m.bin")]);
+}
