@@ -21,7 +21,9 @@ pub enum Method {
 pub struct SimplifyArgs {
     /// Input mesh (.obj, .ply, .stl, .gltf, .glb).
     pub input: PathBuf,
-    /// Output mesh (.obj, .ply, .stl, .gltf, .glb); written to a temporary file, then renamed.
+    /// Output mesh (.obj, .ply, .stl, .gltf with its .bin beside it, .glb); written to a temporary
+    /// file, then renamed, after the output was read back (nothing is written when it does not
+    /// load back with what the format stores).
     pub output: PathBuf,
     /// Simplification method.
     #[arg(long, value_enum, default_value_t = Method::Qem)]
