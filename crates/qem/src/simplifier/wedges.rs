@@ -173,11 +173,12 @@ impl WedgeValues {
             // corner.
             if len > 1 {
                 face_fit[0] = area;
-                for j in from..s {
-                    let s0 = f64::from(corner[0][j]);
-                    let (s1, s2) = (f64::from(corner[1][j]), f64::from(corner[2][j]));
+                let fitted = corner.map(|c| &c[from..s]);
+                let channels = fitted[0].iter().zip(fitted[1]).zip(fitted[2]);
+                for (i, ((&x0, &x1), &x2)) in channels.enumerate() {
+                    let (s0, s1, s2) = (f64::from(x0), f64::from(x1), f64::from(x2));
                     let g = (s1 - s0) * t1 + (s2 - s0) * t2;
-                    let o = 1 + 4 * (j - from);
+                    let o = 1 + 4 * i;
                     face_fit[o] = area * g.x;
                     face_fit[o + 1] = area * g.y;
                     face_fit[o + 2] = area * g.z;
