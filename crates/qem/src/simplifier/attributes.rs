@@ -117,7 +117,7 @@ pub(crate) fn run(
     let side = corner_sides(&view, &seams, &locked);
     let input = InputValues::of(attributes);
     let attr = attribute_error(&view, &input, &prepared.pos, params, &side);
-    let values = WedgeValues::new(&view, input, &prepared.pos, &side);
+    let values = WedgeValues::new(&view, input, &prepared.pos, &side, &seams.seam);
     let attribute_run = AttributeRun {
         seams,
         edges: found.edges,

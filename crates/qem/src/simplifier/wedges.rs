@@ -132,13 +132,21 @@ impl InputValues {
     }
 }
 
-/// Per engine vertex, two sides of values (see the module docs).
+/// Per engine vertex, two sides of values (see the module docs), in rows ([`WedgeValues::row`]):
+/// row `v` is vertex `v`'s side 0; the seam vertices' side 1 rows follow, then one row of zeros
+/// that stands for the side 1 of every other vertex (never written: only a seam vertex has a
+/// side 1). Before, every vertex had both rows: on a 1.07M-face atlas the values took 98 MB,
+/// most of it zeros faulted in and dragged through the caches.
 pub(super) struct WedgeValues {
-    /// Per vertex, two sides of `stride` values interpolated along the contractions.
+    /// Per row, `stride` values interpolated along the contractions.
     lerp: Vec<f32>,
-    /// Per vertex, two sides of `1 + 4 fitted` sums: the area `W`, then per fitted channel
-    /// `G` (3) and `D` ([`FIT_FROM`](Layout::fit_from) onwards: every channel but the normals).
+    /// Per row, `1 + 4 fitted` sums: the area `W`, then per fitted channel `G` (3) and `D`
+    /// ([`FIT_FROM`](Layout::fit_from) onwards: every channel but the normals).
     fit: Vec<f64>,
+    /// Per vertex, the row of its side 1: its own for a seam vertex, else the zero row.
+    side1: Vec<u32>,
+    /// The row of zeros (the last).
+    zero_row: u32,
     /// The input wedges' values.
     input: InputValues,
     /// Merged at least once as the survivor of a contraction (its values are interpolated).
@@ -151,17 +159,50 @@ pub(super) struct WedgeValues {
 
 impl WedgeValues {
     /// The values of the prepared faces of `view` (positions `pos`, normalised frame) on their
-    /// vertices: `side[3 f + k]` is the side of corner `k` of prepared face `f`.
-    pub(super) fn new(view: &View, input: InputValues, pos: &[DVec3], side: &[u8]) -> WedgeValues {
+    /// vertices: `side[3 f + k]` is the side of corner `k` of prepared face `f`, and only the
+    /// vertices flagged in `seam` have a side 1.
+    pub(super) fn new(
+        view: &View,
+        input: InputValues,
+        pos: &[DVec3],
+        side: &[u8],
+        seam: &[bool],
+    ) -> WedgeValues {
         let vertices = pos.len();
         let layout = input.layout;
         let (s, from, len) = (layout.stride, layout.fit_from(), layout.fit_len());
-        let mut lerp = vec![0.0; vertices * 2 * s];
-        let mut fit = vec![0.0f64; if len > 1 { vertices * 2 * len } else { 0 }];
-        // Whether a side's `lerp` row is written: every corner of a side holds the same values
-        // (a side is bounded by the seams), so the first corner's are copied and the other
-        // corners' skipped (the copies were a third of the set-up's instructions on spot).
-        let mut filled = vec![false; vertices * 2];
+        let mut rows = vertices;
+        let mut side1: Vec<u32> = seam
+            .iter()
+            .map(|&on| {
+                let row = if on { rows } else { u32::MAX as usize };
+                rows += usize::from(on);
+                row as u32
+            })
+            .collect();
+        // The zero row last.
+        let zero = rows as u32;
+        rows += 1;
+        for r in &mut side1 {
+            if *r == u32::MAX {
+                *r = zero;
+            }
+        }
+        let row = |v: u32, k: u8| {
+            if k == 0 {
+                v as usize
+            } else {
+                side1[v as usize] as usize
+            }
+        };
+        let mut lerp = vec![0.0; rows * s];
+        let mut fit = vec![0.0f64; if len > 1 { rows * len } else { 0 }];
+        // Each row's interpolated values are those of its last corner in face order. A side's
+        // corners nearly always hold the same values, but not always (on the 69k-face bunny
+        // atlas the first corner's and the last corner's gave two rows different values), so
+        // the last one stays the rule; the corner is noted here and its values copied once per
+        // row below (copying at every corner was a third of the set-up's instructions on spot).
+        let mut last = vec![u32::MAX; rows];
         let mut face_fit = vec![0.0f64; len];
         for (f, t) in view.faces.iter().enumerate() {
             let corner = [0, 1, 2].map(|k| input.wedge(view.wedge(f, k) as usize));
@@ -186,11 +227,8 @@ impl WedgeValues {
                 }
             }
             for k in 0..3 {
-                let slot = t[k] as usize * 2 + side[f * 3 + k] as usize;
-                if !filled[slot] {
-                    filled[slot] = true;
-                    lerp[slot * s..(slot + 1) * s].copy_from_slice(corner[k]);
-                }
+                let slot = row(t[k], side[f * 3 + k]);
+                last[slot] = (f * 3 + k) as u32;
                 if len > 1 {
                     let x = &mut fit[slot * len..(slot + 1) * len];
                     for (sum, add) in x.iter_mut().zip(&face_fit) {
@@ -199,9 +237,17 @@ impl WedgeValues {
                 }
             }
         }
+        for (row, &corner) in last.iter().enumerate() {
+            if corner != u32::MAX {
+                let w = view.wedge(corner as usize / 3, corner as usize % 3);
+                lerp[row * s..(row + 1) * s].copy_from_slice(input.wedge(w as usize));
+            }
+        }
         WedgeValues {
             lerp,
             fit,
+            side1,
+            zero_row: zero,
             input,
             merged: vec![false; vertices],
             corners: (0..view.faces.len())
@@ -210,9 +256,9 @@ impl WedgeValues {
         }
     }
 
-    /// Hint the CPU to load vertex `v`'s rows (both sides of `lerp` and `fit`), which a
-    /// contraction of `v` reads and writes ([`WedgeValues::merge`]): in the pass walk these were
-    /// half of `Engine::collapse`'s time on a 69k-face atlas (cache misses on the values of the
+    /// Hint the CPU to load vertex `v`'s side 0 row (`lerp` and `fit`), which a contraction of
+    /// `v` reads and writes ([`WedgeValues::merge`]): in the pass walk these were half of
+    /// `Engine::collapse`'s time on a 69k-face atlas (cache misses on the values of the
     /// contracted vertex), as the vertex records were before their prefetch.
     #[inline]
     pub(super) fn prefetch(&self, v: usize) {
@@ -223,12 +269,18 @@ impl WedgeValues {
             super::prefetch::prefetch_ptr(start.wrapping_add(bytes - 1));
         };
         let (s, len) = (self.input.layout.stride, self.input.layout.fit_len());
-        if (v + 1) * 2 * s <= self.lerp.len() {
-            lines(self.lerp[v * 2 * s..].as_ptr().cast(), 2 * s * 4);
+        if (v + 1) * s <= self.lerp.len() {
+            lines(self.lerp[v * s..].as_ptr().cast(), s * 4);
         }
-        if len > 1 && (v + 1) * 2 * len <= self.fit.len() {
-            lines(self.fit[v * 2 * len..].as_ptr().cast(), 2 * len * 8);
+        if len > 1 && (v + 1) * len <= self.fit.len() {
+            lines(self.fit[v * len..].as_ptr().cast(), len * 8);
         }
+    }
+
+    /// The row of vertex `v`'s side `side` (0 or 1).
+    #[inline]
+    pub(super) fn row(&self, v: usize, side: usize) -> usize {
+        if side == 0 { v } else { self.side1[v] as usize }
     }
 
     /// The input wedge of engine face `f` (corners `t`) at its vertex `v`.
@@ -259,13 +311,19 @@ impl WedgeValues {
         let (s, len) = (self.input.layout.stride, self.input.layout.fit_len());
         let sides = if seams.seam[a] { 2 } else { 1 };
         for (sa, sb) in seams.matching(a, b).into_iter().enumerate().take(sides) {
-            let (to, from) = ((a * 2 + sa) * s, (b * 2 + sb) * s);
+            let (ra, rb) = (self.row(a, sa), self.row(b, sb));
+            // Only a seam vertex has a side 1, and only a seam vertex merges two sides.
+            debug_assert!(
+                sa == 0 || ra != self.zero_row as usize,
+                "side 1 of a non-seam vertex"
+            );
+            let (to, from) = (ra * s, rb * s);
             for i in 0..s {
                 let (x, y) = (self.lerp[to + i], self.lerp[from + i]);
                 self.lerp[to + i] = x + t * (y - x);
             }
             if len > 1 {
-                let (to, from) = ((a * 2 + sa) * len, (b * 2 + sb) * len);
+                let (to, from) = (ra * len, rb * len);
                 for i in 0..len {
                     self.fit[to + i] += self.fit[from + i];
                 }
@@ -273,7 +331,7 @@ impl WedgeValues {
         }
     }
 
-    /// The values of side `slot` (vertex × 2 + side) at `p` into `out`: the normals
+    /// The values of row `slot` ([`WedgeValues::row`]) at `p` into `out`: the normals
     /// interpolated, the rest fitted.
     fn values_at(&self, slot: usize, p: DVec3, out: &mut [f32]) {
         let (s, from, len) = (
@@ -562,7 +620,7 @@ pub(super) fn output(
     }
 
     // 3. One output wedge per (vertex, side) of the merged vertices and per input wedge of the
-    // others, numbered in order of first use; `slot_of[w]`: the side slot of output wedge `w`
+    // others, numbered in order of first use; `slot_of[w]`: the row of output wedge `w`
     // (`u32::MAX` for an input wedge).
     let layout = values.input.layout;
     let s = layout.stride;
@@ -578,8 +636,8 @@ pub(super) fn output(
             let v = t[k] as usize;
             let input = values.corners[f as usize][k] as usize;
             let (id, slot) = if values.merged[v] {
-                let slot = v * 2 + usize::from(side1[f as usize] >> k & 1);
-                (&mut slot_wedge[slot], slot as u32)
+                let side = usize::from(side1[f as usize] >> k & 1);
+                (&mut slot_wedge[v * 2 + side], values.row(v, side) as u32)
             } else {
                 (&mut input_wedge[input], u32::MAX)
             };
