@@ -11,6 +11,14 @@ Writes, next to this script:
 - knight_colors.ply: decimated-knight (502 vertices) with per-vertex RGBA colours from its
   normals (binary PLY, uchar red green blue alpha).
 Deterministic for a given xatlas version (0.0.11 made the committed files).
+
+    for m in igea igea-1m; do gng3d simplify $GNG3D_MESHES/$m.ply DIR/$m.obj --face-ratio 1; done
+    /tmp/assets-venv/bin/python tests/assets/make_assets.py --large DIR
+
+writes instead, into DIR (not committed: 27 and 112 MB), igea_atlas.obj and igea-1m_atlas.obj:
+igea (268,686 faces) and igea-1m (1,074,744 faces) with xatlas UV atlases and per-chart normals
+as the fandisk atlas has, for timing the attribute path at scale (`GNG3D_ATTRIBUTE_MESHES` of
+`cargo bench -p gng3d-qem --bench attributes`).
 """
 import struct
 import sys
@@ -65,6 +73,34 @@ def png(path, size=64, cell=8):
     )
 
 
+def atlas_obj(v, f, header):
+    """OBJ text of (v, f) with an xatlas UV atlas and per-chart normals (atlas vertices split at
+    chart borders, each with the area-weighted normal of its faces)."""
+    vmapping, indices, uvs = xatlas.parametrize(v, f)
+    fn = face_normals(v, f)
+    wn = np.zeros((len(vmapping), 3))
+    for k in range(3):
+        np.add.at(wn, indices[:, k], fn)
+    wn /= np.maximum(np.linalg.norm(wn, axis=1, keepdims=True), 1e-30)
+    lines = [header]
+    lines += [f"v {x:.6g} {y:.6g} {z:.6g}" for x, y, z in v]
+    lines += [f"vt {s:.6f} {t:.6f}" for s, t in uvs]
+    lines += [f"vn {x:.5f} {y:.5f} {z:.5f}" for x, y, z in wn]
+    for t in indices:
+        lines.append("f " + " ".join(f"{vmapping[w] + 1}/{w + 1}/{w + 1}" for w in t))
+    return "\n".join(lines) + "\n"
+
+
+def large(out):
+    """The atlases of `out`/igea.obj and `out`/igea-1m.obj (the scans as the project cleans
+    them, written by `gng3d simplify ... --face-ratio 1`: welded, degenerate faces of the
+    unrolled triangle strips dropped; xatlas asserts on and crawls over the raw files)."""
+    for name in ["igea", "igea-1m"]:
+        v, f = read_obj(out / f"{name}.obj")
+        text = atlas_obj(v, f, f"# {name} with an xatlas UV atlas (tests/assets/make_assets.py --large)")
+        (out / f"{name}_atlas.obj").write_text(text)
+
+
 def fandisk(meshes):
     v, f = read_obj(meshes / "fandisk.obj")
     vmapping, indices, uvs = xatlas.parametrize(v, f)
@@ -113,5 +149,8 @@ def knight(meshes):
 
 if __name__ == "__main__":
     meshes = Path(sys.argv[1] if len(sys.argv) > 1 else "../shared/meshes")
-    fandisk(meshes)
-    knight(meshes)
+    if "--large" in sys.argv:
+        large(Path(sys.argv[sys.argv.index("--large") + 1]))
+    else:
+        fandisk(meshes)
+        knight(meshes)

@@ -9,6 +9,12 @@
 //! the CLI does (`mesh::clean::prepare_with_attributes`). Before the criterion groups it prints
 //! the best of 15 alternating calls of each and the ratio ours / meshoptimizer's
 //! (`cargo bench -p gng3d-qem --bench attributes`).
+//!
+//! Larger textured meshes (not in the repository) join the alternating comparison, best of 5,
+//! when `GNG3D_ATTRIBUTE_MESHES` lists them (comma-separated files), e.g. the xatlas atlases of
+//! igea and igea-1m that `tests/assets/make_assets.py --large DIR` writes; run them with
+//! `RAYON_NUM_THREADS=1`, as meshoptimizer runs on one thread (our set-up is parallel from
+//! 8,192 vertices).
 
 // Published as gng3d-qem; this file keeps the workspace's name for it.
 extern crate gng3d_qem as qem;
@@ -23,7 +29,10 @@ use std::time::{Duration, Instant};
 /// One input: ours (mesh, attributes) and meshoptimizer's (wedge positions, wedge attributes,
 /// stride in floats, corner indices).
 struct Input {
-    name: &'static str,
+    name: String,
+    /// From `GNG3D_ATTRIBUTE_MESHES`: compared in fewer calls, and left out of the criterion
+    /// groups.
+    large: bool,
     mesh: TriMesh,
     attributes: Attributes,
     positions: Vec<f32>,
@@ -42,9 +51,20 @@ fn inputs() -> Vec<Input> {
         Some(dir) => files.insert(0, ("spot", dir.join("spot.obj"))),
         None => println!("SKIPPED spot: GNG3D_MESHES does not hold spot.obj"),
     }
-    files
+    let files = files
         .into_iter()
-        .map(|(name, path)| {
+        .map(|(name, path)| (name.to_string(), path, false));
+    let large = std::env::var("GNG3D_ATTRIBUTE_MESHES").unwrap_or_default();
+    let large = large.split(',').filter(|p| !p.is_empty()).map(|p| {
+        let path = PathBuf::from(p);
+        let name = path
+            .file_stem()
+            .map_or(p.to_string(), |s| s.to_string_lossy().into_owned());
+        (name, path, true)
+    });
+    files
+        .chain(large)
+        .map(|(name, path, large)| {
             let loaded = mesh::io::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let attributes = loaded.attributes.expect("the asset has attributes");
             let (mesh, attributes, _) =
@@ -67,6 +87,7 @@ fn inputs() -> Vec<Input> {
             let indices = attributes.corners.iter().flatten().copied().collect();
             Input {
                 name,
+                large,
                 mesh,
                 attributes,
                 positions,
@@ -144,15 +165,23 @@ fn alternate(
 fn bench(c: &mut Criterion) {
     let inputs = inputs();
     println!(
-        "qem with attributes vs meshoptimizer simplifyWithAttributes (best of 15, alternating):"
+        "qem with attributes vs meshoptimizer simplifyWithAttributes (best of 15 alternating calls, 5 for GNG3D_ATTRIBUTE_MESHES):"
     );
+    if inputs.iter().any(|i| i.large) && rayon::current_num_threads() > 1 {
+        println!(
+            "  (GNG3D_ATTRIBUTE_MESHES with {} threads: ours sets up in parallel; \
+             RAYON_NUM_THREADS=1 compares one thread with one)",
+            rayon::current_num_threads()
+        );
+    }
     for input in &inputs {
+        let runs = if input.large { 5 } else { 15 };
         for pct in [10usize, 20] {
             let faces = input.mesh.face_count() * pct / 100;
             let [(tq, fq), (tm, fm)] =
-                alternate(15, || run_qem(input, faces), || run_meshopt(input, faces));
+                alternate(runs, || run_qem(input, faces), || run_meshopt(input, faces));
             let [(tp, _), (tm2, _)] = alternate(
-                15,
+                runs,
                 || run_qem_positions(input, faces),
                 || run_meshopt(input, faces),
             );
@@ -168,7 +197,7 @@ fn bench(c: &mut Criterion) {
             );
         }
     }
-    for input in &inputs {
+    for input in inputs.iter().filter(|i| !i.large) {
         let faces = input.mesh.face_count() / 10;
         let mut group = c.benchmark_group(format!("attributes-{}-10pct", input.name));
         group.sample_size(20);
