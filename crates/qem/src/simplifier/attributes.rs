@@ -117,7 +117,7 @@ pub(crate) fn run(
     let side = corner_sides(&view, &seams, &locked);
     let input = InputValues::of(attributes);
     let attr = attribute_error(&view, &input, &prepared.pos, params, &side);
-    let values = WedgeValues::new(&view, input, &prepared.pos, &side, &seams.seam);
+    let values = WedgeValues::new(view, input, &prepared.pos, &side, &seams.seam);
     let attribute_run = AttributeRun {
         seams,
         edges: found.edges,
@@ -146,8 +146,9 @@ pub(super) struct View<'a> {
     face_start: &'a [u32],
     pub(super) origin: &'a [u32],
     /// Each prepared face's input wedges, gathered once in prepared order for the steps that
-    /// read them face by face (the seam search: 1.07 → 0.95 ms on the fandisk atlas).
-    corners: Vec<[u32; 3]>,
+    /// read them face by face (the seam search: 1.07 → 0.95 ms on the fandisk atlas); the
+    /// carried values keep them as the engine faces' wedges ([`WedgeValues::new`]).
+    pub(super) corners: Vec<[u32; 3]>,
     pub(super) attributes: &'a Attributes,
 }
 

@@ -162,7 +162,7 @@ impl WedgeValues {
     /// vertices: `side[3 f + k]` is the side of corner `k` of prepared face `f`, and only the
     /// vertices flagged in `seam` have a side 1.
     pub(super) fn new(
-        view: &View,
+        view: View,
         input: InputValues,
         pos: &[DVec3],
         side: &[u8],
@@ -250,9 +250,8 @@ impl WedgeValues {
             zero_row: zero,
             input,
             merged: vec![false; vertices],
-            corners: (0..view.faces.len())
-                .map(|f| [0, 1, 2].map(|k| view.wedge(f, k)))
-                .collect(),
+            // The view's own gather (a copy was 3.2 MB more on a 268k-face atlas).
+            corners: view.corners,
         }
     }
 
