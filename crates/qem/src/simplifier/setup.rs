@@ -3,7 +3,7 @@
 //! independent task (parallel for large meshes; the result does not depend on the thread count).
 
 use super::candidates::Cand;
-use super::engine::Vertex;
+use super::engine::{Seams, Vertex};
 use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use crate::{QemParams, Quadric};
 use glam::DVec3;
@@ -28,7 +28,8 @@ const VERTEX_CHUNK: usize = 2_048;
 /// plane quadrics of its faces (every face's plane is computed by each of its corners, identically)
 /// and, from its ring of distinct neighbours with the number of faces on each edge, gets its
 /// boundary flag, the perpendicular boundary planes of its boundary edges (computed from the
-/// lower-numbered end, so both ends add the same plane) and its edges to higher-numbered vertices.
+/// lower-numbered end, so both ends add the same plane) and its edges to higher-numbered vertices
+/// (not those with a `locked` end, nor those the attribute `seams` forbid).
 pub(super) fn vertex_setup(
     pos: &[DVec3],
     faces: &[[u32; 3]],
@@ -36,8 +37,10 @@ pub(super) fn vertex_setup(
     face_start: &[u32],
     params: &QemParams,
     locked: Option<&[bool]>,
+    seams: Option<&Seams>,
 ) -> VertexSetup {
     let is_locked = |v: usize| locked.is_some_and(|l| l[v]);
+    let seams_allow = |u: usize, v: usize| seams.is_none_or(|s| s.pair_ok(u, v));
     let n = pos.len();
     // Face planes scaled so that the plane quadric is their outer product (the shared
     // definition GNG3D-Q's placement uses too; zero for degenerate faces).
@@ -129,7 +132,7 @@ pub(super) fn vertex_setup(
                         q += Quadric::from_plane(m, -m.dot(pos[lo]), w);
                     }
                 }
-                if v > uu && !is_locked(u) && !is_locked(v as usize) {
+                if v > uu && !is_locked(u) && !is_locked(v as usize) && seams_allow(u, v as usize) {
                     edges.push(Cand::pair(uu, v));
                 }
             }
