@@ -316,15 +316,14 @@ impl WedgeValues {
                 sa == 0 || ra != self.zero_row as usize,
                 "side 1 of a non-seam vertex"
             );
-            let (to, from) = (ra * s, rb * s);
-            for i in 0..s {
-                let (x, y) = (self.lerp[to + i], self.lerp[from + i]);
-                self.lerp[to + i] = x + t * (y - x);
+            let (to, from) = rows_mut(&mut self.lerp, ra, rb, s);
+            for (x, &y) in to.iter_mut().zip(from.iter()) {
+                *x += t * (y - *x);
             }
             if len > 1 {
-                let (to, from) = (ra * len, rb * len);
-                for i in 0..len {
-                    self.fit[to + i] += self.fit[from + i];
+                let (to, from) = rows_mut(&mut self.fit, ra, rb, len);
+                for (x, &y) in to.iter_mut().zip(from.iter()) {
+                    *x += y;
                 }
             }
         }
@@ -346,6 +345,20 @@ impl WedgeValues {
                 *value = (fitted / x[0]) as f32;
             }
         }
+    }
+}
+
+/// Rows `to` (mutable) and `from` (`to != from`) of `width` values each of `rows`: two slices, so
+/// that a merge's loops run without a bounds check per value (index by index they were a third of
+/// a contraction's added instructions on a 268k-face atlas).
+fn rows_mut<T>(rows: &mut [T], to: usize, from: usize, width: usize) -> (&mut [T], &[T]) {
+    debug_assert_ne!(to, from, "a row merged into itself");
+    if to < from {
+        let (low, high) = rows.split_at_mut(from * width);
+        (&mut low[to * width..(to + 1) * width], &high[..width])
+    } else {
+        let (low, high) = rows.split_at_mut(to * width);
+        (&mut high[..width], &low[from * width..(from + 1) * width])
     }
 }
 
