@@ -1,14 +1,12 @@
 //! Mesh files with their attributes: what `gng3d.load` leaves out (named in its warning), and
-//! the loading and writing around `gng3d.simplify_file`, as `gng3d simplify` does them
-//! (crates/cli/src/cli/simplify/attributes.rs): the attributes and materials loaded with the
-//! mesh, welded with it, and written where the output format stores them, with a warning for
-//! what it does not.
+//! the loading around `gng3d.simplify_file`, as `gng3d simplify` does it
+//! (crates/cli/src/cli/simplify/attributes.rs): the attributes loaded with the mesh and welded
+//! with it. The output is written by the mesh crate's one checked writer
+//! (`mesh::io::save_with_optional_attributes`), as the CLI writes it.
 
 use mesh::TriMesh;
-use mesh::attributes::{Attributes, Materials};
-use mesh::error::MeshError;
+use mesh::attributes::Attributes;
 use mesh::io::LoadedMesh;
-use std::path::Path;
 
 /// What `load` (positions and triangles only) leaves out of `loaded`, in words ("texture
 /// coordinates and 1 material"), or `None` when the file holds nothing else.
@@ -51,27 +49,5 @@ pub fn prepare(loaded: LoadedMesh, weld: bool) -> (TriMesh, Option<Attributes>) 
         (mesh, a)
     } else {
         (loaded.mesh, attributes)
-    }
-}
-
-/// What writing an output did with the input's attributes: the `"attributes"` object of
-/// `gng3d simplify --json`.
-pub type Kept = mesh::io::KeptAttributes;
-
-/// Writes `simplified` with `attributes` and `materials` to `path` (format by extension) as
-/// `gng3d simplify` does, through the mesh crate's one checked writer
-/// (`mesh::io::save_with_attributes`, or `mesh::io::save` without attributes, as `gng3d.save`
-/// writes): encoded, read back, refused with nothing written when it does not load, holds no
-/// face or lacks an attribute the format stores, written atomically (a `.gltf` with its
-/// `<stem>.bin`), the input's material files or images copied next to it.
-pub fn save(
-    simplified: &TriMesh,
-    attributes: Option<&Attributes>,
-    materials: Option<&Materials>,
-    path: &Path,
-) -> Result<Kept, MeshError> {
-    match attributes {
-        Some(a) => mesh::io::save_with_attributes(simplified, a, materials, path),
-        None => mesh::io::save(simplified, path).map(|()| Kept::default()),
     }
 }

@@ -473,7 +473,7 @@ fn simplify_file(
         .map_err(|e| naming(py, e, &input))?;
     let kept = py
         .detach(|| {
-            file::save(
+            mesh::io::save_with_optional_attributes(
                 &outcome.mesh,
                 outcome.attributes.as_ref(),
                 materials.as_ref(),

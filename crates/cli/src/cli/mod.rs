@@ -301,7 +301,7 @@ pub(crate) fn save_checked(
 
 /// Writes the mesh `method` produced to `path`, with `attributes` (and the input's
 /// `materials`) when given, through the mesh crate's one checked writer
-/// (`mesh::io::save_with_attributes`, or `mesh::io::save` without attributes): an output
+/// (`mesh::io::save_with_optional_attributes`): an output
 /// without triangles, or one that does not read back (with what its format stores), is an error
 /// and nothing is written, never an exit-0 output. Atomic; a `.gltf` is written with its
 /// `<stem>.bin`. What the format cannot keep goes to stderr as `warning:` lines and into the
@@ -321,11 +321,8 @@ pub(crate) fn save_output(
             path.display()
         );
     }
-    let kept = match attributes {
-        Some(a) => mesh::io::save_with_attributes(mesh, a, materials, path),
-        None => mesh::io::save(mesh, path).map(|()| mesh::io::KeptAttributes::default()),
-    }
-    .map_err(|e| anyhow::anyhow!("{method}: {e}"))?;
+    let kept = mesh::io::save_with_optional_attributes(mesh, attributes, materials, path)
+        .map_err(|e| anyhow::anyhow!("{method}: {e}"))?;
     for w in &kept.dropped {
         eprintln!("warning: {}: {w}", path.display());
     }

@@ -7,7 +7,8 @@
 //! [`MeshWarning`]s). Malformed input gives a [`MeshError`] naming the file and the line or
 //! element.
 //!
-//! [`save_with_attributes`] is the one mesh writer ([`save`] is it without attributes): it
+//! [`save_with_attributes`] is the one mesh writer ([`save`] is it without attributes,
+//! [`save_with_optional_attributes`] either, for an input that may have none): it
 //! encodes, reads the bytes back with the loader and refuses (writing nothing) an output that
 //! does not load, holds no face or lacks an attribute the format stores, then writes each file
 //! to a temporary sibling and renames it, so a failed write never leaves a partial or
@@ -659,7 +660,7 @@ pub fn copy_gltf_images(materials: &Materials, output: &Path) -> Vec<MeshWarning
 /// triangles, or bytes that do not load back, are a [`MeshError::Write`] and nothing is
 /// written; each file goes to a temporary sibling that is then renamed over its name.
 pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
-    write_checked(mesh, None, None, path).map(|_| ())
+    save_with_optional_attributes(mesh, None, None, path).map(|_| ())
 }
 
 /// What writing a mesh with its attributes did with them ([`save_with_attributes`]): the
@@ -688,7 +689,8 @@ impl Format {
 }
 
 /// Write `mesh` with `attributes` to `path` (format by extension), the one checked writer that
-/// the library, `gng3d simplify` and Python's `simplify_file` use:
+/// the library, `gng3d simplify` and Python's `simplify_file` use (the last two through
+/// [`save_with_optional_attributes`]):
 ///
 /// 1. encode ([`encode_with_attributes`]; a `.gltf` with its buffer in `<stem>.bin`);
 /// 2. read the bytes back with [`load_bytes`] (a `.gltf` with its `.bin` from memory) and
@@ -709,12 +711,14 @@ pub fn save_with_attributes(
     materials: Option<&Materials>,
     path: &Path,
 ) -> Result<KeptAttributes, MeshError> {
-    write_checked(mesh, Some(attributes), materials, path)
+    save_with_optional_attributes(mesh, Some(attributes), materials, path)
 }
 
-/// [`save_with_attributes`] (`attributes` given) or [`save`] (none): encode, read back, refuse
-/// or write, copy the material files.
-fn write_checked(
+/// [`save_with_attributes`] when `attributes` are given, [`save`] when not (then the returned
+/// [`KeptAttributes`] is empty): the one branch of the front ends whose input may have no
+/// attributes (`gng3d simplify`, Python's `simplify_file`), as
+/// [`crate::clean::prepare_with_optional_attributes`] is for the cleaning.
+pub fn save_with_optional_attributes(
     mesh: &TriMesh,
     attributes: Option<&Attributes>,
     materials: Option<&Materials>,
