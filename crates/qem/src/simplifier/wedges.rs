@@ -276,6 +276,11 @@ impl WedgeValues {
         }
     }
 
+    /// The number of rows (the zero row is the last).
+    fn rows(&self) -> usize {
+        self.zero_row as usize + 1
+    }
+
     /// The row of vertex `v`'s side `side` (0 or 1).
     #[inline]
     pub(super) fn row(&self, v: usize, side: usize) -> usize {
@@ -636,7 +641,9 @@ pub(super) fn output(
     // (`u32::MAX` for an input wedge).
     let layout = values.input.layout;
     let s = layout.stride;
-    let mut slot_wedge = vec![u32::MAX; e.vx.len() * 2];
+    // Per row, its output wedge (only a seam vertex has side 1 corners, so no two merged
+    // (vertex, side) pairs share a row).
+    let mut row_wedge = vec![u32::MAX; values.rows()];
     let mut input_wedge = vec![u32::MAX; attributes.wedge_count()];
     let mut wedge_vertex = Vec::new();
     let mut slot_of = Vec::new();
@@ -648,8 +655,9 @@ pub(super) fn output(
             let v = t[k] as usize;
             let input = values.corners[f as usize][k] as usize;
             let (id, slot) = if values.merged[v] {
-                let side = usize::from(side1[f as usize] >> k & 1);
-                (&mut slot_wedge[v * 2 + side], values.row(v, side) as u32)
+                let row = values.row(v, usize::from(side1[f as usize] >> k & 1));
+                debug_assert_ne!(row, values.zero_row as usize, "side 1 of a non-seam vertex");
+                (&mut row_wedge[row], row as u32)
             } else {
                 (&mut input_wedge[input], u32::MAX)
             };
