@@ -73,9 +73,10 @@ def png(path, size=64, cell=8):
     )
 
 
-def atlas_obj(v, f, header):
+def atlas_obj(v, f, header, material=None):
     """OBJ text of (v, f) with an xatlas UV atlas and per-chart normals (atlas vertices split at
-    chart borders, each with the area-weighted normal of its faces)."""
+    chart borders, each with the area-weighted normal of its faces); `material`, a pair
+    (library file, material name), is named for every face."""
     vmapping, indices, uvs = xatlas.parametrize(v, f)
     fn = face_normals(v, f)
     wn = np.zeros((len(vmapping), 3))
@@ -83,9 +84,13 @@ def atlas_obj(v, f, header):
         np.add.at(wn, indices[:, k], fn)
     wn /= np.maximum(np.linalg.norm(wn, axis=1, keepdims=True), 1e-30)
     lines = [header]
+    if material:
+        lines.append(f"mtllib {material[0]}")
     lines += [f"v {x:.6g} {y:.6g} {z:.6g}" for x, y, z in v]
     lines += [f"vt {s:.6f} {t:.6f}" for s, t in uvs]
     lines += [f"vn {x:.5f} {y:.5f} {z:.5f}" for x, y, z in wn]
+    if material:
+        lines.append(f"usemtl {material[1]}")
     for t in indices:
         lines.append("f " + " ".join(f"{vmapping[w] + 1}/{w + 1}/{w + 1}" for w in t))
     return "\n".join(lines) + "\n"
@@ -103,22 +108,9 @@ def large(out):
 
 def fandisk(meshes):
     v, f = read_obj(meshes / "fandisk.obj")
-    vmapping, indices, uvs = xatlas.parametrize(v, f)
-    # Normals per atlas vertex: the faces around it (atlas vertices split at chart borders).
-    fn = face_normals(v, f)
-    wn = np.zeros((len(vmapping), 3))
-    for k in range(3):
-        np.add.at(wn, indices[:, k], fn)
-    wn /= np.maximum(np.linalg.norm(wn, axis=1, keepdims=True), 1e-30)
-    lines = ["# fandisk with an xatlas UV atlas (tests/assets/make_assets.py)", "mtllib fandisk_atlas.mtl"]
-    lines += [f"v {x:.6g} {y:.6g} {z:.6g}" for x, y, z in v]
-    lines += [f"vt {s:.6f} {t:.6f}" for s, t in uvs]
-    lines += [f"vn {x:.5f} {y:.5f} {z:.5f}" for x, y, z in wn]
-    lines.append("usemtl checker")
-    for t in indices:
-        c = [f"{vmapping[w] + 1}/{w + 1}/{w + 1}" for w in t]
-        lines.append("f " + " ".join(c))
-    (HERE / "fandisk_atlas.obj").write_text("\n".join(lines) + "\n")
+    header = "# fandisk with an xatlas UV atlas (tests/assets/make_assets.py)"
+    text = atlas_obj(v, f, header, ("fandisk_atlas.mtl", "checker"))
+    (HERE / "fandisk_atlas.obj").write_text(text)
     (HERE / "fandisk_atlas.mtl").write_text(
         "newmtl checker\nKd 1 1 1\nmap_Kd checker.png\n"
     )
