@@ -83,6 +83,12 @@ impl Attributes {
         self.names().is_empty()
     }
 
+    /// Whether per-corner values are present: normals, texture coordinates or colours
+    /// (materials alone do not count).
+    pub fn has_values(&self) -> bool {
+        self.normals.is_some() || self.uv0.is_some() || self.uv1.is_some() || self.colors.is_some()
+    }
+
     /// Names of the attributes present, in a fixed order: `normals`, `uv0`, `uv1`, `colors`,
     /// `materials` (the names `gng3d simplify --json` reports).
     pub fn names(&self) -> Vec<&'static str> {

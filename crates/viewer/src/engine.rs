@@ -536,12 +536,9 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
             .to_string(),
     })?;
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
-    let values = |a: &Attributes| {
-        a.normals.is_some() || a.uv0.is_some() || a.uv1.is_some() || a.colors.is_some()
-    };
     let (mesh, attributes, report) = mesh::clean::prepare_with_optional_attributes(
         &loaded.mesh,
-        loaded.attributes.as_ref().filter(|a| values(a)),
+        loaded.attributes.as_ref().filter(|a| a.has_values()),
     );
     if report.welded_vertices > 0 || report.unreferenced_vertices > 0 {
         warnings.push(format!(

@@ -201,11 +201,6 @@ pub(crate) fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) -> anyh
     }
 }
 
-/// Whether `a` holds values the attribute deviation measures (materials alone do not count).
-pub(crate) fn has_attribute_values(a: &mesh::attributes::Attributes) -> bool {
-    a.normals.is_some() || a.uv0.is_some() || a.uv1.is_some() || a.colors.is_some()
-}
-
 /// A mesh file as [`load_input`] returns it.
 pub(crate) struct Input {
     /// The mesh.
@@ -236,7 +231,9 @@ pub(crate) fn load_input(path: &std::path::Path, clean: bool) -> anyhow::Result<
             .attributes
             .as_ref()
             .is_some_and(|a| a.face_material.is_some());
-    let attributes = loaded.attributes.filter(has_attribute_values);
+    let attributes = loaded
+        .attributes
+        .filter(mesh::attributes::Attributes::has_values);
     let (mesh, attributes) = if clean {
         let (mesh, a, _) =
             mesh::clean::prepare_with_optional_attributes(&loaded.mesh, attributes.as_ref());
