@@ -169,6 +169,15 @@ pub enum MeshWarning {
         /// Why.
         reason: String,
     },
+    /// A file the model names (a material library, a texture, an image) that the containment
+    /// rule refuses to read or write: outside the model's folder, not a regular file, too
+    /// large, or a name that would leave the output's folder. Nothing of it was read or written.
+    ReferenceRefused {
+        /// What the model names, as it names it (e.g. `mtllib ../../etc/passwd`).
+        reference: String,
+        /// Why it was refused.
+        reason: String,
+    },
 }
 
 impl fmt::Display for MeshWarning {
@@ -219,6 +228,9 @@ impl fmt::Display for MeshWarning {
             }
             MeshWarning::MaterialFileNotCopied { path, reason } => {
                 write!(f, "material file {} not copied: {reason}", path.display())
+            }
+            MeshWarning::ReferenceRefused { reference, reason } => {
+                write!(f, "{reference} not read or written: {reason}")
             }
         }
     }

@@ -157,7 +157,7 @@ fn obj_materials_are_read_written_and_copied() {
     .dropped;
     let gone = src.path().join("box.mtl");
     assert!(
-        matches!(&warnings[..], [w] if w.starts_with(&format!("material file {} not copied", gone.display()))),
+        matches!(&warnings[..], [w] if w.starts_with(&format!("material library {} not read", gone.display()))),
         "{warnings:?}"
     );
 }

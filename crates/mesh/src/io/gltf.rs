@@ -684,7 +684,7 @@ pub(crate) fn parse(
     }
     let doc = ::gltf::Document::from_json(root)
         .map_err(|e| MeshError::parse(path, "document", invalid_document(&e)))?;
-    let dir = path.parent().unwrap_or(Path::new(""));
+    let dir = super::contain::folder_of(path);
     let buffers = doc
         .buffers()
         .map(|b| load_buffer(&b, bin, side, dir))
@@ -1042,9 +1042,11 @@ fn load_buffer(
                 if let Some((_, bytes)) = side.filter(|(n, _)| *n == name) {
                     bytes.to_vec()
                 } else {
-                    let file = dir.join(name);
-                    std::fs::read(&file)
-                        .map_err(|e| format!("cannot read {}: {e}", file.display()))?
+                    // The containment rule: a regular file inside the glTF's folder, at most
+                    // the bytes the buffer declares.
+                    super::contain::resolve(dir, dir, &name)
+                        .and_then(|file| super::contain::read_prefix(&file, buffer.length() as u64))
+                        .map_err(|e| format!("buffer {} ({uri}) not read: {e}", buffer.index()))?
                 }
             }
         },
@@ -1411,34 +1413,47 @@ fn glb(mut json: Vec<u8>, bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// The bytes of image `j` of `assets` that its (relative, not `data:`) `uri` names, read by
+/// the containment rule: a file converted from an OBJ library (already resolved), or a regular
+/// file inside the input's folder of at most [`super::contain::IMAGE_LIMIT`] bytes.
+pub(super) fn read_image_file(
+    assets: &GltfAssets,
+    j: usize,
+    uri: &str,
+) -> Result<(PathBuf, Vec<u8>), super::contain::Refused> {
+    use super::contain::{IMAGE_LIMIT, read_contained, read_limited};
+    match assets.image_files.iter().find(|(i, _)| *i == j) {
+        Some((_, file)) => read_limited(file, IMAGE_LIMIT).map(|b| (file.clone(), b)),
+        None => read_contained(
+            &assets.source_dir,
+            &assets.source_dir,
+            &percent_decode(uri),
+            IMAGE_LIMIT,
+        ),
+    }
+}
+
 /// Copies the images of `assets` named by relative URIs (inside the input's folder) next to
-/// `output`, keeping their relative paths; files already there are left alone.
+/// `output`, keeping their relative paths ([`super::contain`]'s rule on both sides); files
+/// already there are left alone.
 pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning> {
-    let out_dir = match output.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    use super::contain::{Existing, folder_of, write_beside};
+    let out_dir = folder_of(output);
     let mut warnings = Vec::new();
     for (i, image) in assets.array("images").iter().enumerate() {
-        let Some(relative) = image["uri"].as_str().and_then(relative_uri) else {
+        let Some(uri) = image["uri"].as_str() else {
             continue;
         };
-        let from = match assets.image_files.iter().find(|(j, _)| *j == i) {
-            Some((_, file)) => file.clone(),
-            None => assets.source_dir.join(&relative),
-        };
-        let to = out_dir.join(&relative);
-        if to.exists() {
+        let Some(relative) = relative_uri(uri) else {
             continue;
-        }
-        let result = to
-            .parent()
-            .map_or(Ok(()), std::fs::create_dir_all)
-            .map_err(|e| e.to_string())
-            .and_then(|()| std::fs::read(&from).map_err(|e| e.to_string()))
-            .and_then(|bytes| super::write_atomic(&to, &bytes).map_err(|e| e.to_string()));
+        };
+        let result = read_image_file(assets, i, uri)
+            .and_then(|(_, bytes)| write_beside(out_dir, &relative, &bytes, Existing::Keep));
         if let Err(reason) = result {
-            warnings.push(MeshWarning::MaterialFileNotCopied { path: from, reason });
+            warnings.push(MeshWarning::ReferenceRefused {
+                reference: format!("glTF image {i} ({uri})"),
+                reason: format!("{reason}; the output names it without a copy"),
+            });
         }
     }
     warnings

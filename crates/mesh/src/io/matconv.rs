@@ -18,6 +18,7 @@
 //! Texture coordinates are flipped (`v → 1 − v`) when a texture crosses, as the two formats put
 //! the image's origin at opposite edges.
 
+use super::contain;
 use super::gltf::{GltfAssets, data_uri, percent_decode, percent_encode, relative_uri};
 use crate::attributes::Materials;
 use crate::error::MeshWarning;
@@ -228,7 +229,7 @@ pub(crate) fn obj_to_gltf(materials: &Materials, embed: bool) -> Option<ToGltf> 
     let mut dropped = BTreeSet::new();
     let mut unreadable = false;
     for library in &materials.libraries {
-        match std::fs::read(library) {
+        match contain::read_limited(library, contain::LIBRARY_LIMIT) {
             Ok(bytes) => {
                 let (list, not) = parse_mtl(&bytes);
                 dropped.extend(not);
@@ -280,21 +281,22 @@ pub(crate) fn obj_to_gltf(materials: &Materials, embed: bool) -> Option<ToGltf> 
         }
         if let Some(file) = &m.map_kd {
             let relative = PathBuf::from(file.replace('\\', "/"));
-            let source = dir.join(&relative);
-            let texture = *texture_of.entry(source.clone()).or_insert_with(|| {
-                let bytes = match std::fs::read(&source) {
-                    Ok(b) => b,
-                    Err(e) => {
-                        warnings.push(MeshWarning::MaterialFileNotCopied {
-                            path: source.clone(),
-                            reason: format!(
-                                "cannot read it ({e}); material {name} is written without its \
-                                 texture"
-                            ),
-                        });
-                        return None;
-                    }
-                };
+            let texture = *texture_of.entry(dir.join(&relative)).or_insert_with(|| {
+                // The containment rule: a regular file inside the library's folder.
+                let (source, bytes) =
+                    match contain::read_contained(dir, dir, file, contain::IMAGE_LIMIT) {
+                        Ok(read) => read,
+                        Err(e) => {
+                            warnings.push(MeshWarning::ReferenceRefused {
+                                reference: format!(
+                                    "texture {} of material {name}",
+                                    dir.join(file).display()
+                                ),
+                                reason: format!("{e}; the material is written without it"),
+                            });
+                            return None;
+                        }
+                    };
                 let Some(mime) = image_mime(&bytes) else {
                     warnings.push(MeshWarning::AttributesDropped {
                         attributes: format!("texture {} of material {name}", source.display()),
@@ -435,7 +437,7 @@ pub(crate) fn gltf_to_mtl(materials: &Materials, output: &Path) -> Option<ToMtl>
             .get(i)
             .cloned()
             .unwrap_or_else(|| format!("material_{i}"));
-        text.push_str(&format!("\nnewmtl {name}\n"));
+        text.push_str(&format!("\nnewmtl {}\n", contain::one_line_name(&name)));
         let pbr = &m["pbrMetallicRoughness"];
         let factor: Vec<f32> = pbr["baseColorFactor"]
             .as_array()
@@ -521,7 +523,7 @@ pub(crate) fn gltf_to_mtl(materials: &Materials, output: &Path) -> Option<ToMtl>
             .entry(j)
             .or_insert_with(|| image_file(assets, j, &stem, &mut files, &mut warnings));
         if let Some(file) = file {
-            text.push_str(&format!("map_Kd {file}\n"));
+            text.push_str(&format!("map_Kd {}\n", contain::one_line_name(file)));
         }
     }
     if !dropped.is_empty() {
@@ -556,13 +558,11 @@ fn image_file(
 ) -> Option<String> {
     let image = assets.array("images").get(j)?;
     let embedded = |bytes: Arc<[u8]>, files: &mut Vec<(PathBuf, ImageSource)>| {
+        // The extension comes from a fixed list, never from the file's `mimeType`.
         let ext = match image_mime(&bytes) {
             Some("image/jpeg") => "jpg",
             Some(_) => "png",
-            None => image["mimeType"]
-                .as_str()
-                .and_then(|m| m.strip_prefix("image/"))
-                .unwrap_or("bin"),
+            None => contain::image_extension(image["mimeType"].as_str().unwrap_or("")),
         };
         let name = format!("{stem}_image{j}.{ext}");
         files.push((PathBuf::from(&name), ImageSource::Bytes(bytes)));
@@ -585,11 +585,17 @@ fn image_file(
     }
     if let Some(relative) = relative_uri(uri) {
         let from = match assets.image_files.iter().find(|(i, _)| *i == j) {
-            Some((_, f)) => f.clone(),
-            None => assets.source_dir.join(&relative),
+            Some((_, f)) => Ok(f.clone()),
+            None => contain::resolve(&assets.source_dir, &assets.source_dir, &percent_decode(uri)),
         };
         let name = relative.to_string_lossy().replace('\\', "/");
-        files.push((relative, ImageSource::Copy(from)));
+        match from {
+            Ok(from) => files.push((relative, ImageSource::Copy(from))),
+            Err(e) => warnings.push(MeshWarning::ReferenceRefused {
+                reference: format!("glTF image {j} ({uri})"),
+                reason: format!("{e}; the material library names it without a copy"),
+            }),
+        }
         return Some(name);
     }
     // An absolute path or one leaving the input's folder: referenced where it is.
@@ -608,39 +614,27 @@ fn image_file(
 /// (copied ones left alone when a file of that name is there; embedded ones written); returns
 /// what could not be written.
 pub(crate) fn write_mtl(plan: &ToMtl, output: &Path) -> Vec<MeshWarning> {
-    let out_dir = match output.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    use contain::{Existing, write_beside};
+    let out_dir = contain::folder_of(output);
     let mut warnings = Vec::new();
-    let library = out_dir.join(&plan.library);
-    if let Err(e) = super::write_atomic(&library, plan.text.as_bytes()) {
-        warnings.push(MeshWarning::MaterialFileNotCopied {
-            path: library,
+    let mut refused = |name: &Path, e: contain::Refused| {
+        warnings.push(MeshWarning::ReferenceRefused {
+            reference: format!("{} beside {}", name.display(), output.display()),
             reason: e.to_string(),
         });
+    };
+    let library = Path::new(&plan.library);
+    if let Err(e) = write_beside(out_dir, library, plan.text.as_bytes(), Existing::Replace) {
+        refused(library, e);
     }
     for (name, source) in &plan.files {
-        let to = out_dir.join(name);
         let result = match source {
-            ImageSource::Copy(from) => {
-                if to.exists() {
-                    continue;
-                }
-                to.parent()
-                    .map_or(Ok(()), std::fs::create_dir_all)
-                    .and_then(|()| std::fs::read(from))
-                    .map_err(|e| (from.clone(), e.to_string()))
-                    .and_then(|bytes| {
-                        super::write_atomic(&to, &bytes).map_err(|e| (from.clone(), e.to_string()))
-                    })
-            }
-            ImageSource::Bytes(bytes) => {
-                super::write_atomic(&to, bytes).map_err(|e| (to.clone(), e.to_string()))
-            }
+            ImageSource::Copy(from) => contain::read_limited(from, contain::IMAGE_LIMIT)
+                .and_then(|bytes| write_beside(out_dir, name, &bytes, Existing::Keep)),
+            ImageSource::Bytes(bytes) => write_beside(out_dir, name, bytes, Existing::Replace),
         };
-        if let Err((path, reason)) = result {
-            warnings.push(MeshWarning::MaterialFileNotCopied { path, reason });
+        if let Err(e) = result {
+            refused(name, e);
         }
     }
     warnings
@@ -671,7 +665,7 @@ pub fn base_color_texture(materials: &Materials) -> Option<BaseColorTexture> {
     let mut defined: HashMap<String, (MtlMaterial, PathBuf)> = HashMap::new();
     for library in &materials.libraries {
         // An unreadable library was a warning when the mesh was loaded.
-        let Ok(bytes) = std::fs::read(library) else {
+        let Ok(bytes) = contain::read_limited(library, contain::LIBRARY_LIMIT) else {
             continue;
         };
         let dir = library.parent().unwrap_or(Path::new("")).to_path_buf();
@@ -683,12 +677,12 @@ pub fn base_color_texture(materials: &Materials) -> Option<BaseColorTexture> {
     }
     materials.names.iter().find_map(|name| {
         let (m, dir) = defined.get(name)?;
-        let file = dir.join(m.map_kd.as_ref()?.replace('\\', "/"));
+        let reference = m.map_kd.as_ref()?;
         Some(BaseColorTexture {
             material: name.clone(),
-            source: file.display().to_string(),
-            bytes: std::fs::read(&file)
-                .map(Arc::from)
+            source: dir.join(reference.replace('\\', "/")).display().to_string(),
+            bytes: contain::read_contained(dir, dir, reference, contain::IMAGE_LIMIT)
+                .map(|(_, bytes)| Arc::from(bytes))
                 .map_err(|e| e.to_string()),
             v_down: false,
         })
@@ -725,19 +719,15 @@ fn gltf_base_color(materials: &Materials, assets: &GltfAssets) -> Option<BaseCol
                 v_down: true,
             });
         }
-        let file = match (
-            assets.image_files.iter().find(|(k, _)| *k == j),
-            relative_uri(uri),
-        ) {
-            (Some((_, f)), _) => f.clone(),
-            (None, Some(relative)) => assets.source_dir.join(relative),
-            (None, None) => assets.source_dir.join(percent_decode(uri)),
-        };
         Some(BaseColorTexture {
             material,
-            source: file.display().to_string(),
-            bytes: std::fs::read(&file)
-                .map(Arc::from)
+            source: assets
+                .source_dir
+                .join(percent_decode(uri))
+                .display()
+                .to_string(),
+            bytes: super::gltf::read_image_file(assets, j, uri)
+                .map(|(_, bytes)| Arc::from(bytes))
                 .map_err(|e| e.to_string()),
             v_down: true,
         })

@@ -238,8 +238,10 @@ fn what_does_not_convert_is_named_and_the_geometry_still_writes() {
     let tga = dir.path().join("tex.tga");
     assert_eq!(w.len(), 4, "{w:?}");
     assert!(
-        w[0].starts_with(&format!("material file {} not copied: ", missing.display()))
-            && w[0].contains("material a is written without its texture"),
+        w[0].starts_with(&format!(
+            "texture {} of material a not read or written: ",
+            missing.display()
+        )) && w[0].contains("the material is written without it"),
         "{w:?}"
     );
     assert_eq!(

@@ -16,6 +16,7 @@
 //! its buffer in `<stem>.bin` next to it; [`encode`] and [`encode_with_attributes`] give the
 //! bytes of one file (a `.gltf` then holds its buffer as a `data:` URI).
 
+mod contain;
 mod gltf;
 mod matconv;
 mod obj;
@@ -129,11 +130,7 @@ pub fn load(path: &Path) -> Result<LoadedMesh, MeshError> {
     let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
         path: path.to_path_buf(),
     })?;
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    load_bytes(&bytes, format, path)
+    load_bytes(&read_model(path)?, format, path)
 }
 
 /// Load an OBJ file with the tobj-based reader instead of the built-in one: an independent
@@ -142,11 +139,19 @@ pub fn load(path: &Path) -> Result<LoadedMesh, MeshError> {
 /// duplicate faces are dropped with warnings as in [`load`]. Prefer [`load`] for counts as
 /// stored in the file.
 pub fn load_obj_with_tobj(path: &Path) -> Result<LoadedMesh, MeshError> {
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+    validate(obj::parse_with_tobj(&read_model(path)?, path)?, path)
+}
+
+/// The bytes of the model file `path`: a regular file (a FIFO or a device such as `/dev/zero`
+/// is refused before it is opened, see [`contain`]), read whole.
+fn read_model(path: &Path) -> Result<Vec<u8>, MeshError> {
+    contain::read_limited(path, u64::MAX).map_err(|e| MeshError::Io {
         path: path.to_path_buf(),
-        source,
-    })?;
-    validate(obj::parse_with_tobj(&bytes, path)?, path)
+        source: match e {
+            contain::Refused::Io(source) => source,
+            other => std::io::Error::other(other.to_string()),
+        },
+    })
 }
 
 /// Parse `bytes` in `format`; `path` is used in error messages, and for glTF its folder is where
@@ -573,61 +578,52 @@ fn encode_gltf(
 /// [`save_with_attributes`] calls it for an OBJ output; it is public for a caller writing the
 /// bytes of [`encode_with_attributes`] itself.
 pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
+    use contain::{Existing, IMAGE_LIMIT, LIBRARY_LIMIT, read_contained, read_limited};
     if let Some(plan) = matconv::gltf_to_mtl(materials, output) {
         return matconv::write_mtl(&plan, output);
     }
     let mut warnings = Vec::new();
-    let out_dir = match output.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let mut copy = |from: &Path, to: &Path| {
-        if to.exists() {
-            return;
-        }
-        if let Some(parent) = to.parent()
-            && let Err(e) = std::fs::create_dir_all(parent)
+    let out_dir = contain::folder_of(output);
+    // The containment rule on both sides: libraries (inside the model's folder since loading)
+    // and the textures they name (inside the library's folder) are read as regular files of a
+    // bounded size, and written only inside the output's folder.
+    let mut copy = |what: String, name: &Path, read: Result<Vec<u8>, contain::Refused>| {
+        if let Err(e) =
+            read.and_then(|bytes| contain::write_beside(out_dir, name, &bytes, Existing::Keep))
         {
-            warnings.push(MeshWarning::MaterialFileNotCopied {
-                path: from.to_path_buf(),
-                reason: e.to_string(),
+            warnings.push(MeshWarning::ReferenceRefused {
+                reference: what,
+                reason: format!("{e}; not copied next to {}", output.display()),
             });
-            return;
-        }
-        match std::fs::read(from) {
-            Ok(bytes) => {
-                if let Err(e) = write_atomic(to, &bytes) {
-                    warnings.push(MeshWarning::MaterialFileNotCopied {
-                        path: from.to_path_buf(),
-                        reason: e.to_string(),
-                    });
-                }
-            }
-            Err(e) => warnings.push(MeshWarning::MaterialFileNotCopied {
-                path: from.to_path_buf(),
-                reason: e.to_string(),
-            }),
         }
     };
     for library in &materials.libraries {
         let Some(name) = library.file_name() else {
             continue;
         };
-        copy(library, &out_dir.join(name));
-        let lib_dir = library.parent().unwrap_or(Path::new("."));
-        if let Ok(text) = std::fs::read(library) {
-            for texture in obj::mtl_textures(&text) {
-                let relative = Path::new(&texture);
-                // Absolute paths and paths leaving the folder are referenced as they are.
-                if relative.is_absolute()
-                    || relative
-                        .components()
-                        .any(|c| matches!(c, std::path::Component::ParentDir))
-                {
-                    continue;
-                }
-                copy(&lib_dir.join(relative), &out_dir.join(relative));
+        let text = read_limited(library, LIBRARY_LIMIT);
+        let textures = text
+            .as_ref()
+            .map(|t| obj::mtl_textures(t))
+            .unwrap_or_default();
+        copy(
+            format!("material library {}", library.display()),
+            Path::new(name),
+            text,
+        );
+        let lib_dir = contain::folder_of(library);
+        for texture in textures {
+            let relative = Path::new(&texture);
+            // Absolute paths and paths leaving the folder are referenced as they are.
+            if relative.is_absolute()
+                || relative
+                    .components()
+                    .any(|c| matches!(c, std::path::Component::ParentDir))
+            {
+                continue;
             }
+            let read = read_contained(lib_dir, lib_dir, &texture, IMAGE_LIMIT).map(|(_, b)| b);
+            copy(format!("texture {texture}"), relative, read);
         }
     }
     warnings

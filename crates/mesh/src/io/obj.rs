@@ -138,8 +138,28 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
                     c.material = Some(id);
                 }
                 b'm' if !rest.is_empty() => {
-                    let dir = path.parent().unwrap_or(Path::new(""));
-                    c.libraries.push(dir.join(rest));
+                    // The containment rule: a library inside the OBJ's folder, or a warning and
+                    // nothing read (a missing one is still named, as before).
+                    let dir = super::contain::folder_of(path);
+                    let found = super::contain::resolve(dir, dir, &rest).and_then(|p| {
+                        if p.is_file() {
+                            Ok(p)
+                        } else {
+                            Err(super::contain::Refused::NotRegular)
+                        }
+                    });
+                    match found {
+                        Ok(_) => c.libraries.push(dir.join(&rest)),
+                        Err(super::contain::Refused::Io(e))
+                            if e.kind() == std::io::ErrorKind::NotFound =>
+                        {
+                            c.libraries.push(dir.join(&rest));
+                        }
+                        Err(e) => raw.warnings.push(MeshWarning::ReferenceRefused {
+                            reference: format!("mtllib {rest}"),
+                            reason: e.to_string(),
+                        }),
+                    }
                 }
                 b's' if rest != "off" && rest != "0" => {
                     c.smoothing.insert(rest);
@@ -564,7 +584,7 @@ pub(crate) fn write_with_attributes(
                 .and_then(|ms| ms.names.get(current as usize))
                 .cloned()
                 .unwrap_or_else(|| format!("material_{current}"));
-            let _ = writeln!(out, "usemtl {name}");
+            let _ = writeln!(out, "usemtl {}", super::contain::one_line_name(&name));
         }
         let c = attributes.corners[f];
         out.push('f');
