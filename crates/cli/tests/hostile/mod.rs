@@ -29,10 +29,10 @@ pub fn geometry() -> Vec<u8> {
 /// then the canary after the indices. Its positions are distinctive floats.
 pub fn canary_geometry() -> Vec<u8> {
     let p: [[f32; 3]; 4] = [
-        [0.123_456_79, 7.654_321, 3.141_592_7],
+        [0.123_456_79, 7.654_321, 3.161_592_7],
         [9.876_543, 0.111_111_11, 2.718_281_7],
         [5.555_555_5, 4.444_444_5, 0.333_333_34],
-        [1.414_213_5, 1.732_050_8, 2.236_068],
+        [1.424_213_5, 1.762_050_8, 2.256_068],
     ];
     let mut b = Vec::new();
     p.iter().flatten().for_each(|x| b.extend(x.to_le_bytes()));
@@ -129,11 +129,11 @@ pub fn glb(spec: &Spec, image: &[u8]) -> Vec<u8> {
     if embedded {
         bin.extend_from_slice(image);
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let mut json = json(spec, bin.len(), if embedded { image.len() } else { 0 }).into_bytes();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();
