@@ -7,9 +7,17 @@
 //! byte for byte the meshes `gng3d simplify` writes with the same options, and a file that
 //! exhausts memory or crashes is an error row while the others go on. Outputs are written
 //! atomically, so `--skip-existing` resumes a killed run: an output that exists is complete.
+//! A resumed run records an output that has no row yet (counts read from the files), so the
+//! table ends with one row per input.
+//!
+//! Refused before anything is written: two files whose results would share a file (a `.gltf`'s
+//! buffer `<stem>.bin` included, names that differ only in case counted as one), and a result
+//! that would replace an input (`--out` the source folder). The `gng3d simplify` children die
+//! with the batch (Linux), and the stats table is locked while it is written, so batches run
+//! into one folder write its header once.
 
 use std::collections::HashMap;
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Mutex;
@@ -137,7 +145,11 @@ impl Row {
         Some(Row {
             input: cells[0].clone(),
             output: cells[1].clone(),
-            status: if cells[2] == "ok" { "ok" } else { "error" },
+            status: match cells[2].as_str() {
+                "ok" => "ok",
+                "skipped" => "skipped",
+                _ => "error",
+            },
             error: (!cells[3].is_empty()).then(|| cells[3].clone()),
             warnings: cells[4].clone(),
             method: cells[5].clone(),
@@ -189,32 +201,31 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
         bail!("simplify option: {first}");
     }
 
+    // Where every file goes, checked over the whole list (all shards write into one folder)
+    // before anything is written: no two files, or a `.gltf` and its buffer file, to one place
+    // (or to names that differ only in case), and no result over an input.
+    let all = list_inputs(&args.source)?;
+    let all_outputs: Vec<PathBuf> = all
+        .iter()
+        .map(|f| output_path(f, &args.out, args.format.as_deref()))
+        .collect();
+    check_collisions(&all, &all_outputs)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("{}: cannot create the output folder", args.out.display()))?;
+    check_inputs_kept(&args.source, &args.out, &all, &all_outputs)?;
     mesh::io::check_writable(&args.out.join("stats.csv"))?;
     check_values(&args, &simplify_options)?;
 
-    let all = list_inputs(&args.source)?;
     let files: Vec<PathBuf> = all
         .into_iter()
         .skip(args.rank)
         .step_by(args.world_size)
         .collect();
-    let outputs: Vec<PathBuf> = files
-        .iter()
-        .map(|f| output_path(f, &args.out, args.format.as_deref()))
+    let outputs: Vec<PathBuf> = all_outputs
+        .into_iter()
+        .skip(args.rank)
+        .step_by(args.world_size)
         .collect();
-    let mut seen: HashMap<&Path, &Path> = HashMap::new();
-    for (f, o) in files.iter().zip(&outputs) {
-        if let Some(other) = seen.insert(o, f) {
-            bail!(
-                "{} and {} would both be written to {}",
-                other.display(),
-                f.display(),
-                o.display()
-            );
-        }
-    }
 
     let stats_name = if args.world_size > 1 {
         format!("stats-{}-of-{}.csv", args.rank, args.world_size)
@@ -222,6 +233,8 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
         "stats.csv".to_string()
     };
     let stats = Stats::open(&args.out.join(stats_name))?;
+    // The outputs the table already has a row for (a skipped file's row comes from there).
+    let recorded: std::collections::HashSet<String> = stats.earlier.keys().cloned().collect();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let jobs = args.jobs.unwrap_or(cores).clamp(1, files.len().max(1));
     let threads_per_run = (cores / jobs).max(1);
@@ -250,6 +263,7 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
                         &args,
                         &simplify_options,
                         threads_per_run,
+                        recorded.contains(&outputs[i].display().to_string()),
                     );
                     let mut done = done.lock().unwrap_or_else(|e| e.into_inner());
                     let (stats, rows, failure) = &mut *done;
@@ -302,11 +316,13 @@ pub(crate) fn run(args: BatchArgs) -> anyhow::Result<()> {
 /// and stops the batch now instead of giving every file the same error row; one that names it
 /// depends on the mesh (a target above its vertex count) and is each file's business.
 fn check_values(args: &BatchArgs, options: &[String]) -> anyhow::Result<()> {
-    let probe = args.out.join(".gng3d-batch-probe.ply");
-    let probe_out = args.out.join(".gng3d-batch-probe-out.ply");
+    // Named for this process: another batch into the same folder probes at the same time.
+    let id = std::process::id();
+    let probe = args.out.join(format!(".gng3d-batch-probe-{id}.ply"));
+    let probe_out = args.out.join(format!(".gng3d-batch-probe-{id}-out.ply"));
     mesh::io::save(&mesh::procedural::icosphere(2), &probe)?;
     let exe = std::env::current_exe().context("cannot find the gng3d executable")?;
-    let run = Command::new(exe)
+    let run = gng3d_command(&exe)
         .arg("simplify")
         .arg(&probe)
         .arg(&probe_out)
@@ -322,6 +338,37 @@ fn check_values(args: &BatchArgs, options: &[String]) -> anyhow::Result<()> {
         Some(m) if !o.status.success() && !m.contains(".gng3d-batch-probe") => bail!("{m}"),
         _ => Ok(()),
     }
+}
+
+/// A command running `exe` (this executable) as a child that dies with the batch: on Linux the
+/// child asks for SIGKILL when its parent ends (`PR_SET_PDEATHSIG`), so `kill -9` of a batch
+/// does not leave its `gng3d simplify` runs going on (and writing) unseen. The signal comes
+/// when the *thread* that spawned the child ends, not the process: children are spawned by the
+/// batch's job threads (and its main thread), which live until the batch's last file is done.
+fn gng3d_command(exe: &Path) -> Command {
+    #[allow(unused_mut)]
+    let mut command = Command::new(exe);
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::process::CommandExt;
+        let parent = std::process::id();
+        // SAFETY: between fork and exec the closure only makes async-signal-safe system calls
+        // (prctl, getppid) and builds an io::Error from an errno, which does not allocate.
+        unsafe {
+            command.pre_exec(move || {
+                let signal = libc::SIGKILL as libc::c_ulong;
+                if libc::prctl(libc::PR_SET_PDEATHSIG, signal) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                // The batch ended before the request was made: nothing would send the signal.
+                if libc::getppid() as u32 != parent {
+                    return Err(std::io::Error::from_raw_os_error(libc::ESRCH));
+                }
+                Ok(())
+            });
+        }
+    }
+    command
 }
 
 /// The `gng3d simplify` options of every file: method, target, then those after `--`.
@@ -381,8 +428,134 @@ fn output_path(input: &Path, out: &Path, format: Option<&str>) -> PathBuf {
     }
 }
 
+/// The files that writing `output` creates: itself, and for a `.gltf` its buffer `<stem>.bin`
+/// next to it (as [`mesh::io::save`] names it), each with how an error message names it.
+fn written_files(output: &Path) -> Vec<(PathBuf, String)> {
+    let mut files = vec![(output.to_path_buf(), output.display().to_string())];
+    if mesh::io::Format::from_path(output) == Some(mesh::io::Format::Gltf)
+        && let Some(stem) = output.file_stem()
+    {
+        let mut name = stem.to_os_string();
+        name.push(".bin");
+        let bin = output.with_file_name(name);
+        let says = format!(
+            "{} (the buffer file of {})",
+            bin.display(),
+            output.display()
+        );
+        files.push((bin, says));
+    }
+    files
+}
+
+/// `path` with its letters in one case: the key under which two output names that differ only
+/// in case (one file on a case-insensitive file system) meet.
+fn fold_case(path: &Path) -> Vec<u8> {
+    let bytes = path.as_os_str().as_encoded_bytes();
+    std::str::from_utf8(bytes).map_or_else(
+        |_| bytes.to_ascii_lowercase(),
+        |s| s.to_lowercase().into_bytes(),
+    )
+}
+
+/// Refuses a list in which two files would write one output file (the result, or a `.gltf`'s
+/// buffer file), names that differ only in case counting as one: the later file would
+/// overwrite the earlier's result, and both rows would say ok.
+fn check_collisions(inputs: &[PathBuf], outputs: &[PathBuf]) -> anyhow::Result<()> {
+    // Files that are one on any file system first (m.gltf and m.GLTF both write m.bin), then
+    // names one on case-insensitive ones.
+    let mut same: HashMap<PathBuf, &Path> = HashMap::new();
+    let mut folded: HashMap<Vec<u8>, (&Path, String)> = HashMap::new();
+    for (input, output) in inputs.iter().zip(outputs) {
+        for (file, says) in written_files(output) {
+            if let Some(other) = same.insert(file.clone(), input) {
+                bail!(
+                    "{} and {} would both be written to {says}",
+                    other.display(),
+                    input.display(),
+                );
+            }
+            folded.entry(fold_case(&file)).or_insert((input, says));
+        }
+    }
+    let mut seen: HashMap<Vec<u8>, &Path> = HashMap::new();
+    for (input, output) in inputs.iter().zip(outputs) {
+        for (file, says) in written_files(output) {
+            let key = fold_case(&file);
+            if let Some(other) = seen.insert(key.clone(), input) {
+                let other_says = &folded[&key].1;
+                bail!(
+                    "{} and {} would both be written to one file, {other_says} and {says} \
+                     (names that differ only in case are one file on case-insensitive file \
+                     systems); rename one",
+                    other.display(),
+                    input.display(),
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The file `path` names with links followed (writes go through links): its canonical path
+/// when it exists, else its folder's joined with its name (`None` when the folder is not there
+/// either, so nothing can be there).
+fn canonical(path: &Path) -> Option<PathBuf> {
+    if let Ok(p) = path.canonicalize() {
+        return Some(p);
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(dir.canonicalize().ok()?.join(path.file_name()?))
+}
+
+/// Refuses, before any file is written, an output folder that is the source folder or a result
+/// (or a `.gltf` result's buffer file) that would replace an input: `--out` the source would otherwise replace every input
+/// with its simplification (and with `--skip-existing`, skip everything). A folder inside the
+/// source folder is fine while no result lands on an input.
+fn check_inputs_kept(
+    source: &Path,
+    out: &Path,
+    inputs: &[PathBuf],
+    outputs: &[PathBuf],
+) -> anyhow::Result<()> {
+    if source.is_dir()
+        && let (Ok(s), Ok(o)) = (source.canonicalize(), out.canonicalize())
+        && s == o
+    {
+        bail!(
+            "{}: the output folder is the source folder {} (each result would replace its \
+             input); choose another --out",
+            out.display(),
+            source.display()
+        );
+    }
+    let kept: HashMap<PathBuf, &Path> = inputs
+        .iter()
+        .filter_map(|input| Some((input.canonicalize().ok()?, input.as_path())))
+        .collect();
+    for (input, output) in inputs.iter().zip(outputs) {
+        for (file, _) in written_files(output) {
+            if let Some(kept) = canonical(&file).and_then(|c| kept.get(&c)) {
+                bail!(
+                    "{}: the result of {} would be written over the input {}; choose another \
+                     --out",
+                    file.display(),
+                    input.display(),
+                    kept.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Simplify one file with a `gng3d simplify` process (and measure it with `gng3d metrics`);
-/// never fails: what goes wrong is the row's error.
+/// never fails: what goes wrong is the row's error. `recorded`: the stats table has a row for
+/// `output` (a skipped file gets that row's counts; without one, its counts are read from the
+/// files).
 fn simplify_file(
     exe: &Path,
     input: &Path,
@@ -390,6 +563,7 @@ fn simplify_file(
     args: &BatchArgs,
     options: &[String],
     threads: usize,
+    recorded: bool,
 ) -> Row {
     let mut row = Row {
         input: input.display().to_string(),
@@ -399,6 +573,28 @@ fn simplify_file(
     };
     if args.skip_existing && output.exists() {
         row.status = "skipped";
+        if !recorded {
+            // Written by a run killed before it recorded the row: the row (with the counts a
+            // run gives) is made from the files, so the table has one row per input.
+            let counts = |path: &Path| {
+                mesh::io::load(path).map(|m| {
+                    (
+                        Some(m.mesh.vertex_count() as u64),
+                        Some(m.mesh.face_count() as u64),
+                    )
+                })
+            };
+            let mut problems = Vec::new();
+            match counts(output) {
+                Ok((v, f)) => (row.vertices, row.faces) = (v, f),
+                Err(e) => problems.push(format!("reading the existing output: {e}")),
+            }
+            match counts(input) {
+                Ok((v, f)) => (row.input_vertices, row.input_faces) = (v, f),
+                Err(e) => problems.push(format!("reading the input: {e}")),
+            }
+            row.error = (!problems.is_empty()).then(|| problems.join("; "));
+        }
         return row;
     }
     let start = std::time::Instant::now();
@@ -426,7 +622,7 @@ fn simplify_file(
             .map_err(|e| format!("unreadable --json output: {e}"))?;
         Ok((json, warnings))
     };
-    let simplified = run(Command::new(exe)
+    let simplified = run(gng3d_command(exe)
         .arg("simplify")
         .arg(input)
         .arg(output)
@@ -453,7 +649,7 @@ fn simplify_file(
     row.input_vertices = count(&["input_vertices"]);
     row.input_faces = count(&["input_faces"]);
     if args.measure {
-        match run(Command::new(exe)
+        match run(gng3d_command(exe)
             .arg("metrics")
             .arg(input)
             .arg(output)
@@ -477,8 +673,12 @@ fn simplify_file(
     row
 }
 
-/// The stats table: rows appended and flushed as files complete; the ok rows of an earlier run
-/// give a skipped file its counts back.
+/// The stats table: rows appended and flushed as files complete; the ok and skipped rows of an
+/// earlier run give a skipped file its counts back.
+///
+/// Another batch may write the same table (two processes given one `--out`): the table is read
+/// and its header written under an exclusive advisory lock (`flock(LOCK_EX)` on Unix), and each
+/// row is appended under it, so the header is written once and rows are whole.
 struct Stats {
     file: std::fs::File,
     path: PathBuf,
@@ -487,53 +687,74 @@ struct Stats {
 
 impl Stats {
     fn open(path: &Path) -> anyhow::Result<Stats> {
-        let mut earlier = HashMap::new();
-        let existing = std::fs::read_to_string(path).unwrap_or_default();
-        let mut records = parse_csv(&existing).into_iter();
-        let header_ok = records.next().is_none_or(|h| h == FIELDS);
-        if !header_ok {
-            bail!(
-                "{}: not a gng3d stats table (its header differs); move it or choose another --out",
-                path.display()
-            );
-        }
-        for cells in records {
-            if let Some(row) = Row::from_cells(&cells).filter(|r| r.status == "ok") {
-                earlier.insert(row.output.clone(), row);
-            }
-        }
-        let mut file = std::fs::OpenOptions::new()
+        let file = std::fs::OpenOptions::new()
+            .read(true)
             .create(true)
             .append(true)
             .open(path)
             .with_context(|| format!("{}: cannot open the stats table", path.display()))?;
-        if existing.is_empty() {
-            file.write_all(csv_line(&FIELDS.map(String::from)).as_bytes())
-                .with_context(|| format!("{}: write failed", path.display()))?;
-        }
-        Ok(Stats {
+        let mut stats = Stats {
             file,
             path: path.to_path_buf(),
-            earlier,
-        })
+            earlier: HashMap::new(),
+        };
+        stats.locked(|stats| {
+            let mut bytes = Vec::new();
+            (&stats.file)
+                .read_to_end(&mut bytes)
+                .with_context(|| format!("{}: cannot read the stats table", path.display()))?;
+            let existing = String::from_utf8_lossy(&bytes);
+            let mut records = parse_csv(&existing).into_iter();
+            let header_ok = records.next().is_none_or(|h| h == FIELDS);
+            if !header_ok {
+                bail!(
+                    "{}: not a gng3d stats table (its header differs); move it or choose another --out",
+                    path.display()
+                );
+            }
+            for cells in records {
+                if let Some(row) = Row::from_cells(&cells).filter(|r| r.status != "error") {
+                    stats.earlier.insert(row.output.clone(), row);
+                }
+            }
+            if existing.is_empty() {
+                stats.append(&csv_line(&FIELDS.map(String::from)))?;
+            }
+            Ok(())
+        })?;
+        Ok(stats)
+    }
+
+    /// `f` with the table locked against other processes writing it.
+    fn locked<T>(&mut self, f: impl FnOnce(&mut Stats) -> anyhow::Result<T>) -> anyhow::Result<T> {
+        self.file
+            .lock()
+            .with_context(|| format!("{}: cannot lock the stats table", self.path.display()))?;
+        let result = f(self);
+        self.file.unlock().ok();
+        result
+    }
+
+    /// Append `line` (the table locked) and flush it.
+    fn append(&mut self, line: &str) -> anyhow::Result<()> {
+        self.file
+            .write_all(line.as_bytes())
+            .and_then(|()| self.file.flush())
+            .with_context(|| format!("{}: write failed", self.path.display()))
     }
 
     /// Record `row` (a skipped file an earlier run recorded comes back with that run's counts
-    /// and is not written again).
+    /// and is not written again; one without a row is written with the counts it has).
     fn add(&mut self, row: Row) -> anyhow::Result<Row> {
-        if row.status == "skipped" {
-            if let Some(earlier) = self.earlier.get(&row.output) {
-                return Ok(Row {
-                    status: "skipped",
-                    ..earlier.clone()
-                });
-            }
-            return Ok(row);
+        if row.status == "skipped"
+            && let Some(earlier) = self.earlier.get(&row.output)
+        {
+            return Ok(Row {
+                status: "skipped",
+                ..earlier.clone()
+            });
         }
-        self.file
-            .write_all(csv_line(&row.cells()).as_bytes())
-            .and_then(|()| self.file.flush())
-            .with_context(|| format!("{}: write failed", self.path.display()))?;
+        self.locked(|stats| stats.append(&csv_line(&row.cells())))?;
         Ok(row)
     }
 }
