@@ -25,7 +25,7 @@ def test_trainer_reads_wait_while_another_thread_steps():
     plot. The reads wait for the running step's chunk instead of failing with "busy", and the
     values they see only grow."""
     v, f = torus(96, 48)
-    t = gng3d.Trainer(v, f, vertices_target=1500, epochs=400, seed=1)
+    t = gng3d.Trainer(v, f, vertices_target=1500, epochs=5000, seed=1)
     failures = []
     stop = threading.Event()
 
