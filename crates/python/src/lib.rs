@@ -168,26 +168,28 @@ fn prepared(
 ///     vertices_target: the output's vertex count (GNG3D gives exactly this many).
 ///     faces_target: the output's face count (method="qem" only).
 ///     ratio: the share of the input's vertices to keep, in (0, 1], for every method
-///         (0.1 keeps a tenth of the vertices). It is *not* a reduction (fast_simplification's
-///         ``target_reduction=0.9`` is ``ratio=0.1`` here) and not a share of faces (the CLI's
-///         ``--ratio`` with ``--method qem`` is one of faces: use ``faces_target`` for that).
-///         Give exactly one of the three targets.
+///         (0.1 keeps a tenth of the vertices), as the CLI's ``--ratio`` is for every method.
+///         It is *not* a reduction (fast_simplification's ``target_reduction=0.9`` is
+///         ``ratio=0.1`` here) and not a share of faces (the CLI's ``--face-ratio``, QEM only:
+///         use ``faces_target`` for that). Give exactly one of the three targets.
 ///     method: "gng" (GNG3D-Q, the CLI's ``--method gng``), "paper" (the published GNG3D:
 ///         node placement, 30 epochs) or "qem" (Garland-Heckbert).
 ///     time_limit: GNG3D's most seconds for the whole run (steps are left out to keep it;
 ///         each is a warning); the vertex count stays exact.
-///     seed: GNG3D's random seed (the CLI's default is 1; the same seed gives the same mesh
-///         as ``gng3d simplify --method gng --seed S``).
+///     seed: GNG3D's random seed, an int in 0 to 2**64 - 1 (the same seed gives the same
+///         mesh as ``gng3d simplify --method gng --seed S``). Default (None):
+///         ``gng3d.DEFAULT_SEED``, the library's default and the CLI's, so a call without a
+///         seed gives the mesh of ``gng3d simplify`` (and ``gng3d batch``) without one.
 ///     weld: weld exact duplicate positions and drop degenerate faces and unreferenced
 ///         vertices first, as the CLI does (``weld=False`` is its ``--no-weld``).
 ///     placement, flips, refit, relax, deviation_repair, epochs, signals, oversample,
 ///         detail_rounds: GNG3D's variant, as the CLI's flags (``flips=False`` is
 ///         ``--no-flips``, ``placement="node"`` is ``--placement node``).
 ///     threshold: QEM's pair distance threshold in model units (0: edges only).
-///     threads: most threads the run uses (default: the machine's cores, GNG3D's training at
-///         most 4); ``threads=1`` for many runs side by side (:mod:`gng3d.batch` does). The
-///         mesh is the same for any count, except QEM on 500,000 faces or more (split into
-///         parts on more than one thread).
+///     threads: most threads the run uses, 1 to ``gng3d.MAX_THREADS`` (256; default: the
+///         machine's cores, GNG3D's training at most 4); ``threads=1`` for many runs side by
+///         side (:mod:`gng3d.batch` does). The mesh is the same for any count, except QEM on
+///         500,000 faces or more (split into parts on more than one thread).
 ///
 /// Returns:
 ///     SimplifyResult: ``.vertices`` (float64, (n, 3)), ``.faces`` (int64, (m, 3)),
@@ -198,9 +200,11 @@ fn prepared(
 ///
 /// Raises:
 ///     ValueError: bad input (wrong shape, NaN, an index out of range, no faces) or options,
-///         with the library's message.
+///         with the library's message (or one naming the keyword, e.g. ``threads``).
 ///     RuntimeError: a run that ended without a mesh (e.g. a time limit too short to train).
-///     KeyboardInterrupt: Ctrl-C during GNG3D training.
+///     KeyboardInterrupt: Ctrl-C during GNG3D training (within a fraction of a second). The
+///         steps after training and QEM run to their end first: the libraries offer no way
+///         to stop them.
 ///
 /// The GIL is released while the mesh is simplified, so threads run in parallel.
 ///
@@ -214,7 +218,7 @@ fn prepared(
 #[pyfunction]
 #[pyo3(signature = (
     vertices, faces, *, vertices_target=None, faces_target=None, ratio=None, method="gng",
-    time_limit=None, seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
+    time_limit=None, seed=None, weld=true, placement=None, flips=None, refit=None, relax=None,
     deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
     threshold=None, threads=None
 ))]
@@ -228,7 +232,7 @@ fn simplify(
     ratio: Option<f64>,
     method: &str,
     time_limit: Option<f64>,
-    seed: u64,
+    seed: Option<Bound<'_, PyAny>>,
     weld: bool,
     placement: Option<String>,
     flips: Option<bool>,
@@ -240,7 +244,7 @@ fn simplify(
     oversample: Option<f64>,
     detail_rounds: Option<usize>,
     threshold: Option<f64>,
-    threads: Option<usize>,
+    threads: Option<Bound<'_, PyAny>>,
 ) -> PyResult<SimplifyResult> {
     let request = Request::new(
         vertices_target,
@@ -258,9 +262,9 @@ fn simplify(
             signals,
             oversample,
             detail_rounds,
-            threads,
+            threads: run::threads_keyword(threads.as_ref())?,
         },
-        seed,
+        run::seed_keyword(seed.as_ref())?,
         threshold,
     )?;
     let input = prepared(py, vertices, faces, weld)?;
@@ -395,7 +399,8 @@ fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr {
 ///     ValueError: a malformed input, an unknown extension or bad options; the message names
 ///         the file where one is at fault.
 ///     RuntimeError: a run that ended without a mesh.
-///     KeyboardInterrupt: Ctrl-C during GNG3D training.
+///     KeyboardInterrupt: Ctrl-C during GNG3D training, as for :func:`simplify`; the output
+///         is not written then.
 ///
 /// The GIL is released while the file is read, simplified and written.
 ///
@@ -406,7 +411,7 @@ fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr {
 #[pyfunction]
 #[pyo3(signature = (
     input, output, *, vertices_target=None, faces_target=None, ratio=None, method="gng",
-    time_limit=None, seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
+    time_limit=None, seed=None, weld=true, placement=None, flips=None, refit=None, relax=None,
     deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
     threshold=None, threads=None
 ))]
@@ -420,7 +425,7 @@ fn simplify_file(
     ratio: Option<f64>,
     method: &str,
     time_limit: Option<f64>,
-    seed: u64,
+    seed: Option<Bound<'_, PyAny>>,
     weld: bool,
     placement: Option<String>,
     flips: Option<bool>,
@@ -432,7 +437,7 @@ fn simplify_file(
     oversample: Option<f64>,
     detail_rounds: Option<usize>,
     threshold: Option<f64>,
-    threads: Option<usize>,
+    threads: Option<Bound<'_, PyAny>>,
 ) -> PyResult<SimplifyResult> {
     let request = Request::new(
         vertices_target,
@@ -450,9 +455,9 @@ fn simplify_file(
             signals,
             oversample,
             detail_rounds,
-            threads,
+            threads: run::threads_keyword(threads.as_ref())?,
         },
-        seed,
+        run::seed_keyword(seed.as_ref())?,
         threshold,
     )?;
     // The output path is checked before reading or simplifying, so a typo costs nothing.
@@ -760,5 +765,9 @@ fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<SimplifyResult>()?;
     m.add_class::<trainer::Trainer>()?;
     m.add("Gng3dWarning", m.py().get_type::<Gng3dWarning>())?;
+    // GNG3D's seed when none is given: the library's default, which the CLI's is too.
+    m.add("DEFAULT_SEED", run::default_seed())?;
+    // The most `threads=` a call may ask for.
+    m.add("MAX_THREADS", run::MAX_THREADS)?;
     Ok(())
 }

@@ -5,12 +5,13 @@
 use gng3d_core::{GngError, GngOptions, GngTarget, Placement, SignalSource, Trainer};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use serde::Serialize;
 use serde_json::Value;
 use std::ops::ControlFlow;
-use std::time::Instant;
+use std::sync::mpsc::RecvTimeoutError;
+use std::time::{Duration, Instant};
 
 /// The method a call asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -213,18 +214,98 @@ impl GngKeywords {
     }
 }
 
-/// The pool the QEM steps of a run use: `threads` threads (checked by the library's rule for
-/// `GngOptions::threads`), or `None` for rayon's global pool (the machine's cores).
+/// Most threads a call may ask for (`threads=`). A fixed bound, not one of the machine's core
+/// count, so that a call valid on one machine is valid on every one (the mesh does not depend on
+/// the count). Far above any useful count: GNG3D's training splits into at most a few parts and
+/// QEM into a few; threads beyond the cores only wait. The bound keeps a typo such as
+/// `threads=10000` (a pool of 10,000 threads, 40 s and more for a 0.01 s job) from running.
+pub const MAX_THREADS: usize = 256;
+
+/// A whole-number keyword `name` of a call in `min..=max`: a ValueError naming it and the bound
+/// otherwise (a negative or huge int too, not pyo3's OverflowError without the name), a
+/// TypeError naming it for what is not an int (anything with `__index__`, numpy's ints too).
+pub fn whole_number(name: &str, value: &Bound<'_, PyAny>, min: u64, max: u64) -> PyResult<u64> {
+    let n = match value.extract::<i128>() {
+        Ok(n) => n,
+        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => {
+            // Beyond i128: out of any range here.
+            return Err(out_of_range(name, &value, value.lt(0)?, min, max));
+        }
+        Err(_) => {
+            return Err(PyTypeError::new_err(format!(
+                "{name} must be an int, got {}",
+                value.get_type().name()?
+            )));
+        }
+    };
+    in_range(name, n, min, max)
+}
+
+/// `n`, the value of keyword `name`, when in `min..=max`; a ValueError naming it and the bound
+/// it is beyond otherwise, in the library's words for its own parameters
+/// (`GngError::Parameter`: "parameter threads = 0 is out of range: must be at least 1").
+pub fn in_range(name: &str, n: i128, min: u64, max: u64) -> PyResult<u64> {
+    if n < i128::from(min) || n > i128::from(max) {
+        return Err(out_of_range(name, &n, n < i128::from(min), min, max));
+    }
+    // In range of a u64 by the check above.
+    Ok(n as u64)
+}
+
+/// The ValueError of [`in_range`] for `value`, `below` the range or above it.
+fn out_of_range(
+    name: &str,
+    value: &dyn std::fmt::Display,
+    below: bool,
+    min: u64,
+    max: u64,
+) -> PyErr {
+    let bound = if below {
+        format!("must be at least {min}")
+    } else {
+        format!("must be at most {max}")
+    };
+    PyValueError::new_err(format!(
+        "parameter {name} = {value} is out of range: {bound}"
+    ))
+}
+
+/// The `threads=` keyword of every call that takes one (`simplify`, `simplify_file`,
+/// `Trainer`; `gng3d.batch` passes it to `simplify`): `None`, or a count in 1 to
+/// [`MAX_THREADS`] (a ValueError naming `threads` and the bound otherwise).
+pub fn threads_keyword(value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    match value {
+        None => Ok(None),
+        Some(v) if v.is_none() => Ok(None),
+        Some(v) => Ok(Some(
+            whole_number("threads", v, 1, MAX_THREADS as u64)? as usize
+        )),
+    }
+}
+
+/// GNG3D's seed when a call gives none: the library's default (`GngOptions::default().seed`),
+/// which the CLI's `--seed` default is too, so `gng3d.simplify(v, f, ...)` and
+/// `gng3d simplify IN OUT ...` give the same mesh without a seed. Exposed as
+/// `gng3d.DEFAULT_SEED`.
+pub fn default_seed() -> u64 {
+    GngOptions::default().seed
+}
+
+/// The `seed=` keyword of the GNG3D calls: `None` for [`default_seed`], else an int in
+/// 0 to 2**64 - 1 (a ValueError naming `seed` otherwise).
+pub fn seed_keyword(value: Option<&Bound<'_, PyAny>>) -> PyResult<u64> {
+    match value {
+        Some(v) if !v.is_none() => whole_number("seed", v, 0, u64::MAX),
+        _ => Ok(default_seed()),
+    }
+}
+
+/// The pool the QEM steps of a run use: `threads` threads (checked by [`threads_keyword`]),
+/// or `None` for rayon's global pool (the machine's cores).
 pub fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
     let Some(n) = threads else {
         return Ok(None);
     };
-    GngOptions {
-        threads,
-        ..GngOptions::default()
-    }
-    .validate()
-    .map_err(gng_error)?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(n)
         .build()
@@ -243,6 +324,19 @@ pub fn in_pool<T: Send>(pool: Option<&rayon::ThreadPool>, f: impl FnOnce() -> T 
 /// A library error as a Python exception: what the input or the options make impossible is a
 /// ValueError, a run that ended without a mesh a RuntimeError; the message is the library's.
 pub fn gng_error(e: GngError) -> PyErr {
+    // The library's sentence shows the reason as a Rust `Option` ("stopped (None)"): in words.
+    if let GngError::TooFewNodes { nodes, stop } = e {
+        return PyRuntimeError::new_err(match stop {
+            None => format!(
+                "the network has {nodes} nodes, too few for a mesh (3 at least): train it first \
+                 (Trainer.step or Trainer.train)"
+            ),
+            Some(reason) => format!(
+                "training stopped ({reason}) with {nodes} nodes, too few for a mesh; give it \
+                 more time or signals"
+            ),
+        });
+    }
     match e {
         GngError::TooFewNodes { .. } | GngError::EmptyMesh { .. } | GngError::Decimation(_) => {
             PyRuntimeError::new_err(e.to_string())
@@ -318,12 +412,19 @@ pub fn summarize(
     }
 }
 
+/// How often [`run_gng`] asks whether the run was interrupted while it trains.
+pub const POLL_INTERRUPT: Duration = Duration::from_millis(50);
+
 /// A GNG3D run on a prepared input, as `gng3d simplify --method gng` runs it (the same training
 /// rounds between progress reports, so the same mesh for the same options and seed).
 /// With `attributes`, the output's triangles follow their seams (`Trainer::with_attributes`)
 /// and its attributes come from the input's surface (`mesh::transfer::transfer_attributes`),
 /// as `gng3d_core::simplify_with_attributes` and the CLI give them.
-/// `interrupted` is asked between rounds (a Python KeyboardInterrupt): `Err(None)` then.
+/// `interrupted` (a Python KeyboardInterrupt) is asked on the calling thread every
+/// [`POLL_INTERRUPT`] while training runs on another one, which it stops through the trainer's
+/// cancel token (checked every thousand signals or so), and once more after training:
+/// `Err(None)` then. The steps after training cannot be stopped (the library's `finish` has no
+/// cancel hook), so they run to their end.
 pub fn run_gng(
     input: &TriMesh,
     attributes: Option<&Attributes>,
@@ -339,15 +440,26 @@ pub fn run_gng(
         None => Trainer::new(input, params)?,
     };
     let budget = trainer.stats().max_signals;
-    let mut stopped = false;
-    trainer.train((budget / 20).clamp(1_000, 2_000_000), |_| {
-        if interrupted() {
-            stopped = true;
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
+    let every = (budget / 20).clamp(1_000, 2_000_000);
+    let cancel = trainer.cancel_token();
+    let training = &mut trainer;
+    let mut stopped = std::thread::scope(|scope| {
+        let (done, ended) = std::sync::mpsc::channel::<()>();
+        // The CLI's rounds (the same mesh as `gng3d simplify`); `done` is dropped at the end.
+        scope.spawn(move || {
+            training.train(every, |_| ControlFlow::Continue(()));
+            drop(done);
+        });
+        let mut stopped = false;
+        while let Err(RecvTimeoutError::Timeout) = ended.recv_timeout(POLL_INTERRUPT) {
+            if !stopped && interrupted() {
+                stopped = true;
+                cancel.cancel();
+            }
         }
+        stopped
     });
+    stopped = stopped || interrupted();
     if stopped {
         return Err(None);
     }

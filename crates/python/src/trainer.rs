@@ -5,7 +5,7 @@ use crate::convert;
 use crate::run::{self, GngKeywords, Method, Size};
 use crate::{SimplifyResult, prepared};
 use gng3d_core::GngOptions;
-use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use std::sync::Mutex;
@@ -34,8 +34,14 @@ struct State {
 ///     ...     print(p["signals"], p["nodes"], e["e_avg"], e["e_max"])
 ///     >>> result = t.mesh()                                                # doctest: +SKIP
 ///
-/// Every method releases the GIL while it works; one call at a time runs on a trainer (a
-/// second thread waits for the first).
+/// Every method releases the GIL while it works; one call at a time runs on a trainer: a
+/// second thread's call waits for the first (so one thread may train while another reads
+/// :attr:`progress`, :meth:`snapshot` or :meth:`errors` for a plot; a :meth:`step` lets
+/// readers in between its chunks of a few tens of milliseconds).
+///
+/// Ctrl-C stops :meth:`step` and :meth:`train` within a fraction of a second with
+/// KeyboardInterrupt; the network keeps what it learnt and training can go on. :meth:`mesh`
+/// runs to its end (the library's steps after training cannot be stopped).
 #[pyclass(module = "gng3d", frozen)]
 pub struct Trainer {
     state: Mutex<State>,
@@ -43,8 +49,21 @@ pub struct Trainer {
     cancel: gng3d_core::CancelToken,
 }
 
+/// Signals of the first chunk of a [`Trainer::step`] call; later chunks are sized from the
+/// measured rate to last about [`CHUNK_SECONDS`].
+const FIRST_CHUNK: u64 = 16_384;
+/// Smallest and largest chunk of a step call.
+const CHUNK_RANGE: (u64, u64) = (1_024, 1 << 26);
+/// Aimed-at duration of one chunk: the longest wait for Ctrl-C or for another thread's read.
+const CHUNK_SECONDS: f64 = 0.05;
+
 impl Trainer {
-    /// Runs `f` on the state without the GIL (waiting for another thread's call to end).
+    /// Runs `f` on the state without the GIL, waiting for another thread's call to end. The
+    /// GIL is released before the lock is taken and `f` runs without it, so a thread that
+    /// holds the lock never waits for the GIL (no deadlock with one that holds the GIL and
+    /// waits for the lock): `f` must not touch Python objects (it is `Send` and gets no
+    /// `Python` token; what it returns is turned into Python objects after the lock is
+    /// released).
     fn with<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&mut State) -> T + Send) -> T {
         py.detach(|| {
             let mut state = match self.state.lock() {
@@ -54,22 +73,73 @@ impl Trainer {
             f(&mut state)
         })
     }
+
+    /// Up to `n` more signals (fewer when training ends) in chunks of about
+    /// [`CHUNK_SECONDS`], the lock released and Python's signal handlers run between chunks:
+    /// Ctrl-C raises KeyboardInterrupt (the handler's exception) within a chunk, and other
+    /// threads' calls get in. The network after S signals is the same whatever the chunks
+    /// (`gng3d_core::Trainer::step`).
+    fn step_in_chunks(&self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let mut left = n;
+        let mut chunk = FIRST_CHUNK;
+        while left > 0 {
+            let this = chunk.min(left);
+            let started = Instant::now();
+            let (done, finished) = self.with(py, |s| {
+                let done = s.trainer.step(this);
+                (done, s.trainer.is_finished())
+            });
+            left -= done.min(left);
+            if finished || done == 0 {
+                break;
+            }
+            py.check_signals()?;
+            let seconds = started.elapsed().as_secs_f64();
+            if done == this && seconds > 0.0 {
+                let rate = done as f64 / seconds;
+                let next = (rate * CHUNK_SECONDS) as u64;
+                // At most doubling: a chunk's rate says little about a network that grows.
+                chunk = next
+                    .min(chunk.saturating_mul(2))
+                    .clamp(CHUNK_RANGE.0, CHUNK_RANGE.1);
+            }
+        }
+        Ok(())
+    }
 }
 
-/// The progress dict of `state`.
-fn progress_dict<'py>(py: Python<'py>, t: &gng3d_core::Trainer) -> PyResult<Bound<'py, PyDict>> {
-    let p = t.progress();
-    let stats = t.stats();
-    let d = PyDict::new(py);
-    d.set_item("signals", p.signals)?;
-    d.set_item("nodes", p.nodes)?;
-    d.set_item("edges", p.edges)?;
-    d.set_item("seconds", p.elapsed.as_secs_f64())?;
-    d.set_item("budget", stats.max_signals)?;
-    d.set_item("target", t.node_target())?;
-    d.set_item("finished", t.is_finished())?;
-    d.set_item("stop", stats.stop.map(|s| format!("{s:?}")))?;
-    Ok(d)
+/// What the progress dict shows, read under the lock (no Python objects there).
+struct ProgressView {
+    progress: gng3d_core::Progress,
+    stats: gng3d_core::TrainingStats,
+    target: usize,
+    finished: bool,
+}
+
+impl ProgressView {
+    fn of(t: &gng3d_core::Trainer) -> ProgressView {
+        ProgressView {
+            progress: t.progress(),
+            stats: t.stats(),
+            target: t.node_target(),
+            finished: t.is_finished(),
+        }
+    }
+
+    /// The progress dict.
+    fn dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let (p, stats) = (&self.progress, &self.stats);
+        let d = PyDict::new(py);
+        d.set_item("signals", p.signals)?;
+        d.set_item("nodes", p.nodes)?;
+        d.set_item("edges", p.edges)?;
+        d.set_item("seconds", p.elapsed.as_secs_f64())?;
+        d.set_item("budget", stats.max_signals)?;
+        d.set_item("target", self.target)?;
+        d.set_item("finished", self.finished)?;
+        d.set_item("stop", stats.stop.map(|s| format!("{s:?}")))?;
+        Ok(d)
+    }
 }
 
 #[pymethods]
@@ -77,7 +147,7 @@ impl Trainer {
     #[new]
     #[pyo3(signature = (
         vertices, faces, *, vertices_target=None, ratio=None, method="gng", time_limit=None,
-        seed=0, weld=true, placement=None, flips=None, refit=None, relax=None,
+        seed=None, weld=true, placement=None, flips=None, refit=None, relax=None,
         deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
         threads=None
     ))]
@@ -90,7 +160,7 @@ impl Trainer {
         ratio: Option<f64>,
         method: &str,
         time_limit: Option<f64>,
-        seed: u64,
+        seed: Option<Bound<'_, PyAny>>,
         weld: bool,
         placement: Option<String>,
         flips: Option<bool>,
@@ -101,8 +171,10 @@ impl Trainer {
         signals: Option<String>,
         oversample: Option<f64>,
         detail_rounds: Option<usize>,
-        threads: Option<usize>,
+        threads: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Trainer> {
+        let threads = run::threads_keyword(threads.as_ref())?;
+        let seed = run::seed_keyword(seed.as_ref())?;
         let method = Method::parse(method)?;
         if method == Method::Qem {
             return Err(PyValueError::new_err(
@@ -145,41 +217,40 @@ impl Trainer {
         })
     }
 
-    /// Train ``signals`` more signals (fewer when the budget or the time limit ends training
-    /// first); returns :attr:`progress`.
+    /// Train ``signals`` more signals, an int >= 0 (fewer when the budget or the time limit
+    /// ends training first); returns :attr:`progress`. Ctrl-C stops it within a fraction of
+    /// a second with KeyboardInterrupt (the network keeps the signals trained so far).
     #[pyo3(signature = (signals=10_000))]
-    fn step<'py>(&self, py: Python<'py>, signals: u64) -> PyResult<Bound<'py, PyDict>> {
-        self.with(py, |s| {
-            s.trainer.step(signals);
-        });
+    fn step<'py>(&self, py: Python<'py>, signals: i128) -> PyResult<Bound<'py, PyDict>> {
+        let n = run::in_range("signals", signals, 0, u64::MAX)?;
+        self.step_in_chunks(py, n)?;
         self.progress(py)
     }
 
     /// Train to the end. With ``callback``, call it with :attr:`progress` every ``every``
-    /// signals (default: 5 % of the budget); a callback that returns ``False`` stops training
-    /// there (the network keeps what it learnt; :meth:`mesh` rebuilds from it). Ctrl-C stops
-    /// it too, raising KeyboardInterrupt.
+    /// signals (an int >= 1; default: 5 % of the budget); a callback that returns ``False``
+    /// stops training there (the network keeps what it learnt; :meth:`mesh` rebuilds from
+    /// it). Ctrl-C stops it too, within a fraction of a second, raising KeyboardInterrupt.
     #[pyo3(signature = (callback=None, every=None))]
     fn train<'py>(
         &self,
         py: Python<'py>,
         callback: Option<Bound<'py, PyAny>>,
-        every: Option<u64>,
+        every: Option<i128>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let budget = self.with(py, |s| s.trainer.stats().max_signals);
-        let every = every
-            .unwrap_or((budget / 20).clamp(1_000, 2_000_000))
-            .max(1);
+        let every = match every {
+            Some(e) => run::in_range("every", e, 1, u64::MAX)?,
+            None => {
+                let budget = self.with(py, |s| s.trainer.stats().max_signals);
+                (budget / 20).clamp(1_000, 2_000_000)
+            }
+        };
         loop {
-            let finished = self.with(py, |s| {
-                s.trainer.step(every);
-                s.trainer.is_finished()
-            });
-            py.check_signals()
-                .map_err(|_| PyKeyboardInterrupt::new_err("GNG3D training interrupted"))?;
-            let progress = self.progress(py)?;
+            self.step_in_chunks(py, every)?;
+            let view = self.with(py, |s| ProgressView::of(&s.trainer));
+            let finished = view.finished;
             if let Some(cb) = &callback {
-                let answer = cb.call1((progress.clone(),))?;
+                let answer = cb.call1((view.dict(py)?,))?;
                 if let Ok(false) = answer.extract::<bool>() {
                     break;
                 }
@@ -196,11 +267,7 @@ impl Trainer {
     /// ``stop`` (why training ended, or None).
     #[getter]
     fn progress<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let state = self
-            .state
-            .try_lock()
-            .map_err(|_| PyRuntimeError::new_err("the trainer is busy in another thread"))?;
-        progress_dict(py, &state.trainer)
+        self.with(py, |s| ProgressView::of(&s.trainer)).dict(py)
     }
 
     /// Whether training has ended (budget, time limit or a stop).

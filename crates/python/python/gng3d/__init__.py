@@ -22,6 +22,8 @@ Example::
 """
 
 from ._gng3d import (
+    DEFAULT_SEED,
+    MAX_THREADS,
     Gng3dWarning,
     SimplifyResult,
     Trainer,
@@ -33,6 +35,8 @@ from ._gng3d import (
 )
 
 __all__ = [
+    "DEFAULT_SEED",
+    "MAX_THREADS",
     "Gng3dWarning",
     "SimplifyResult",
     "Trainer",

@@ -40,6 +40,11 @@ class SimplifyResult:
     def __getitem__(self, index: int, /) -> Union[_Vertices, _Faces]: ...
     def __iter__(self) -> Iterator[Union[_Vertices, _Faces]]: ...
 
+DEFAULT_SEED: int
+"""GNG3D's seed when a call gives none: the library's default, which the CLI's is too."""
+MAX_THREADS: int
+"""The most ``threads=`` a call may ask for (a larger count is a ValueError)."""
+
 def simplify(
     vertices: _ArrayLike,
     faces: _ArrayLike,
@@ -49,7 +54,7 @@ def simplify(
     ratio: Optional[float] = None,
     method: _Method = "gng",
     time_limit: Optional[float] = None,
-    seed: int = 0,
+    seed: Optional[int] = None,
     weld: bool = True,
     placement: Optional[Literal["node", "project", "quadric"]] = None,
     flips: Optional[bool] = None,
@@ -74,7 +79,7 @@ def simplify_file(
     ratio: Optional[float] = None,
     method: _Method = "gng",
     time_limit: Optional[float] = None,
-    seed: int = 0,
+    seed: Optional[int] = None,
     weld: bool = True,
     placement: Optional[Literal["node", "project", "quadric"]] = None,
     flips: Optional[bool] = None,
@@ -140,7 +145,7 @@ class Trainer:
         ratio: Optional[float] = None,
         method: Literal["gng", "paper"] = "gng",
         time_limit: Optional[float] = None,
-        seed: int = 0,
+        seed: Optional[int] = None,
         weld: bool = True,
         placement: Optional[Literal["node", "project", "quadric"]] = None,
         flips: Optional[bool] = None,

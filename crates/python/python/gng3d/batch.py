@@ -215,7 +215,7 @@ def simplify_files(
     vertices_target: Optional[int] = None,
     faces_target: Optional[int] = None,
     ratio: Optional[float] = None,
-    seed: int = 0,
+    seed: Optional[int] = None,
     client: Any = None,
     jobs: Optional[int] = None,
     skip_existing: bool = True,
@@ -384,7 +384,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     target.add_argument("--vertices", type=int, dest="vertices_target")
     target.add_argument("--faces", type=int, dest="faces_target")
     target.add_argument("--ratio", type=float, help="share of each input's vertices kept")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--seed", type=int, default=None,
+        help="GNG3D's seed (default: gng3d.DEFAULT_SEED, the CLI's default)",
+    )  # fmt: skip
     parser.add_argument("--jobs", type=int, default=None, help="processes (default: cores)")
     parser.add_argument("--rank", type=int, default=0)
     parser.add_argument("--world-size", type=int, default=1)

@@ -1,0 +1,219 @@
+"""The faults of the hostile-input review (issue 46): a trainer read from another thread, a
+huge or negative thread count, Ctrl-C in a long call, messages without the parameter's name,
+and the default seed."""
+
+import os
+import pathlib
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import gng3d
+from conftest import cli_binary, torus
+
+HERE = pathlib.Path(__file__).resolve().parent
+
+
+def test_trainer_reads_wait_while_another_thread_steps():
+    """The pattern of Trainer's docstring: one thread trains, another reads the progress for a
+    plot. The reads wait for the running step's chunk instead of failing with "busy", and the
+    values they see only grow."""
+    v, f = torus(96, 48)
+    t = gng3d.Trainer(v, f, vertices_target=1500, epochs=5000, seed=1)
+    failures = []
+    stop = threading.Event()
+
+    def train():
+        try:
+            while not stop.is_set() and not t.finished:
+                t.step(20_000)
+        except BaseException as e:  # noqa: BLE001 - reported below
+            failures.append(e)
+
+    worker = threading.Thread(target=train)
+    worker.start()
+    seen = []
+    try:
+        for _ in range(60):
+            p = t.progress
+            seen.append((p["signals"], p["nodes"]))
+            assert isinstance(t.finished, bool)
+            positions, edges = t.snapshot()
+            assert positions.shape[1] == 3 and edges.shape[1] == 2
+            errors = t.errors()
+            assert errors["e_max"] >= errors["e_avg"] >= 0.0
+            assert "Trainer(" in repr(t)
+        still_training = worker.is_alive()
+    finally:
+        stop.set()
+        worker.join()
+    assert not failures, failures
+    signals = [s for s, _ in seen]
+    assert signals == sorted(signals), "the signal count went back"
+    # The reads overlapped the training (otherwise this test would check nothing).
+    assert still_training and len(set(signals)) > 5, signals
+
+
+@pytest.mark.parametrize("threads", [0, -1, 10_000, 2**70])
+def test_threads_out_of_range_is_a_value_error_naming_it(small_torus, tmp_path, threads):
+    v, f = small_torus
+    limit = gng3d.MAX_THREADS
+    message = out_of_range("threads", threads, "at least 1" if threads < 1 else f"at most {limit}")
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=message):
+        gng3d.simplify(v, f, vertices_target=100, threads=threads)
+    with pytest.raises(ValueError, match=message):
+        gng3d.simplify(v, f, faces_target=100, method="qem", threads=threads)
+    with pytest.raises(ValueError, match=message):
+        gng3d.Trainer(v, f, vertices_target=100, threads=threads)
+    source = tmp_path / "in.ply"
+    gng3d.save(source, v, f)
+    with pytest.raises(ValueError, match=message):
+        gng3d.simplify_file(source, tmp_path / "out.ply", ratio=0.1, threads=threads)
+    with pytest.raises(ValueError, match=message):
+        gng3d.batch.simplify_files([source], tmp_path / "out", ratio=0.1, threads=threads)
+    assert time.perf_counter() - start < 5.0
+
+
+def test_threads_up_to_the_limit_run(small_torus):
+    v, f = small_torus
+    assert gng3d.MAX_THREADS == 256
+    a = gng3d.simplify(v, f, vertices_target=200, seed=2, threads=gng3d.MAX_THREADS)
+    b = gng3d.simplify(v, f, vertices_target=200, seed=2, threads=1)
+    np.testing.assert_array_equal(a.vertices, b.vertices)
+    with pytest.raises(TypeError, match=r"^threads must be an int, got float$"):
+        gng3d.simplify(v, f, vertices_target=200, threads=2.0)
+
+
+def out_of_range(name, value, bound):
+    return rf"^parameter {name} = {value} is out of range: must be {bound}$"
+
+
+def test_step_and_train_counts_name_their_parameter(small_torus):
+    v, f = small_torus
+    t = gng3d.Trainer(v, f, vertices_target=100)
+    with pytest.raises(ValueError, match=out_of_range("signals", -5, "at least 0")):
+        t.step(-5)
+    with pytest.raises(ValueError, match=out_of_range("signals", -(2**80), "at least 0")):
+        t.step(-(2**80))
+    assert t.step(0)["signals"] == 0
+    assert t.step(np.int64(1000))["signals"] >= 1000
+    with pytest.raises(ValueError, match=out_of_range("every", 0, "at least 1")):
+        t.train(every=0)
+    with pytest.raises(ValueError, match=out_of_range("seed", -1, "at least 0")):
+        gng3d.simplify(v, f, vertices_target=100, seed=-1)
+    with pytest.raises(ValueError, match=out_of_range("seed", 2**64, f"at most {2**64 - 1}")):
+        gng3d.simplify(v, f, vertices_target=100, seed=2**64)
+
+
+def test_mesh_before_any_step_says_so_in_words(small_torus):
+    v, f = small_torus
+    t = gng3d.Trainer(v, f, vertices_target=100)
+    with pytest.raises(RuntimeError) as raised:
+        t.mesh()
+    message = str(raised.value)
+    assert "None" not in message and "Some(" not in message, message
+    assert "too few for a mesh" in message and "train it first" in message, message
+
+
+def test_default_seed_is_the_library_and_cli_default(small_torus):
+    v, f = small_torus
+    assert gng3d.DEFAULT_SEED == 1
+    default = gng3d.simplify(v, f, vertices_target=200)
+    one = gng3d.simplify(v, f, vertices_target=200, seed=1)
+    np.testing.assert_array_equal(default.vertices, one.vertices)
+    t = gng3d.Trainer(v, f, vertices_target=200)
+    t.train()
+    np.testing.assert_array_equal(t.mesh().vertices, one.vertices)
+
+
+def test_batch_without_a_seed_writes_what_the_cli_writes(tmp_path, small_torus):
+    cli = cli_binary()
+    if not cli:
+        pytest.skip("needs the gng3d CLI (GNG3D_CLI)")
+    source = tmp_path / "in"
+    source.mkdir()
+    gng3d.save(source / "torus.ply", *small_torus)
+    subprocess.run([cli, "simplify", str(source / "torus.ply"), str(tmp_path / "cli.ply"),
+                    "--method", "gng", "--vertices", "200"],
+                   check=True, capture_output=True)  # fmt: skip
+    code = gng3d.batch.main([str(source), "--out", str(tmp_path / "py"), "--vertices", "200",
+                             "--jobs", "1"])  # fmt: skip
+    assert code == 0
+    cli_v, cli_f = gng3d.load(tmp_path / "cli.ply")
+    py_v, py_f = gng3d.load(tmp_path / "py" / "torus.ply")
+    np.testing.assert_array_equal(cli_v, py_v)
+    np.testing.assert_array_equal(cli_f, py_f)
+
+
+def test_simplify_docstring_says_ratio_is_a_share_of_vertices_for_qem_too():
+    doc = gng3d.simplify.__doc__
+    assert "``--ratio`` with ``--method qem`` is one of faces" not in doc
+    assert "as the CLI's ``--ratio`` is for every method" in doc
+
+
+def interrupted_after(script: str, seconds: float = 1.0):
+    """Runs `script` in a subprocess; SIGINT `seconds` after it prints "ready". Returns the
+    process's stderr and the seconds from the signal to its exit."""
+    env = dict(os.environ, PYTHONPATH=str(HERE) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    process = subprocess.Popen(
+        [sys.executable, "-c", textwrap.dedent(script)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    try:
+        line = process.stdout.readline()
+        assert line.strip() == "ready", (line, process.stderr.read())
+        time.sleep(seconds)
+        process.send_signal(signal.SIGINT)
+        sent = time.perf_counter()
+        try:
+            _, stderr = process.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            pytest.fail("the process ignored SIGINT for 30 s")
+        return stderr, time.perf_counter() - sent
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+
+
+def test_ctrl_c_stops_a_long_trainer_step():
+    stderr, waited = interrupted_after(
+        """
+        import gng3d
+        from conftest import torus
+        v, f = torus(96, 48)
+        t = gng3d.Trainer(v, f, vertices_target=1500, epochs=5000)
+        print("ready", flush=True)
+        t.step(10**9)
+        print("not interrupted", flush=True)
+        """
+    )
+    assert "KeyboardInterrupt" in stderr, stderr
+    assert waited < 1.0, f"{waited:.2f} s from SIGINT to exit"
+
+
+def test_ctrl_c_stops_simplify_file_in_training_and_writes_nothing(tmp_path):
+    source = tmp_path / "in.ply"
+    gng3d.save(source, *torus(96, 48))
+    output = tmp_path / "out.ply"
+    stderr, waited = interrupted_after(
+        f"""
+        import gng3d
+        print("ready", flush=True)
+        gng3d.simplify_file({str(source)!r}, {str(output)!r}, vertices_target=1500, epochs=2000)
+        """
+    )
+    assert "KeyboardInterrupt" in stderr, stderr
+    assert waited < 1.0, f"{waited:.2f} s from SIGINT to exit"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply"]
