@@ -211,3 +211,70 @@ fn a_fifo_or_a_device_as_the_model_is_refused_at_once() {
     assert!(!ok);
     assert!(err.contains("not a regular file"), "{err}");
 }
+
+#[test]
+fn outputs_never_replace_inputs_or_what_they_read() {
+    let arena = Arena::new();
+    let w = &arena.work;
+    // A glTF whose buffer is `data.bin`, as exporters name it.
+    std::fs::write(w.join("data.bin"), hostile::geometry()).unwrap();
+    let scene = w.join("scene.gltf");
+    let spec = hostile::Spec {
+        buffer_uri: Some("data.bin"),
+        ..hostile::Spec::default()
+    };
+    std::fs::write(&scene, hostile::gltf(&spec)).unwrap();
+    let before = hostile::snapshot(w);
+    let s = |a: &str, b: &str, extra: &[&str]| {
+        let (a, b) = (w.join(a), w.join(b));
+        let mut args = vec!["simplify", a.to_str().unwrap(), b.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        gng3d(&args)
+    };
+    for (input, output, extra, replaced) in [
+        ("scene.gltf", "data.gltf", &["--ratio", "1"][..], "data.bin"),
+        (
+            "scene.gltf",
+            "./scene.gltf",
+            &["--ratio", "1"][..],
+            "scene.gltf",
+        ),
+        (
+            "scene.gltf",
+            "scene.gltf",
+            &["--method", "gng", "--vertices", "4"][..],
+            "scene.gltf",
+        ),
+        ("scene.gltf", "data-lod1.gltf", &["--ratio", "1"][..], ""),
+        (
+            "data-lod1.gltf",
+            "data.gltf",
+            &["--lods", "1,0.9"][..],
+            "data-lod1.gltf",
+        ),
+    ] {
+        let (ok, err) = s(input, output, extra);
+        if replaced.is_empty() {
+            assert!(ok, "{err}");
+            continue;
+        }
+        assert!(
+            !ok,
+            "simplify {input} {output} {extra:?} replaced {replaced}"
+        );
+        assert!(
+            err.contains(&format!(
+                "would replace {}",
+                w.join(replaced).canonicalize().unwrap().display()
+            )),
+            "{err}"
+        );
+    }
+    // Nothing but the one allowed output (and its buffer) was written or changed.
+    let after = hostile::snapshot(w);
+    for (path, bytes) in &before {
+        assert!(after[path] == *bytes, "{path:?} changed");
+    }
+    assert_eq!(after.len(), before.len() + 2, "{:?}", after.keys());
+    arena.check("outputs");
+}

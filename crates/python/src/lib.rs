@@ -468,6 +468,8 @@ fn simplify_file(
         .map_err(mesh_error)?;
     mesh::io::check_writable(&output).map_err(mesh_error)?;
     let loaded = py.detach(|| mesh::io::load(&input)).map_err(mesh_error)?;
+    // Before any work: the output never replaces the input or a file it reads.
+    loaded.check_outputs(&[&output]).map_err(mesh_error)?;
     warn_about(py, input.display(), &loaded.warnings)?;
     let (file_vertices, file_faces) = (loaded.mesh.vertex_count(), loaded.mesh.face_count());
     let materials = loaded.materials.clone();

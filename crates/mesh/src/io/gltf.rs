@@ -685,9 +685,10 @@ pub(crate) fn parse(
     let doc = ::gltf::Document::from_json(root)
         .map_err(|e| MeshError::parse(path, "document", invalid_document(&e)))?;
     let dir = super::contain::folder_of(path);
+    let mut files = Vec::new();
     let buffers = doc
         .buffers()
-        .map(|b| load_buffer(&b, bin, side, dir))
+        .map(|b| load_buffer(&b, bin, side, dir, &mut files))
         .collect();
     let source = Source {
         doc: &doc,
@@ -994,6 +995,7 @@ pub(crate) fn parse(
             gltf: Some(assets),
         }),
         warnings,
+        files,
         ..RawMesh::default()
     })
 }
@@ -1024,6 +1026,7 @@ fn load_buffer(
     bin: Option<&[u8]>,
     side: Option<SideBuffer>,
     dir: &Path,
+    files: &mut Vec<PathBuf>,
 ) -> Result<Vec<u8>, String> {
     let data = match buffer.source() {
         ::gltf::buffer::Source::Bin => match bin {
@@ -1045,7 +1048,11 @@ fn load_buffer(
                     // The containment rule: a regular file inside the glTF's folder, at most
                     // the bytes the buffer declares.
                     super::contain::resolve(dir, dir, &name)
-                        .and_then(|file| super::contain::read_prefix(&file, buffer.length() as u64))
+                        .and_then(|file| {
+                            let bytes = super::contain::read_prefix(&file, buffer.length() as u64);
+                            files.push(file);
+                            bytes
+                        })
                         .map_err(|e| format!("buffer {} ({uri}) not read: {e}", buffer.index()))?
                 }
             }
@@ -1431,6 +1438,21 @@ pub(super) fn read_image_file(
             IMAGE_LIMIT,
         ),
     }
+}
+
+/// The files of the images of `assets` named by relative URIs that exist inside the input's
+/// folder, canonical (what an output must not replace).
+pub(super) fn image_files(assets: &GltfAssets) -> Vec<PathBuf> {
+    assets
+        .array("images")
+        .iter()
+        .filter_map(|image| image["uri"].as_str())
+        .filter(|uri| data_uri(uri).is_none())
+        .filter_map(|uri| {
+            super::contain::resolve(&assets.source_dir, &assets.source_dir, &percent_decode(uri))
+                .ok()
+        })
+        .collect()
 }
 
 /// Copies the images of `assets` named by relative URIs (inside the input's folder) next to

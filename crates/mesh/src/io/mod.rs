@@ -16,6 +16,7 @@
 //! its buffer in `<stem>.bin` next to it; [`encode`] and [`encode_with_attributes`] give the
 //! bytes of one file (a `.gltf` then holds its buffer as a `data:` URI).
 
+mod apart;
 mod contain;
 mod gltf;
 mod matconv;
@@ -23,6 +24,7 @@ mod obj;
 mod ply;
 mod stl;
 
+pub use apart::written_files;
 pub use gltf::GltfAssets;
 pub use matconv::{BaseColorTexture, base_color_texture};
 
@@ -81,6 +83,10 @@ pub struct LoadedMesh {
     /// The materials the file names (OBJ `usemtl` names and `mtllib` files; glTF material
     /// names, with the file's materials, textures and images in [`Materials::gltf`]).
     pub materials: Option<Materials>,
+    /// The files it was read from: the model file (from [`load`]) and the buffer files a
+    /// `.gltf` names, canonical. With the files its materials name, what an output must never
+    /// replace ([`LoadedMesh::check_outputs`]).
+    pub files: Vec<PathBuf>,
 }
 
 /// What a format parser hands back before validation.
@@ -106,6 +112,8 @@ pub(crate) struct RawMesh {
     pub short_faces: usize,
     /// Format-specific warnings found while parsing.
     pub warnings: Vec<MeshWarning>,
+    /// Files read besides the model file (a `.gltf`'s buffer files), canonical.
+    pub files: Vec<PathBuf>,
 }
 
 impl RawMesh {
@@ -130,7 +138,11 @@ pub fn load(path: &Path) -> Result<LoadedMesh, MeshError> {
     let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
         path: path.to_path_buf(),
     })?;
-    load_bytes(&read_model(path)?, format, path)
+    let mut loaded = load_bytes(&read_model(path)?, format, path)?;
+    if let Ok(file) = path.canonicalize() {
+        loaded.files.insert(0, file);
+    }
+    Ok(loaded)
 }
 
 /// Load an OBJ file with the tobj-based reader instead of the built-in one: an independent
@@ -296,6 +308,7 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
         vertex_normals: raw.normals,
         attributes,
         materials: raw.materials,
+        files: raw.files,
     })
 }
 
@@ -553,10 +566,7 @@ fn encode_gltf(
     let (converted, flip_v, warnings) =
         gltf_materials(attributes, materials, format == Format::Glb);
     let materials = converted.as_ref().or(materials);
-    let bin_name = path.file_stem().map_or_else(
-        || "buffer.bin".to_string(),
-        |s| format!("{}.bin", s.to_string_lossy()),
-    );
+    let bin_name = apart::bin_name(path);
     let storage = match (format, gltf_buffer) {
         (Format::Glb, _) => gltf::BufferStorage::Glb,
         (_, GltfBuffer::DataUri) => gltf::BufferStorage::DataUri,

@@ -22,9 +22,12 @@ pub(crate) type Kept = mesh::io::KeptAttributes;
 
 /// Load `path` (warnings on stderr) and clean it as `load_input` does (weld, degenerate and
 /// duplicate faces, unreferenced vertices), the attributes following (`raw`: as stored).
-pub(crate) fn load(path: &Path, raw: bool) -> anyhow::Result<(TriMesh, Extras)> {
+/// `outputs` (every file the run will write) are refused before any work when a write would
+/// replace the input or a file it reads (`LoadedMesh::check_outputs`).
+pub(crate) fn load(path: &Path, raw: bool, outputs: &[&Path]) -> anyhow::Result<(TriMesh, Extras)> {
     crate::process::working_on(path);
     let loaded = mesh::io::load(path)?;
+    loaded.check_outputs(outputs)?;
     for w in &loaded.warnings {
         eprintln!("warning: {}: {w}", path.display());
     }

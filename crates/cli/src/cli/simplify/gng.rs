@@ -44,7 +44,7 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     let options = options(args)?;
     // Everything that does not need the mesh is checked before loading it.
     options.validate().context("GNG3D options")?;
-    let (input, extras) = super::attributes::load(&args.input, args.no_weld)?;
+    let (input, extras) = super::attributes::load(&args.input, args.no_weld, &[&args.output])?;
     let params = options
         .resolve(&input)
         .with_context(|| format!("GNG3D on {}", args.input.display()))?;

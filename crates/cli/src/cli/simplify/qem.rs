@@ -48,7 +48,16 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     // Everything that does not need the mesh is checked before loading it, by the library.
     let params = params(args)?;
     params.validate().context("QEM options")?;
-    let (input, extras) = super::attributes::load(&args.input, args.no_weld)?;
+    // Every file the run writes (each --lods level) is checked against the input's files
+    // before any work.
+    let outputs: Vec<std::path::PathBuf> = match &args.lods {
+        Some(lods) => (1..=lods.len())
+            .map(|k| lod_path(&args.output, k))
+            .collect(),
+        None => vec![args.output.clone()],
+    };
+    let outputs: Vec<&std::path::Path> = outputs.iter().map(|p| p.as_path()).collect();
+    let (input, extras) = super::attributes::load(&args.input, args.no_weld, &outputs)?;
     if let Some(lods) = &args.lods {
         return run_lods(args, &params, input, extras, lods);
     }
