@@ -9,6 +9,8 @@
 //! `GNG3D_FUZZ_RUNS=300000 cargo test -p gng3d-cli --release --test fuzz -- --ignored --nocapture`
 //! (it prints its counts; see docs/notes/cli.md for the measured run).
 
+mod hostile;
+
 use mesh::fixtures::fuzz::{apply, random_mutation, seeds};
 use mesh::io::Format;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -190,4 +192,78 @@ fn cli_fuzz_long() {
         "fuzz done: {counts:?}, 0 panics, 0 hangs, 0 exit-0 runs with an unloadable output, in {:.0} s",
         start.elapsed().as_secs_f64()
     );
+}
+
+/// The hostile corpus: models whose references point outside their folder, at devices, FIFOs
+/// and links, with hostile media types and names (`hostile::models`), each run as it is and
+/// then mutated, through `info` and `simplify` to PLY, OBJ and GLB. Besides the property of
+/// [`fuzz`] (no panic, no hang, no exit 0 with an unloadable output), the canary: after every
+/// run no file outside the working folder changed or appeared and no file in it holds a
+/// canary's bytes.
+fn fuzz_hostile(mutants: u64, seed: u64) -> Counts {
+    let arena = hostile::Arena::new();
+    let corpus = hostile::models(&arena);
+    hostile::write_models(&arena);
+    let start = Instant::now();
+    watchdog(start, Duration::from_secs(60));
+    let mut state = seed;
+    let mut counts = Counts::default();
+    for k in 0..corpus.len() as u64 + mutants {
+        let (name, mut bytes) = corpus[(k % corpus.len() as u64) as usize].clone();
+        if k >= corpus.len() as u64 {
+            for _ in 0..1 + next(&mut state) % 3 {
+                apply(&mut bytes, &random_mutation(next(&mut state)));
+            }
+        }
+        let input = arena.work.join(format!("fuzz-{name}"));
+        std::fs::write(&input, &bytes).unwrap();
+        let input_s = input.to_str().unwrap();
+        counts.runs += 1;
+        let loads = cli(&["info", input_s, "--json"], start, &bytes).is_ok();
+        counts.loaded += u64::from(loads);
+        for ext in ["ply", "obj", "glb"] {
+            let out_dir = arena.work.join(format!("fuzz-out-{ext}"));
+            std::fs::create_dir_all(out_dir.join("x_image1.x")).unwrap();
+            let out = out_dir.join(format!("x.{ext}"));
+            let _ = std::fs::remove_file(&out);
+            counts.runs += 1;
+            let args = ["simplify", input_s, out.to_str().unwrap(), "--ratio=1"];
+            match cli(&args, start, &bytes) {
+                Ok(()) => {
+                    let back = mesh::io::load(&out)
+                        .unwrap_or_else(|e| panic!("{name}: exit 0, unloadable output: {e}"));
+                    assert!(back.mesh.face_count() > 0, "{name}: empty output");
+                    counts.simplified_ok += 1;
+                }
+                Err(e) => {
+                    assert!(!format!("{e:#}").is_empty());
+                    assert!(!out.exists(), "{name}: failed but wrote {out:?}");
+                    counts.errors += 1;
+                }
+            }
+            arena.check(&format!("mutant {k} of {name} -> {ext}"));
+        }
+    }
+    counts
+}
+
+#[test]
+fn hostile_fuzz_quick() {
+    let counts = fuzz_hostile(400, 0x0405_711E);
+    eprintln!("hostile fuzz: {counts:?}");
+    // The unmutated corpus alone has 21 files that load (all but the 10 traversal buffers),
+    // each simplified to three formats.
+    assert!(counts.loaded > 21, "{counts:?}");
+    assert!(counts.simplified_ok > 63, "{counts:?}");
+}
+
+#[test]
+#[ignore = "long: GNG3D_FUZZ_RUNS hostile CLI runs (default 20,000)"]
+fn hostile_fuzz_long() {
+    let runs: u64 = std::env::var("GNG3D_FUZZ_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20_000);
+    let counts = fuzz_hostile(runs.div_ceil(4), 7);
+    eprintln!("hostile fuzz done: {counts:?}, the canary intact after every run");
 }

@@ -169,6 +169,12 @@ pub enum MeshWarning {
         /// Why.
         reason: String,
     },
+    /// Values read in another range than their type declares (8-bit colours in a float or a
+    /// 32-bit field), converted: what was assumed, in words.
+    ValuesReinterpreted {
+        /// What was read how (e.g. "OBJ colours up to 255 read as 0-255").
+        what: String,
+    },
     /// A file the model names (a material library, a texture, an image) that the containment
     /// rule refuses to read or write: outside the model's folder, not a regular file, too
     /// large, or a name that would leave the output's folder. Nothing of it was read or written.
@@ -229,6 +235,7 @@ impl fmt::Display for MeshWarning {
             MeshWarning::MaterialFileNotCopied { path, reason } => {
                 write!(f, "material file {} not copied: {reason}", path.display())
             }
+            MeshWarning::ValuesReinterpreted { what } => write!(f, "{what}"),
             MeshWarning::ReferenceRefused { reference, reason } => {
                 write!(f, "{reference} not read or written: {reason}")
             }

@@ -165,11 +165,27 @@ pub fn index_array<'py, const K: usize>(
 }
 
 /// A mesh as the `(vertices, faces)` tuple of numpy arrays.
-pub fn mesh_tuple<'py>(py: Python<'py>, mesh: &TriMesh) -> PyResult<Bound<'py, PyTuple>> {
+/// `origin` (a loaded file's `LoadedMesh::origin`) is added to the positions in f64.
+pub fn mesh_tuple<'py>(
+    py: Python<'py>,
+    mesh: &TriMesh,
+    origin: glam::DVec3,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let mut positions = positions_array(py, &mesh.positions);
+    if origin != glam::DVec3::ZERO {
+        let moved: Vec<f64> = mesh
+            .positions
+            .iter()
+            .flat_map(|p| (p.as_dvec3() + origin).to_array())
+            .collect();
+        positions = Array2::from_shape_vec((mesh.positions.len(), 3), moved)
+            .expect("three coordinates per position")
+            .into_pyarray(py);
+    }
     PyTuple::new(
         py,
         [
-            positions_array(py, &mesh.positions).into_any(),
+            positions.into_any(),
             index_array(py, &mesh.triangles).into_any(),
         ],
     )

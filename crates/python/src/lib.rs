@@ -473,6 +473,7 @@ fn simplify_file(
     warn_about(py, input.display(), &loaded.warnings)?;
     let (file_vertices, file_faces) = (loaded.mesh.vertex_count(), loaded.mesh.face_count());
     let materials = loaded.materials.clone();
+    let origin = loaded.origin;
     // Welded and cleaned with its attributes, as the CLI prepares what it loads.
     let (prepared, attributes) = py.detach(|| file::prepare(loaded, weld));
     let outcome = request
@@ -484,6 +485,7 @@ fn simplify_file(
                 &outcome.mesh,
                 outcome.attributes.as_ref(),
                 materials.as_ref(),
+                origin,
                 &output,
             )
         })
@@ -726,7 +728,7 @@ fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyTuple>> {
         ));
     }
     warn_about(py, path.display(), &sentences)?;
-    convert::mesh_tuple(py, &loaded.mesh)
+    convert::mesh_tuple(py, &loaded.mesh, loaded.origin)
 }
 
 /// Write a mesh file (OBJ, binary PLY or binary STL, by extension) atomically.

@@ -536,6 +536,15 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
             .to_string(),
     })?;
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
+    if loaded.origin != glam::DVec3::ZERO {
+        // The viewer keeps one f32 mesh: a far model is shown and saved recentred, said here.
+        let o = loaded.origin;
+        warnings.push(format!(
+            "the model lies far from its coordinates' origin: shown and saved moved by \
+             ({}, {}, {}) (gng3d simplify keeps the coordinates)",
+            -o.x, -o.y, -o.z
+        ));
+    }
     let (mesh, attributes, report) = mesh::clean::prepare_with_optional_attributes(
         &loaded.mesh,
         loaded.attributes.as_ref().filter(|a| a.has_values()),

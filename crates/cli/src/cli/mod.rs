@@ -20,18 +20,26 @@ pub struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
+// Every subcommand takes negative numbers as values (`--max-error -0.001`), so that the
+// validators name the problem instead of clap's "unexpected argument '-0' found".
 enum Command {
     /// Print vertex/face counts, topology, area and size of a mesh.
+    #[command(allow_negative_numbers = true)]
     Info(info::InfoArgs),
     /// Simplify a mesh with QEM or GNG3D and write the result.
+    #[command(allow_negative_numbers = true)]
     Simplify(simplify::SimplifyArgs),
     /// Compare an original and a simplified mesh: paper errors and Hausdorff distance.
+    #[command(allow_negative_numbers = true)]
     Metrics(metrics::MetricsArgs),
     /// Simplify with QEM and GNG3D to the same vertex count and measure both.
+    #[command(allow_negative_numbers = true)]
     Compare(compare::CompareArgs),
     /// Run the paper's checkpoint protocol on a mesh, or survey a folder of meshes.
+    #[command(allow_negative_numbers = true)]
     Reproduce(reproduce::ReproduceArgs),
     /// Simplify a folder or a manifest of meshes: sharded, N at a time, one JSON line per file.
+    #[command(allow_negative_numbers = true)]
     Batch(batch::BatchArgs),
 }
 
@@ -293,7 +301,7 @@ pub(crate) fn save_checked(
     path: &std::path::Path,
     method: &str,
 ) -> anyhow::Result<()> {
-    save_output(mesh, None, None, path, method).map(|_| ())
+    save_output(mesh, None, None, glam::DVec3::ZERO, path, method).map(|_| ())
 }
 
 /// Writes the mesh `method` produced to `path`, with `attributes` (and the input's
@@ -307,6 +315,7 @@ pub(crate) fn save_output(
     mesh: &mesh::TriMesh,
     attributes: Option<&mesh::attributes::Attributes>,
     materials: Option<&mesh::attributes::Materials>,
+    origin: glam::DVec3,
     path: &std::path::Path,
     method: &str,
 ) -> anyhow::Result<mesh::io::KeptAttributes> {
@@ -318,7 +327,7 @@ pub(crate) fn save_output(
             path.display()
         );
     }
-    let kept = mesh::io::save_with_optional_attributes(mesh, attributes, materials, path)
+    let kept = mesh::io::save_with_optional_attributes(mesh, attributes, materials, origin, path)
         .map_err(|e| anyhow::anyhow!("{method}: {e}"))?;
     for w in &kept.dropped {
         eprintln!("warning: {}: {w}", path.display());

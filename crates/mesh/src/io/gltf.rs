@@ -20,7 +20,7 @@ use crate::TriMesh;
 use crate::attributes::{Attributes, Materials};
 use crate::error::{MeshError, MeshWarning};
 use ::gltf::accessor::DataType;
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{DMat4, DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -38,6 +38,18 @@ const COMPRESSION: &[&str] = &[
     "KHR_draco_mesh_compression",
     "EXT_meshopt_compression",
     "KHR_meshopt_compression",
+];
+
+/// Extensions that place or repeat the geometry, which this reader does not apply.
+const GEOMETRY: &[&str] = &["EXT_mesh_gpu_instancing"];
+
+/// Required extensions this reader implements (quantised attributes) or carries to a glTF
+/// output unchanged (material and texture extensions), by name or prefix.
+const UNDERSTOOD: &[&str] = &[
+    "KHR_mesh_quantization",
+    "KHR_materials_",
+    "KHR_texture_",
+    "EXT_texture_",
 ];
 
 /// The attributes read from a primitive; all others are reported as ignored.
@@ -602,6 +614,7 @@ pub(crate) fn parse(
     path: &Path,
     binary: bool,
     side: Option<SideBuffer>,
+    origin: DVec3,
 ) -> Result<RawMesh, MeshError> {
     let (json_bytes, bin) = if bytes.starts_with(GLB_MAGIC) {
         split_glb(bytes, path)?
@@ -648,6 +661,33 @@ pub(crate) fn parse(
                  (decompress the file first)"
             ),
         ));
+    }
+    // Extensions that place or repeat geometry, which this reader does not apply: required, the
+    // file's geometry is not what it would read; only used, the plain meshes are the fallback.
+    if let Some(ext) = required.iter().find(|e| GEOMETRY.contains(&e.as_str())) {
+        return Err(MeshError::parse(
+            path,
+            "extensionsRequired",
+            format!(
+                "the file requires {ext}, which places or repeats the geometry and which this                  reader does not apply (the mesh would be read without it)"
+            ),
+        ));
+    }
+    for ext in used.iter().filter(|e| GEOMETRY.contains(&e.as_str())) {
+        warnings.push(MeshWarning::IgnoredData {
+            what: format!("glTF {ext} data (each mesh read once, without its instances)"),
+        });
+    }
+    for ext in required.iter().filter(|e| {
+        !COMPRESSION.contains(&e.as_str())
+            && !GEOMETRY.contains(&e.as_str())
+            && !UNDERSTOOD.iter().any(|u| e.starts_with(u))
+    }) {
+        warnings.push(MeshWarning::IgnoredData {
+            what: format!(
+                "the required glTF extension {ext} (not implemented: what it changes is not                  applied)"
+            ),
+        });
     }
     for ext in used.iter().filter(|e| COMPRESSION.contains(&e.as_str())) {
         warnings.push(MeshWarning::IgnoredData {
@@ -697,16 +737,20 @@ pub(crate) fn parse(
     };
 
     // The mesh instances: (mesh, world transform).
-    let mut instances: Vec<(::gltf::Mesh, Mat4)> = Vec::new();
+    // With a far `origin`, the world transforms again in f64 from the JSON (the `gltf` crate
+    // reads them as f32, which rounds a georeferenced translation to decimetres).
+    let mut instances: Vec<(::gltf::Mesh, Mat4, DMat4)> = Vec::new();
     match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => {
             // glTF nodes form trees (one parent each): a node reached twice is a cycle or a
             // shared child, either of which could make the walk endless or exponential.
             let mut seen = vec![false; doc.nodes().len()];
-            let mut stack: Vec<(::gltf::Node, Mat4)> =
-                scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+            let mut stack: Vec<(::gltf::Node, Mat4, DMat4)> = scene
+                .nodes()
+                .map(|n| (n, Mat4::IDENTITY, DMat4::IDENTITY))
+                .collect();
             stack.reverse();
-            while let Some((node, parent)) = stack.pop() {
+            while let Some((node, parent, parent64)) = stack.pop() {
                 if std::mem::replace(&mut seen[node.index()], true) {
                     return Err(source.error(
                         format!("node {}", node.index()),
@@ -715,16 +759,21 @@ pub(crate) fn parse(
                     ));
                 }
                 let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+                let world64 = if origin == DVec3::ZERO {
+                    DMat4::IDENTITY
+                } else {
+                    parent64 * local_transform_f64(&root_json["nodes"][node.index()])
+                };
                 if let Some(mesh) = node.mesh() {
-                    instances.push((mesh, world));
+                    instances.push((mesh, world, world64));
                 }
                 let children: Vec<_> = node.children().collect();
                 for child in children.into_iter().rev() {
-                    stack.push((child, world));
+                    stack.push((child, world, world64));
                 }
             }
         }
-        None => instances.extend(doc.meshes().map(|m| (m, Mat4::IDENTITY))),
+        None => instances.extend(doc.meshes().map(|m| (m, Mat4::IDENTITY, DMat4::IDENTITY))),
     }
 
     let mut v = Vertices::default();
@@ -739,7 +788,7 @@ pub(crate) fn parse(
     let mut not_triangles = 0usize;
     let mut no_position = 0usize;
     let mut morphed = 0usize;
-    for (instance, (mesh, world)) in instances.iter().enumerate() {
+    for (instance, (mesh, world, world64)) in instances.iter().enumerate() {
         let normal_matrix = Mat3::from_mat4(*world).inverse().transpose();
         let flip = world.determinant() < 0.0;
         let identity = *world == Mat4::IDENTITY;
@@ -799,7 +848,9 @@ pub(crate) fn parse(
                             .map(|c| Vec3::new(c[0], c[1], c[2]))
                             // Untransformed instances keep their bits (also -0.0).
                             .map(|p| {
-                                if identity {
+                                if origin != DVec3::ZERO {
+                                    (world64.transform_point3(p.as_dvec3()) - origin).as_vec3()
+                                } else if identity {
                                     p
                                 } else {
                                     world.transform_point3(p)
@@ -998,6 +1049,30 @@ pub(crate) fn parse(
         files,
         ..RawMesh::default()
     })
+}
+
+/// A node's local transform in f64 from its JSON: `matrix` (column-major), or translation,
+/// rotation and scale (identity where absent or malformed; the `gltf` crate validated them).
+fn local_transform_f64(node: &Value) -> DMat4 {
+    let numbers = |key: &str, n: usize| -> Option<Vec<f64>> {
+        let v: Vec<f64> = node[key]
+            .as_array()?
+            .iter()
+            .filter_map(Value::as_f64)
+            .collect();
+        (v.len() == n).then_some(v)
+    };
+    if let Some(m) = numbers("matrix", 16) {
+        let mut cols = [0.0; 16];
+        cols.copy_from_slice(&m);
+        return DMat4::from_cols_array(&cols);
+    }
+    let t = numbers("translation", 3).map_or(DVec3::ZERO, |v| DVec3::new(v[0], v[1], v[2]));
+    let r = numbers("rotation", 4).map_or(glam::DQuat::IDENTITY, |v| {
+        glam::DQuat::from_xyzw(v[0], v[1], v[2], v[3]).normalize()
+    });
+    let s = numbers("scale", 3).map_or(DVec3::ONE, |v| DVec3::new(v[0], v[1], v[2]));
+    DMat4::from_scale_rotation_translation(s, r, t)
 }
 
 /// The message of a validation failure of the `gltf` crate.
@@ -1266,6 +1341,7 @@ pub(crate) fn write(
     materials: Option<&Materials>,
     storage: BufferStorage,
     flip_v: bool,
+    origin: DVec3,
 ) -> Written {
     let wedges = attributes.wedge_count();
     let mut layout = Layout::default();
@@ -1370,7 +1446,16 @@ pub(crate) fn write(
     }
     root.insert("scene".into(), json!(0));
     root.insert("scenes".into(), json!([{ "nodes": [0] }]));
-    root.insert("nodes".into(), json!([{ "mesh": 0 }]));
+    // A model far from its coordinates' origin: the origin as the node's translation (f64 in
+    // the JSON), the positions relative to it (f32 keeps them to the model's own precision).
+    root.insert(
+        "nodes".into(),
+        if origin == DVec3::ZERO {
+            json!([{ "mesh": 0 }])
+        } else {
+            json!([{ "mesh": 0, "translation": origin.to_array() }])
+        },
+    );
     root.insert("meshes".into(), json!([{ "primitives": primitives }]));
     root.insert("accessors".into(), Value::Array(layout.accessors));
     root.insert("bufferViews".into(), Value::Array(layout.views));

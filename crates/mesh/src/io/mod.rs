@@ -32,7 +32,7 @@ use crate::TriMesh;
 use crate::attributes::{Attributes, Materials};
 use crate::clean::drop_faces_with_mask;
 use crate::error::{MeshError, MeshWarning};
-use glam::{Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use std::path::{Path, PathBuf};
 
 /// A mesh file format.
@@ -87,6 +87,14 @@ pub struct LoadedMesh {
     /// `.gltf` names, canonical. With the files its materials name, what an output must never
     /// replace ([`LoadedMesh::check_outputs`]).
     pub files: Vec<PathBuf>,
+    /// Where the positions' origin lies in the file's coordinates: zero for most models; for a
+    /// model far from its coordinates' origin (georeferenced scans: x = 450,000,
+    /// y = 5,400,000), the centre of its bounding box, rounded to whole units, subtracted in
+    /// `f64` before the positions became `f32`, so that they keep `f32`'s precision relative
+    /// to the model's own size. The writers add it back in `f64` (`save_*` take it): OBJ
+    /// and PLY (as `double`) keep the coordinates, glTF puts it in the node's translation, STL
+    /// (`f32` only) warns.
+    pub origin: DVec3,
 }
 
 /// What a format parser hands back before validation.
@@ -114,6 +122,8 @@ pub(crate) struct RawMesh {
     pub warnings: Vec<MeshWarning>,
     /// Files read besides the model file (a `.gltf`'s buffer files), canonical.
     pub files: Vec<PathBuf>,
+    /// The model-space point that `positions` are relative to (see [`LoadedMesh::origin`]).
+    pub origin: DVec3,
 }
 
 impl RawMesh {
@@ -181,13 +191,55 @@ fn load_encoded(
     format: Format,
     path: &Path,
 ) -> Result<LoadedMesh, MeshError> {
-    let raw = match format {
-        Format::Obj => obj::parse(bytes, path)?,
-        Format::Ply => ply::parse(bytes, path)?,
-        Format::Stl => stl::parse(bytes, path)?,
-        Format::Gltf | Format::Glb => gltf::parse(bytes, path, format == Format::Glb, side)?,
+    let parse = |origin: DVec3| -> Result<RawMesh, MeshError> {
+        let mut raw = match format {
+            Format::Obj => obj::parse(bytes, path, origin)?,
+            Format::Ply => ply::parse(bytes, path, origin)?,
+            Format::Stl => {
+                // STL stores f32: subtracting in f64 and rounding once is exact enough.
+                let mut raw = stl::parse(bytes, path)?;
+                if origin != DVec3::ZERO {
+                    for p in &mut raw.positions {
+                        *p = (p.as_dvec3() - origin).as_vec3();
+                    }
+                }
+                raw
+            }
+            Format::Gltf | Format::Glb => {
+                gltf::parse(bytes, path, format == Format::Glb, side, origin)?
+            }
+        };
+        raw.origin = origin;
+        Ok(raw)
+    };
+    let raw = parse(DVec3::ZERO)?;
+    // A model far from its coordinates' origin is read again, its positions recentred in f64.
+    let raw = match far_origin(&raw.positions) {
+        Some(origin) => parse(origin)?,
+        None => raw,
     };
     validate(raw, path)
+}
+
+/// The origin to recentre `positions` on, when they lie so far from their coordinates' origin
+/// that `f32` would lose more than about 1e-7 of their own extent: the bounding box's centre
+/// rounded to whole units (a coordinate more than 8 extents from zero loses up to
+/// 6e-8 × 8 ≈ 5e-7 of the extent when rounded to f32; beyond, recentring is what keeps 1e-6).
+fn far_origin(positions: &[Vec3]) -> Option<DVec3> {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in positions {
+        let p = p.as_dvec3();
+        if p.is_finite() {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    if lo.x > hi.x {
+        return None;
+    }
+    let extent = (hi - lo).length().max(f64::MIN_POSITIVE);
+    let far = lo.abs().max(hi.abs()).max_element();
+    (far > 8.0 * extent && far > 1.0).then(|| ((lo + hi) * 0.5).round())
 }
 
 /// A mesh handed over in memory (positions and triangles with signed indices, as arrays from
@@ -295,6 +347,7 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
     }
     if let Some(a) = attributes.as_mut() {
         drop_non_finite(a, &mut warnings);
+        colour_range(a, &mut warnings);
     }
     if mesh.triangles.is_empty() {
         return Err(MeshError::NoFaces {
@@ -309,6 +362,7 @@ fn validate(raw: RawMesh, path: &Path) -> Result<LoadedMesh, MeshError> {
         attributes,
         materials: raw.materials,
         files: raw.files,
+        origin: raw.origin,
     })
 }
 
@@ -339,6 +393,36 @@ fn drop_non_finite(a: &mut Attributes, warnings: &mut Vec<MeshWarning>) {
     check("colors", &mut a.colors, |v| v.is_finite(), warnings);
 }
 
+/// Colours above 1 that all fit 0–255 (OBJ `v x y z r g b` and float PLY colours written by
+/// tools that use 8-bit values) are scaled by 1/255, with a warning; beyond 255 they are kept
+/// with a warning (a writer would clamp them).
+fn colour_range(a: &mut Attributes, warnings: &mut Vec<MeshWarning>) {
+    let Some(colors) = a.colors.as_mut() else {
+        return;
+    };
+    let max = colors
+        .iter()
+        .map(|c| c.truncate().max_element())
+        .fold(f32::MIN, f32::max);
+    if max <= 1.0 {
+        return;
+    }
+    if max <= 255.0 {
+        for c in colors.iter_mut() {
+            let alpha = c.w;
+            *c /= 255.0;
+            c.w = if alpha <= 1.0 { alpha } else { alpha / 255.0 };
+        }
+        warnings.push(MeshWarning::ValuesReinterpreted {
+            what: format!("colours with values up to {max} were read as 0-255 and scaled to 0-1"),
+        });
+    } else {
+        warnings.push(MeshWarning::ValuesReinterpreted {
+            what: format!("colours with values up to {max} are beyond 0-1; kept as read"),
+        });
+    }
+}
+
 /// A [`MeshError::IndexOutOfRange`] for the first corner of `mesh` beyond its positions.
 fn check_indices(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
     let vertex_count = mesh.positions.len();
@@ -360,7 +444,16 @@ fn check_indices(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
 /// writes the buffer to `<stem>.bin` instead). `path` only names the file in errors. Fails on
 /// out-of-range indices.
 pub fn encode(mesh: &TriMesh, format: Format, path: &Path) -> Result<Vec<u8>, MeshError> {
-    Ok(encode_parts(mesh, None, None, format, path, GltfBuffer::DataUri)?.main)
+    Ok(encode_parts(
+        mesh,
+        None,
+        None,
+        DVec3::ZERO,
+        format,
+        path,
+        GltfBuffer::DataUri,
+    )?
+    .main)
 }
 
 /// The materials a glTF output of `attributes` writes: a glTF input's as they are, or OBJ
@@ -416,6 +509,7 @@ pub fn encode_with_attributes(
         mesh,
         Some(attributes),
         materials,
+        DVec3::ZERO,
         format,
         path,
         GltfBuffer::DataUri,
@@ -451,6 +545,7 @@ fn encode_parts(
     mesh: &TriMesh,
     attributes: Option<&Attributes>,
     materials: Option<&Materials>,
+    origin: DVec3,
     format: Format,
     path: &Path,
     gltf_buffer: GltfBuffer,
@@ -467,13 +562,18 @@ fn encode_parts(
     };
     let Some(attributes) = attributes else {
         return Ok(match format {
-            Format::Obj => plain(obj::write(mesh)),
-            Format::Ply => plain(ply::write(mesh)),
-            Format::Stl => plain(encode_stl(mesh, path)?),
+            Format::Obj => plain(obj::write(mesh, origin)),
+            Format::Ply => plain(ply::write(mesh, origin)),
+            Format::Stl => Encoded {
+                main: encode_stl(mesh, origin, path)?,
+                bin: None,
+                warnings: stl_precision(origin),
+            },
             Format::Gltf | Format::Glb => encode_gltf(
                 mesh,
                 &Attributes::per_vertex(mesh),
                 None,
+                origin,
                 format,
                 path,
                 gltf_buffer,
@@ -494,6 +594,7 @@ fn encode_parts(
                 mesh,
                 attributes,
                 materials,
+                origin,
                 format,
                 path,
                 gltf_buffer,
@@ -501,7 +602,8 @@ fn encode_parts(
         }
         Format::Stl => {
             dropped(attributes.names(), "STL stores positions only");
-            encode_stl(mesh, path)?
+            warnings.extend(stl_precision(origin));
+            encode_stl(mesh, origin, path)?
         }
         Format::Obj => {
             let mut not = Vec::new();
@@ -520,6 +622,7 @@ fn encode_parts(
                 attributes,
                 materials,
                 plan.as_ref().map(|p| (p.library.as_str(), p.flip_v)),
+                origin,
                 &mut warnings,
             )
         }
@@ -535,7 +638,7 @@ fn encode_parts(
                 not,
                 "PLY stores one set of texture coordinates and no materials",
             );
-            ply::write_with_attributes(mesh, attributes)
+            ply::write_with_attributes(mesh, attributes, origin)
         }
     };
     Ok(Encoded {
@@ -546,11 +649,28 @@ fn encode_parts(
 }
 
 /// Binary STL of `mesh`.
-fn encode_stl(mesh: &TriMesh, path: &Path) -> Result<Vec<u8>, MeshError> {
-    stl::write(mesh).map_err(|e| MeshError::Write {
+fn encode_stl(mesh: &TriMesh, origin: DVec3, path: &Path) -> Result<Vec<u8>, MeshError> {
+    stl::write(mesh, origin).map_err(|e| MeshError::Write {
         path: path.to_path_buf(),
         message: e.to_string(),
     })
+}
+
+/// The warning of an STL written far from its coordinates' origin: STL stores f32 only.
+fn stl_precision(origin: DVec3) -> Vec<MeshWarning> {
+    if origin == DVec3::ZERO {
+        return Vec::new();
+    }
+    vec![MeshWarning::ValuesReinterpreted {
+        what: format!(
+            "STL stores 32-bit coordinates: positions around ({}, {}, {}) are rounded to about \
+             {:.1e} units (OBJ, PLY and glTF keep them)",
+            origin.x,
+            origin.y,
+            origin.z,
+            origin.abs().max_element() * f64::from(f32::EPSILON) / 2.0
+        ),
+    }]
 }
 
 /// `mesh` with `attributes` (validated against it) as a `.glb`, or as a `.gltf` with its buffer
@@ -559,6 +679,7 @@ fn encode_gltf(
     mesh: &TriMesh,
     attributes: &Attributes,
     materials: Option<&Materials>,
+    origin: DVec3,
     format: Format,
     path: &Path,
     gltf_buffer: GltfBuffer,
@@ -572,7 +693,7 @@ fn encode_gltf(
         (_, GltfBuffer::DataUri) => gltf::BufferStorage::DataUri,
         (_, GltfBuffer::BinFile) => gltf::BufferStorage::File(&bin_name),
     };
-    let written = gltf::write(mesh, attributes, materials, storage, flip_v);
+    let written = gltf::write(mesh, attributes, materials, storage, flip_v, origin);
     Encoded {
         main: written.main,
         bin: written.bin.map(|bytes| (bin_name, bytes)),
@@ -666,7 +787,7 @@ pub fn copy_gltf_images(materials: &Materials, output: &Path) -> Vec<MeshWarning
 /// triangles, or bytes that do not load back, are a [`MeshError::Write`] and nothing is
 /// written; each file goes to a temporary sibling that is then renamed over its name.
 pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
-    save_with_optional_attributes(mesh, None, None, path).map(|_| ())
+    save_with_optional_attributes(mesh, None, None, DVec3::ZERO, path).map(|_| ())
 }
 
 /// What writing a mesh with its attributes did with them ([`save_with_attributes`]): the
@@ -717,17 +838,20 @@ pub fn save_with_attributes(
     materials: Option<&Materials>,
     path: &Path,
 ) -> Result<KeptAttributes, MeshError> {
-    save_with_optional_attributes(mesh, Some(attributes), materials, path)
+    save_with_optional_attributes(mesh, Some(attributes), materials, DVec3::ZERO, path)
 }
 
 /// [`save_with_attributes`] when `attributes` are given, [`save`] when not (then the returned
 /// [`KeptAttributes`] is empty): the one branch of the front ends whose input may have no
 /// attributes (`gng3d simplify`, Python's `simplify_file`), as
-/// [`crate::clean::prepare_with_optional_attributes`] is for the cleaning.
+/// [`crate::clean::prepare_with_optional_attributes`] is for the cleaning. `origin` is the
+/// input's [`LoadedMesh::origin`], added back to the positions in f64 (zero: written as they
+/// are).
 pub fn save_with_optional_attributes(
     mesh: &TriMesh,
     attributes: Option<&Attributes>,
     materials: Option<&Materials>,
+    origin: DVec3,
     path: &Path,
 ) -> Result<KeptAttributes, MeshError> {
     let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
@@ -747,6 +871,7 @@ pub fn save_with_optional_attributes(
         mesh,
         attributes,
         materials,
+        origin,
         format,
         path,
         GltfBuffer::BinFile,

@@ -11,7 +11,7 @@ use super::RawMesh;
 use crate::TriMesh;
 use crate::attributes::{Attributes, Materials};
 use crate::error::{MeshError, MeshWarning};
-use glam::{Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -87,7 +87,7 @@ impl Corners {
 /// comment is common in files from older tools); a leading UTF-8 byte order mark is skipped.
 /// Face indices in errors are reported as written, with the line. A file without `vt`, `vn`,
 /// colours or materials is read by the same loop at the same speed as a positions-only reader.
-pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
+pub(crate) fn parse(bytes: &[u8], path: &Path, origin: DVec3) -> Result<RawMesh, MeshError> {
     let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
     let mut raw = RawMesh::default();
     let mut poly: Vec<u32> = Vec::with_capacity(8);
@@ -179,13 +179,18 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
             b'v' => {
                 let mut it = rest.split_ascii_whitespace();
                 let mut p = [0f32; 3];
-                for x in &mut p {
+                for (x, o) in p.iter_mut().zip(origin.to_array()) {
                     let token = it.next().ok_or_else(|| {
                         MeshError::parse(path, location(), "vertex needs 3 coordinates")
                     })?;
-                    *x = token.parse().map_err(|_| {
-                        MeshError::parse(path, location(), format!("bad coordinate {token:?}"))
-                    })?;
+                    let bad =
+                        |_| MeshError::parse(path, location(), format!("bad coordinate {token:?}"));
+                    // Far from the origin: parsed in f64 and recentred before rounding to f32.
+                    *x = if origin == DVec3::ZERO {
+                        token.parse().map_err(bad)?
+                    } else {
+                        (token.parse::<f64>().map_err(bad)? - o) as f32
+                    };
                 }
                 raw.positions.push(Vec3::from_array(p));
                 if let Some(first) = it.next() {
@@ -487,16 +492,28 @@ pub(crate) fn parse_with_tobj(bytes: &[u8], path: &Path) -> Result<RawMesh, Mesh
 }
 
 /// OBJ text for `mesh` (`v` lines with shortest round-trip floats, 1-based `f` lines).
-pub(crate) fn write(mesh: &TriMesh) -> Vec<u8> {
+pub(crate) fn write(mesh: &TriMesh, origin: DVec3) -> Vec<u8> {
     let mut out = String::with_capacity(mesh.positions.len() * 30 + mesh.triangles.len() * 24);
     out.push_str("# written by gng3d\n");
-    for p in &mesh.positions {
-        let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+    for &p in &mesh.positions {
+        out.push('v');
+        position(&mut out, p, origin);
+        out.push('\n');
     }
     for t in &mesh.triangles {
         let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
     }
     out.into_bytes()
+}
+
+/// ` x y z` of `p` (shortest round-trip floats), moved by `origin` in f64 when it is not zero.
+fn position(out: &mut String, p: Vec3, origin: DVec3) {
+    if origin == DVec3::ZERO {
+        let _ = write!(out, " {} {} {}", p.x, p.y, p.z);
+    } else {
+        let q = p.as_dvec3() + origin;
+        let _ = write!(out, " {} {} {}", q.x, q.y, q.z);
+    }
 }
 
 /// OBJ text for `mesh` with `attributes` (checked to fit): `mtllib` lines, `v` (with `r g b`
@@ -511,6 +528,7 @@ pub(crate) fn write_with_attributes(
     attributes: &Attributes,
     materials: Option<&Materials>,
     converted: Option<(&str, bool)>,
+    origin: DVec3,
     warnings: &mut Vec<MeshWarning>,
 ) -> Vec<u8> {
     let wedges = attributes.wedge_count();
@@ -549,17 +567,15 @@ pub(crate) fn write_with_attributes(
         }
         per_vertex
     });
-    for (i, p) in mesh.positions.iter().enumerate() {
+    for (i, &p) in mesh.positions.iter().enumerate() {
+        out.push('v');
+        position(&mut out, p, origin);
         match vertex_color.as_ref().and_then(|c| c[i]) {
             Some(c) => {
-                let _ = writeln!(out, "v {} {} {} {} {} {}", p.x, p.y, p.z, c.x, c.y, c.z);
+                let _ = writeln!(out, " {} {} {}", c.x, c.y, c.z);
             }
-            None if vertex_color.is_some() => {
-                let _ = writeln!(out, "v {} {} {} 1 1 1", p.x, p.y, p.z);
-            }
-            None => {
-                let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
-            }
+            None if vertex_color.is_some() => out.push_str(" 1 1 1\n"),
+            None => out.push('\n'),
         }
     }
     if let Some(uv) = &attributes.uv0 {

@@ -46,7 +46,7 @@ fn referenced_records(raw: &RawMesh) -> usize {
 
 /// Parse `text` with both OBJ readers and check they agree; returns (ours, tobj's).
 fn check_obj_against_tobj(bytes: &[u8], path: &Path) -> (RawMesh, RawMesh) {
-    let ours = obj::parse(bytes, path).expect("our OBJ reader");
+    let ours = obj::parse(bytes, path, glam::DVec3::ZERO).expect("our OBJ reader");
     let oracle = obj::parse_with_tobj(bytes, path).expect("tobj");
     assert_eq!(
         ours.triangles.len(),
@@ -260,7 +260,7 @@ fn ply_reader_matches_ply_rs_on_shared_meshes() {
     ] {
         let path = dir.join(name);
         let bytes = std::fs::read(&path).expect("readable mesh");
-        let ours = ply::parse(&bytes, &path).expect("our PLY reader");
+        let ours = ply::parse(&bytes, &path, glam::DVec3::ZERO).expect("our PLY reader");
         let (positions, triangles) = read_with_ply_rs(&path);
         assert_eq!(ours.positions.len(), positions.len(), "{name}: vertices");
         assert_eq!(ours.triangles.len(), triangles.len(), "{name}: triangles");

@@ -11,7 +11,7 @@ use super::RawMesh;
 use crate::TriMesh;
 use crate::attributes::Attributes;
 use crate::error::{MeshError, MeshWarning};
-use glam::{Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use std::path::Path;
 
 /// A PLY scalar type.
@@ -251,6 +251,50 @@ fn ignored_data(header: &Header) -> Vec<MeshWarning> {
                 what: format!("PLY {what} properties {}", list.join(", ")),
             });
         }
+        if what == "vertex" && element.count > 0 {
+            out.extend(partial_vertex_properties(element));
+        }
+    }
+    out
+}
+
+/// Vertex properties of a known name that are not read: a group without all its members
+/// (`red green` without `blue`, `nx ny` without `nz`) or a list instead of a scalar.
+fn partial_vertex_properties(element: &Element) -> Vec<MeshWarning> {
+    let scalar = |name: &str| {
+        element
+            .properties
+            .iter()
+            .any(|p| matches!(p, Property::Scalar(n, _) if n == name))
+    };
+    let mut out = Vec::new();
+    for group in [
+        &["nx", "ny", "nz"][..],
+        &["red", "green", "blue"],
+        &["s", "t"],
+        &["u", "v"],
+        &["texture_u", "texture_v"],
+        &["texture_s", "texture_t"],
+    ] {
+        let (have, lack): (Vec<&str>, Vec<&str>) = group.iter().partition(|n| scalar(n));
+        if !have.is_empty() && !lack.is_empty() {
+            out.push(MeshWarning::IgnoredData {
+                what: format!(
+                    "PLY vertex properties {} (without {})",
+                    have.join(", "),
+                    lack.join(", ")
+                ),
+            });
+        }
+    }
+    for p in &element.properties {
+        if let Property::List(n, _, _) = p
+            && (VERTEX_PROPERTIES.contains(&n.as_str()) || n == "texture_s" || n == "texture_t")
+        {
+            out.push(MeshWarning::IgnoredData {
+                what: format!("PLY vertex property {n} (a list, where a number is read)"),
+            });
+        }
     }
     out
 }
@@ -309,10 +353,12 @@ fn face_list_index(element: &Element) -> Option<usize> {
 }
 
 /// Parse a PLY file.
-pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
+pub(crate) fn parse(bytes: &[u8], path: &Path, origin: DVec3) -> Result<RawMesh, MeshError> {
     let header = parse_header(bytes, path)?;
     let body = &bytes[header.body..];
+    // The readers subtract `raw.origin` from the positions in f64 before rounding to f32.
     let mut raw = RawMesh {
+        origin,
         warnings: ignored_data(&header),
         ..RawMesh::default()
     };
@@ -321,7 +367,67 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
         Encoding::BinaryLe => parse_binary::<false>(&header, body, path, &mut raw)?,
         Encoding::BinaryBe => parse_binary::<true>(&header, body, path, &mut raw)?,
     }
+    rescale_wide_integer_colours(&header, &mut raw);
     Ok(raw)
+}
+
+/// Colours stored as 16- or 32-bit integers whose values all fit 0–255 are 8-bit colours in a
+/// wide type (as several writers store them): scaled by 1/255 instead of the type's range (which
+/// made them black), with a warning.
+fn rescale_wide_integer_colours(header: &Header, raw: &mut RawMesh) {
+    let Some(element) = header.elements.iter().find(|e| e.name == "vertex") else {
+        return;
+    };
+    let ty = element.properties.iter().find_map(|p| match p {
+        Property::Scalar(n, ty) if n == "red" => Some(*ty),
+        _ => None,
+    });
+    let Some(ty @ (Scalar::U16 | Scalar::I16 | Scalar::U32 | Scalar::I32)) = ty else {
+        return;
+    };
+    let Some(colors) = raw.vertex_colors.as_mut() else {
+        return;
+    };
+    let scale = color_scale(ty) as f32;
+    let max_raw = colors
+        .iter()
+        .map(|c| c.truncate().max_element() / scale)
+        .fold(0.0f32, f32::max);
+    if max_raw <= 255.5 {
+        let factor = (1.0 / 255.0) / scale;
+        for c in colors.iter_mut() {
+            let alpha = c.w;
+            *c *= factor;
+            if alpha == 1.0 {
+                c.w = 1.0;
+            }
+        }
+        raw.warnings.push(MeshWarning::ValuesReinterpreted {
+            what: format!(
+                "{} colours all at most 255 were read as 0-255 (not as the type's 0-{})",
+                type_name(ty),
+                if matches!(ty, Scalar::U16 | Scalar::I16) {
+                    "65535"
+                } else {
+                    "4294967295"
+                }
+            ),
+        });
+    }
+}
+
+/// The PLY name of `ty`.
+fn type_name(ty: Scalar) -> &'static str {
+    match ty {
+        Scalar::U8 => "uchar",
+        Scalar::I8 => "char",
+        Scalar::U16 => "ushort",
+        Scalar::I16 => "short",
+        Scalar::U32 => "uint",
+        Scalar::I32 => "int",
+        Scalar::F32 => "float",
+        Scalar::F64 => "double",
+    }
 }
 
 /// Which role an element plays.
@@ -423,10 +529,11 @@ fn parse_ascii(
             match &role {
                 Role::Vertex(layout) => {
                     let [x, y, z] = layout.position;
+                    let o = raw.origin;
                     raw.positions.push(Vec3::new(
-                        values[x] as f32,
-                        values[y] as f32,
-                        values[z] as f32,
+                        (values[x] - o.x) as f32,
+                        (values[y] - o.y) as f32,
+                        (values[z] - o.z) as f32,
                     ));
                     if let Some([a, b, c]) = layout.normal {
                         raw.normals.get_or_insert_with(Vec::new).push(Vec3::new(
@@ -550,11 +657,19 @@ fn parse_binary<const BE: bool>(
                 let nx = layout.normal.map(|n| n.map(|i| offsets[i]));
                 raw.positions.reserve(element.count);
                 let mut normals = nx.map(|_| Vec::with_capacity(element.count));
+                let origin = raw.origin;
                 for r in 0..element.count {
                     let base = r * stride;
                     let get = |(o, t): (usize, Scalar)| read_scalar::<BE>(data, base + o, t) as f32;
-                    raw.positions
-                        .push(Vec3::new(get(px[0]), get(px[1]), get(px[2])));
+                    // Recentred in f64 (subtracting zero changes no value).
+                    let coord = |(o, t): (usize, Scalar), c: f64| {
+                        (read_scalar::<BE>(data, base + o, t) - c) as f32
+                    };
+                    raw.positions.push(Vec3::new(
+                        coord(px[0], origin.x),
+                        coord(px[1], origin.y),
+                        coord(px[2], origin.z),
+                    ));
                     if let (Some(n), Some(ns)) = (nx, normals.as_mut()) {
                         ns.push(Vec3::new(get(n[0]), get(n[1]), get(n[2])));
                     }
@@ -679,21 +794,20 @@ fn parse_binary<const BE: bool>(
 }
 
 /// Binary little-endian PLY for `mesh` (`float x y z`, `list uchar int vertex_indices`).
-pub(crate) fn write(mesh: &TriMesh) -> Vec<u8> {
+pub(crate) fn write(mesh: &TriMesh, origin: DVec3) -> Vec<u8> {
     let header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by gng3d\n\
-         element vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
-         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+         element vertex {}\n{}element face {}\nproperty list uchar int vertex_indices\n\
+         end_header\n",
         mesh.positions.len(),
+        position_properties(origin),
         mesh.triangles.len()
     );
     let mut out =
         Vec::with_capacity(header.len() + mesh.positions.len() * 12 + mesh.triangles.len() * 13);
     out.extend_from_slice(header.as_bytes());
-    for p in &mesh.positions {
-        for c in p.to_array() {
-            out.extend_from_slice(&c.to_le_bytes());
-        }
+    for &p in &mesh.positions {
+        position(&mut out, p, origin);
     }
     for t in &mesh.triangles {
         out.push(3);
@@ -704,15 +818,43 @@ pub(crate) fn write(mesh: &TriMesh) -> Vec<u8> {
     out
 }
 
+/// The position properties: `float x y z`, or `double` when the positions are written moved by
+/// a non-zero `origin` (a model far from its coordinates' origin keeps its coordinates).
+fn position_properties(origin: DVec3) -> &'static str {
+    if origin == DVec3::ZERO {
+        "property float x\nproperty float y\nproperty float z\n"
+    } else {
+        "property double x\nproperty double y\nproperty double z\n"
+    }
+}
+
+/// Appends the position `p` as [`position_properties`] declares it.
+fn position(out: &mut Vec<u8>, p: Vec3, origin: DVec3) {
+    if origin == DVec3::ZERO {
+        for c in p.to_array() {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    } else {
+        for c in (p.as_dvec3() + origin).to_array() {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+}
+
 /// Binary little-endian PLY for `mesh` with `attributes` (checked to fit): one vertex record per
 /// wedge (`float x y z`, then `float nx ny nz`, `float s t`, `uchar red green blue alpha` as
 /// present) and the corners as faces, so a seam is two vertex records at one position; with
 /// one wedge per vertex (no seams), the vertices and triangles of `mesh` as they are.
-pub(crate) fn write_with_attributes(mesh: &TriMesh, attributes: &Attributes) -> Vec<u8> {
+pub(crate) fn write_with_attributes(
+    mesh: &TriMesh,
+    attributes: &Attributes,
+    origin: DVec3,
+) -> Vec<u8> {
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by gng3d\n\
-         element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
-        attributes.wedge_count()
+         element vertex {}\n{}",
+        attributes.wedge_count(),
+        position_properties(origin)
     );
     if attributes.normals.is_some() {
         header.push_str("property float nx\nproperty float ny\nproperty float nz\n");
@@ -763,7 +905,7 @@ pub(crate) fn write_with_attributes(mesh: &TriMesh, attributes: &Attributes) -> 
             .collect()
     };
     for (w, v) in order {
-        floats(&mut out, &mesh.positions[v as usize].to_array());
+        position(&mut out, mesh.positions[v as usize], origin);
         if let Some(n) = &attributes.normals {
             floats(&mut out, &n[w].to_array());
         }

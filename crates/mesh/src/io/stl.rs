@@ -148,11 +148,19 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh, MeshError> {
 }
 
 /// Binary STL bytes for `mesh` (facet normals from the geometry).
-pub(crate) fn write(mesh: &TriMesh) -> std::io::Result<Vec<u8>> {
+/// A non-zero `origin` is added to the positions in f64 and rounded to STL's f32.
+pub(crate) fn write(mesh: &TriMesh, origin: glam::DVec3) -> std::io::Result<Vec<u8>> {
     let normals = mesh.face_normals();
+    let moved = |p: Vec3| {
+        if origin == glam::DVec3::ZERO {
+            p
+        } else {
+            (p.as_dvec3() + origin).as_vec3()
+        }
+    };
     let triangles: Vec<stl_io::Triangle> = (0..mesh.triangles.len())
         .map(|f| {
-            let [a, b, c] = mesh.triangle(f);
+            let [a, b, c] = mesh.triangle(f).map(moved);
             stl_io::Triangle {
                 normal: stl_io::Normal::new(normals[f].to_array()),
                 vertices: [

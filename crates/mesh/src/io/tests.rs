@@ -655,3 +655,82 @@ fn files_written_together_are_all_kept_as_they_were_when_one_fails() {
         .collect();
     assert_eq!(left, vec![std::ffi::OsString::from("m.bin")]);
 }
+
+/// Colour ranges and partial properties (issue 46): never silently wrong colours or dropped
+/// values.
+#[test]
+fn colour_ranges_and_partial_properties_are_read_or_named() {
+    let dir = tmp();
+    let warned =
+        |l: &LoadedMesh, needle: &str| l.warnings.iter().any(|w| w.to_string().contains(needle));
+    // OBJ colours in 0-255: orange stays orange.
+    let obj = b"v 0 0 0 255 128 0\nv 1 0 0 255 128 0\nv 0 1 0 0 0 255\nf 1 2 3\n";
+    let l = load(&write(dir.path(), "c.obj", obj)).unwrap();
+    let c = l.attributes.as_ref().unwrap().colors.as_ref().unwrap();
+    assert!(
+        (c[0].y - 128.0 / 255.0).abs() < 1e-6 && c[0].x == 1.0,
+        "{c:?}"
+    );
+    assert!(warned(&l, "read as 0-255"), "{:?}", l.warnings);
+    // 0-1 colours are untouched, without a warning.
+    let l = load(&write(
+        dir.path(),
+        "d.obj",
+        b"v 0 0 0 1 0.5 0\nv 1 0 0 1 0.5 0\nv 0 1 0 0 0 1\nf 1 2 3\n",
+    ))
+    .unwrap();
+    assert_eq!(l.attributes.unwrap().colors.unwrap()[0].y, 0.5);
+    assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+    // PLY int colours holding 8-bit values.
+    let ply = |props: &str, row: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+             property float z\n{props}element face 1\nproperty list uchar int vertex_indices\n\
+             end_header\n0 0 0 {row}\n1 0 0 {row}\n0 1 0 {row}\n3 0 1 2\n"
+        )
+    };
+    let text = ply(
+        "property int red\nproperty int green\nproperty int blue\n",
+        "255 128 0",
+    );
+    let l = load(&write(dir.path(), "i.ply", text.as_bytes())).unwrap();
+    let c = l.attributes.as_ref().unwrap().colors.as_ref().unwrap()[0];
+    assert!(
+        (c.y - 128.0 / 255.0).abs() < 1e-6 && (c.x - 1.0).abs() < 1e-6,
+        "{c:?}"
+    );
+    assert!(
+        warned(&l, "int colours all at most 255"),
+        "{:?}",
+        l.warnings
+    );
+    // Wide values keep the type's range.
+    let text = ply(
+        "property ushort red\nproperty ushort green\nproperty ushort blue\n",
+        "65535 0 1000",
+    );
+    let l = load(&write(dir.path(), "u.ply", text.as_bytes())).unwrap();
+    assert_eq!(l.attributes.unwrap().colors.unwrap()[0].x, 1.0);
+    // Partial groups and lists are named.
+    let text = ply(
+        "property uchar red\nproperty uchar green\nproperty float nx\nproperty float ny\n",
+        "1 2 0.5 0.5",
+    );
+    let l = load(&write(dir.path(), "p.ply", text.as_bytes())).unwrap();
+    assert!(
+        warned(&l, "properties red, green (without blue)"),
+        "{:?}",
+        l.warnings
+    );
+    assert!(
+        warned(&l, "properties nx, ny (without nz)"),
+        "{:?}",
+        l.warnings
+    );
+    let text = ply(
+        "property list uchar uchar red\nproperty uchar green\nproperty uchar blue\n",
+        "1 9 2 3",
+    );
+    let l = load(&write(dir.path(), "l.ply", text.as_bytes())).unwrap();
+    assert!(warned(&l, "property red (a list"), "{:?}", l.warnings);
+}

@@ -15,6 +15,9 @@ pub(crate) struct Extras {
     pub(crate) attributes: Option<Attributes>,
     /// The materials the file names.
     pub(crate) materials: Option<Materials>,
+    /// Where the positions' origin lies in the file's coordinates (`LoadedMesh::origin`),
+    /// added back when the output is written.
+    pub(crate) origin: glam::DVec3,
 }
 
 /// What a run did with the input's attributes: the `"attributes"` object of `--json`.
@@ -33,12 +36,14 @@ pub(crate) fn load(path: &Path, raw: bool, outputs: &[&Path]) -> anyhow::Result<
     }
     let attributes = loaded.attributes.filter(|a| !a.is_empty());
     let materials = loaded.materials;
+    let origin = loaded.origin;
     if raw {
         return Ok((
             loaded.mesh,
             Extras {
                 attributes,
                 materials,
+                origin,
             },
         ));
     }
@@ -49,6 +54,7 @@ pub(crate) fn load(path: &Path, raw: bool, outputs: &[&Path]) -> anyhow::Result<
         Extras {
             attributes,
             materials,
+            origin,
         },
     ))
 }
@@ -100,6 +106,7 @@ pub(crate) fn save(
         simplified,
         attributes,
         extras.materials.as_ref(),
+        extras.origin,
         path,
         method,
     )

@@ -289,6 +289,7 @@ fn run_lods(
         current_extras = super::attributes::Extras {
             attributes,
             materials: current_extras.materials,
+            origin: current_extras.origin,
         };
         current = simplified;
     }

@@ -737,6 +737,25 @@ fn bad_files_are_errors_naming_the_file() {
     assert!(e.contains("KHR_draco_mesh_compression"), "{e}");
     let e = load_error(d, "meshopt.glb", &b.glb(json!({"meshes": [{"primitives": [prim.clone()]}], "extensionsRequired": ["EXT_meshopt_compression"]})));
     assert!(e.contains("EXT_meshopt_compression"), "{e}");
+    // Required instancing places the geometry several times: refused, not read once silently;
+    // only used, the plain mesh is the fallback, with a warning.
+    let e = load_error(d, "inst.glb", &b.glb(json!({"meshes": [{"primitives": [prim.clone()]}],
+        "extensionsUsed": ["EXT_mesh_gpu_instancing"], "extensionsRequired": ["EXT_mesh_gpu_instancing"]})));
+    assert!(e.contains("requires EXT_mesh_gpu_instancing"), "{e}");
+    let used = parse_glb(&b.glb(json!({"meshes": [{"primitives": [prim.clone()]}],
+        "extensionsUsed": ["EXT_mesh_gpu_instancing", "EXT_future_thing"],
+        "extensionsRequired": ["EXT_future_thing"]})))
+    .unwrap();
+    let w: Vec<String> = used.warnings.iter().map(ToString::to_string).collect();
+    assert!(
+        w.iter().any(|w| w.contains("EXT_mesh_gpu_instancing")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("required glTF extension EXT_future_thing")),
+        "{w:?}"
+    );
     // Not JSON; not a glTF document; a dangling index.
     assert!(load_error(d, "text.gltf", b"hello").contains("JSON"));
     assert!(load_error(d, "nodoc.gltf", b"{\"meshes\": []}").contains("asset"));
