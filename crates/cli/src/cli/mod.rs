@@ -22,16 +22,22 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Print vertex/face counts, topology, area and size of a mesh.
+    #[command(allow_negative_numbers = true)]
     Info(info::InfoArgs),
     /// Simplify a mesh with QEM or GNG3D and write the result.
+    #[command(allow_negative_numbers = true)]
     Simplify(simplify::SimplifyArgs),
     /// Compare an original and a simplified mesh: paper errors and Hausdorff distance.
+    #[command(allow_negative_numbers = true)]
     Metrics(metrics::MetricsArgs),
     /// Simplify with QEM and GNG3D to the same vertex count and measure both.
+    #[command(allow_negative_numbers = true)]
     Compare(compare::CompareArgs),
     /// Run the paper's checkpoint protocol on a mesh, or survey a folder of meshes.
+    #[command(allow_negative_numbers = true)]
     Reproduce(reproduce::ReproduceArgs),
     /// Simplify a folder or a manifest of meshes: sharded, N at a time, one JSON line per file.
+    #[command(allow_negative_numbers = true)]
     Batch(batch::BatchArgs),
 }
 

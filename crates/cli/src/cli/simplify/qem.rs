@@ -45,6 +45,14 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             args.threshold
         );
     }
+    if let Some(e) = args.max_error
+        && !(e >= 0.0 && e.is_finite())
+    {
+        bail!(
+            "--max-error must be a finite share of the bounding-box diagonal >= 0 (e.g. 0.001), \
+             got {e}"
+        );
+    }
     // Everything that does not need the mesh is checked before loading it, by the library.
     let params = params(args)?;
     params.validate().context("QEM options")?;
