@@ -755,10 +755,10 @@ pub(crate) fn parse(
             ) {
                 not_triangles += 1;
                 // Their vertices, once per vertex set, for the error of a file of only these.
-                if let Some(i) = prim_json["attributes"]["POSITION"].as_u64() {
-                    if let Some(a) = doc.accessors().nth(i as usize) {
-                        point_line_sets.insert((instance, a.index()), a.count());
-                    }
+                if let Some(i) = prim_json["attributes"]["POSITION"].as_u64()
+                    && let Some(a) = doc.accessors().nth(i as usize)
+                {
+                    point_line_sets.insert((instance, a.index()), a.count());
                 }
                 continue;
             }

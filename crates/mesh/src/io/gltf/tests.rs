@@ -531,7 +531,7 @@ fn points_and_lines_only_is_an_error_counting_their_vertices() {
         {"attributes": {"POSITION": p}, "mode": 1},
         {"attributes": {"POSITION": q}, "mode": 3}
     ]}]}));
-    let e = parse_glb(&glb).err().expect("no triangles: an error");
+    let e = parse_glb(&glb).expect_err("no triangles: an error");
     assert!(
         matches!(
             e,
