@@ -45,16 +45,15 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
             args.threshold
         );
     }
-    if let Some(e) = args.max_error
-        && !(e >= 0.0 && e.is_finite())
-    {
-        bail!(
-            "--max-error must be a finite share of the bounding-box diagonal >= 0 (e.g. 0.001), \
-             got {e}"
-        );
-    }
     // Everything that does not need the mesh is checked before loading it, by the library.
     let params = params(args)?;
+    // --max-error alone first, so its error names the flag (the library's rule and words).
+    QemParams {
+        max_relative_error: args.max_error,
+        ..QemParams::default()
+    }
+    .validate()
+    .context("--max-error")?;
     params.validate().context("QEM options")?;
     // Every file the run writes (each --lods level) is checked against the input's files
     // before any work.
