@@ -513,3 +513,67 @@ fn absurd_epochs_and_surface_targets_are_refused_up_front() {
     ]);
     assert_clean_failure(&o, &["--epochs", "at most 300"]);
 }
+
+/// Issue 46: negative values of the numeric flags are refused by a message that names the flag
+/// and the range it allows (clap's own "-1 is not in 0..=4294967295" named neither), and
+/// nothing is written.
+#[test]
+fn negative_numeric_flags_name_the_flag_and_the_range() {
+    let f = Fixture::new();
+    let (sphere, copy) = (f.sphere(), f.coarse());
+    let out = f.path("out.obj");
+    let image = |command: &str, flag: &str| -> Vec<String> {
+        let mut a: Vec<String> = vec![command.into(), s(&sphere).into()];
+        if command == "metrics" {
+            a.push(s(&copy).into());
+        } else {
+            a.extend(["--vertices".into(), "40".into()]);
+        }
+        a.extend(["--image-error".into(), flag.into(), "-1".into()]);
+        a
+    };
+    let cases: Vec<(Vec<String>, &[&str])> = vec![
+        (
+            ["simplify", s(&sphere), s(&out), "--max-error", "-0.001"]
+                .map(String::from)
+                .to_vec(),
+            &["--max-error", "-0.001", ">= 0"],
+        ),
+        (
+            ["simplify", s(&sphere), s(&out), "--lods", "-0.1"]
+                .map(String::from)
+                .to_vec(),
+            &["--lods", "-0.1", "(0, 1]"],
+        ),
+        (
+            image("metrics", "--image-threshold"),
+            &["--image-threshold", "-1", "0 to 1"],
+        ),
+        (
+            image("compare", "--image-threshold"),
+            &["--image-threshold", "-1", "0 to 1"],
+        ),
+        (
+            image("metrics", "--image-size"),
+            &["--image-size", "-1", "16 to 4096"],
+        ),
+        (
+            image("compare", "--image-size"),
+            &["--image-size", "-1", "16 to 4096"],
+        ),
+    ];
+    for (args, needles) in cases {
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = gng3d(&a);
+        let err = stderr(&o);
+        // 1: the command's error; 2: clap's (a value that does not parse).
+        assert!(matches!(o.status.code(), Some(1 | 2)), "{args:?}: {err}");
+        assert!(err.starts_with("error: "), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!err.contains("4294967295"), "{args:?}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{args:?}: missing {n:?} in {err}");
+        }
+        assert!(!out.exists() && !f.path("out-lod1.obj").exists());
+    }
+}

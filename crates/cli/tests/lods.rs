@@ -86,3 +86,63 @@ fn lods_chain_levels_and_keep_attributes() {
         assert!(!dir.path().join("bad-lod1.obj").exists());
     }
 }
+
+/// Issue 46: a share that rounds below a mesh's fewest vertices was run as a target of 0 with
+/// no warning, and a level that stopped short of its target said nothing.
+#[test]
+fn lods_too_small_is_an_error_and_a_short_level_is_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let (sphere, uv) = gng3d::mesh::procedural::textured_sphere(12, 24);
+    let input = dir.path().join("sphere.obj");
+    gng3d::mesh::io::save_with_attributes(&sphere, &uv, None, &input).unwrap();
+    let i = input.to_str().unwrap();
+    let available = gng3d::mesh::io::load(&input)
+        .unwrap()
+        .mesh
+        .triangles
+        .iter()
+        .flatten()
+        .collect::<std::collections::BTreeSet<_>>()
+        .len();
+
+    let out = dir.path().join("out.obj");
+    let o = gng3d(&["simplify", i, out.to_str().unwrap(), "--lods", "0.5,1e-300"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "--lods: level 2's share 1e-300 gives 0 of the {available} vertices of {i}; a level \
+             needs at least 3"
+        )),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out-lod1.obj").exists());
+
+    // A target of 3 on a closed, textured sphere: QEM stops short (at least a tetrahedron's
+    // 4 vertices; seams hold more) and says so.
+    let share = format!("{}", 3.2 / available as f64);
+    let o = gng3d(&[
+        "simplify",
+        i,
+        out.to_str().unwrap(),
+        "--lods",
+        &format!("0.5,{share}"),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    let lod2 = dir.path().join("out-lod2.obj");
+    let warning = stderr
+        .lines()
+        .find(|l| l.starts_with("warning: "))
+        .unwrap_or_else(|| panic!("no warning: {stderr}"));
+    let reached = warning
+        .strip_prefix(&format!(
+            "warning: level 2 ({}): QEM stopped at ",
+            lod2.display()
+        ))
+        .and_then(|rest| rest.split_once(" of 3 vertices: "))
+        .unwrap_or_else(|| panic!("{warning}"))
+        .0;
+    assert!(reached.parse::<usize>().unwrap() >= 4, "{warning}");
+    assert_eq!(stderr.matches("warning: ").count(), 1, "{stderr}");
+}

@@ -128,3 +128,62 @@ fn csv_cells(line: &str) -> Vec<String> {
     }
     cells
 }
+
+/// Issue 46: a mesh that cleaning reduces to nothing (every face degenerate once duplicate
+/// vertices are welded), or whose faces all have zero area, blamed "parameter signal budget =
+/// 0" (or failed after training, at the sampler): the error names the file and says it has no
+/// usable faces after cleaning, in one mesh and in a survey.
+#[test]
+fn no_usable_faces_after_cleaning_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let meshes = dir.path().join("meshes");
+    std::fs::create_dir(&meshes).unwrap();
+    let welded = meshes.join("welded.obj");
+    std::fs::write(
+        &welded,
+        "v 0 0 0\nv 0 0 0\nv 1 0 0\nv 1 0 0\nf 1 2 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let flat = meshes.join("flat.obj");
+    std::fs::write(
+        &flat,
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    for (path, why) in [
+        (&welded, "the mesh has no usable faces after cleaning"),
+        (&flat, "the mesh has no usable faces after cleaning"),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_gng3d"))
+            .arg("reproduce")
+            .arg(path)
+            .args(["--epochs", "1", "--samples", "100", "--out"])
+            .arg(dir.path().join("r"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(&format!("{}: {why}", path.display())),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("signal budget"), "{stderr}");
+    }
+    let o = Command::new(env!("CARGO_BIN_EXE_gng3d"))
+        .args(["reproduce", "--all", meshes.to_str().unwrap()])
+        .args(["--epochs", "1", "--samples", "100", "--out"])
+        .arg(dir.path().join("survey"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    for path in [&welded, &flat] {
+        assert!(
+            stderr.contains(&format!(
+                "{}: the mesh has no usable faces after cleaning",
+                path.display()
+            )),
+            "{stderr}"
+        );
+    }
+    assert!(!stderr.contains("signal budget"), "{stderr}");
+}

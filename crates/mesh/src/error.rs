@@ -83,6 +83,21 @@ pub enum MeshError {
         /// Number of vertices.
         vertex_count: usize,
     },
+    /// A glTF file whose primitives are all points or lines (modes 0 to 3): vertices, but no
+    /// triangles.
+    #[error(
+        "{}: the file has {vertex_count} vertices but only point/line primitives ({primitives}) \
+         and no triangles",
+        path.display()
+    )]
+    NoTriangles {
+        /// The file.
+        path: PathBuf,
+        /// Vertices of the point and line primitives.
+        vertex_count: usize,
+        /// Number of point and line primitives.
+        primitives: usize,
+    },
     /// Writing the output failed.
     #[error("{}: cannot write mesh: {message}", path.display())]
     Write {

@@ -22,7 +22,7 @@ pub struct ImageErrorArgs {
     #[arg(long)]
     pub image_error: bool,
     /// Side of the rendered square images, pixels (16 to 4096; default 256).
-    #[arg(long, requires = "image_error")]
+    #[arg(long, requires = "image_error", value_parser = image_size)]
     pub image_size: Option<u32>,
     /// A pixel counts as off when its largest RGB channel (0-1) differs by more than this
     /// (0 to 1; default 0.1, about 26 of 255 levels).
@@ -37,6 +37,17 @@ pub struct ImageErrorArgs {
     /// `compare` writes each method's in qem/ and gng/ under it.
     #[arg(long, requires = "image_error")]
     pub image_out: Option<PathBuf>,
+}
+
+/// `--image-size` as a number of pixels; a value that is not one (e.g. `-1`) is refused with
+/// the range (`ImageErrorParams::validate` checks it), not clap's range of `u32`.
+fn image_size(s: &str) -> Result<u32, String> {
+    s.trim().parse().map_err(|_| {
+        format!(
+            "{s} is not a side in pixels in 16 to {}",
+            metrics::MAX_IMAGE_SIZE
+        )
+    })
 }
 
 /// The flag of an `ImageErrorParams` field, for errors (`None`: a field without a flag).

@@ -262,6 +262,23 @@ fn load_with_attributes(
     path: &Path,
 ) -> anyhow::Result<(mesh::TriMesh, Option<mesh::attributes::Attributes>)> {
     let input = super::load_input(path, true)?;
+    // Nothing to train on or sample: said here, not as a signal budget of 0 or after training.
+    let faces = input.mesh.face_count();
+    if faces == 0 {
+        anyhow::bail!(
+            "{}: the mesh has no usable faces after cleaning (every face is degenerate or a \
+             duplicate once exact duplicate vertices are welded)",
+            path.display()
+        );
+    }
+    let area = input.mesh.area();
+    if area.is_nan() || area <= 0.0 {
+        anyhow::bail!(
+            "{}: the mesh has no usable faces after cleaning (its {faces} faces all have zero \
+             area)",
+            path.display()
+        );
+    }
     if input.has_materials {
         eprintln!(
             "warning: {}: materials not used: this command measures positions, normals, texture \

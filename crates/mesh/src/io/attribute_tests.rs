@@ -216,6 +216,56 @@ fn unread_data_and_missing_corners_are_warnings() {
 }
 
 #[test]
+fn obj_vt_and_vn_no_face_uses_are_ignored_with_one_warning_each() {
+    // Issue 46: faces `f 1 2 3` in a file with `vt`/`vn` records gave every corner a zero
+    // normal and UV, with a warning that corners lacked what others have.
+    let dir = tempfile::tempdir().unwrap();
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n\
+               f 1 2 3\nf 2 4 3\n";
+    let loaded = load(&write(dir.path(), "unused.obj", obj.as_bytes())).unwrap();
+    let text: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        text,
+        vec![
+            "ignored the file's 3 OBJ vt (texture coordinate) record(s), which no face uses \
+             (not read, not written to any output)",
+            "ignored the file's 1 OBJ vn (normal) record(s), which no face uses \
+             (not read, not written to any output)",
+        ]
+    );
+    assert!(
+        loaded
+            .attributes
+            .as_ref()
+            .is_none_or(|a| a.uv0.is_none() && a.normals.is_none()),
+        "{:?}",
+        loaded.attributes.map(|a| a.names())
+    );
+
+    // Normals used by every corner, `vt` by none: normals kept, texture coordinates ignored.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1//1 2//1 3//1\n";
+    let loaded = load(&write(dir.path(), "normals.obj", obj.as_bytes())).unwrap();
+    let text: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        text,
+        vec![
+            "ignored the file's 1 OBJ vt (texture coordinate) record(s), which no face uses \
+             (not read, not written to any output)"
+        ]
+    );
+    let a = loaded.attributes.unwrap();
+    assert!(a.uv0.is_none());
+    assert_eq!(a.normals.unwrap(), vec![Vec3::Z; 3]);
+
+    // With a material: materials kept, still no texture coordinates or normals.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl red\nf 1 2 3\n";
+    let loaded = load(&write(dir.path(), "mat.obj", obj.as_bytes())).unwrap();
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
+    let a = loaded.attributes.unwrap();
+    assert_eq!(a.names(), vec!["materials"]);
+}
+
+#[test]
 fn bad_attribute_references_name_the_line() {
     let dir = tempfile::tempdir().unwrap();
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n";

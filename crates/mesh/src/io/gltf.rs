@@ -786,6 +786,7 @@ pub(crate) fn parse(
     let mut ignored_attributes = BTreeSet::new();
     let mut ignored_extensions = BTreeSet::new();
     let mut not_triangles = 0usize;
+    let mut point_line_sets: HashMap<(usize, usize), usize> = HashMap::new();
     let mut no_position = 0usize;
     let mut morphed = 0usize;
     for (instance, (mesh, world, world64)) in instances.iter().enumerate() {
@@ -802,6 +803,12 @@ pub(crate) fn parse(
                 Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
             ) {
                 not_triangles += 1;
+                // Their vertices, once per vertex set, for the error of a file of only these.
+                if let Some(i) = prim_json["attributes"]["POSITION"].as_u64()
+                    && let Some(a) = doc.accessors().nth(i as usize)
+                {
+                    point_line_sets.insert((instance, a.index()), a.count());
+                }
                 continue;
             }
             let mut accessor_of = [None; 5];
@@ -955,6 +962,14 @@ pub(crate) fn parse(
             }
             face_material.resize(corners.len(), material);
         }
+    }
+    let point_line_vertices: usize = point_line_sets.values().sum();
+    if corners.is_empty() && not_triangles > 0 && point_line_vertices > 0 {
+        return Err(MeshError::NoTriangles {
+            path: source.path.to_path_buf(),
+            vertex_count: v.positions.len() + point_line_vertices,
+            primitives: not_triangles,
+        });
     }
     if not_triangles > 0 {
         warnings.push(MeshWarning::IgnoredData {

@@ -395,14 +395,6 @@ fn finish(mut c: Corners, raw: &mut RawMesh) {
         corners: c.corners,
         ..Attributes::default()
     };
-    let mut missing = |attribute: &str, count: usize| {
-        if count > 0 {
-            raw.warnings.push(MeshWarning::MissingCornerAttribute {
-                attribute: attribute.into(),
-                count,
-            });
-        }
-    };
     let lacking_corners = |slot: usize| {
         attributes
             .corners
@@ -412,6 +404,33 @@ fn finish(mut c: Corners, raw: &mut RawMesh) {
             .count()
     };
     let (uv_lacking, normal_lacking) = (lacking_corners(1), lacking_corners(2));
+    // `vt` / `vn` records that no corner references are not attributes of the mesh: ignored
+    // with one warning, not zeros on every corner.
+    let all = attributes.corners.len() * 3;
+    for (records, lacking, what) in [
+        (c.uvs.len(), uv_lacking, "vt (texture coordinate)"),
+        (c.normals.len(), normal_lacking, "vn (normal)"),
+    ] {
+        if records > 0 && lacking == all {
+            raw.warnings.push(MeshWarning::IgnoredData {
+                what: format!("the file's {records} OBJ {what} record(s), which no face uses"),
+            });
+        }
+    }
+    if uv_lacking == all {
+        c.uvs.clear();
+    }
+    if normal_lacking == all {
+        c.normals.clear();
+    }
+    let mut missing = |attribute: &str, count: usize| {
+        if count > 0 {
+            raw.warnings.push(MeshWarning::MissingCornerAttribute {
+                attribute: attribute.into(),
+                count,
+            });
+        }
+    };
     if !c.uvs.is_empty() {
         let lacking = uv_lacking;
         missing("uv0", lacking);
@@ -451,7 +470,7 @@ fn finish(mut c: Corners, raw: &mut RawMesh) {
         }
         attributes.face_material = Some(c.face_material);
     }
-    raw.attributes = Some(attributes);
+    raw.attributes = (!attributes.is_empty()).then_some(attributes);
     raw.materials = materials;
 }
 

@@ -47,6 +47,13 @@ pub fn run(args: &SimplifyArgs) -> anyhow::Result<()> {
     }
     // Everything that does not need the mesh is checked before loading it, by the library.
     let params = params(args)?;
+    // --max-error alone first, so its error names the flag (the library's rule and words).
+    QemParams {
+        max_relative_error: args.max_error,
+        ..QemParams::default()
+    }
+    .validate()
+    .context("--max-error")?;
     params.validate().context("QEM options")?;
     // Every file the run writes (each --lods level) is checked against the input's files
     // before any work.
@@ -237,6 +244,9 @@ struct Level {
     attributes: super::attributes::Kept,
 }
 
+/// The fewest vertices a `--lods` level may ask for: one triangle.
+const MIN_LEVEL_VERTICES: usize = 3;
+
 /// `--lods`: each level simplified from the one before (attributes carried), written as it is
 /// made; one line per level (or a `--json` list).
 fn run_lods(
@@ -253,6 +263,21 @@ fn run_lods(
         .map(|&r| gng3d_core::GngTarget::VertexRatio(r).vertex_count(&input))
         .collect::<Result<Vec<_>, _>>()
         .context("--lods")?;
+    // A level below a triangle's vertices would be run as a target nothing can reach.
+    if let Some((k, (r, &n))) = lods
+        .iter()
+        .zip(&wanted)
+        .enumerate()
+        .find(|(_, (_, n))| **n < MIN_LEVEL_VERTICES)
+    {
+        let available = gng3d_core::GngTarget::VertexRatio(1.0).vertex_count(&input)?;
+        bail!(
+            "--lods: level {}'s share {r:?} gives {n} of the {available} vertices of {}; a \
+             level needs at least {MIN_LEVEL_VERTICES} vertices (one triangle)",
+            k + 1,
+            args.input.display(),
+        );
+    }
     let (mut current, mut current_extras) = (input, extras);
     for (k, (&ratio, &wanted)) in lods.iter().zip(&wanted).enumerate() {
         let path = lod_path(&args.output, k + 1);
@@ -265,6 +290,10 @@ fn run_lods(
             &path,
             Some(k + 1),
         )?;
+        // As for a single run: a level that stops short of its target says so.
+        if let Some(shortfall) = report.shortfall(Target::Vertices(wanted)) {
+            eprintln!("warning: level {} ({}): {shortfall}", k + 1, path.display());
+        }
         if !args.json {
             outln!(
                 "qem lod{}: {} -> {} vertices, {} faces, max quadric error {:.3e}, {:.3} s -> {}",

@@ -520,6 +520,36 @@ fn strips_and_fans_are_triangulated_points_and_lines_dropped_with_a_warning() {
 }
 
 #[test]
+fn points_and_lines_only_is_an_error_counting_their_vertices() {
+    // Issue 46: a file of point and line primitives said "the mesh has no vertices".
+    let mut b = Builder::default();
+    let many: Vec<[f32; 3]> = (0..60).map(|i| [i as f32, (i % 7) as f32, 0.0]).collect();
+    let p = b.positions(&many);
+    let q = b.positions(&many[..6]);
+    let glb = b.glb(json!({"meshes": [{"primitives": [
+        {"attributes": {"POSITION": p}, "mode": 0},
+        {"attributes": {"POSITION": p}, "mode": 1},
+        {"attributes": {"POSITION": q}, "mode": 3}
+    ]}]}));
+    let e = parse_glb(&glb).expect_err("no triangles: an error");
+    assert!(
+        matches!(
+            e,
+            MeshError::NoTriangles {
+                vertex_count: 66,
+                primitives: 3,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "test.glb: the file has 66 vertices but only point/line primitives (3) and no triangles"
+    );
+}
+
+#[test]
 fn normalized_colours_and_sparse_accessors() {
     let mut b = Builder::default();
     let p = b.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
