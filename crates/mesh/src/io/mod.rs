@@ -89,8 +89,8 @@ pub struct LoadedMesh {
     pub files: Vec<PathBuf>,
     /// Where the positions' origin lies in the file's coordinates: zero for most models; for a
     /// model far from its coordinates' origin (georeferenced scans: x = 450,000,
-    /// y = 5,400,000), the centre of its bounding box, rounded to whole units, subtracted in
-    /// `f64` before the positions became `f32`, so that they keep `f32`'s precision relative
+    /// y = 5,400,000: rounding to f32 would move a vertex by more than 1e-6 of its extent), the
+    /// centre of its bounding box, subtracted in `f64` before the positions became `f32`, so that they keep `f32`'s precision relative
     /// to the model's own size. The writers add it back in `f64` (`save_*` take it): OBJ
     /// and PLY (as `double`) keep the coordinates, glTF puts it in the node's translation, STL
     /// (`f32` only) warns.
@@ -221,10 +221,11 @@ fn load_encoded(
     validate(raw, path)
 }
 
-/// The origin to recentre `positions` on, when they lie so far from their coordinates' origin
-/// that `f32` would lose more than about 1e-7 of their own extent: the bounding box's centre
-/// rounded to whole units (a coordinate more than 8 extents from zero loses up to
-/// 6e-8 × 8 ≈ 5e-7 of the extent when rounded to f32; beyond, recentring is what keeps 1e-6).
+/// The origin to recentre `positions` on, when rounding their coordinates to f32 moves a
+/// vertex by more than 1e-6 of the model's extent (half the spacing of f32 values at the largest
+/// coordinate, against the bounding-box diagonal): the box's centre. Models near their
+/// coordinates' origin keep their positions bit for bit (a 0.1-unit scan at z = 1.6, 16 extents
+/// away, rounds by 6e-7 of its extent and stays as read).
 fn far_origin(positions: &[Vec3]) -> Option<DVec3> {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for p in positions {
@@ -234,12 +235,14 @@ fn far_origin(positions: &[Vec3]) -> Option<DVec3> {
             hi = hi.max(p);
         }
     }
-    if lo.x > hi.x {
+    let extent = (hi - lo).length();
+    let far = lo.abs().max(hi.abs()).max_element();
+    if !(extent > 0.0 && far > 0.0 && far.is_finite()) {
         return None;
     }
-    let extent = (hi - lo).length().max(f64::MIN_POSITIVE);
-    let far = lo.abs().max(hi.abs()).max_element();
-    (far > 8.0 * extent && far > 1.0).then(|| ((lo + hi) * 0.5).round())
+    // The spacing of f32 values at `far`: 2^(exponent - 23).
+    let half_spacing = (far.log2().floor() - 24.0).exp2();
+    (half_spacing > 1e-6 * extent).then_some((lo + hi) * 0.5)
 }
 
 /// A mesh handed over in memory (positions and triangles with signed indices, as arrays from
