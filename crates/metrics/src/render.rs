@@ -403,8 +403,8 @@ pub struct Surface<'a> {
     /// are the original's.
     pub texture: Option<&'a Texture>,
     /// A flag that stops the [`image_error`] it is given to (on either side) with
-    /// [`MetricsError::Cancelled`]: looked at per view and every 65,536 triangles of a
-    /// rendering.
+    /// [`MetricsError::Cancelled`]: looked at per view and every 65,536 triangles and pixels
+    /// of a rendering.
     pub cancel: Option<&'a Cancel>,
 }
 
@@ -760,6 +760,9 @@ impl<'a> Scene<'a> {
         let mut colour = vec![[0.0f32; 3]; n];
         let mut covered = vec![false; n];
         for i in 0..n {
+            if i % (1 << 16) == 0 && cancel.is_some_and(Cancel::is_cancelled) {
+                break;
+            }
             if face[i] != EMPTY {
                 covered[i] = true;
                 colour[i] = self.shade(face[i] as usize, bary[i], camera.forward);
