@@ -742,7 +742,7 @@ impl<'a> Scene<'a> {
             bary: Vec3::ZERO,
         }; 4];
         for (f, t) in self.triangles.iter().enumerate() {
-            if f % (1 << 16) == 0 && cancel.is_some_and(Cancel::is_cancelled) {
+            if f.is_multiple_of(1 << 16) && cancel.is_some_and(Cancel::is_cancelled) {
                 break;
             }
             let corners: [Corner; 3] = std::array::from_fn(|k| Corner {
@@ -760,7 +760,7 @@ impl<'a> Scene<'a> {
         let mut colour = vec![[0.0f32; 3]; n];
         let mut covered = vec![false; n];
         for i in 0..n {
-            if i % (1 << 16) == 0 && cancel.is_some_and(Cancel::is_cancelled) {
+            if i.is_multiple_of(1 << 16) && cancel.is_some_and(Cancel::is_cancelled) {
                 break;
             }
             if face[i] != EMPTY {

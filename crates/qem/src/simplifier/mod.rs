@@ -766,7 +766,7 @@ fn visit(
     out.done += 1;
     out.worst = out.worst.max(cost);
     out.worst_relative2 = out.worst_relative2.max(relative2);
-    if out.done % CANCEL_EVERY == 0 && cancel.is_some_and(Cancel::is_cancelled) {
+    if out.done.is_multiple_of(CANCEL_EVERY) && cancel.is_some_and(Cancel::is_cancelled) {
         out.cancelled = true;
         return Break(());
     }
