@@ -4,6 +4,7 @@
 //! the refit lies on the original surface.
 
 use mesh::TriMesh;
+use mesh::cancel::Cancel;
 
 /// [`qem::QemParams::edge_length_weight`] of GNG3D-Q's decimation. Without it QEM removes the
 /// network's vertices in flat regions in arbitrary order (their quadric cost is ≈ 0) and leaves
@@ -32,10 +33,15 @@ pub const RELAXED_NORMAL_COS: [f64; 2] = [0.0, -0.5];
 /// vertices), the remainder is contracted with that check relaxed in the steps of
 /// [`RELAXED_NORMAL_COS`], so that the count is met; the link condition (manifoldness, genus)
 /// is never relaxed. What still cannot be contracted (holes need three vertices each) is left
-/// to the caller's warning.
-pub(crate) fn decimate(mesh: &TriMesh, target_vertices: usize) -> Result<TriMesh, qem::QemError> {
+/// to the caller's warning. With `cancel` set, QEM stops with [`qem::QemError::Cancelled`].
+pub(crate) fn decimate(
+    mesh: &TriMesh,
+    target_vertices: usize,
+    cancel: Option<&Cancel>,
+) -> Result<TriMesh, qem::QemError> {
     let params = qem::QemParams {
         edge_length_weight: EDGE_LENGTH_WEIGHT,
+        cancel: cancel.cloned(),
         ..qem::QemParams::with_target(qem::Target::Vertices(target_vertices))
     };
     let simplify =
@@ -93,6 +99,7 @@ pub(crate) fn decimate_along_seams(
     mesh: &TriMesh,
     charts: &[u32],
     target_vertices: usize,
+    cancel: Option<&Cancel>,
 ) -> Result<(TriMesh, Option<Vec<u32>>), qem::QemError> {
     let attributes = mesh::attributes::Attributes {
         wedge_vertex: (0..mesh.positions.len() as u32).collect(),
@@ -104,6 +111,7 @@ pub(crate) fn decimate_along_seams(
         edge_length_weight: EDGE_LENGTH_WEIGHT,
         boundary_weight: SEAM_WEIGHT,
         seam_weight: SEAM_WEIGHT,
+        cancel: cancel.cloned(),
         ..qem::QemParams::with_target(qem::Target::Vertices(target_vertices))
     };
     let simplify = |(mesh, attributes): &(TriMesh, mesh::attributes::Attributes),
@@ -114,7 +122,7 @@ pub(crate) fn decimate_along_seams(
     let first = (first, kept);
     let (out, attributes) = relaxing(first, &params, target_vertices, |(m, _)| m, simplify)?;
     if out.vertex_count() > target_vertices {
-        return Ok((decimate(&out, target_vertices)?, None));
+        return Ok((decimate(&out, target_vertices, cancel)?, None));
     }
     Ok((out, attributes.face_material))
 }

@@ -76,6 +76,10 @@ pub enum GngError {
     /// The QEM decimation of an oversampled run failed (GNG3D-Q's [`crate::Step::Decimate`]).
     #[error("decimating the network's mesh failed: {0}")]
     Decimation(#[source] qem::QemError),
+    /// The steps after training were stopped through the cancel flag given to
+    /// [`crate::finish_cancellable`].
+    #[error("GNG3D's steps after training were cancelled")]
+    Cancelled,
 }
 
 /// The option or parameter a [`GngError::Parameter`] names: a field of [`crate::GngOptions`]

@@ -140,6 +140,8 @@ pub mod tuning;
 
 pub use error::{GngError, GngParameter};
 pub use glam;
+/// The workspace's cancel flag ([`finish_cancellable`]; also [`CancelToken`], training's).
+pub use mesh::cancel::Cancel;
 pub use options::{GngOptions, GngTarget};
 pub use params::{
     GngParams, OppositeFaces, Placement, ReconstructionParams, SearchStrategy, SignalSource,
@@ -211,5 +213,18 @@ pub fn simplify_with_attributes(
 /// gives an open output says so ([`GngWarning::OpenedHoles`]).
 pub fn finish(trainer: &Trainer, on_step: impl FnMut(&StepRecord)) -> Result<GngResult, GngError> {
     let snap = trainer.snapshot();
-    trainer.run_plan(&snap, trainer.plan(), on_step)
+    trainer.run_plan(&snap, trainer.plan(), None, on_step)
+}
+
+/// [`finish`] that another thread can stop: when `cancel` is set the run ends at its next check
+/// (before each step, in the decimation's QEM passes) with [`GngError::Cancelled`], never a
+/// partial mesh. The trainer's own [`Trainer::cancel_token`] stops training, not this: a
+/// trainer stopped early still gives its mesh. Not cancelled, the result is [`finish`]'s.
+pub fn finish_cancellable(
+    trainer: &Trainer,
+    cancel: &Cancel,
+    on_step: impl FnMut(&StepRecord),
+) -> Result<GngResult, GngError> {
+    let snap = trainer.snapshot();
+    trainer.run_plan(&snap, trainer.plan(), Some(cancel), on_step)
 }

@@ -14,6 +14,7 @@ use crate::reconstruct::{self, Attachment, Candidate, OriginalTables, Reconstruc
 use crate::report::GngWarning;
 use glam::Vec3;
 use mesh::TriMesh;
+use mesh::cancel::Cancel;
 use mesh::quadric::Quadric;
 #[cfg(feature = "serde")]
 use serde::Serialize;
@@ -634,7 +635,7 @@ pub(crate) struct Output {
 /// The reconstruction alone of `input` (its options as given, no decimation, no deadline):
 /// [`crate::reconstruct`] and [`crate::Trainer::reconstruct`].
 pub(crate) fn reconstruct_only(input: &Input<'_>) -> crate::Reconstruction {
-    let out = run(input, &Plan::of(input.params, false), None, |_| {})
+    let out = run(input, &Plan::of(input.params, false), None, None, |_| {})
         .expect("a plan without a decimation cannot fail");
     crate::Reconstruction {
         mesh: out.mesh,
@@ -644,7 +645,8 @@ pub(crate) fn reconstruct_only(input: &Input<'_>) -> crate::Reconstruction {
 }
 
 /// Run `plan` on `input`; `on_step` sees each step's record as it finishes. Errors are the
-/// decimator's.
+/// decimator's, and [`qem::QemError::Cancelled`] when `cancel` is set: it is looked at before
+/// each step, after the last, and by the decimation's QEM runs.
 ///
 /// With a `deadline`, each optional step runs only when its estimate and the estimates of the
 /// required steps after it fit in the time left, all scaled by how long the steps so far took
@@ -655,10 +657,13 @@ pub(crate) fn run(
     input: &Input<'_>,
     plan: &Plan,
     deadline: Option<Instant>,
+    cancel: Option<&Cancel>,
     mut on_step: impl FnMut(&StepRecord),
 ) -> Result<Output, qem::QemError> {
     let start = Instant::now();
+    let cancelled = || cancel.is_some_and(Cancel::is_cancelled);
     let mut work = Work::new(input);
+    work.cancel = cancel.cloned();
     let mut steps = Vec::with_capacity(plan.steps().len());
     let mut skipped = Vec::new();
     // Build rounds after this one are not run: a detail round found nothing to add (or was
@@ -675,6 +680,9 @@ pub(crate) fn run(
     for (i, &PlannedStep { step, round }) in plan.steps().iter().enumerate() {
         if round > last_round && !step.after_build() {
             continue;
+        }
+        if cancelled() {
+            return Err(qem::QemError::Cancelled);
         }
         if let Some(deadline) = deadline
             && !step.is_required()
@@ -761,6 +769,9 @@ pub(crate) fn run(
         on_step(&record);
         steps.push(record);
     }
+    if cancelled() {
+        return Err(qem::QemError::Cancelled);
+    }
     if !work.build_ended {
         work.end_build(start, build_seconds);
     }
@@ -818,6 +829,8 @@ struct Work<'a> {
     /// When the current step should end to leave the rest of the plan its time (steps that
     /// can stop early: the deviation repair between its rounds).
     step_deadline: Option<Instant>,
+    /// The run's cancel flag, handed to the decimation's QEM runs.
+    cancel: Option<Cancel>,
 }
 
 impl<'a> Work<'a> {
@@ -851,6 +864,7 @@ impl<'a> Work<'a> {
             build_ended: false,
             decimated: false,
             step_deadline: None,
+            cancel: None,
         }
     }
 
@@ -1166,13 +1180,15 @@ impl<'a> Work<'a> {
             std::mem::take(&mut self.triangles),
         );
         let before = mesh.vertex_count();
+        let cancel = self.cancel.as_ref();
         let out = match (self.triangle_charts.take(), self.uncut.take()) {
             (Some(charts), Some(uncut)) => {
-                let (along, charts) = crate::decimate::decimate_along_seams(&mesh, &charts, n)?;
+                let (along, charts) =
+                    crate::decimate::decimate_along_seams(&mesh, &charts, n, cancel)?;
                 // The same count without the seams, from the mesh before the cut: kept when
                 // the seams would cost too much of the surface (SEAM_DISTANCE_RATIO).
                 let plain = if uncut.vertex_count() > n {
-                    crate::decimate::decimate(&uncut, n)?
+                    crate::decimate::decimate(&uncut, n, cancel)?
                 } else {
                     uncut
                 };
@@ -1194,7 +1210,7 @@ impl<'a> Work<'a> {
                     plain
                 }
             }
-            _ => crate::decimate::decimate(&mesh, n)?,
+            _ => crate::decimate::decimate(&mesh, n, cancel)?,
         };
         self.decimated = true;
         let TriMesh {

@@ -30,7 +30,6 @@ use rand_pcg::Pcg64Mcg;
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -67,21 +66,11 @@ pub const GROWTH_SHARE_OF_TIME_LIMIT: f64 = 0.5;
 /// Signals before the throughput is trusted for the time-limit schedule.
 const RATE_WARMUP_SIGNALS: u64 = 4096;
 
-/// Shared flag that stops a running [`Trainer`] from another thread.
-#[derive(Debug, Clone, Default)]
-pub struct CancelToken(Arc<AtomicBool>);
-
-impl CancelToken {
-    /// Ask the trainer to stop at its next check (within about a thousand signals).
-    pub fn cancel(&self) {
-        self.0.store(true, Ordering::Relaxed);
-    }
-
-    /// Whether cancellation was requested.
-    pub fn is_cancelled(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
-    }
-}
+/// Shared flag that stops a running [`Trainer`] from another thread (at its next check, within
+/// about a thousand signals): the workspace's one cancel flag, [`mesh::cancel::Cancel`], under
+/// the name the trainer has always given it ([`crate::finish_cancellable`], QEM's
+/// `QemParams::cancel` and the metrics take the same type).
+pub type CancelToken = mesh::cancel::Cancel;
 
 /// Why training ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -1043,7 +1032,7 @@ impl Trainer {
             self.charts.is_some(),
         );
         let snap = self.snapshot();
-        let mut result = self.run_plan_with(&snap, &plan, &reconstruction, None, |_| {})?;
+        let mut result = self.run_plan_with(&snap, &plan, &reconstruction, None, None, |_| {})?;
         result.report.warnings.clear();
         Ok(result)
     }
@@ -1067,17 +1056,26 @@ impl Trainer {
         }
     }
 
-    /// [`crate::finish`]: `plan` on `snap`, with the checks and warnings of a run.
+    /// [`crate::finish_cancellable`]: `plan` on `snap`, with the checks and warnings of a run,
+    /// stopped with [`GngError::Cancelled`] when `cancel` is set.
     pub(crate) fn run_plan(
         &self,
         snap: &Snapshot,
         plan: &Plan,
+        cancel: Option<&CancelToken>,
         on_step: impl FnMut(&StepRecord),
     ) -> Result<GngResult, GngError> {
         let deadline = self.params.time_limit.map(|limit| {
             self.started + Duration::from_secs_f64(crate::pipeline::aim_seconds(limit))
         });
-        self.run_plan_with(snap, plan, &self.params.reconstruction, deadline, on_step)
+        self.run_plan_with(
+            snap,
+            plan,
+            &self.params.reconstruction,
+            deadline,
+            cancel,
+            on_step,
+        )
     }
 
     fn run_plan_with(
@@ -1086,6 +1084,7 @@ impl Trainer {
         plan: &Plan,
         reconstruction: &ReconstructionParams,
         deadline: Option<Instant>,
+        cancel: Option<&CancelToken>,
         on_step: impl FnMut(&StepRecord),
     ) -> Result<GngResult, GngError> {
         let stats = self.stats();
@@ -1097,7 +1096,10 @@ impl Trainer {
         }
         let input = self.pipeline_input(snap, reconstruction);
         let out =
-            crate::pipeline::run(&input, plan, deadline, on_step).map_err(GngError::Decimation)?;
+            crate::pipeline::run(&input, plan, deadline, cancel, on_step).map_err(|e| match e {
+                qem::QemError::Cancelled => GngError::Cancelled,
+                e => GngError::Decimation(e),
+            })?;
         if out.report.vertices == 0 || out.mesh.face_count() == 0 {
             return Err(GngError::EmptyMesh {
                 nodes: snap.positions.len(),

@@ -24,6 +24,7 @@
 extern crate self as mesh;
 
 pub mod attributes;
+pub mod cancel;
 pub mod clean;
 pub mod error;
 // Test and benchmark helpers (feature `fixtures`), documented in the module.

@@ -19,9 +19,10 @@
 
 use crate::frame::Frame;
 use crate::index::{NO_SLOT, SurfaceDistanceIndex, bound_f32};
-use crate::{MetricsError, validate_all_vertices, validate_mesh};
+use crate::{MetricsError, check_cancel, validate_all_vertices, validate_mesh};
 use glam::{Vec3, Vec3A};
 use mesh::TriMesh;
+use mesh::cancel::Cancel;
 use mesh::sampling::{
     EdgeSampling, FaceSampling, StratifiedParams, StratifiedSamples, SurfaceSample,
     sample_stratified,
@@ -444,19 +445,21 @@ pub(crate) fn one_sided_inner(
     diagonal: f64,
 ) -> Result<(OneSided, NormalDeviation), MetricsError> {
     let drawn = draw(source, target.frame(), params, samples, seed)?;
-    let (one, normals) = measure(&drawn, target, params, diagonal);
+    let (one, normals) = measure(&drawn, target, params, diagonal, None);
     check_counted(&one, "source")?;
     Ok((one, normals))
 }
 
 /// Measures drawn samples against `target`: fixed chunks, each sequential, reduced in order.
 /// The samples are in the target's frame; the distances are measured there and reported in
-/// model units.
+/// model units. Once `cancel` is set the chunks not yet started are skipped (the figures are
+/// then partial: the caller returns [`MetricsError::Cancelled`] instead).
 pub(crate) fn measure(
     drawn: &Drawn,
     target: &SurfaceDistanceIndex,
     params: &HausdorffParams,
     diagonal: f64,
+    cancel: Option<&Cancel>,
 ) -> (OneSided, NormalDeviation) {
     let source_normals = &drawn.normals;
     let drawn = &drawn.samples;
@@ -475,6 +478,9 @@ pub(crate) fn measure(
         .enumerate()
         .map(|(chunk, batch)| {
             let mut acc = Partial::new();
+            if cancel.is_some_and(Cancel::is_cancelled) {
+                return acc;
+            }
             let mut stack = Vec::with_capacity(64);
             let mut hint = NO_SLOT;
             for (k, s) in batch.iter().enumerate() {
@@ -665,8 +671,8 @@ pub(crate) fn hausdorff_full(
     let fwd = fwd.map_err(|e| rename(e, "original"))?;
     let bwd = bwd.map_err(|e| rename(e, "simplified"))?;
     let ((fwd, nf), (bwd, nb)) = rayon::join(
-        || measure(&fwd, simplified_index, params, diagonal),
-        || measure(&bwd, original_index, params, diagonal),
+        || measure(&fwd, simplified_index, params, diagonal, None),
+        || measure(&bwd, original_index, params, diagonal, None),
     );
     check_counted(&fwd, "forward (original to simplified)")?;
     check_counted(&bwd, "backward (simplified to original)")?;
@@ -675,13 +681,16 @@ pub(crate) fn hausdorff_full(
 
 /// Both directions, building the two indices on the way and overlapping the (sequential) build
 /// of the larger one with sampling and the forward queries. Both are measured in the
-/// original's frame.
+/// original's frame. With `cancel` set, [`MetricsError::Cancelled`] after the step running
+/// (a batch of samples at most, in the queries).
 pub(crate) fn hausdorff_pipelined(
     original: &TriMesh,
     simplified: &TriMesh,
     params: &HausdorffParams,
+    cancel: Option<&Cancel>,
 ) -> Result<(Hausdorff, NormalDeviation, NormalDeviation), MetricsError> {
     let (samples, diagonal) = check_pair(original, simplified, params)?;
+    check_cancel(cancel)?;
     let frame = Frame::of_mesh(original);
     frame.check_span(simplified, "simplified", false)?;
     let (original_index, rest) = rayon::join(
@@ -705,13 +714,17 @@ pub(crate) fn hausdorff_pipelined(
                 derive_seed(params.seed, 2),
             )
             .map_err(|e| rename(e, "simplified"))?;
-            let forward = measure(&fwd, &simplified_index, params, diagonal);
+            check_cancel(cancel)?;
+            let forward = measure(&fwd, &simplified_index, params, diagonal, cancel);
+            check_cancel(cancel)?;
             Ok((forward, bwd))
         },
     );
     let original_index = original_index?;
     let ((fwd, nf), bwd_drawn) = rest?;
-    let (bwd, nb) = measure(&bwd_drawn, &original_index, params, diagonal);
+    check_cancel(cancel)?;
+    let (bwd, nb) = measure(&bwd_drawn, &original_index, params, diagonal, cancel);
+    check_cancel(cancel)?;
     check_counted(&fwd, "forward (original to simplified)")?;
     check_counted(&bwd, "backward (simplified to original)")?;
     Ok((combine(fwd, bwd, diagonal), nf, nb))
@@ -760,7 +773,7 @@ pub fn hausdorff(
     simplified: &TriMesh,
     params: &HausdorffParams,
 ) -> Result<Hausdorff, MetricsError> {
-    hausdorff_pipelined(original, simplified, params).map(|(h, _, _)| h)
+    hausdorff_pipelined(original, simplified, params, None).map(|(h, _, _)| h)
 }
 
 #[cfg(test)]

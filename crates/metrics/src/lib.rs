@@ -59,10 +59,11 @@ pub use render::{
 };
 pub use report::{
     Evaluation, Evaluator, MeshSummary, MetricsParams, MetricsReport, NormalDeviations, Pair,
-    evaluate,
+    evaluate, evaluate_cancellable,
 };
 
 use mesh::TriMesh;
+use mesh::cancel::Cancel;
 use mesh::sampling::SamplingError;
 
 /// Why metrics could not be computed.
@@ -138,6 +139,19 @@ pub enum MetricsError {
         /// The underlying problem (in the message, not repeated as an error source).
         problem: SamplingError,
     },
+    /// The measurement was stopped through its cancel flag ([`evaluate_cancellable`],
+    /// [`Surface::with_cancel`]).
+    #[error("the measurement was cancelled")]
+    Cancelled,
+}
+
+/// [`MetricsError::Cancelled`] when `cancel` is given and set.
+pub(crate) fn check_cancel(cancel: Option<&Cancel>) -> Result<(), MetricsError> {
+    if cancel.is_some_and(Cancel::is_cancelled) {
+        Err(MetricsError::Cancelled)
+    } else {
+        Ok(())
+    }
 }
 
 /// Checks indices and that referenced coordinates are finite, naming the mesh `which` in the

@@ -34,6 +34,7 @@ use crate::MetricsError;
 use glam::{Vec2, Vec3};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
+use mesh::cancel::Cancel;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -401,6 +402,10 @@ pub struct Surface<'a> {
     /// `v_down`). A simplified mesh without one is drawn with the original's: its materials
     /// are the original's.
     pub texture: Option<&'a Texture>,
+    /// A flag that stops the [`image_error`] it is given to (on either side) with
+    /// [`MetricsError::Cancelled`]: looked at per view and every 65,536 triangles and pixels
+    /// of a rendering.
+    pub cancel: Option<&'a Cancel>,
 }
 
 impl<'a> Surface<'a> {
@@ -410,6 +415,7 @@ impl<'a> Surface<'a> {
             mesh,
             attributes: None,
             texture: None,
+            cancel: None,
         }
     }
 
@@ -421,6 +427,14 @@ impl<'a> Surface<'a> {
     /// With a texture.
     pub fn with_texture(self, texture: Option<&'a Texture>) -> Surface<'a> {
         Surface { texture, ..self }
+    }
+
+    /// With a cancel flag (see [`Surface::cancel`]).
+    pub fn with_cancel(self, cancel: &'a Cancel) -> Surface<'a> {
+        Surface {
+            cancel: Some(cancel),
+            ..self
+        }
     }
 }
 
@@ -443,6 +457,8 @@ pub fn image_error_with_images(
 ) -> Result<(ImageError, Vec<ViewImages>), MetricsError> {
     params.validate()?;
     let start = Instant::now();
+    let cancel = original.cancel.or(simplified.cancel);
+    crate::check_cancel(cancel)?;
     crate::validate_mesh(original.mesh, "original")?;
     crate::validate_mesh(simplified.mesh, "simplified")?;
     if original.mesh.triangles.is_empty() {
@@ -475,12 +491,17 @@ pub fn image_error_with_images(
             params,
         ),
     ];
+    crate::check_cancel(cancel)?;
     let results: Vec<(Sums, Option<ViewImages>)> = VIEWS
         .par_iter()
         .map(|&(name, direction)| {
+            if cancel.is_some_and(Cancel::is_cancelled) {
+                // Discarded below.
+                return (Sums::default(), None);
+            }
             let camera = Camera::new(Vec3::from(direction), radius, params);
-            let a = scenes[0].render(&camera);
-            let b = scenes[1].render(&camera);
+            let a = scenes[0].render(&camera, cancel);
+            let b = scenes[1].render(&camera, cancel);
             let sums = compare(&a, &b, params.threshold);
             let images = keep_images.then(|| ViewImages {
                 view: name.to_string(),
@@ -493,6 +514,7 @@ pub fn image_error_with_images(
             (sums, images)
         })
         .collect();
+    crate::check_cancel(cancel)?;
     // Pooled in the order of the views: the same sums whatever the thread count.
     let mut overall = Sums::default();
     let mut views = Vec::with_capacity(VIEWS.len());
@@ -706,7 +728,9 @@ impl<'a> Scene<'a> {
 
     /// Renders the scene through `camera`: visibility first (z-buffer of 1/w, the nearest
     /// triangle and its barycentric coordinates per pixel), then one shading per pixel.
-    fn render(&self, camera: &Camera) -> Rendering {
+    /// The image from `camera`; once `cancel` is set, an incomplete one (for the caller to
+    /// discard).
+    fn render(&self, camera: &Camera, cancel: Option<&Cancel>) -> Rendering {
         let n = camera.size * camera.size;
         let mut depth = vec![0.0f32; n];
         let mut face = vec![EMPTY; n];
@@ -718,6 +742,9 @@ impl<'a> Scene<'a> {
             bary: Vec3::ZERO,
         }; 4];
         for (f, t) in self.triangles.iter().enumerate() {
+            if f.is_multiple_of(1 << 16) && cancel.is_some_and(Cancel::is_cancelled) {
+                break;
+            }
             let corners: [Corner; 3] = std::array::from_fn(|k| Corner {
                 view: view[t[k] as usize],
                 bary: identity[k],
@@ -733,6 +760,9 @@ impl<'a> Scene<'a> {
         let mut colour = vec![[0.0f32; 3]; n];
         let mut covered = vec![false; n];
         for i in 0..n {
+            if i.is_multiple_of(1 << 16) && cancel.is_some_and(Cancel::is_cancelled) {
+                break;
+            }
             if face[i] != EMPTY {
                 covered[i] = true;
                 colour[i] = self.shade(face[i] as usize, bary[i], camera.forward);

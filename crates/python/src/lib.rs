@@ -10,7 +10,7 @@ mod trainer;
 
 use convert::{mesh_error, mesh_from};
 use mesh::attributes::Attributes;
-use pyo3::exceptions::{PyKeyboardInterrupt, PyUserWarning, PyValueError};
+use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use run::{GngKeywords, Method, Outcome, Size};
@@ -202,9 +202,8 @@ fn prepared(
 ///     ValueError: bad input (wrong shape, NaN, an index out of range, no faces) or options,
 ///         with the library's message (or one naming the keyword, e.g. ``threads``).
 ///     RuntimeError: a run that ended without a mesh (e.g. a time limit too short to train).
-///     KeyboardInterrupt: Ctrl-C during GNG3D training (within a fraction of a second). The
-///         steps after training and QEM run to their end first: the libraries offer no way
-///         to stop them.
+///     KeyboardInterrupt: Ctrl-C, within a fraction of a second, with either method (GNG3D's
+///         training and the steps after it, QEM's contractions).
 ///
 /// The GIL is released while the mesh is simplified, so threads run in parallel.
 ///
@@ -331,18 +330,12 @@ impl Request {
         let pool = self.pool.as_ref();
         let Some(options) = &self.gng else {
             let target = run::qem_target(self.size, input)?;
-            return py.detach(|| run::run_qem(input, attributes, target, self.threshold, pool));
+            let cancel = mesh::cancel::Cancel::default();
+            return run::interruptible(py, &cancel, || {
+                run::run_qem(input, attributes, target, self.threshold, pool, &cancel)
+            })?;
         };
-        let run = py.detach(|| {
-            run::run_gng(input, attributes, options, self.method, pool, || {
-                Python::attach(|py| py.check_signals().is_err())
-            })
-        });
-        match run {
-            Ok(outcome) => Ok(outcome),
-            Err(Some(e)) => Err(run::gng_error(e)),
-            Err(None) => Err(PyKeyboardInterrupt::new_err("GNG3D training interrupted")),
-        }
+        run::run_gng(py, input, attributes, options, self.method, pool)
     }
 }
 
@@ -399,8 +392,8 @@ fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr {
 ///     ValueError: a malformed input, an unknown extension or bad options; the message names
 ///         the file where one is at fault.
 ///     RuntimeError: a run that ended without a mesh.
-///     KeyboardInterrupt: Ctrl-C during GNG3D training, as for :func:`simplify`; the output
-///         is not written then.
+///     KeyboardInterrupt: Ctrl-C while simplifying, as for :func:`simplify`; the output is
+///         not written then.
 ///
 /// The GIL is released while the file is read, simplified and written.
 ///
@@ -622,6 +615,7 @@ fn view_images<'py>(
 ///     ValueError: bad arrays or options (an image option names its keyword, e.g.
 ///         ``image_size: 8 pixels is not in 16 to 4096 pixels``; an ``image_*`` keyword
 ///         without ``image_error=True``).
+///     KeyboardInterrupt: Ctrl-C while measuring (within a fraction of a second).
 ///
 /// The meshes are measured as given (as the CLI measures files: not welded). The GIL is
 /// released while measuring.
@@ -674,23 +668,28 @@ fn measure<'py>(
     let (simplified, w1) = mesh_from(v1, f1, "simplified")?;
     warn_about(py, "original", &w0)?;
     warn_about(py, "simplified", &w1)?;
-    let (report, views) = py
-        .detach(|| {
-            let mut report = metrics::evaluate(&original, &simplified, &params)?;
-            let mut views = Vec::new();
-            if let Some(image) = &image {
-                let (measured, rendered) = metrics::image_error_with_images(
-                    &metrics::Surface::new(&original),
-                    &metrics::Surface::new(&simplified),
-                    image,
-                    images,
-                )?;
-                report.image_error = Some(measured);
-                views = rendered;
-            }
-            Ok::<_, metrics::MetricsError>((report, views))
-        })
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let cancel = mesh::cancel::Cancel::default();
+    let (report, views) = run::interruptible(py, &cancel, || {
+        let mut report = metrics::evaluate_cancellable(&original, &simplified, &params, &cancel)?;
+        let mut views = Vec::new();
+        if let Some(image) = &image {
+            let (measured, rendered) = metrics::image_error_with_images(
+                &metrics::Surface::new(&original).with_cancel(&cancel),
+                &metrics::Surface::new(&simplified),
+                image,
+                images,
+            )?;
+            report.image_error = Some(measured);
+            views = rendered;
+        }
+        Ok::<_, metrics::MetricsError>((report, views))
+    })?
+    .map_err(|e| match e {
+        metrics::MetricsError::Cancelled => {
+            pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string())
+        }
+        _ => PyValueError::new_err(e.to_string()),
+    })?;
     let value = serde_json::to_value(&report).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let dict = to_python(py, &value)?;
     if images {

@@ -5,7 +5,10 @@
 use gng3d_core::{GngError, GngOptions, GngTarget, Placement, SignalSource, Trainer};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
-use pyo3::exceptions::{PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
+use mesh::cancel::Cancel;
+use pyo3::exceptions::{
+    PyKeyboardInterrupt, PyOverflowError, PyRuntimeError, PyTypeError, PyValueError,
+};
 use pyo3::prelude::*;
 use serde::Serialize;
 use serde_json::Value;
@@ -341,6 +344,8 @@ pub fn gng_error(e: GngError) -> PyErr {
         GngError::TooFewNodes { .. } | GngError::EmptyMesh { .. } | GngError::Decimation(_) => {
             PyRuntimeError::new_err(e.to_string())
         }
+        // Only after a Ctrl-C ([`interruptible`] returns the handler's exception first).
+        GngError::Cancelled => PyKeyboardInterrupt::new_err(e.to_string()),
         _ => PyValueError::new_err(e.to_string()),
     }
 }
@@ -369,15 +374,18 @@ fn with_messages(report: &mut Value, messages: &[String]) {
 }
 
 /// The steps after training on `trainer` and the summary, as the CLI does them; `started` is
-/// when the run began (the report's `seconds`).
+/// when the run began (the report's `seconds`). `cancel` stops them (`GngError::Cancelled`).
 pub fn finish_gng(
     trainer: &Trainer,
     options: &GngOptions,
     method: Method,
     started: Instant,
     pool: Option<&rayon::ThreadPool>,
+    cancel: &Cancel,
 ) -> Result<Outcome, GngError> {
-    let result = in_pool(pool, || gng3d_core::finish(trainer, |_| {}))?;
+    let result = in_pool(pool, || {
+        gng3d_core::finish_cancellable(trainer, cancel, |_| {})
+    })?;
     Ok(summarize(trainer, options, method, started, result))
 }
 
@@ -412,61 +420,96 @@ pub fn summarize(
     }
 }
 
-/// How often [`run_gng`] asks whether the run was interrupted while it trains.
+/// How often [`interruptible`] runs Python's signal handlers while the work runs.
 pub const POLL_INTERRUPT: Duration = Duration::from_millis(50);
+
+/// Runs `work` on another thread, the GIL released, while the calling thread runs Python's
+/// signal handlers (`py.check_signals()`) every [`POLL_INTERRUPT`]: the one place where every
+/// long call of the module (`simplify` with each method, `simplify_file`, `Trainer.mesh`,
+/// `metrics`) waits for its work. When a handler raises (Ctrl-C: KeyboardInterrupt), `cancel`
+/// is set, so the work stops at its next check (the libraries' cancel hooks:
+/// `Trainer::cancel_token`, `gng3d_core::finish_cancellable`, `qem::QemParams::cancel`,
+/// `metrics::evaluate_cancellable`, `metrics::Surface::with_cancel`); its result is dropped and
+/// the handler's exception returned. The handlers also run once after the work ends, as
+/// Python would run them at its next instruction. `work` must not touch Python objects (it
+/// runs without the GIL). A panic in `work` is raised again here.
+pub fn interruptible<T: Send>(
+    py: Python<'_>,
+    cancel: &Cancel,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    let mut raised: Option<PyErr> = None;
+    let joined = py.detach(|| {
+        std::thread::scope(|scope| {
+            let (done, ended) = std::sync::mpsc::channel::<()>();
+            // `done` is dropped when `work` returns (or unwinds): the wait below ends.
+            let worker = scope.spawn(move || {
+                let _done = done;
+                work()
+            });
+            while let Err(RecvTimeoutError::Timeout) = ended.recv_timeout(POLL_INTERRUPT) {
+                if raised.is_none()
+                    && let Err(e) = Python::attach(|py| py.check_signals())
+                {
+                    raised = Some(e);
+                    cancel.cancel();
+                }
+            }
+            worker.join()
+        })
+    });
+    let out = match joined {
+        Ok(out) => out,
+        Err(panic) => std::panic::resume_unwind(panic),
+    };
+    if let Some(e) = raised {
+        return Err(e);
+    }
+    py.check_signals()?;
+    Ok(out)
+}
 
 /// A GNG3D run on a prepared input, as `gng3d simplify --method gng` runs it (the same training
 /// rounds between progress reports, so the same mesh for the same options and seed).
 /// With `attributes`, the output's triangles follow their seams (`Trainer::with_attributes`)
 /// and its attributes come from the input's surface (`mesh::transfer::transfer_attributes`),
 /// as `gng3d_core::simplify_with_attributes` and the CLI give them.
-/// `interrupted` (a Python KeyboardInterrupt) is asked on the calling thread every
-/// [`POLL_INTERRUPT`] while training runs on another one, which it stops through the trainer's
-/// cancel token (checked every thousand signals or so), and once more after training:
-/// `Err(None)` then. The steps after training cannot be stopped (the library's `finish` has no
-/// cancel hook), so they run to their end.
+/// Ctrl-C stops training (through the trainer's cancel token, checked every thousand signals
+/// or so) and the steps after it (`gng3d_core::finish_cancellable`) within a fraction of a
+/// second, through [`interruptible`]: the handler's KeyboardInterrupt is returned then.
 pub fn run_gng(
+    py: Python<'_>,
     input: &TriMesh,
     attributes: Option<&Attributes>,
     options: &GngOptions,
     method: Method,
     pool: Option<&rayon::ThreadPool>,
-    mut interrupted: impl FnMut() -> bool,
-) -> Result<Outcome, Option<GngError>> {
-    let params = options.resolve(input)?;
+) -> PyResult<Outcome> {
+    let params = py.detach(|| options.resolve(input)).map_err(gng_error)?;
     let started = Instant::now();
-    let mut trainer = match attributes {
-        Some(a) => Trainer::with_attributes(input, a, params)?,
-        None => Trainer::new(input, params)?,
-    };
+    let mut trainer = py
+        .detach(|| match attributes {
+            Some(a) => Trainer::with_attributes(input, a, params),
+            None => Trainer::new(input, params),
+        })
+        .map_err(gng_error)?;
     let budget = trainer.stats().max_signals;
     let every = (budget / 20).clamp(1_000, 2_000_000);
-    let cancel = trainer.cancel_token();
     let training = &mut trainer;
-    let mut stopped = std::thread::scope(|scope| {
-        let (done, ended) = std::sync::mpsc::channel::<()>();
-        // The CLI's rounds (the same mesh as `gng3d simplify`); `done` is dropped at the end.
-        scope.spawn(move || {
-            training.train(every, |_| ControlFlow::Continue(()));
-            drop(done);
-        });
-        let mut stopped = false;
-        while let Err(RecvTimeoutError::Timeout) = ended.recv_timeout(POLL_INTERRUPT) {
-            if !stopped && interrupted() {
-                stopped = true;
-                cancel.cancel();
-            }
-        }
-        stopped
-    });
-    stopped = stopped || interrupted();
-    if stopped {
-        return Err(None);
-    }
-    let mut outcome = finish_gng(&trainer, options, method, started, pool)?;
+    // The CLI's rounds (the same mesh as `gng3d simplify`).
+    interruptible(py, &training.cancel_token(), || {
+        training.train(every, |_| ControlFlow::Continue(()));
+    })?;
+    let cancel = Cancel::default();
+    let mut outcome = interruptible(py, &cancel, || {
+        finish_gng(&trainer, options, method, started, pool, &cancel)
+    })?
+    .map_err(gng_error)?;
     outcome.attributes = attributes.map(|a| {
-        in_pool(pool, || {
-            mesh::transfer::transfer_attributes(input, a, &outcome.mesh)
+        py.detach(|| {
+            in_pool(pool, || {
+                mesh::transfer::transfer_attributes(input, a, &outcome.mesh)
+            })
         })
     });
     Ok(outcome)
@@ -508,17 +551,20 @@ pub fn qem_target(size: Size, input: &TriMesh) -> PyResult<qem::Target> {
 
 /// A QEM run with the library's parameters for `target` and `threshold`, as
 /// `gng3d simplify --method qem` runs it: with `attributes`, kept through the contractions
-/// (`qem::simplify_with_attributes`, whose seams also shape the geometry).
+/// (`qem::simplify_with_attributes`, whose seams also shape the geometry). `cancel` stops it
+/// (KeyboardInterrupt; run it in [`interruptible`]).
 pub fn run_qem(
     input: &TriMesh,
     attributes: Option<&Attributes>,
     target: qem::Target,
     threshold: f64,
     pool: Option<&rayon::ThreadPool>,
+    cancel: &Cancel,
 ) -> PyResult<Outcome> {
     let params = qem::QemParams {
         target,
         pair_threshold: threshold,
+        cancel: Some(cancel.clone()),
         ..qem::QemParams::default()
     };
     let (simplified, kept, report) = in_pool(pool, || match attributes {
@@ -526,7 +572,10 @@ pub fn run_qem(
             .map(|(mesh, kept, report)| (mesh, Some(kept), report)),
         None => qem::simplify(input, &params).map(|(mesh, report)| (mesh, None, report)),
     })
-    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    .map_err(|e| match e {
+        qem::QemError::Cancelled => PyKeyboardInterrupt::new_err(e.to_string()),
+        _ => PyValueError::new_err(e.to_string()),
+    })?;
     if simplified.face_count() == 0 {
         return Err(PyRuntimeError::new_err(format!(
             "QEM produced an empty mesh ({} vertices, no triangles)",

@@ -8,7 +8,7 @@ use gng3d_core::GngOptions;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use std::sync::Mutex;
+use std::sync::{Mutex, MutexGuard};
 use std::time::Instant;
 
 /// The trainer and what its summary needs.
@@ -39,9 +39,9 @@ struct State {
 /// :attr:`progress`, :meth:`snapshot` or :meth:`errors` for a plot; a :meth:`step` lets
 /// readers in between its chunks of a few tens of milliseconds).
 ///
-/// Ctrl-C stops :meth:`step` and :meth:`train` within a fraction of a second with
-/// KeyboardInterrupt; the network keeps what it learnt and training can go on. :meth:`mesh`
-/// runs to its end (the library's steps after training cannot be stopped).
+/// Ctrl-C stops :meth:`step`, :meth:`train` and :meth:`mesh` within a fraction of a second
+/// with KeyboardInterrupt; the network keeps what it learnt, training can go on and
+/// :meth:`mesh` can be called again.
 #[pyclass(module = "gng3d", frozen)]
 pub struct Trainer {
     state: Mutex<State>,
@@ -65,13 +65,16 @@ impl Trainer {
     /// `Python` token; what it returns is turned into Python objects after the lock is
     /// released).
     fn with<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&mut State) -> T + Send) -> T {
-        py.detach(|| {
-            let mut state = match self.state.lock() {
-                Ok(s) => s,
-                Err(poisoned) => poisoned.into_inner(),
-            };
-            f(&mut state)
-        })
+        py.detach(|| f(&mut self.lock()))
+    }
+
+    /// The state, once another thread's call has ended; only without the GIL (see
+    /// [`Trainer::with`]).
+    fn lock(&self) -> MutexGuard<'_, State> {
+        match self.state.lock() {
+            Ok(s) => s,
+            Err(poisoned) => poisoned.into_inner(),
+        }
     }
 
     /// Up to `n` more signals (fewer when training ends) in chunks of about
@@ -311,23 +314,26 @@ impl Trainer {
 
     /// The mesh of the network: once training has ended, what :func:`gng3d.simplify` gives
     /// (same report, same warnings); before, a preview (the run's steps without the detail
-    /// rounds, no warnings).
+    /// rounds, no warnings). Ctrl-C stops it within a fraction of a second with
+    /// KeyboardInterrupt (the trainer is unchanged).
     fn mesh(&self, py: Python<'_>) -> PyResult<SimplifyResult> {
-        let outcome = self
-            .with(py, |s| {
-                let trainer = &s.trainer;
-                let result = run::in_pool(s.pool.as_ref(), || {
-                    if trainer.is_finished() {
-                        gng3d_core::finish(trainer, |_| {})
-                    } else {
-                        trainer.preview()
-                    }
-                })?;
-                Ok(run::summarize(
-                    &s.trainer, &s.options, s.method, s.started, result,
-                ))
-            })
-            .map_err(run::gng_error)?;
+        let cancel = gng3d_core::Cancel::default();
+        // The lock is taken on the worker thread, without the GIL (as `with` takes it).
+        let outcome = run::interruptible(py, &cancel, || {
+            let s = self.lock();
+            let trainer = &s.trainer;
+            let result = run::in_pool(s.pool.as_ref(), || {
+                if trainer.is_finished() {
+                    gng3d_core::finish_cancellable(trainer, &cancel, |_| {})
+                } else {
+                    trainer.preview()
+                }
+            })?;
+            Ok(run::summarize(
+                &s.trainer, &s.options, s.method, s.started, result,
+            ))
+        })?
+        .map_err(run::gng_error)?;
         SimplifyResult::new(py, outcome)
     }
 

@@ -217,3 +217,114 @@ def test_ctrl_c_stops_simplify_file_in_training_and_writes_nothing(tmp_path):
     assert "KeyboardInterrupt" in stderr, stderr
     assert waited < 1.0, f"{waited:.2f} s from SIGINT to exit"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply"]
+
+
+# Ctrl-C in every long call (issue 46, item 5): QEM, GNG3D's steps after training
+# (Trainer.mesh), the metrics, and simplify_file, which then writes nothing.
+
+
+def interrupts_itself(setup: str, call: str, warm: str = "pass"):
+    """Runs `setup`, then times `warm` (the same call's work before the part that can be
+    stopped: reading the arrays or the file, the set-up), then runs `call` with a timer that
+    sends the process SIGINT 1 s after that time, so that it arrives in the middle of the
+    work. Returns the seconds from the signal to the KeyboardInterrupt; fails when the call
+    ends first or raises something else."""
+    script = "\n".join(
+        [
+            "import os, signal, threading, time",
+            "import gng3d",
+            "from conftest import torus",
+            textwrap.dedent(setup),
+            "started = time.perf_counter()",
+            textwrap.dedent(warm),
+            "delay = time.perf_counter() - started + 1.0",
+            "sent = []",
+            "def interrupt():",
+            "    sent.append(time.perf_counter())",
+            "    os.kill(os.getpid(), signal.SIGINT)",
+            "threading.Timer(delay, interrupt).start()",
+            "try:",
+            textwrap.indent(textwrap.dedent(call), "    "),
+            "    print('not interrupted', flush=True)",
+            "except KeyboardInterrupt:",
+            "    print('interrupted', time.perf_counter() - sent[0], flush=True)",
+        ]
+    )
+    env = dict(os.environ, PYTHONPATH=str(HERE) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300
+    )
+    words = done.stdout.split()
+    assert done.returncode == 0 and words[:1] == ["interrupted"], (done.stdout, done.stderr)
+    print(f"KeyboardInterrupt {float(words[1]):.3f} s after SIGINT")  # shown with pytest -s
+    return float(words[1])
+
+
+def test_ctrl_c_stops_a_long_qem_simplify():
+    waited = interrupts_itself(
+        setup="v, f = torus(1600, 800)  # 1.28 M vertices, 2.56 M faces",
+        # The arrays' conversion alone (the ratio is refused after it).
+        warm="""
+        try:
+            gng3d.simplify(v, f, method="qem", ratio=0.0, weld=False)
+        except ValueError:
+            pass
+        """,
+        call='gng3d.simplify(v, f, method="qem", ratio=0.01, weld=False)',
+    )
+    assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
+
+
+def test_ctrl_c_stops_a_long_trainer_mesh():
+    # A network stopped early on a large original: the steps after training (labelling the
+    # original's vertices, placement, flips, refit, decimation, ...) take seconds.
+    waited = interrupts_itself(
+        setup="""
+        v, f = torus(1200, 600)
+        t = gng3d.Trainer(v, f, vertices_target=60000, weld=False)
+        t.step(400_000)
+        t.stop()
+        t.step(1)
+        assert t.finished
+        """,
+        call="t.mesh()",
+    )
+    assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
+
+
+def test_ctrl_c_stops_long_metrics():
+    waited = interrupts_itself(
+        setup="v0, f0 = torus(800, 400)\nv1, f1 = torus(80, 40)",
+        warm="gng3d.metrics(v0, f0, v1, f1, samples=1000)",
+        call="gng3d.metrics(v0, f0, v1, f1, samples=4_000_000)",
+    )
+    assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
+
+
+def test_ctrl_c_stops_a_long_image_error():
+    waited = interrupts_itself(
+        setup="v0, f0 = torus(1200, 600)\nv1, f1 = torus(60, 30)",
+        warm="gng3d.metrics(v0, f0, v1, f1, samples=1000)",
+        call="gng3d.metrics(v0, f0, v1, f1, samples=1000, image_error=True, image_size=2048)",
+    )
+    assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
+
+
+def test_ctrl_c_stops_simplify_file_in_qem_and_writes_nothing(tmp_path):
+    source = tmp_path / "in.ply"
+    gng3d.save(source, *torus(1200, 600))
+    output = tmp_path / "out.ply"
+    waited = interrupts_itself(
+        setup="",
+        # Reading and welding the file alone (the ratio is refused after them).
+        warm=f"""
+        try:
+            gng3d.simplify_file({str(source)!r}, {str(output)!r}, method="qem", ratio=0.0)
+        except ValueError:
+            pass
+        """,
+        call=f"gng3d.simplify_file({str(source)!r}, {str(output)!r}, method='qem', ratio=0.01)",
+    )
+    assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
+    assert not output.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply"]

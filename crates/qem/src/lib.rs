@@ -36,6 +36,7 @@ mod simplifier;
 pub use quadric::Quadric;
 
 use mesh::TriMesh;
+use mesh::cancel::Cancel;
 use serde::{Deserialize, Serialize};
 
 /// What to simplify down to.
@@ -116,6 +117,13 @@ pub struct QemParams {
     /// (ignored by [`simplify`]).
     #[serde(default)]
     pub attribute_weights: AttributeWeights,
+    /// Stops the run from another thread: when the flag is set, [`simplify`],
+    /// [`simplify_with_attributes`] and [`simplify_locked`] return [`QemError::Cancelled`] at
+    /// their next check (between the set-up steps, between passes and every few thousand
+    /// contractions), never a partial mesh. `None` (the default): not cancellable. Not part of
+    /// the serialized parameters; equal when both are `None` or share one flag.
+    #[serde(skip)]
+    pub cancel: Option<Cancel>,
 }
 
 /// Weights of the attribute error (Hoppe 1999's attribute quadrics, minimised over the value at
@@ -188,6 +196,7 @@ impl Default for QemParams {
             edge_length_weight: 0.0,
             max_relative_error: None,
             attribute_weights: AttributeWeights::default(),
+            cancel: None,
         }
     }
 }
@@ -321,6 +330,9 @@ pub enum QemError {
     /// The attributes given to [`simplify_with_attributes`] do not fit the mesh.
     #[error("the attributes do not fit the mesh: {0}")]
     InvalidAttributes(String),
+    /// The run was stopped through [`QemParams::cancel`].
+    #[error("simplification cancelled")]
+    Cancelled,
 }
 
 /// Simplify `mesh` by quadric-error pair contraction; returns the simplified mesh (no unreferenced

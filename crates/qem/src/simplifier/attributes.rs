@@ -64,8 +64,10 @@ pub(crate) fn run(
     attributes
         .validate(input)
         .map_err(QemError::InvalidAttributes)?;
+    super::check_cancel(params)?;
     let (prepared, index) = prepare::prepare_with_index(input, true)?;
     super::check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
+    super::check_cancel(params)?;
     let (input_vertices, input_faces) = (prepared.pos.len(), prepared.faces.len());
     let n = prepared.pos.len();
     // Each input vertex's prepared index (`u32::MAX`: unreferenced).
@@ -125,13 +127,14 @@ pub(crate) fn run(
         values,
     };
     let face_origin = index.face;
+    super::check_cancel(params)?;
     let (run, out) = super::simplify_prepared_with(
         prepared,
         params,
         Some(&locked),
         Some(attribute_run),
         |e, frame| wedges::output(e, frame, attributes, &face_origin),
-    );
+    )?;
     let report = super::report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;
     Ok((mesh, out, report))

@@ -33,6 +33,7 @@ use crate::{QemError, QemParams, QemReport, StopReason, Target, pairs};
 use candidates::{Cand, GENERATIONS, is_live, key_cost, merge_live, sort_key};
 use engine::Engine;
 use mesh::TriMesh;
+use mesh::cancel::Cancel;
 use prefetch::prefetch_ptr;
 use std::time::Instant;
 
@@ -68,6 +69,17 @@ const HEAVY_LIST: u32 = 256;
 /// with it a pass spends at most `HEAVY_TRIES ×` the list on a hub. The pass after a rebuild has
 /// no bound, so that [`StopReason::NoValidPairs`] still means that every pair failed its check.
 const HEAVY_TRIES: u32 = 4;
+/// A pass looks at [`QemParams::cancel`] after every this many contractions (about a
+/// millisecond of igea's passes), besides once before each pass.
+const CANCEL_EVERY: usize = 4096;
+
+/// [`QemError::Cancelled`] when the run's [`QemParams::cancel`] flag is set.
+fn check_cancel(params: &QemParams) -> Result<(), QemError> {
+    match &params.cancel {
+        Some(c) if c.is_cancelled() => Err(QemError::Cancelled),
+        _ => Ok(()),
+    }
+}
 
 thread_local! {
     /// Set while this thread simplifies one part of a partitioned run: the parts already occupy
@@ -93,14 +105,16 @@ fn sequential<R>(f: impl FnOnce() -> R) -> R {
 pub fn run(input: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), QemError> {
     let started = Instant::now();
     validate(params)?;
+    check_cancel(params)?;
     let prepared = prepare::prepare(input)?;
     check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
+    check_cancel(params)?;
     let input_faces = prepared.faces.len();
     let input_vertices = prepared.pos.len();
     let run = if let Some(plan) = partition::plan(&prepared, params) {
-        partition::run(prepared, params, plan)
+        partition::run(prepared, params, plan)?
     } else {
-        simplify_prepared(prepared, params, None).0
+        simplify_prepared(prepared, params, None)?.0
     };
     let report = report(&run, input_vertices, input_faces, started);
     Ok((run.mesh, report))
@@ -129,9 +143,11 @@ pub fn run_locked(
     let started = Instant::now();
     validate(params)?;
     check_lock_mask(input, Some(locked))?;
+    check_cancel(params)?;
     let (prepared, index) = prepare::prepare_with_index(input, true)?;
     let new_index = index.vertex;
     check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
+    check_cancel(params)?;
     let input_faces = prepared.faces.len();
     let input_vertices = prepared.pos.len();
     let mut prepared_locked = vec![false; input_vertices];
@@ -141,7 +157,7 @@ pub fn run_locked(
         }
     }
     drop(new_index);
-    let run = simplify_prepared(prepared, params, Some(&prepared_locked)).0;
+    let run = simplify_prepared(prepared, params, Some(&prepared_locked))?.0;
     let report = report(&run, input_vertices, input_faces, started);
     Ok((run.mesh, report))
 }
@@ -215,12 +231,13 @@ impl Run {
 }
 
 /// Passes 2–6 over a prepared mesh; vertices flagged in `locked` are never contracted. Also
-/// returns, for each output vertex, its index in `prepared`.
+/// returns, for each output vertex, its index in `prepared`. The only error is
+/// [`QemError::Cancelled`].
 fn simplify_prepared(
     prepared: prepare::Prepared,
     params: &QemParams,
     locked: Option<&[bool]>,
-) -> (Run, Vec<u32>) {
+) -> Result<(Run, Vec<u32>), QemError> {
     simplify_prepared_with(prepared, params, locked, None, |e, frame| e.output(frame))
 }
 
@@ -237,13 +254,15 @@ struct AttributeRun {
 
 /// [`simplify_prepared`] with an attribute run's additions, the result made by `output` from the
 /// engine after the passes (which holds the attribute run's values and seams, when there is one).
+/// The only error is [`QemError::Cancelled`] ([`QemParams::cancel`], looked at between the
+/// steps, before each pass and every [`CANCEL_EVERY`] contractions of a pass).
 fn simplify_prepared_with<T>(
     prepared: prepare::Prepared,
     params: &QemParams,
     locked: Option<&[bool]>,
     attribute_run: Option<AttributeRun>,
     output: impl FnOnce(&Engine, &prepare::Frame) -> (TriMesh, T),
-) -> (Run, T) {
+) -> Result<(Run, T), QemError> {
     let prepare::Prepared {
         pos,
         faces,
@@ -255,6 +274,7 @@ fn simplify_prepared_with<T>(
     // An attribute run's seams drop the pairs they forbid as the set-up lists them (a pass over
     // the whole list afterwards was about 1 ms on a 268k-face atlas).
     let seams = attribute_run.as_ref().map(|run| &run.seams);
+    check_cancel(params)?;
     let setup::VertexSetup { mut vx, list } =
         setup::vertex_setup(&pos, &faces, &refs, &face_start, params, locked, seams);
     if let Some(run) = &attribute_run {
@@ -265,6 +285,7 @@ fn simplify_prepared_with<T>(
         .max_relative_error
         .map(|_| vertex_areas(&pos, &faces));
     drop((pos, face_start));
+    check_cancel(params)?;
     let mut e = Engine::new(vx, faces, refs, params);
     e.area = area;
     let mut schedule = Schedule::new(list);
@@ -281,6 +302,7 @@ fn simplify_prepared_with<T>(
         e.values = Some(run.values);
     }
     e.cost_all(&mut schedule.list);
+    check_cancel(params)?;
     schedule.sort();
 
     let goal = Goal::new(params.target, input_faces);
@@ -300,6 +322,7 @@ fn simplify_prepared_with<T>(
         if schedule.list.is_empty() {
             break StopReason::NoValidPairs;
         }
+        check_cancel(params)?;
         pass += 1;
         if pass - generation_base >= GENERATIONS {
             // The candidates' generation field is full: number afresh from 0 and re-cost every
@@ -323,8 +346,12 @@ fn simplify_prepared_with<T>(
             } else {
                 HEAVY_TRIES
             },
+            cancel: params.cancel.as_ref(),
         };
         let outcome = schedule.one_pass(&mut e, &rule);
+        if outcome.cancelled {
+            return Err(QemError::Cancelled);
+        }
         totals.done += outcome.done;
         totals.rejected += outcome.rejected;
         totals.worst = totals.worst.max(outcome.worst);
@@ -368,7 +395,7 @@ fn simplify_prepared_with<T>(
             .max_relative_error
             .map(|_| totals.worst_relative2.sqrt()),
     };
-    (run, made)
+    Ok((run, made))
 }
 
 /// Per vertex, the summed area of its faces (normalised frame): the weight of its plane quadric
@@ -448,7 +475,7 @@ impl Goal {
 
 /// What a pass may do: its number (the `touched` stamp of the vertices it merges), the cost cap
 /// past which it stops (after at least one contraction), the run's error bound, its goal and the
-/// checks of heavy pairs it may spend per vertex ([`HEAVY_TRIES`]).
+/// checks of heavy pairs it may spend per vertex ([`HEAVY_TRIES`]), and the run's cancel flag.
 struct PassRule<'a> {
     pass: u32,
     cap: f32,
@@ -457,6 +484,7 @@ struct PassRule<'a> {
     max_relative2: f64,
     goal: &'a Goal,
     heavy_tries: u32,
+    cancel: Option<&'a Cancel>,
 }
 
 /// What a pass did (and, summed, the whole run).
@@ -476,6 +504,8 @@ struct PassOutcome {
     consumed: usize,
     /// Set when the run must stop (the next contraction exceeds `max_error`).
     stop: Option<StopReason>,
+    /// The pass stopped because the run was cancelled ([`QemParams::cancel`]).
+    cancelled: bool,
     /// Checks of heavy pairs ([`HEAVY_LIST`]) in this pass, per kept end.
     heavy: std::collections::HashMap<u32, u32>,
 }
@@ -687,6 +717,7 @@ fn visit(
         max_relative2,
         goal,
         heavy_tries,
+        cancel,
     } = *rule;
     let (a, b) = (c.a as usize, c.b as usize);
     if out.done > 0 && key_cost(c.key) > cap {
@@ -735,6 +766,10 @@ fn visit(
     out.done += 1;
     out.worst = out.worst.max(cost);
     out.worst_relative2 = out.worst_relative2.max(relative2);
+    if out.done.is_multiple_of(CANCEL_EVERY) && cancel.is_some_and(Cancel::is_cancelled) {
+        out.cancelled = true;
+        return Break(());
+    }
     if goal.reached(e) {
         out.consumed = i + 1;
         return Break(());

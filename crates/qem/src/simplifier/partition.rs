@@ -11,7 +11,7 @@
 
 use super::prepare::{self, Prepared};
 use super::{Run, sequential, simplify_prepared};
-use crate::{QemParams, Target};
+use crate::{QemError, QemParams, Target};
 use glam::DVec3;
 use mesh::TriMesh;
 use rayon::prelude::*;
@@ -80,7 +80,8 @@ struct Part {
 }
 
 /// Simplify `prepared` by parts as `plan` cuts it, then finish the borders sequentially.
-pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
+/// The only error is [`QemError::Cancelled`].
+pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Result<Run, QemError> {
     let n = prepared.pos.len();
     let input_faces = prepared.faces.len();
     let target_faces = match params.target {
@@ -98,9 +99,12 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
     drop((refs, face_start)); // each part builds its own face lists
     // Each part copies its positions here, so that the global ones are gone before the parts
     // run (they used to copy them at their start: 24 B a vertex more at the two-thread peak).
+    super::check_cancel(params)?;
     let parts = split(&pos, &faces, plan);
     drop((faces, pos));
+    super::check_cancel(params)?;
     release_freed_memory();
+    super::check_cancel(params)?;
     let results: Vec<(Run, Vec<u32>)> = parts
         .into_par_iter()
         .map(|part| {
@@ -141,11 +145,12 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
                 face_start,
                 frame,
             };
-            let (run, kept) = sequential(|| simplify_prepared(sub, &part_params, Some(&locked)));
+            super::check_cancel(params)?;
+            let (run, kept) = sequential(|| simplify_prepared(sub, &part_params, Some(&locked)))?;
             let kept = kept.iter().map(|&l| globals[l as usize]).collect();
-            (run, kept)
+            Ok((run, kept))
         })
-        .collect();
+        .collect::<Result<_, QemError>>()?;
     // Stitch: shared (locked) vertices were not moved, so both sides hold the same position.
     let mut slot = vec![u32::MAX; n];
     let mut positions = Vec::new();
@@ -180,7 +185,7 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
         ..params.clone()
     };
     let mut last = match prepare::prepare(&stitched) {
-        Ok(p) => simplify_prepared(p, &final_params, None).0,
+        Ok(p) => simplify_prepared(p, &final_params, None)?.0,
         // Only reachable if every part collapsed to nothing; report the stitched result as is.
         Err(_) => Run::unchanged(stitched),
     };
@@ -193,7 +198,7 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Run {
         }
     }
     last.passes += results.iter().map(|(r, _)| r.passes).max().unwrap_or(0);
-    last
+    Ok(last)
 }
 
 /// Hand the heap memory freed so far (the whole mesh's preparation, ~64 B a face) back to the
