@@ -46,12 +46,19 @@ fn checked_shape(shape: &[usize], what: &str, columns: &str) -> PyResult<usize> 
 }
 
 /// Vertex positions from any array-like of shape (n, 3): float32 arrays are read as they are,
-/// other numbers through float64; strided (non-contiguous) arrays are read in place.
-pub fn positions(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
+/// other numbers through float64; strided (non-contiguous) arrays are read in place. Returns
+/// them relative to `origin`, or when `None` to the origin that `mesh::io::recentre` chooses
+/// (zero unless the points lie so far from their coordinates' origin that f32 would move them
+/// by more than 1e-6 of their extent: georeferenced data), and the origin used.
+pub fn positions(
+    value: &Bound<'_, PyAny>,
+    what: &str,
+    origin: Option<glam::DVec3>,
+) -> PyResult<(Vec<Vec3>, glam::DVec3)> {
     let (array, kind, shape) = as_array(value, what)?;
     let rows = checked_shape(&shape, what, "x, y, z per vertex")?;
     if rows == 0 {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), origin.unwrap_or_default()));
     }
     if !matches!(kind.as_str(), "f" | "i" | "u") {
         return Err(PyValueError::new_err(format!(
@@ -59,21 +66,26 @@ pub fn positions(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
             array.getattr("dtype")?.str()?
         )));
     }
-    if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>() {
-        return Ok(a
+    if let Ok(a) = array.extract::<PyReadonlyArray2<'_, f32>>()
+        && origin.is_none_or(|o| o == glam::DVec3::ZERO)
+    {
+        let positions = a
             .as_array()
             .rows()
             .into_iter()
             .map(|r| Vec3::new(r[0], r[1], r[2]))
-            .collect());
+            .collect();
+        return Ok((positions, glam::DVec3::ZERO));
     }
     let array = array.call_method1("astype", ("float64",))?;
     let a: PyReadonlyArray2<'_, f64> = array.extract()?;
-    Ok(a.as_array()
+    let points: Vec<glam::DVec3> = a
+        .as_array()
         .rows()
         .into_iter()
-        .map(|r| Vec3::new(r[0] as f32, r[1] as f32, r[2] as f32))
-        .collect())
+        .map(|r| glam::DVec3::new(r[0], r[1], r[2]))
+        .collect();
+    Ok(mesh::io::recentre(&points, origin))
 }
 
 /// Triangles from any integer array-like of shape (m, 3), as signed indices (range-checked by
@@ -134,19 +146,30 @@ pub fn mesh_from(
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
     name: &str,
-) -> PyResult<(TriMesh, Vec<MeshWarning>)> {
-    let positions = positions(vertices, "vertices")?;
+    origin: Option<glam::DVec3>,
+) -> PyResult<(TriMesh, Vec<MeshWarning>, glam::DVec3)> {
+    let (positions, origin) = positions(vertices, "vertices", origin)?;
     let triangles = triangles(faces, "faces")?;
     let loaded =
         mesh::io::from_arrays(positions, triangles, Path::new(name)).map_err(mesh_error)?;
-    Ok((loaded.mesh, loaded.warnings))
+    Ok((loaded.mesh, loaded.warnings, origin))
 }
 
-/// Positions as a float64 (n, 3) array.
-pub fn positions_array<'py>(py: Python<'py>, positions: &[Vec3]) -> Bound<'py, PyArray2<f64>> {
+/// Positions as a float64 (n, 3) array, moved by `origin` (in f64) back to their coordinates.
+pub fn positions_array<'py>(
+    py: Python<'py>,
+    positions: &[Vec3],
+    origin: glam::DVec3,
+) -> Bound<'py, PyArray2<f64>> {
     let flat: Vec<f64> = positions
         .iter()
-        .flat_map(|p| [p.x as f64, p.y as f64, p.z as f64])
+        .flat_map(|p| {
+            if origin == glam::DVec3::ZERO {
+                p.as_dvec3().to_array()
+            } else {
+                (p.as_dvec3() + origin).to_array()
+            }
+        })
         .collect();
     Array2::from_shape_vec((positions.len(), 3), flat)
         .expect("three coordinates per position")
@@ -171,21 +194,10 @@ pub fn mesh_tuple<'py>(
     mesh: &TriMesh,
     origin: glam::DVec3,
 ) -> PyResult<Bound<'py, PyTuple>> {
-    let mut positions = positions_array(py, &mesh.positions);
-    if origin != glam::DVec3::ZERO {
-        let moved: Vec<f64> = mesh
-            .positions
-            .iter()
-            .flat_map(|p| (p.as_dvec3() + origin).to_array())
-            .collect();
-        positions = Array2::from_shape_vec((mesh.positions.len(), 3), moved)
-            .expect("three coordinates per position")
-            .into_pyarray(py);
-    }
     PyTuple::new(
         py,
         [
-            positions.into_any(),
+            positions_array(py, &mesh.positions, origin).into_any(),
             index_array(py, &mesh.triangles).into_any(),
         ],
     )

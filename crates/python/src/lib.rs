@@ -120,9 +120,10 @@ impl SimplifyResult {
 
 impl SimplifyResult {
     /// The Python result of a finished run; its warnings are raised as `Gng3dWarning`s.
-    fn new(py: Python<'_>, outcome: Outcome) -> PyResult<SimplifyResult> {
+    /// `origin`: where the input's positions were recentred from (zero for most inputs).
+    fn new(py: Python<'_>, outcome: Outcome, origin: glam::DVec3) -> PyResult<SimplifyResult> {
         warn_all(py, &outcome.warnings)?;
-        SimplifyResult::build(py, &outcome.mesh, &outcome.report)
+        SimplifyResult::build(py, &outcome.mesh, &outcome.report, origin)
     }
 
     /// The Python result of `mesh` and `report` (warnings already raised).
@@ -130,9 +131,10 @@ impl SimplifyResult {
         py: Python<'_>,
         mesh: &mesh::TriMesh,
         report: &serde_json::Value,
+        origin: glam::DVec3,
     ) -> PyResult<SimplifyResult> {
         Ok(SimplifyResult {
-            vertices: convert::positions_array(py, &mesh.positions)
+            vertices: convert::positions_array(py, &mesh.positions, origin)
                 .into_any()
                 .unbind(),
             faces: convert::index_array(py, &mesh.triangles)
@@ -144,19 +146,20 @@ impl SimplifyResult {
 }
 
 /// The input of a run: checked as the loader checks a file, then welded and cleaned as the CLI
-/// prepares what it loads (`mesh::clean::prepare`) unless `weld` is false.
+/// prepares what it loads (`mesh::clean::prepare`) unless `weld` is false. Float64 vertices far
+/// from their coordinates' origin are recentred first (the origin is returned, for the output).
 fn prepared(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
     weld: bool,
-) -> PyResult<mesh::TriMesh> {
-    let (input, warnings) = mesh_from(vertices, faces, "input")?;
+) -> PyResult<(mesh::TriMesh, glam::DVec3)> {
+    let (input, warnings, origin) = mesh_from(vertices, faces, "input", None)?;
     warn_about(py, "input", &warnings)?;
     if !weld {
-        return Ok(input);
+        return Ok((input, origin));
     }
-    Ok(py.detach(|| mesh::clean::prepare(&input).0))
+    Ok((py.detach(|| mesh::clean::prepare(&input).0), origin))
 }
 
 /// Simplify a triangle mesh with GNG3D-Q (default), the paper's GNG3D or QEM.
@@ -266,9 +269,9 @@ fn simplify(
         run::seed_keyword(seed.as_ref())?,
         threshold,
     )?;
-    let input = prepared(py, vertices, faces, weld)?;
+    let (input, origin) = prepared(py, vertices, faces, weld)?;
     let outcome = request.run(py, &input, None)?;
-    SimplifyResult::new(py, outcome)
+    SimplifyResult::new(py, outcome, origin)
 }
 
 /// The keywords :func:`simplify` and :func:`simplify_file` share, mapped onto the library's
@@ -497,7 +500,7 @@ fn simplify_file(
             serde_json::to_value(&kept).unwrap_or(serde_json::Value::Null),
         );
     }
-    SimplifyResult::build(py, &outcome.mesh, &report)
+    SimplifyResult::build(py, &outcome.mesh, &report, origin)
 }
 
 /// The image-space error's keywords of :func:`metrics` as checked parameters: `None` without
@@ -664,8 +667,9 @@ fn measure<'py>(
         .validate()
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let image = image_params(image_error, image_size, image_threshold, image_flat, images)?;
-    let (original, w0) = mesh_from(v0, f0, "original")?;
-    let (simplified, w1) = mesh_from(v1, f1, "simplified")?;
+    // Both in the original's frame (recentred alike when far from their origin).
+    let (original, w0, origin) = mesh_from(v0, f0, "original", None)?;
+    let (simplified, w1, _) = mesh_from(v1, f1, "simplified", Some(origin))?;
     warn_about(py, "original", &w0)?;
     warn_about(py, "simplified", &w1)?;
     let cancel = mesh::cancel::Cancel::default();
@@ -751,9 +755,10 @@ fn save(
     faces: &Bound<'_, PyAny>,
 ) -> PyResult<()> {
     let name = path.to_string_lossy().into_owned();
-    let (mesh, warnings) = mesh_from(vertices, faces, &name)?;
+    let (mesh, warnings, origin) = mesh_from(vertices, faces, &name, None)?;
     warn_about(py, &name, &warnings)?;
-    py.detach(|| mesh::io::save(&mesh, &path))
+    py.detach(|| mesh::io::save_with_optional_attributes(&mesh, None, None, origin, &path))
+        .map(|_| ())
         .map_err(mesh_error)
 }
 

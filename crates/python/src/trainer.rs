@@ -47,6 +47,8 @@ pub struct Trainer {
     state: Mutex<State>,
     /// Stops training from any thread, also while a call holds the state.
     cancel: gng3d_core::CancelToken,
+    /// Where float64 input far from its coordinates' origin was recentred from (zero for most).
+    origin: glam::DVec3,
 }
 
 /// Signals of the first chunk of a [`Trainer::step`] call; later chunks are sized from the
@@ -200,7 +202,7 @@ impl Trainer {
         }
         .options(method, size, seed)?;
         let pool = run::pool(threads)?;
-        let input = prepared(py, vertices, faces, weld)?;
+        let (input, origin) = prepared(py, vertices, faces, weld)?;
         let started = Instant::now();
         let trainer = py
             .detach(|| {
@@ -209,6 +211,7 @@ impl Trainer {
             })
             .map_err(run::gng_error)?;
         Ok(Trainer {
+            origin,
             cancel: trainer.cancel_token(),
             state: Mutex::new(State {
                 trainer,
@@ -285,7 +288,7 @@ impl Trainer {
         PyTuple::new(
             py,
             [
-                convert::positions_array(py, &snap.positions).into_any(),
+                convert::positions_array(py, &snap.positions, self.origin).into_any(),
                 convert::index_array(py, &snap.edges).into_any(),
             ],
         )
@@ -334,7 +337,7 @@ impl Trainer {
             ))
         })?
         .map_err(run::gng_error)?;
-        SimplifyResult::new(py, outcome)
+        SimplifyResult::new(py, outcome, self.origin)
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

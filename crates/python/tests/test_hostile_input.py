@@ -328,3 +328,41 @@ def test_ctrl_c_stops_simplify_file_in_qem_and_writes_nothing(tmp_path):
     assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
     assert not output.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in.ply"]
+
+
+# Georeferenced data (issue 46): float64 coordinates far from their origin keep their
+# precision through every call, and files keep their coordinates.
+OFFSET = np.array([450_000.0, 5_400_000.0, 120.0])
+
+
+def _nearest(a, b):
+    """For each row of a, the distance to the nearest row of b."""
+    d = np.sqrt(((a[:, None, :] - b[None, :, :]) ** 2).sum(-1))
+    return d.min(axis=1)
+
+
+def test_georeferenced_arrays_keep_their_coordinates(tmp_path):
+    from conftest import torus
+
+    v, f = torus(48, 24, r_major=10.0, r_minor=3.0)
+    v = v + OFFSET
+    extent = 26.0 * np.sqrt(3.0)
+    # QEM at ratio 1 keeps every vertex: none merged, none moved beyond 1e-6 of the extent.
+    result = gng3d.simplify(v, f, method="qem", ratio=1.0)
+    assert result.vertices.shape == v.shape
+    assert _nearest(result.vertices, v).max() <= 1e-6 * extent
+    # GNG3D-Q's output lies on the surface where it was, not 0.25 m off.
+    gng = gng3d.simplify(v, f, ratio=0.25)
+    assert np.abs(gng.vertices.mean(axis=0) - v.mean(axis=0)).max() < 1.0
+    # A file written from such arrays and loaded back keeps the coordinates.
+    path = tmp_path / "far.ply"
+    gng3d.save(str(path), v, f)
+    back, _ = gng3d.load(str(path))
+    assert _nearest(back, v).max() <= 1e-6 * extent
+    # simplify_file keeps them too (OBJ text in f64).
+    obj = tmp_path / "far-out.obj"
+    gng3d.simplify_file(str(path), str(obj), method="qem", ratio=1.0)
+    rows = [l.split()[1:4] for l in obj.read_text().splitlines() if l.startswith("v ")]
+    out = np.array(rows, dtype=np.float64)
+    assert len(out) == len(v)
+    assert _nearest(out, v).max() <= 1e-6 * extent

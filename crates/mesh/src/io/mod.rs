@@ -227,9 +227,13 @@ fn load_encoded(
 /// coordinates' origin keep their positions bit for bit (a 0.1-unit scan at z = 1.6, 16 extents
 /// away, rounds by 6e-7 of its extent and stays as read).
 fn far_origin(positions: &[Vec3]) -> Option<DVec3> {
+    far_origin_of(positions.iter().map(|p| p.as_dvec3()))
+}
+
+/// [`far_origin`] of points in f64.
+fn far_origin_of(points: impl Iterator<Item = DVec3>) -> Option<DVec3> {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for p in positions {
-        let p = p.as_dvec3();
+    for p in points {
         if p.is_finite() {
             lo = lo.min(p);
             hi = hi.max(p);
@@ -295,6 +299,30 @@ pub fn from_arrays(
         },
         name,
     )
+}
+
+/// `points` (f64, e.g. arrays handed over from another language) as f32 positions relative to
+/// `origin`, or when `None` to the origin [`load`] would choose ([`LoadedMesh::origin`]: zero
+/// unless rounding to f32 would move a point by more than 1e-6 of their extent); returns the
+/// positions and the origin used. With a zero origin each position is the point rounded to f32.
+///
+/// ```
+/// use glam::DVec3;
+/// let far = [DVec3::new(450_000.0, 5_400_000.0, 0.0), DVec3::new(450_020.0, 5_400_020.0, 3.0)];
+/// let (positions, origin) = gng3d_mesh::io::recentre(&far, None);
+/// assert_eq!(origin, DVec3::new(450_010.0, 5_400_010.0, 1.5));
+/// assert_eq!(positions[1].as_dvec3() + origin, far[1]);
+/// ```
+pub fn recentre(points: &[DVec3], origin: Option<DVec3>) -> (Vec<Vec3>, DVec3) {
+    let origin = origin
+        .or_else(|| far_origin_of(points.iter().copied()))
+        .unwrap_or(DVec3::ZERO);
+    let positions = if origin == DVec3::ZERO {
+        points.iter().map(|p| p.as_vec3()).collect()
+    } else {
+        points.iter().map(|p| (*p - origin).as_vec3()).collect()
+    };
+    (positions, origin)
 }
 
 /// Check for empty meshes, non-finite coordinates and point clouds; drop degenerate and

@@ -738,13 +738,15 @@ fn colour_ranges_and_partial_properties_are_read_or_named() {
 /// Recentring happens only where f32 would move a vertex by more than 1e-6 of the extent.
 #[test]
 fn far_models_are_recentred_and_near_ones_are_not() {
-    let box_at = |centre: Vec3, size: f32| {
-        [Vec3::splat(-0.5), Vec3::splat(0.5)].map(|c| centre + c * size)
-    };
+    let box_at =
+        |centre: Vec3, size: f32| [Vec3::splat(-0.5), Vec3::splat(0.5)].map(|c| centre + c * size);
     // A 0.1-unit scan at z = 1.6 (16 extents away) rounds by 6e-7 of its extent: kept.
     assert_eq!(far_origin(&box_at(Vec3::new(0.0, 0.0, 1.6), 0.057)), None);
     assert_eq!(far_origin(&box_at(Vec3::ZERO, 1.0)), None);
     assert_eq!(far_origin(&[Vec3::ONE; 3]), None);
     let o = far_origin(&box_at(Vec3::new(450_000.0, 5_400_000.0, 0.0), 20.0)).unwrap();
-    assert!((o - glam::DVec3::new(450_000.0, 5_400_000.0, 0.0)).length() < 1.0, "{o}");
+    assert!(
+        (o - glam::DVec3::new(450_000.0, 5_400_000.0, 0.0)).length() < 1.0,
+        "{o}"
+    );
 }
