@@ -366,3 +366,68 @@ def test_georeferenced_arrays_keep_their_coordinates(tmp_path):
     out = np.array(rows, dtype=np.float64)
     assert len(out) == len(v)
     assert _nearest(out, v).max() <= 1e-6 * extent
+
+
+# Files from strangers (issue 46): what a model points at stays inside its folder, through the
+# Python API as through the CLI (the same mesh::io rule).
+def _tetra_gltf(buffer_uri, image_uri=None):
+    import json
+    import struct
+
+    pos = struct.pack("<12f", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1)
+    uv = struct.pack("<8f", 0, 0, 1, 0, 0, 1, 1, 1)
+    idx = struct.pack("<12H", 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3)
+    doc = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 1]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5123, "count": 12, "type": "SCALAR"},
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+            {"buffer": 0, "byteOffset": 80, "byteLength": 24},
+        ],
+        "buffers": [{"byteLength": 104, "uri": buffer_uri}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1},
+                                     "indices": 2}]}],
+    }
+    if image_uri:
+        doc["meshes"][0]["primitives"][0]["material"] = 0
+        doc["materials"] = [{"name": "m", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+        doc["textures"] = [{"source": 0}]
+        doc["images"] = [{"uri": image_uri}]
+    return json.dumps(doc), pos + uv + idx
+
+
+def test_references_outside_the_models_folder_are_not_read(tmp_path):
+    work, outside = tmp_path / "work", tmp_path / "outside"
+    work.mkdir()
+    outside.mkdir()
+    doc, geometry = _tetra_gltf("../outside/secret.bin")
+    (outside / "secret.bin").write_bytes(geometry)
+    (outside / "secret.png").write_bytes(b"\x89PNG\r\n\x1a\nCANARY")
+    (work / "g.bin").write_bytes(geometry)
+    (work / "escape.gltf").write_text(doc)
+    with pytest.raises(Exception, match="not read: it leaves the model's folder"):
+        gng3d.load(str(work / "escape.gltf"))
+    with pytest.raises(Exception, match="not read"):
+        gng3d.simplify_file(str(work / "escape.gltf"), str(work / "out.ply"), ratio=1.0)
+    assert not (work / "out.ply").exists()
+    # A texture outside: the mesh is written, the texture neither copied nor embedded.
+    doc, _ = _tetra_gltf("g.bin", image_uri="../outside/secret.png")
+    (work / "tex.gltf").write_text(doc)
+    with pytest.warns(gng3d.Gng3dWarning, match="leaves the model's folder"):
+        gng3d.simplify_file(str(work / "tex.gltf"), str(work / "tex-out.glb"), method="qem", ratio=1.0)
+    assert b"CANARY" not in (work / "tex-out.glb").read_bytes()
+    assert sorted(p.name for p in outside.iterdir()) == ["secret.bin", "secret.png"]
+    # The output never replaces the input or the buffer it reads.
+    for target in ["tex.gltf", "g.gltf"]:
+        with pytest.raises(Exception, match="would replace"):
+            gng3d.simplify_file(str(work / "tex.gltf"), str(work / target), method="qem", ratio=1.0)
+    assert (work / "g.bin").read_bytes() == geometry

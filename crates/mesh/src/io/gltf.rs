@@ -1567,6 +1567,14 @@ pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning
             continue;
         };
         let Some(relative) = relative_uri(uri) else {
+            if data_uri(uri).is_none() {
+                warnings.push(MeshWarning::ReferenceRefused {
+                    reference: format!("glTF image {i} ({uri})"),
+                    reason: "it leaves the model's folder or names a URL; the output names it \
+                             as it is, without a copy"
+                        .into(),
+                });
+            }
             continue;
         };
         let result = read_image_file(assets, i, uri)
