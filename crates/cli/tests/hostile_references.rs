@@ -278,3 +278,54 @@ fn outputs_never_replace_inputs_or_what_they_read() {
     assert_eq!(after.len(), before.len() + 2, "{:?}", after.keys());
     arena.check("outputs");
 }
+
+#[test]
+fn opting_in_reads_references_outside_but_still_only_regular_files() {
+    let arena = Arena::new();
+    let w = &arena.work;
+    std::fs::write(arena.outside.join("geometry.bin"), hostile::geometry()).unwrap();
+    let spec = hostile::Spec {
+        buffer_uri: Some("../outside/geometry.bin"),
+        ..hostile::Spec::default()
+    };
+    let model = w.join("beside.gltf");
+    std::fs::write(&model, hostile::gltf(&spec)).unwrap();
+    let out = w.join("beside.ply");
+    let args = |opt_in: bool| {
+        let mut a = vec![
+            "simplify",
+            model.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--ratio",
+            "1",
+        ];
+        if opt_in {
+            a.insert(0, "--allow-outside-references");
+        }
+        a
+    };
+    let (ok, err) = gng3d(&args(false));
+    assert!(!ok && err.contains("leaves the model's folder"), "{err}");
+    let (ok, err) = gng3d(&args(true));
+    assert!(ok, "{err}");
+    assert_eq!(mesh::io::load(&out).unwrap().mesh.vertex_count(), 4);
+    // The flag may also follow the subcommand; a device is still refused.
+    let spec = hostile::Spec {
+        buffer_uri: Some("/dev/zero"),
+        ..hostile::Spec::default()
+    };
+    let zero = w.join("zero.gltf");
+    std::fs::write(&zero, hostile::gltf(&spec)).unwrap();
+    let (ok, err) = gng3d(&[
+        "simplify",
+        zero.to_str().unwrap(),
+        w.join("zero.ply").to_str().unwrap(),
+        "--ratio",
+        "1",
+        "--allow-outside-references",
+    ]);
+    assert!(!ok && err.contains("not a regular file"), "{err}");
+    // Nothing outside changed (the outside files were read, never written).
+    let after = hostile::snapshot(&arena.outside);
+    assert_eq!(after.len(), 5, "{:?}", after.keys());
+}

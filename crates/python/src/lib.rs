@@ -762,6 +762,26 @@ fn save(
         .map_err(mesh_error)
 }
 
+/// Lets models read the files they name outside their own folder (``../textures/``, absolute
+/// paths), for this process: for trusted models only. By default (``False``) a model reads only
+/// regular files inside its own folder and what points elsewhere is skipped with a warning (a
+/// glTF buffer outside is an error). Files written beside an output stay inside the output's
+/// folder either way. The command line's ``--allow-outside-references``.
+///
+/// Args:
+///     allowed: ``True`` to read references anywhere, ``False`` for the default.
+///
+/// Example:
+///     >>> gng3d.allow_outside_references(False)
+#[pyfunction]
+fn allow_outside_references(allowed: bool) {
+    mesh::io::set_reference_scope(if allowed {
+        mesh::io::ReferenceScope::Anywhere
+    } else {
+        mesh::io::ReferenceScope::ModelFolder
+    });
+}
+
 /// The module: functions, classes and the warning category.
 #[pymodule]
 fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -770,6 +790,7 @@ fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(measure, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
+    m.add_function(wrap_pyfunction!(allow_outside_references, m)?)?;
     m.add_class::<SimplifyResult>()?;
     m.add_class::<trainer::Trainer>()?;
     m.add("Gng3dWarning", m.py().get_type::<Gng3dWarning>())?;

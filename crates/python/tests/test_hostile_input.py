@@ -432,3 +432,22 @@ def test_references_outside_the_models_folder_are_not_read(tmp_path):
         with pytest.raises(Exception, match="would replace"):
             gng3d.simplify_file(str(work / "tex.gltf"), str(work / target), method="qem", ratio=1.0)
     assert (work / "g.bin").read_bytes() == geometry
+
+
+def test_allow_outside_references_is_an_explicit_opt_in(tmp_path):
+    work, outside = tmp_path / "work", tmp_path / "outside"
+    work.mkdir()
+    outside.mkdir()
+    doc, geometry = _tetra_gltf("../outside/g.bin")
+    (outside / "g.bin").write_bytes(geometry)
+    (work / "beside.gltf").write_text(doc)
+    with pytest.raises(Exception, match="leaves the model's folder"):
+        gng3d.load(str(work / "beside.gltf"))
+    gng3d.allow_outside_references(True)
+    try:
+        v, f = gng3d.load(str(work / "beside.gltf"))
+        assert v.shape == (4, 3) and f.shape == (4, 3)
+    finally:
+        gng3d.allow_outside_references(False)
+    with pytest.raises(Exception, match="leaves the model's folder"):
+        gng3d.load(str(work / "beside.gltf"))

@@ -346,8 +346,11 @@ fn check_values(args: &BatchArgs, options: &[String]) -> anyhow::Result<()> {
 /// when the *thread* that spawned the child ends, not the process: children are spawned by the
 /// batch's job threads (and its main thread), which live until the batch's last file is done.
 fn gng3d_command(exe: &Path) -> Command {
-    #[allow(unused_mut)]
     let mut command = Command::new(exe);
+    // The opt-in of this run reaches its children.
+    if mesh::io::reference_scope() == mesh::io::ReferenceScope::Anywhere {
+        command.arg("--allow-outside-references");
+    }
     #[cfg(target_os = "linux")]
     {
         use std::os::unix::process::CommandExt;

@@ -17,6 +17,12 @@ use clap::{Parser, Subcommand};
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Let models read the files they name outside their own folder (`../textures/`, absolute
+    /// paths): for trusted models only. By default a model reads only regular files inside its
+    /// folder and what points elsewhere is skipped with a warning. Outputs stay inside the
+    /// output's folder either way.
+    #[arg(long, global = true)]
+    allow_outside_references: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -170,6 +176,12 @@ impl GngVariantArgs {
 
 /// Run the parsed command.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    // Set on every run (also in process, as the tests call it again and again).
+    mesh::io::set_reference_scope(if cli.allow_outside_references {
+        mesh::io::ReferenceScope::Anywhere
+    } else {
+        mesh::io::ReferenceScope::ModelFolder
+    });
     match cli.command {
         Command::Info(args) => info::run(args),
         Command::Simplify(args) => simplify::run(args),

@@ -21,6 +21,41 @@
 
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Where the files a model names may be read from ([`set_reference_scope`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum ReferenceScope {
+    /// Only inside the model's own folder (the default: models from strangers are safe).
+    #[default]
+    ModelFolder,
+    /// Anywhere on this machine, relative paths with `..` and absolute paths included: for
+    /// trusted models whose textures or buffers live beside their folder (`../textures/`). Still
+    /// regular files only, within the same size caps, and never URLs; files written beside an
+    /// output stay inside the output's folder either way.
+    Anywhere,
+}
+
+/// Whether [`ReferenceScope::Anywhere`] is in effect (process-wide: a command line run or a
+/// program decides it once).
+static ANYWHERE: AtomicBool = AtomicBool::new(false);
+
+/// Sets where the files that models name may be read from, for this process (the command
+/// line's `--allow-outside-references`, Python's `gng3d.allow_outside_references`). The default
+/// is [`ReferenceScope::ModelFolder`].
+pub fn set_reference_scope(scope: ReferenceScope) {
+    ANYWHERE.store(scope == ReferenceScope::Anywhere, Ordering::Relaxed);
+}
+
+/// The scope set by [`set_reference_scope`].
+pub fn reference_scope() -> ReferenceScope {
+    if ANYWHERE.load(Ordering::Relaxed) {
+        ReferenceScope::Anywhere
+    } else {
+        ReferenceScope::ModelFolder
+    }
+}
 
 /// The most bytes read from one material library (MTL): real libraries are kilobytes.
 pub(crate) const LIBRARY_LIMIT: u64 = 64 << 20;
@@ -103,6 +138,11 @@ pub(crate) fn resolve(root: &Path, base: &Path, reference: &str) -> Result<PathB
         });
     }
     let relative = Path::new(&reference);
+    if reference_scope() == ReferenceScope::Anywhere {
+        // Opted in: wherever it points, as long as it exists (regular files and the caps are
+        // checked by the readers).
+        return Ok(base.join(relative).canonicalize()?);
+    }
     if relative.has_root()
         || relative
             .components()

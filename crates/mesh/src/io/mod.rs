@@ -30,6 +30,7 @@ use atomic::write_atomic_all;
 #[cfg(test)]
 use atomic::{InFlight, unfinished_writes};
 pub use atomic::{check_writable, remove_unfinished_writes, write_atomic};
+pub use contain::{ReferenceScope, reference_scope, set_reference_scope};
 pub use gltf::GltfAssets;
 pub use matconv::{BaseColorTexture, base_color_texture};
 

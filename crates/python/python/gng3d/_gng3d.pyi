@@ -132,6 +132,10 @@ def load(path: _PathLike) -> Tuple[_Vertices, _Faces]:
 def save(path: _PathLike, vertices: _ArrayLike, faces: _ArrayLike) -> None:
     """Write an OBJ, PLY or STL file atomically."""
 
+def allow_outside_references(allowed: bool) -> None:
+    """Let models read the files they name outside their own folder (process-wide; trusted
+    models only)."""
+
 @final
 class Trainer:
     """GNG3D step by step."""
