@@ -80,7 +80,7 @@ fn bad_bounds_and_weights_are_refused_before_writing() {
         ),
         (
             vec!["--ratio", "0.5", "--method", "gng", "--max-error", "0.01"],
-            "apply to QEM only",
+            "to QEM only",
         ),
     ] {
         let mut args = vec!["simplify", input.to_str().unwrap(), out.to_str().unwrap()];

@@ -32,6 +32,7 @@ pub mod error;
 pub mod fixtures;
 pub mod geometry;
 pub mod io;
+mod model;
 pub mod procedural;
 pub mod quadric;
 pub mod sampling;
@@ -39,4 +40,5 @@ pub mod topology;
 pub mod transfer;
 mod trimesh;
 
+pub use model::Model;
 pub use trimesh::{Aabb, TriMesh};

@@ -1,10 +1,6 @@
-//! Mesh files with their attributes: what `gng3d.load` leaves out (named in its warning), and
-//! the loading around `gng3d.simplify_file`, as `gng3d simplify` does it
-//! (crates/cli/src/cli/simplify/attributes.rs): the attributes loaded with the mesh and welded
-//! with it. The output is written by the mesh crate's one checked writer
-//! (`mesh::io::save_with_optional_attributes`), as the CLI writes it.
+//! Mesh files with their attributes: what `gng3d.load` leaves out, named in its warning
+//! (`gng3d.simplify_file` keeps them, through the job's load and save).
 
-use mesh::TriMesh;
 use mesh::attributes::Attributes;
 use mesh::io::LoadedMesh;
 
@@ -35,19 +31,5 @@ pub fn not_returned(loaded: &LoadedMesh) -> Option<String> {
         [] => None,
         [one] => Some(one.clone()),
         [rest @ .., last] => Some(format!("{} and {last}", rest.join(", "))),
-    }
-}
-
-/// A file's mesh for a run: welded and cleaned as the CLI prepares what it loads
-/// (`mesh::clean::prepare_with_optional_attributes`) unless `weld` is false, with the
-/// attributes (when the file has any) following the mesh.
-pub fn prepare(loaded: LoadedMesh, weld: bool) -> (TriMesh, Option<Attributes>) {
-    let attributes = loaded.attributes.filter(|a| !a.is_empty());
-    if weld {
-        let (mesh, a, _) =
-            mesh::clean::prepare_with_optional_attributes(&loaded.mesh, attributes.as_ref());
-        (mesh, a)
-    } else {
-        (loaded.mesh, attributes)
     }
 }

@@ -5,15 +5,15 @@
 
 mod convert;
 mod file;
+mod keywords;
 mod run;
 mod trainer;
 
 use convert::{mesh_error, mesh_from};
-use mesh::attributes::Attributes;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use pyo3::types::PyTuple;
-use run::{GngKeywords, Method, Outcome, Size};
 use std::path::PathBuf;
 
 pyo3::create_exception!(
@@ -121,9 +121,14 @@ impl SimplifyResult {
 impl SimplifyResult {
     /// The Python result of a finished run; its warnings are raised as `Gng3dWarning`s.
     /// `origin`: where the input's positions were recentred from (zero for most inputs).
-    fn new(py: Python<'_>, outcome: Outcome, origin: glam::DVec3) -> PyResult<SimplifyResult> {
+    fn new(
+        py: Python<'_>,
+        outcome: &job::Outcome,
+        origin: glam::DVec3,
+    ) -> PyResult<SimplifyResult> {
         warn_all(py, &outcome.warnings)?;
-        SimplifyResult::build(py, &outcome.mesh, &outcome.report, origin)
+        let report = outcome.summary.to_json(&outcome.warnings);
+        SimplifyResult::build(py, &outcome.model.mesh, &report, origin)
     }
 
     /// The Python result of `mesh` and `report` (warnings already raised).
@@ -218,128 +223,30 @@ fn prepared(
 ///     True
 ///     >>> v2, f2 = gng3d.simplify(v, f, faces_target=5000, method="qem")  # doctest: +SKIP
 #[pyfunction]
-#[pyo3(signature = (
-    vertices, faces, *, vertices_target=None, faces_target=None, ratio=None, method="gng",
-    time_limit=None, seed=None, weld=true, placement=None, flips=None, refit=None, relax=None,
-    deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
-    threshold=None, threads=None
-))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (vertices, faces, **options))]
 fn simplify(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
-    vertices_target: Option<usize>,
-    faces_target: Option<usize>,
-    ratio: Option<f64>,
-    method: &str,
-    time_limit: Option<f64>,
-    seed: Option<Bound<'_, PyAny>>,
-    weld: bool,
-    placement: Option<String>,
-    flips: Option<bool>,
-    refit: Option<bool>,
-    relax: Option<bool>,
-    deviation_repair: Option<bool>,
-    epochs: Option<f64>,
-    signals: Option<String>,
-    oversample: Option<f64>,
-    detail_rounds: Option<usize>,
-    threshold: Option<f64>,
-    threads: Option<Bound<'_, PyAny>>,
+    options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<SimplifyResult> {
-    let request = Request::new(
-        vertices_target,
-        faces_target,
-        ratio,
-        method,
-        GngKeywords {
-            time_limit,
-            placement,
-            flips,
-            refit,
-            relax,
-            deviation_repair,
-            epochs,
-            signals,
-            oversample,
-            detail_rounds,
-            threads: run::threads_keyword(threads.as_ref())?,
-        },
-        run::seed_keyword(seed.as_ref())?,
-        threshold,
-    )?;
-    let (input, origin) = prepared(py, vertices, faces, weld)?;
-    let outcome = request.run(py, &input, None)?;
-    SimplifyResult::new(py, outcome, origin)
+    let request = keywords::request(py, "simplify", options, &keywords::KEYWORDS)?;
+    let (input, origin) = prepared(py, vertices, faces, request.weld)?;
+    let model = mesh::Model {
+        origin,
+        ..mesh::Model::from(input)
+    };
+    let outcome = run_job(py, &model, &request)?;
+    SimplifyResult::new(py, &outcome, origin)
 }
 
-/// The keywords :func:`simplify` and :func:`simplify_file` share, mapped onto the library's
-/// options and checked before any mesh is read (as the CLI checks its flags before loading).
-struct Request {
-    method: Method,
-    size: Size,
-    /// QEM's pair distance threshold.
-    threshold: f64,
-    /// GNG3D's options (method "gng" and "paper").
-    gng: Option<gng3d_core::GngOptions>,
-    /// The pool of `threads=`.
-    pool: Option<rayon::ThreadPool>,
-}
-
-impl Request {
-    /// The request of a call's keywords (`gng.threads` is `threads=`), or the ValueError of the
-    /// first one that is wrong.
-    fn new(
-        vertices_target: Option<usize>,
-        faces_target: Option<usize>,
-        ratio: Option<f64>,
-        method: &str,
-        gng: GngKeywords,
-        seed: u64,
-        threshold: Option<f64>,
-    ) -> PyResult<Request> {
-        let method = Method::parse(method)?;
-        let size = Size::from_keywords(vertices_target, faces_target, ratio)?;
-        let pool = run::pool(gng.threads)?;
-        let options = if method == Method::Qem {
-            gng.refuse_for_qem()?;
-            None
-        } else {
-            if threshold.is_some() {
-                return Err(PyValueError::new_err(
-                    "threshold applies to method 'qem' only",
-                ));
-            }
-            Some(gng.options(method, size, seed)?)
-        };
-        Ok(Request {
-            method,
-            size,
-            threshold: threshold.unwrap_or(0.0),
-            gng: options,
-            pool,
-        })
-    }
-
-    /// The run on a prepared `input` (with `attributes`, kept by the method's attribute-aware
-    /// path), the GIL released.
-    fn run(
-        &self,
-        py: Python<'_>,
-        input: &mesh::TriMesh,
-        attributes: Option<&Attributes>,
-    ) -> PyResult<Outcome> {
-        let pool = self.pool.as_ref();
-        let Some(options) = &self.gng else {
-            let target = run::qem_target(self.size, input)?;
-            let cancel = mesh::cancel::Cancel::default();
-            return run::interruptible(py, &cancel, || {
-                run::run_qem(input, attributes, target, self.threshold, pool, &cancel)
-            })?;
-        };
-        run::run_gng(py, input, attributes, options, self.method, pool)
-    }
+/// The job on `model`, the GIL released, Ctrl-C stopping it (`run::interruptible`).
+fn run_job(py: Python<'_>, model: &mesh::Model, request: &job::Request) -> PyResult<job::Outcome> {
+    let job = py
+        .detach(|| job::Job::new(model, request))
+        .map_err(keywords::job_error)?;
+    let cancel = job.cancel();
+    run::interruptible(py, &cancel, || job.run(&mut ()))?.map_err(keywords::job_error)
 }
 
 /// A Python exception of `e`'s type with its message behind `path` ("spot.obj: ..."), unless
@@ -405,102 +312,42 @@ fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr {
 ///     >>> r.report["attributes"]["kept"]                                                 # doctest: +SKIP
 ///     ['uv0', 'materials']
 #[pyfunction]
-#[pyo3(signature = (
-    input, output, *, vertices_target=None, faces_target=None, ratio=None, method="gng",
-    time_limit=None, seed=None, weld=true, placement=None, flips=None, refit=None, relax=None,
-    deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
-    threshold=None, threads=None
-))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (input, output, **options))]
 fn simplify_file(
     py: Python<'_>,
     input: PathBuf,
     output: PathBuf,
-    vertices_target: Option<usize>,
-    faces_target: Option<usize>,
-    ratio: Option<f64>,
-    method: &str,
-    time_limit: Option<f64>,
-    seed: Option<Bound<'_, PyAny>>,
-    weld: bool,
-    placement: Option<String>,
-    flips: Option<bool>,
-    refit: Option<bool>,
-    relax: Option<bool>,
-    deviation_repair: Option<bool>,
-    epochs: Option<f64>,
-    signals: Option<String>,
-    oversample: Option<f64>,
-    detail_rounds: Option<usize>,
-    threshold: Option<f64>,
-    threads: Option<Bound<'_, PyAny>>,
+    options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<SimplifyResult> {
-    let request = Request::new(
-        vertices_target,
-        faces_target,
-        ratio,
-        method,
-        GngKeywords {
-            time_limit,
-            placement,
-            flips,
-            refit,
-            relax,
-            deviation_repair,
-            epochs,
-            signals,
-            oversample,
-            detail_rounds,
-            threads: run::threads_keyword(threads.as_ref())?,
-        },
-        run::seed_keyword(seed.as_ref())?,
-        threshold,
-    )?;
+    let request = keywords::request(py, "simplify_file", options, &keywords::KEYWORDS)?;
     // The output path is checked before reading or simplifying, so a typo costs nothing.
-    mesh::io::Format::from_path(&output)
-        .ok_or_else(|| mesh::error::MeshError::UnknownFormat {
-            path: output.clone(),
-        })
-        .map_err(mesh_error)?;
-    mesh::io::check_writable(&output).map_err(mesh_error)?;
-    let loaded = py.detach(|| mesh::io::load(&input)).map_err(mesh_error)?;
-    // Before any work: the output never replaces the input or a file it reads.
-    loaded.check_outputs(&[&output]).map_err(mesh_error)?;
+    job::check_output(&output).map_err(keywords::job_error)?;
+    // The job's steps one by one (`job::simplify_file`), so that each warning is raised as it
+    // comes and Ctrl-C stops the run.
+    let loaded = py
+        .detach(|| job::load(&input, &request, &[&output]))
+        .map_err(keywords::job_error)?;
     warn_about(py, input.display(), &loaded.warnings)?;
-    let (file_vertices, file_faces) = (loaded.mesh.vertex_count(), loaded.mesh.face_count());
-    let materials = loaded.materials.clone();
-    let origin = loaded.origin;
-    // Welded and cleaned with its attributes, as the CLI prepares what it loads.
-    let (prepared, attributes) = py.detach(|| file::prepare(loaded, weld));
-    let outcome = request
-        .run(py, &prepared, attributes.as_ref())
-        .map_err(|e| naming(py, e, &input))?;
+    let outcome = run_job(py, &loaded.model, &request).map_err(|e| naming(py, e, &input))?;
     let kept = py
-        .detach(|| {
-            mesh::io::save_with_optional_attributes(
-                &outcome.mesh,
-                outcome.attributes.as_ref(),
-                materials.as_ref(),
-                origin,
-                &output,
-            )
-        })
-        .map_err(|e| naming(py, mesh_error(e), &output))?;
+        .detach(|| job::save(&outcome.model, &output))
+        .map_err(|e| naming(py, keywords::job_error(e), &output))?;
     warn_about(py, input.display(), &outcome.warnings)?;
     warn_about(py, output.display(), &kept.dropped)?;
-    let mut report = outcome.report;
+    let done = job::FileOutcome {
+        outcome,
+        kept,
+        file_counts: (loaded.file_vertices, loaded.file_faces),
+    };
+    let mut report = done.to_json();
     if let serde_json::Value::Object(fields) = &mut report {
         let text = |p: &std::path::Path| serde_json::Value::String(p.display().to_string());
         fields.insert("input".into(), text(&input));
         fields.insert("output".into(), text(&output));
-        fields.insert("file_vertices".into(), file_vertices.into());
-        fields.insert("file_faces".into(), file_faces.into());
-        fields.insert(
-            "attributes".into(),
-            serde_json::to_value(&kept).unwrap_or(serde_json::Value::Null),
-        );
+        fields.insert("file_vertices".into(), loaded.file_vertices.into());
+        fields.insert("file_faces".into(), loaded.file_faces.into());
     }
-    SimplifyResult::build(py, &outcome.mesh, &report, origin)
+    SimplifyResult::build(py, &done.outcome.model.mesh, &report, loaded.model.origin)
 }
 
 /// The image-space error's keywords of :func:`metrics` as checked parameters: `None` without
@@ -796,6 +643,8 @@ fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Gng3dWarning", m.py().get_type::<Gng3dWarning>())?;
     // GNG3D's seed when none is given: the library's default, which the CLI's is too.
     m.add("DEFAULT_SEED", run::default_seed())?;
+    m.add("DEFAULT_METHOD", job::DEFAULT_METHOD.name())?;
+    m.add("KEYWORDS", keywords::KEYWORDS.to_vec())?;
     // The most `threads=` a call may ask for.
     m.add("MAX_THREADS", run::MAX_THREADS)?;
     Ok(())

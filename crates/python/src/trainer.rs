@@ -2,9 +2,11 @@
 //! error curves while it learns.
 
 use crate::convert;
-use crate::run::{self, GngKeywords, Method, Size};
+use crate::keywords;
+use crate::run;
 use crate::{SimplifyResult, prepared};
 use gng3d_core::GngOptions;
+use job::Method;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -150,58 +152,34 @@ impl ProgressView {
 #[pymethods]
 impl Trainer {
     #[new]
-    #[pyo3(signature = (
-        vertices, faces, *, vertices_target=None, ratio=None, method="gng", time_limit=None,
-        seed=None, weld=true, placement=None, flips=None, refit=None, relax=None,
-        deviation_repair=None, epochs=None, signals=None, oversample=None, detail_rounds=None,
-        threads=None
-    ))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (vertices, faces, **options))]
     fn new(
         py: Python<'_>,
         vertices: &Bound<'_, PyAny>,
         faces: &Bound<'_, PyAny>,
-        vertices_target: Option<usize>,
-        ratio: Option<f64>,
-        method: &str,
-        time_limit: Option<f64>,
-        seed: Option<Bound<'_, PyAny>>,
-        weld: bool,
-        placement: Option<String>,
-        flips: Option<bool>,
-        refit: Option<bool>,
-        relax: Option<bool>,
-        deviation_repair: Option<bool>,
-        epochs: Option<f64>,
-        signals: Option<String>,
-        oversample: Option<f64>,
-        detail_rounds: Option<usize>,
-        threads: Option<Bound<'_, PyAny>>,
+        options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Trainer> {
-        let threads = run::threads_keyword(threads.as_ref())?;
-        let seed = run::seed_keyword(seed.as_ref())?;
-        let method = Method::parse(method)?;
-        if method == Method::Qem {
+        // The run's keywords less QEM's, parsed and checked by the one parser; GNG3D unless
+        // `method` says otherwise.
+        let allowed: Vec<&str> = keywords::KEYWORDS
+            .into_iter()
+            .filter(|k| !keywords::QEM_ONLY.contains(k) && *k != "attributes")
+            .collect();
+        let with_gng = PyDict::new(py);
+        with_gng.set_item("method", "gng")?;
+        if let Some(o) = options {
+            with_gng.update(o.as_mapping())?;
+        }
+        let request = keywords::request(py, "Trainer", Some(&with_gng), &allowed)?;
+        let method = request.method;
+        if !method.is_gng() {
             return Err(PyValueError::new_err(
                 "Trainer runs GNG3D: method must be 'gng' or 'paper' (use gng3d.simplify for 'qem')",
             ));
         }
-        let size = Size::from_keywords(vertices_target, None, ratio)?;
-        let options = GngKeywords {
-            time_limit,
-            placement,
-            flips,
-            refit,
-            relax,
-            deviation_repair,
-            epochs,
-            signals,
-            oversample,
-            detail_rounds,
-            threads,
-        }
-        .options(method, size, seed)?;
-        let pool = run::pool(threads)?;
+        let options = request.gng_options().map_err(keywords::job_error)?;
+        let weld = request.weld;
+        let pool = run::pool(request.threads)?;
         let (input, origin) = prepared(py, vertices, faces, weld)?;
         let started = Instant::now();
         let trainer = py
@@ -337,7 +315,7 @@ impl Trainer {
             ))
         })?
         .map_err(run::gng_error)?;
-        SimplifyResult::new(py, outcome, self.origin)
+        SimplifyResult::new(py, &outcome, self.origin)
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

@@ -131,7 +131,7 @@ def test_simplify_file_errors_name_the_file(tmp_path):
         gng3d.simplify_file(FANDISK, tmp_path / "no-such-folder" / "o.obj", ratio=0.5,
                             method="qem")  # fmt: skip
     with pytest.raises(ValueError, match="faces_target applies to method 'qem' only"):
-        gng3d.simplify_file(FANDISK, tmp_path / "out.obj", faces_target=10)
+        gng3d.simplify_file(FANDISK, tmp_path / "out.obj", faces_target=10, method="gng")
     assert not (tmp_path / "out.obj").exists()
 
 

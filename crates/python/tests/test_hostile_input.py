@@ -67,7 +67,7 @@ def test_threads_out_of_range_is_a_value_error_naming_it(small_torus, tmp_path, 
     message = out_of_range("threads", threads, "at least 1" if threads < 1 else f"at most {limit}")
     start = time.perf_counter()
     with pytest.raises(ValueError, match=message):
-        gng3d.simplify(v, f, vertices_target=100, threads=threads)
+        gng3d.simplify(v, f, method="gng", vertices_target=100, threads=threads)
     with pytest.raises(ValueError, match=message):
         gng3d.simplify(v, f, faces_target=100, method="qem", threads=threads)
     with pytest.raises(ValueError, match=message):
@@ -84,11 +84,11 @@ def test_threads_out_of_range_is_a_value_error_naming_it(small_torus, tmp_path, 
 def test_threads_up_to_the_limit_run(small_torus):
     v, f = small_torus
     assert gng3d.MAX_THREADS == 256
-    a = gng3d.simplify(v, f, vertices_target=200, seed=2, threads=gng3d.MAX_THREADS)
-    b = gng3d.simplify(v, f, vertices_target=200, seed=2, threads=1)
+    a = gng3d.simplify(v, f, method="gng", vertices_target=200, seed=2, threads=gng3d.MAX_THREADS)
+    b = gng3d.simplify(v, f, method="gng", vertices_target=200, seed=2, threads=1)
     np.testing.assert_array_equal(a.vertices, b.vertices)
     with pytest.raises(TypeError, match=r"^threads must be an int, got float$"):
-        gng3d.simplify(v, f, vertices_target=200, threads=2.0)
+        gng3d.simplify(v, f, method="gng", vertices_target=200, threads=2.0)
 
 
 def out_of_range(name, value, bound):
@@ -107,7 +107,7 @@ def test_step_and_train_counts_name_their_parameter(small_torus):
     with pytest.raises(ValueError, match=out_of_range("every", 0, "at least 1")):
         t.train(every=0)
     with pytest.raises(ValueError, match=out_of_range("seed", -1, "at least 0")):
-        gng3d.simplify(v, f, vertices_target=100, seed=-1)
+        gng3d.simplify(v, f, method="gng", vertices_target=100, seed=-1)
     with pytest.raises(ValueError, match=out_of_range("seed", 2**64, f"at most {2**64 - 1}")):
         gng3d.simplify(v, f, vertices_target=100, seed=2**64)
 
@@ -125,8 +125,8 @@ def test_mesh_before_any_step_says_so_in_words(small_torus):
 def test_default_seed_is_the_library_and_cli_default(small_torus):
     v, f = small_torus
     assert gng3d.DEFAULT_SEED == 1
-    default = gng3d.simplify(v, f, vertices_target=200)
-    one = gng3d.simplify(v, f, vertices_target=200, seed=1)
+    default = gng3d.simplify(v, f, method="gng", vertices_target=200)
+    one = gng3d.simplify(v, f, method="gng", vertices_target=200, seed=1)
     np.testing.assert_array_equal(default.vertices, one.vertices)
     t = gng3d.Trainer(v, f, vertices_target=200)
     t.train()
@@ -211,7 +211,7 @@ def test_ctrl_c_stops_simplify_file_in_training_and_writes_nothing(tmp_path):
         f"""
         import gng3d
         print("ready", flush=True)
-        gng3d.simplify_file({str(source)!r}, {str(output)!r}, vertices_target=1500, epochs=2000)
+        gng3d.simplify_file({str(source)!r}, {str(output)!r}, vertices_target=1500, epochs=2000, method="gng")
         """
     )
     assert "KeyboardInterrupt" in stderr, stderr
@@ -353,7 +353,7 @@ def test_georeferenced_arrays_keep_their_coordinates(tmp_path):
     assert result.vertices.shape == v.shape
     assert _nearest(result.vertices, v).max() <= 1e-6 * extent
     # GNG3D-Q's output lies on the surface where it was, not 0.25 m off.
-    gng = gng3d.simplify(v, f, ratio=0.25)
+    gng = gng3d.simplify(v, f, method="gng", ratio=0.25)
     assert np.abs(gng.vertices.mean(axis=0) - v.mean(axis=0)).max() < 1.0
     # A file written from such arrays and loaded back keeps the coordinates.
     path = tmp_path / "far.ply"

@@ -10,7 +10,7 @@ TRI_V = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
 
 def test_any_array_like_gives_the_same_result(small_torus):
     v, f = small_torus
-    expected = gng3d.simplify(v, f, vertices_target=200, seed=1)
+    expected = gng3d.simplify(v, f, method="gng", vertices_target=200, seed=1)
     wide = np.zeros((len(v), 6))
     wide[:, ::2] = v  # a strided, non-contiguous view
     variants = [
@@ -24,7 +24,7 @@ def test_any_array_like_gives_the_same_result(small_torus):
         (tuple(map(tuple, v)), tuple(map(tuple, f))),
     ]
     for vv, ff in variants:
-        got = gng3d.simplify(vv, ff, vertices_target=200, seed=1)
+        got = gng3d.simplify(vv, ff, method="gng", vertices_target=200, seed=1)
         np.testing.assert_array_equal(got.vertices, expected.vertices)
         np.testing.assert_array_equal(got.faces, expected.faces)
 
@@ -94,12 +94,12 @@ BAD_OPTIONS = [
     (dict(vertices_target=5000), r"^target of 5000 vertices is out of range"),
     (dict(), r"^give a target: vertices_target=N, faces_target=N \(QEM\) or ratio=R$"),
     (dict(ratio=0.1, vertices_target=10), r"^give one target"),
-    (dict(faces_target=100), r"^faces_target applies to method 'qem' only"),
+    (dict(faces_target=100, method="gng"), r"^faces_target applies to method 'qem' only"),
     (dict(ratio=0.1, method="qem", flips=False, time_limit=1.0),
      r"^time_limit, flips apply to method 'gng' and 'paper' only, not 'qem'$"),
-    (dict(ratio=0.1, threshold=0.1), r"^threshold applies to method 'qem' only$"),
+    (dict(ratio=0.1, method="gng", threshold=0.1), r"^threshold applies to method 'qem' only$"),
     (dict(ratio=0.1, method="qem", threshold=-1.0),
-     r"^invalid parameter: pair threshold -1 must be finite and >= 0$"),
+     r"^threshold must be a finite distance >= 0, got -1$"),
     (dict(ratio=0.1, method="qem", threshold=1e30),
      r"^invalid parameter: pair threshold 1e30 is above the limit"),
     (dict(ratio=0.1, threads=0), r"^parameter threads = 0 is out of range: must be at least 1$"),
@@ -120,7 +120,7 @@ def test_bad_options_raise_value_error(small_torus, options, message):
 def test_targets_are_keyword_only(small_torus):
     v, f = small_torus
     with pytest.raises(TypeError):
-        gng3d.simplify(v, f, 100)  # type: ignore[misc]
+        gng3d.simplify(v, f, method="gng", 100)  # type: ignore[misc]
 
 
 def test_metrics_options_and_input_are_checked(small_torus):

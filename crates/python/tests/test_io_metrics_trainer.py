@@ -61,7 +61,7 @@ def test_metrics_fields_and_values(small_torus):
                 "topology", "meshes", "bbox_diagonal", "seconds"]:  # fmt: skip
         assert key in same
     assert same["hausdorff"]["max"] < 1e-6  # float rounding only
-    v2, f2 = gng3d.simplify(v, f, vertices_target=200, seed=1)
+    v2, f2 = gng3d.simplify(v, f, method="gng", vertices_target=200, seed=1)
     m = gng3d.metrics(v, f, v2, f2, samples=20000)
     assert 0.0 < m["hausdorff"]["mean"] < m["hausdorff"]["max"] < 0.1
     assert m["topology"]["simplified"]["genus"] == 1
@@ -139,7 +139,7 @@ def test_trainer_steps_snapshots_and_mesh(small_torus):
     assert final["finished"] and t.finished and seen and seen[-1]["finished"]
     result = t.mesh()
     # Step by step gives what one call gives for the same options and seed.
-    direct = gng3d.simplify(v, f, vertices_target=300, seed=4)
+    direct = gng3d.simplify(v, f, method="gng", vertices_target=300, seed=4)
     np.testing.assert_array_equal(result.vertices, direct.vertices)
     np.testing.assert_array_equal(result.faces, direct.faces)
     assert len(result.vertices) == 300

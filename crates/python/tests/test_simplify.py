@@ -37,7 +37,7 @@ def test_gng_gives_the_exact_vertex_count(small_torus, method, target):
 
 def test_result_types_and_unpacking(small_torus):
     v, f = small_torus
-    result = gng3d.simplify(v, f, ratio=0.25)
+    result = gng3d.simplify(v, f, method="gng", ratio=0.25)
     vertices, faces = result
     assert vertices is not None and vertices.dtype == np.float64 and vertices.shape[1] == 3
     assert faces.dtype == np.int64 and faces.shape[1] == 3
@@ -50,7 +50,7 @@ def test_result_types_and_unpacking(small_torus):
 
 def test_ratio_is_a_share_of_the_input_vertices_for_every_method(small_torus):
     v, f = small_torus  # 1152 vertices, 2304 faces
-    gng = gng3d.simplify(v, f, ratio=0.25)
+    gng = gng3d.simplify(v, f, method="gng", ratio=0.25)
     assert len(gng.vertices) == round(0.25 * len(v)) == 288
     qem = gng3d.simplify(v, f, ratio=0.25, method="qem")
     assert len(qem.vertices) == 288
@@ -60,7 +60,7 @@ def test_ratio_is_a_share_of_the_input_vertices_for_every_method(small_torus):
 
 def test_report_fields_are_the_cli_json_fields(small_torus):
     v, f = small_torus
-    gng = gng3d.simplify(v, f, vertices_target=200)
+    gng = gng3d.simplify(v, f, method="gng", vertices_target=200)
     assert set(gng.report) == GNG_FIELDS
     assert gng.report["method"] == "gng" and gng.report["warnings"] == []
     assert gng.report["placement"] == "quadric" and gng.report["closed"]
@@ -73,9 +73,9 @@ def test_report_fields_are_the_cli_json_fields(small_torus):
 
 def test_same_seed_same_mesh_other_seed_other_mesh(small_torus):
     v, f = small_torus
-    a = gng3d.simplify(v, f, vertices_target=300, seed=5)
-    b = gng3d.simplify(v, f, vertices_target=300, seed=5)
-    c = gng3d.simplify(v, f, vertices_target=300, seed=6)
+    a = gng3d.simplify(v, f, method="gng", vertices_target=300, seed=5)
+    b = gng3d.simplify(v, f, method="gng", vertices_target=300, seed=5)
+    c = gng3d.simplify(v, f, method="gng", vertices_target=300, seed=6)
     np.testing.assert_array_equal(a.vertices, b.vertices)
     np.testing.assert_array_equal(a.faces, b.faces)
     assert not np.array_equal(a.vertices, c.vertices)
@@ -98,7 +98,7 @@ def test_gng_warnings_carry_their_sentence():
     f = np.concatenate([f1, f2 + len(v1)])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        result = gng3d.simplify(v, f, vertices_target=1000)
+        result = gng3d.simplify(v, f, method="gng", vertices_target=1000)
     for w in result.report["warnings"]:
         assert isinstance(w["kind"], str) and isinstance(w["message"], str)
     messages = [str(c.message) for c in caught if issubclass(c.category, gng3d.Gng3dWarning)]
@@ -109,15 +109,15 @@ def test_weld_merges_a_triangle_soup(small_torus):
     v, f = small_torus
     soup_v = v[f.reshape(-1)]  # every corner its own vertex, as STL stores them
     soup_f = np.arange(len(soup_v)).reshape(-1, 3)
-    welded = gng3d.simplify(soup_v, soup_f, vertices_target=200, seed=2)
-    indexed = gng3d.simplify(v, f, vertices_target=200, seed=2)
+    welded = gng3d.simplify(soup_v, soup_f, method="gng", vertices_target=200, seed=2)
+    indexed = gng3d.simplify(v, f, method="gng", vertices_target=200, seed=2)
     assert welded.report["closed"] and len(welded.vertices) == 200
     assert welded.report["genus"] == indexed.report["genus"] == 1
 
 
 def test_time_limit_keeps_the_count(small_torus):
     v, f = small_torus
-    result = gng3d.simplify(v, f, vertices_target=500, time_limit=0.5)
+    result = gng3d.simplify(v, f, method="gng", vertices_target=500, time_limit=0.5)
     assert len(result.vertices) == 500
 
 

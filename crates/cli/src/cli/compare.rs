@@ -78,8 +78,8 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
         params.gng.reconstruction = gng3d_core::ReconstructionParams::paper();
         params.gng.epochs = Some(PAPER_EPOCHS);
     }
-    args.gng.apply(&mut params.gng);
-    params.gng.validate().context("GNG3D options")?;
+    args.gng.variant().apply(&mut params.gng);
+    params.gng.validate()?;
     params.metrics.hausdorff.seed = args.seed;
     params.metrics.hausdorff.samples = args.samples;
     params.metrics.hausdorff.validate()?;

@@ -130,47 +130,32 @@ pub(crate) struct GngVariantArgs {
 }
 
 impl GngVariantArgs {
-    /// Whether any of these flags was given (they apply to GNG3D only).
-    pub fn any(&self) -> bool {
-        self.placement.is_some()
-            || self.no_flips
-            || self.no_refit
-            || self.no_relax
-            || self.no_deviation_repair
-            || self.epochs.is_some()
-            || self.signals.is_some()
-            || self.oversample.is_some()
-            || self.detail_rounds.is_some()
+    /// The variant these flags ask for (`job::GngVariant`; mapped onto the library's options
+    /// by the job, in one place).
+    pub fn variant(&self) -> job::GngVariant {
+        let off = |flag: bool| flag.then_some(false);
+        job::GngVariant {
+            placement: self.placement.map(Into::into),
+            flips: off(self.no_flips),
+            refit: off(self.no_refit),
+            relax: off(self.no_relax),
+            deviation_repair: off(self.no_deviation_repair),
+            epochs: self.epochs,
+            signals: self.signals.map(Into::into),
+            oversample: self.oversample,
+            detail_rounds: self.detail_rounds,
+        }
     }
+}
 
-    /// Writes the flags into `options` (validated later by `GngOptions::validate`/`resolve`).
-    pub fn apply(&self, options: &mut gng3d_core::GngOptions) {
-        if let Some(p) = self.placement {
-            options.reconstruction.placement = p.into();
+/// A job error as the command line shows it: the options named by their flags, the rest with
+/// its causes (the OS's reason behind a file that cannot be read).
+pub(crate) fn job_error(e: job::JobError) -> anyhow::Error {
+    match e {
+        job::JobError::Option { .. } | job::JobError::NotForMethod { .. } => {
+            anyhow::anyhow!(e.message(job::Spelling::Flags))
         }
-        if self.no_flips {
-            options.reconstruction.flip_edges = false;
-        }
-        if self.no_refit {
-            options.reconstruction.refit = false;
-        }
-        if self.no_relax {
-            options.reconstruction.relax = false;
-        }
-        if self.no_deviation_repair {
-            options.reconstruction.repair_deviations = false;
-        }
-        if let Some(s) = self.signals {
-            options.signal_source = s.into();
-        }
-        if self.epochs.is_some() {
-            options.epochs = self.epochs;
-            options.max_signals = None;
-        }
-        // Without --oversample: from the placement (1.5 for GNG3D-Q, off for the paper's).
-        options.oversample = self.oversample;
-        // Without --detail-rounds: GngParams::oversampled's rule.
-        options.detail_rounds = self.detail_rounds;
+        e => anyhow::Error::new(e),
     }
 }
 

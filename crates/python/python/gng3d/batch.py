@@ -45,6 +45,8 @@ from multiprocessing import get_context
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
+from . import _gng3d
+
 MESH_EXTENSIONS = (".obj", ".ply", ".stl", ".gltf", ".glb")
 STATS_FIELDS = [
     "input",
@@ -118,7 +120,7 @@ def simplify_file(
     import gng3d
 
     path, out = Path(path), Path(out)
-    row = _row(path, out, options.get("method", "gng"))
+    row = _row(path, out, options.get("method", _gng3d.DEFAULT_METHOD))
     start = time.perf_counter()
     if skip_existing and out.exists():
         row["status"] = "skipped"
@@ -211,7 +213,7 @@ def simplify_files(
     paths: Union[PathLike, Iterable[PathLike]],
     out_dir: PathLike,
     *,
-    method: str = "gng",
+    method: str = _gng3d.DEFAULT_METHOD,
     vertices_target: Optional[int] = None,
     faces_target: Optional[int] = None,
     ratio: Optional[float] = None,
@@ -379,7 +381,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     )
     parser.add_argument("source", help="a folder of .obj/.ply/.stl files or a manifest")
     parser.add_argument("--out", required=True, help="output folder")
-    parser.add_argument("--method", default="gng", choices=["gng", "paper", "qem"])
+    parser.add_argument("--method", default=_gng3d.DEFAULT_METHOD, choices=["qem", "gng", "paper"])
     target = parser.add_mutually_exclusive_group(required=True)
     target.add_argument("--vertices", type=int, dest="vertices_target")
     target.add_argument("--faces", type=int, dest="faces_target")

@@ -1,0 +1,199 @@
+//! [`JobError`]: why a job did not give a model, one type for every front end.
+
+use crate::{Method, Opt};
+use std::path::PathBuf;
+
+/// Why a run gave no model. The front ends map it onto their own surface (the CLI's message and
+/// exit code, Python's exception types) through [`JobError::kind`].
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum JobError {
+    /// An option's value is out of its range or unknown.
+    #[error("{}", option_message(option.keyword(), message))]
+    Option {
+        /// The option.
+        option: Opt,
+        /// What is wrong, e.g. "must be in 1 to 256, got 0".
+        message: String,
+    },
+    /// Options that the method does not take.
+    #[error("{}", not_for_method(options, *method, Spelling::Keywords))]
+    NotForMethod {
+        /// The options given.
+        options: Vec<Opt>,
+        /// The method asked for.
+        method: Method,
+        /// Why, in words.
+        detail: &'static str,
+    },
+    /// No target was given (or none the method takes).
+    #[error(
+        "give a target: a vertex count, a share of the vertices, a face count (QEM) or a bound on the error (QEM)"
+    )]
+    NoTarget,
+    /// Reading, cleaning or writing a model failed (the message names the file).
+    #[error(transparent)]
+    Mesh(#[from] mesh::error::MeshError),
+    /// GNG3D could not run or gave no mesh.
+    #[error(transparent)]
+    Gng(Box<gng3d_core::GngError>),
+    /// QEM could not run.
+    #[error(transparent)]
+    Qem(Box<qem::QemError>),
+    /// The method returned a mesh without triangles: nothing is written.
+    #[error("{method} produced an empty mesh ({vertices} vertices, no triangles)")]
+    EmptyOutput {
+        /// The method's label ("QEM", "GNG3D").
+        method: &'static str,
+        /// Vertices it returned.
+        vertices: usize,
+    },
+    /// The output would be written where it must not be (see the message).
+    #[error("{}: {message}", path.display())]
+    Output {
+        /// The output path.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The run was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+    /// Starting the run's threads failed.
+    #[error("starting {threads} threads failed: {message}")]
+    Threads {
+        /// The count asked for.
+        threads: usize,
+        /// The system's reason.
+        message: String,
+    },
+}
+
+/// What kind of failure a [`JobError`] is, for front ends that map kinds onto their own error
+/// types (Python: `ValueError`, `OSError`, `RuntimeError`, `KeyboardInterrupt`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ErrorKind {
+    /// The request or the input is unusable.
+    Invalid,
+    /// A file could not be read or written.
+    Io,
+    /// The run ended without a model.
+    Failed,
+    /// The run was cancelled.
+    Cancelled,
+}
+
+impl JobError {
+    /// An [`JobError::Option`] error.
+    pub fn option(option: Opt, message: impl Into<String>) -> JobError {
+        JobError::Option {
+            option,
+            message: message.into(),
+        }
+    }
+
+    /// The message with the options spelt as `spelling` spells them ("--time-limit" on the
+    /// command line, "time_limit" in Python); [`Display`](std::fmt::Display) uses the keywords.
+    pub fn message(&self, spelling: Spelling) -> String {
+        let name = |o: &Opt| match spelling {
+            Spelling::Flags => o.flag().to_string(),
+            Spelling::Keywords => o.keyword().to_string(),
+        };
+        match self {
+            JobError::Option { option, message } => option_message(&name(option), message),
+            JobError::NotForMethod {
+                options, method, ..
+            } => not_for_method(options, *method, spelling),
+            e => e.to_string(),
+        }
+    }
+
+    /// The kind of failure.
+    pub fn kind(&self) -> ErrorKind {
+        use gng3d_core::GngError as G;
+        match self {
+            JobError::Mesh(
+                mesh::error::MeshError::Io { .. } | mesh::error::MeshError::Write { .. },
+            ) => ErrorKind::Io,
+            JobError::Output { .. } => ErrorKind::Io,
+            JobError::Cancelled => ErrorKind::Cancelled,
+            JobError::Gng(e) if matches!(**e, G::Cancelled) => ErrorKind::Cancelled,
+            JobError::Qem(e) if matches!(**e, qem::QemError::Cancelled) => ErrorKind::Cancelled,
+            JobError::Gng(e)
+                if matches!(
+                    **e,
+                    G::TooFewNodes { .. } | G::EmptyMesh { .. } | G::Decimation(_)
+                ) =>
+            {
+                ErrorKind::Failed
+            }
+            JobError::EmptyOutput { .. } | JobError::Threads { .. } => ErrorKind::Failed,
+            _ => ErrorKind::Invalid,
+        }
+    }
+}
+
+impl From<gng3d_core::GngError> for JobError {
+    fn from(e: gng3d_core::GngError) -> JobError {
+        match e {
+            gng3d_core::GngError::Cancelled => JobError::Cancelled,
+            e => JobError::Gng(Box::new(e)),
+        }
+    }
+}
+
+impl From<qem::QemError> for JobError {
+    fn from(e: qem::QemError) -> JobError {
+        match e {
+            qem::QemError::Cancelled => JobError::Cancelled,
+            e => JobError::Qem(Box::new(e)),
+        }
+    }
+}
+
+/// How a front end spells options in messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Spelling {
+    /// Command-line flags (`--time-limit`).
+    Flags,
+    /// Python keywords (`time_limit`).
+    Keywords,
+}
+
+/// "NAMES apply to METHOD only" of `options` refused for `method`.
+fn not_for_method(options: &[Opt], method: Method, spelling: Spelling) -> String {
+    let names: Vec<String> = options
+        .iter()
+        .map(|o| match spelling {
+            Spelling::Flags => o.flag().to_string(),
+            Spelling::Keywords => o.keyword().to_string(),
+        })
+        .collect();
+    let verb = if names.len() == 1 { "applies" } else { "apply" };
+    let only = match (spelling, method.is_gng()) {
+        (Spelling::Flags, true) => "QEM only (--method qem)",
+        (Spelling::Flags, false) => "--method gng only (or --method paper)",
+        (Spelling::Keywords, true) => "method 'qem' only",
+        (Spelling::Keywords, false) => "method 'gng' and 'paper' only, not 'qem'",
+    };
+    format!("{} {verb} to {only}", and_list(&names))
+}
+
+/// "NAME must be ..." or "NAME: what".
+fn option_message(name: &str, message: &str) -> String {
+    if message.starts_with("must") {
+        format!("{name} {message}")
+    } else {
+        format!("{name}: {message}")
+    }
+}
+
+/// "a, b and c".
+fn and_list(names: &[String]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
+}

@@ -1,0 +1,291 @@
+//! [`Job`]: one run on a model, the same for every front end — GNG3D (train, the steps after
+//! training, the attributes from the original's surface) or QEM (contractions that carry the
+//! attributes) — giving an [`Outcome`].
+
+use crate::summary::{QemSummary, Summary, Warning};
+use crate::{JobError, Method, Request, Target};
+use gng3d_core::{GngOptions, PlannedStep, Progress, StepRecord, Trainer};
+use mesh::Model;
+use mesh::cancel::Cancel;
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+/// What a front end sees of a run while it goes (progress bars, a viewer's status line). Every
+/// method has a default that does nothing; `()` observes nothing.
+pub trait Observer: Send {
+    /// GNG3D's training moved on (every [`training_round`] signals): `budget` is the most
+    /// signals it presents.
+    fn training(&mut self, _progress: &Progress, _budget: u64) {}
+    /// GNG3D's training ended; these steps come next.
+    fn planned(&mut self, _steps: &[PlannedStep]) {}
+    /// One of those steps finished.
+    fn step(&mut self, _record: &StepRecord) {}
+    /// QEM started contracting.
+    fn contracting(&mut self) {}
+}
+
+impl Observer for () {}
+
+/// Signals between two progress reports of GNG3D's training: 5 % of the budget, within 1,000
+/// and 2,000,000. Training goes in rounds of this size, and the rounds shape the run (each
+/// round shares its signals among the network's parts), so every front end uses this one size
+/// and gets the same mesh. The bar moves every 5 %: each round starts the parts' threads, and
+/// at 0.5 % a round (igea at 1 %: 2,000 signals, ~0.6 ms) starting them cost a third of the
+/// gain.
+pub fn training_round(budget: u64) -> u64 {
+    (budget / 20).clamp(1_000, 2_000_000)
+}
+
+/// A finished run.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The simplified model: its mesh, its attributes (carried when the request keeps them),
+    /// the input's materials and origin.
+    pub model: Model,
+    /// What the run did (the `--json` summary).
+    pub summary: Summary,
+    /// Why the output differs from the request, one sentence each (also in the summary).
+    pub warnings: Vec<String>,
+    /// Why GNG3D's training ended (`None` for QEM).
+    pub training_stop: Option<gng3d_core::StopReason>,
+}
+
+impl Outcome {
+    /// One line for people: the method, the counts before and after, the work and the time,
+    /// the output's topology — the same line for every method and front end.
+    pub fn line(&self) -> String {
+        let topology = mesh::topology::analyze(&self.model.mesh);
+        let (iv, ifaces) = self.summary.input_counts();
+        let (v, f) = self.summary.counts();
+        let work = match &self.summary {
+            Summary::Gng(s) => format!(
+                "{} signals ({})",
+                s.iterations,
+                self.training_stop
+                    .unwrap_or(gng3d_core::StopReason::Completed)
+            ),
+            Summary::Qem(s) => format!("{} collapses", s.report.collapses),
+        };
+        format!(
+            "{}: {iv} -> {v} vertices, {ifaces} -> {f} faces, {work} in {:.3} s; closed: {}, manifold: {}, genus: {}",
+            self.summary.method(),
+            self.summary.seconds(),
+            topology.closed,
+            topology.manifold,
+            topology.genus.map_or("undefined".into(), |g| g.to_string()),
+        )
+    }
+}
+
+/// What a run does, once prepared.
+enum Prepared {
+    /// GNG3D: the trainer made for the input and the options it was resolved from.
+    Gng {
+        trainer: Box<Trainer>,
+        options: Box<GngOptions>,
+    },
+    /// QEM: its parameters and target.
+    Qem {
+        params: Box<qem::QemParams>,
+        target: qem::Target,
+    },
+}
+
+/// A run prepared on one model: the request validated, GNG3D's options resolved against the
+/// mesh and its trainer built, or QEM's target set. [`Job::cancel`] gives the flag that stops it
+/// from another thread; [`Job::run`] runs it.
+pub struct Job<'a> {
+    input: &'a Model,
+    request: &'a Request,
+    prepared: Prepared,
+    cancel: Cancel,
+    pool: Option<rayon::ThreadPool>,
+    started: Instant,
+}
+
+impl<'a> Job<'a> {
+    /// Prepare `request` on `input` (a model as [`crate::load`] gives it; its attributes are
+    /// carried when there are some).
+    pub fn new(input: &'a Model, request: &'a Request) -> Result<Job<'a>, JobError> {
+        request.validate()?;
+        let pool = match request.threads {
+            Some(n) => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| JobError::Threads {
+                        threads: n,
+                        message: e.to_string(),
+                    })?,
+            ),
+            None => None,
+        };
+        if request.method == Method::Qem {
+            let target = request.qem_target(&input.mesh)?;
+            let cancel = Cancel::default();
+            let params = qem::QemParams {
+                cancel: Some(cancel.clone()),
+                ..request.qem_params(target)
+            };
+            return Ok(Job {
+                input,
+                request,
+                prepared: Prepared::Qem {
+                    params: Box::new(params),
+                    target,
+                },
+                cancel,
+                pool,
+                started: Instant::now(),
+            });
+        }
+        let options = request.gng_options()?;
+        let params = options.resolve(&input.mesh)?;
+        // The run's clock starts with the trainer (its tables are part of the run).
+        let started = Instant::now();
+        // With attributes, the output's triangles follow their seams.
+        let trainer = match &input.attributes {
+            Some(a) => Trainer::with_attributes(&input.mesh, a, params)?,
+            None => Trainer::new(&input.mesh, params)?,
+        };
+        let cancel = trainer.cancel_token();
+        Ok(Job {
+            input,
+            request,
+            prepared: Prepared::Gng {
+                trainer: Box::new(trainer),
+                options: Box::new(options),
+            },
+            cancel,
+            pool,
+            started,
+        })
+    }
+
+    /// The flag that stops the run at its next check ([`JobError::Cancelled`], never a partial
+    /// model).
+    pub fn cancel(&self) -> Cancel {
+        self.cancel.clone()
+    }
+
+    /// Run it.
+    pub fn run(self, observer: &mut dyn Observer) -> Result<Outcome, JobError> {
+        let pool = self.pool.as_ref();
+        match self.prepared {
+            Prepared::Gng {
+                mut trainer,
+                options,
+            } => {
+                let budget = trainer.stats().max_signals;
+                trainer.train(training_round(budget), |p| {
+                    observer.training(p, budget);
+                    ControlFlow::Continue(())
+                });
+                if self.cancel.is_cancelled() {
+                    return Err(JobError::Cancelled);
+                }
+                observer.planned(trainer.plan().steps());
+                let result = in_pool(pool, || {
+                    gng3d_core::finish_cancellable(&trainer, &self.cancel, |r| observer.step(r))
+                })?;
+                let seconds = self.started.elapsed().as_secs_f64();
+                // The input's attributes from its surface at the output's corners.
+                let attributes = self.input.attributes.as_ref().map(|a| {
+                    in_pool(pool, || {
+                        mesh::transfer::transfer_attributes(&self.input.mesh, a, &result.mesh)
+                    })
+                });
+                let summary = gng3d_core::GngSummary::new(
+                    self.request.method.name(),
+                    &trainer,
+                    options.oversample_factor(),
+                    &result,
+                    seconds,
+                );
+                let warnings = result
+                    .report
+                    .warnings
+                    .iter()
+                    .map(|w| w.to_string())
+                    .collect();
+                Ok(Outcome {
+                    model: self.input.with_mesh(result.mesh, attributes),
+                    summary: Summary::Gng(Box::new(summary)),
+                    warnings,
+                    training_stop: trainer.stats().stop,
+                })
+            }
+            Prepared::Qem { params, target } => {
+                observer.contracting();
+                let input = self.input;
+                let lock_border = self.request.qem.lock_border;
+                let (mesh, attributes, report) = in_pool(pool, || {
+                    if lock_border {
+                        let locked = qem::border_vertices(&input.mesh);
+                        return qem::simplify_locked(
+                            &input.mesh,
+                            input.attributes.as_ref(),
+                            &params,
+                            &locked,
+                        );
+                    }
+                    match &input.attributes {
+                        Some(a) => qem::simplify_with_attributes(&input.mesh, a, &params)
+                            .map(|(mesh, a, report)| (mesh, Some(a), report)),
+                        None => qem::simplify(&input.mesh, &params)
+                            .map(|(mesh, report)| (mesh, None, report)),
+                    }
+                })?;
+                if mesh.face_count() == 0 {
+                    return Err(JobError::EmptyOutput {
+                        method: "QEM",
+                        vertices: mesh.vertex_count(),
+                    });
+                }
+                // With a bound on the error alone there is no size to fall short of.
+                let warnings: Vec<String> = report
+                    .shortfall(target)
+                    .filter(|_| self.request.target != Target::MaxErrorOnly)
+                    .into_iter()
+                    .collect();
+                let summary = QemSummary {
+                    method: "qem",
+                    vertices: report.vertices,
+                    faces: report.faces,
+                    seconds: report.seconds,
+                    warnings: warnings
+                        .iter()
+                        .map(|m| Warning {
+                            kind: "target_not_reached",
+                            message: m.clone(),
+                        })
+                        .collect(),
+                    report,
+                };
+                Ok(Outcome {
+                    model: input.with_mesh(mesh, attributes),
+                    summary: Summary::Qem(Box::new(summary)),
+                    warnings,
+                    training_stop: None,
+                })
+            }
+        }
+    }
+}
+
+/// Run `request` on `input`: [`Job::new`] then [`Job::run`].
+pub fn run(
+    input: &Model,
+    request: &Request,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, JobError> {
+    Job::new(input, request)?.run(observer)
+}
+
+/// `f` in `pool` when there is one.
+fn in_pool<T: Send>(pool: Option<&rayon::ThreadPool>, f: impl FnOnce() -> T + Send) -> T {
+    match pool {
+        Some(p) => p.install(f),
+        None => f(),
+    }
+}
