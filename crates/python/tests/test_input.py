@@ -133,3 +133,17 @@ def test_metrics_options_and_input_are_checked(small_torus):
         gng3d.metrics(v, f, bad, f)
     with pytest.raises(ValueError, match=r"^original: face 0 refers to vertex 99999"):
         gng3d.metrics(v, np.array([[0, 1, 99999]]), v, f)
+
+
+def test_stubs_list_the_keywords_the_binding_parses():
+    """The stubs of simplify and simplify_file name exactly the binding's keywords (gng3d.KEYWORDS,
+    the one table the Rust parser reads), in its order; Trainer's are those less QEM's."""
+    import ast
+    from pathlib import Path
+
+    stubs = ast.parse((Path(gng3d.__file__).parent / "_gng3d.pyi").read_text())
+    functions = {n.name: n for n in stubs.body if isinstance(n, ast.FunctionDef)}
+    for name in ["simplify", "simplify_file"]:
+        keywords = [a.arg for a in functions[name].args.kwonlyargs]
+        assert keywords == list(gng3d.KEYWORDS), name
+    assert gng3d.DEFAULT_METHOD == "qem"

@@ -336,29 +336,24 @@ pub fn qem_simplify(mesh: &TriMesh, target_vertices: usize) -> Result<(TriMesh, 
     Ok((out, note))
 }
 
-/// [`qem_simplify`] keeping `attributes` (of `mesh`'s corners) through the contractions, as
-/// `gng3d simplify --method qem` and `gng3d compare` do (`qem::simplify_with_attributes`);
-/// without attributes, [`qem_simplify`].
+/// [`qem_simplify`] keeping `attributes` (of `mesh`'s corners) through the contractions: the
+/// job every front end runs (`job::run` with QEM to a vertex count), so the viewer's QEM is
+/// `gng3d simplify --method qem`'s.
 pub fn qem_simplify_with_attributes(
     mesh: &TriMesh,
     attributes: Option<&Attributes>,
     target_vertices: usize,
 ) -> Result<(TriMesh, Option<Attributes>, Option<String>)> {
-    let target = qem::Target::Vertices(target_vertices);
-    let params = qem::QemParams::with_target(target);
-    let qem_error = |e: qem::QemError| ViewerError::Qem(e.to_string());
-    let (out, kept, report) = match attributes {
-        Some(a) => {
-            let (out, kept, report) =
-                qem::simplify_with_attributes(mesh, a, &params).map_err(qem_error)?;
-            (out, Some(kept), report)
-        }
-        None => {
-            let (out, report) = qem::simplify(mesh, &params).map_err(qem_error)?;
-            (out, None, report)
-        }
+    let model = mesh::Model {
+        attributes: attributes.cloned(),
+        ..mesh::Model::from(mesh.clone())
     };
-    Ok((out, kept, report.shortfall(target)))
+    let request =
+        job::Request::new(job::Target::Vertices(target_vertices)).with_method(job::Method::Qem);
+    let outcome =
+        job::run(&model, &request, &mut ()).map_err(|e| ViewerError::Qem(e.to_string()))?;
+    let note = outcome.warnings.into_iter().next();
+    Ok((outcome.model.mesh, outcome.model.attributes, note))
 }
 
 /// Surface samples per direction for the Hausdorff distance (keeps one evaluation to about a

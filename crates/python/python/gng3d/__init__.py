@@ -22,7 +22,9 @@ Example::
 """
 
 from ._gng3d import (
+    DEFAULT_METHOD,
     DEFAULT_SEED,
+    KEYWORDS,
     MAX_THREADS,
     Gng3dWarning,
     SimplifyResult,
@@ -36,7 +38,9 @@ from ._gng3d import (
 )
 
 __all__ = [
+    "DEFAULT_METHOD",
     "DEFAULT_SEED",
+    "KEYWORDS",
     "MAX_THREADS",
     "Gng3dWarning",
     "SimplifyResult",

@@ -41,7 +41,11 @@ class SimplifyResult:
     def __iter__(self) -> Iterator[Union[_Vertices, _Faces]]: ...
 
 DEFAULT_SEED: int
-"""GNG3D's seed when a call gives none: the library's default, which the CLI's is too."""
+"""GNG3D's seed when a call gives none: the job's default, every front end's."""
+DEFAULT_METHOD: str
+"""The method when a call names none ("qem"), every front end's."""
+KEYWORDS: list[str]
+"""The keywords of :func:`simplify` and :func:`simplify_file`, in the order of these stubs."""
 MAX_THREADS: int
 """The most ``threads=`` a call may ask for (a larger count is a ValueError)."""
 
@@ -52,10 +56,11 @@ def simplify(
     vertices_target: Optional[int] = None,
     faces_target: Optional[int] = None,
     ratio: Optional[float] = None,
-    method: _Method = "gng",
+    method: _Method = "qem",
     time_limit: Optional[float] = None,
     seed: Optional[int] = None,
     weld: bool = True,
+    attributes: Literal["keep", "drop"] = "keep",
     placement: Optional[Literal["node", "project", "quadric"]] = None,
     flips: Optional[bool] = None,
     refit: Optional[bool] = None,
@@ -66,6 +71,8 @@ def simplify(
     oversample: Optional[float] = None,
     detail_rounds: Optional[int] = None,
     threshold: Optional[float] = None,
+    lock_border: bool = False,
+    max_error: Optional[float] = None,
     threads: Optional[int] = None,
 ) -> SimplifyResult:
     """Simplify a mesh; ``ratio`` is a share of the input's vertices for every method."""
@@ -77,10 +84,11 @@ def simplify_file(
     vertices_target: Optional[int] = None,
     faces_target: Optional[int] = None,
     ratio: Optional[float] = None,
-    method: _Method = "gng",
+    method: _Method = "qem",
     time_limit: Optional[float] = None,
     seed: Optional[int] = None,
     weld: bool = True,
+    attributes: Literal["keep", "drop"] = "keep",
     placement: Optional[Literal["node", "project", "quadric"]] = None,
     flips: Optional[bool] = None,
     refit: Optional[bool] = None,
@@ -91,6 +99,8 @@ def simplify_file(
     oversample: Optional[float] = None,
     detail_rounds: Optional[int] = None,
     threshold: Optional[float] = None,
+    lock_border: bool = False,
+    max_error: Optional[float] = None,
     threads: Optional[int] = None,
 ) -> SimplifyResult:
     """Simplify ``input`` into ``output`` (written atomically), keeping normals, texture
