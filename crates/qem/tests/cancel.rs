@@ -46,42 +46,16 @@ fn a_cancelled_flag_stops_every_entry_point_before_any_work() {
 #[test]
 fn a_flag_set_during_a_run_stops_it_within_a_pass() {
     // 1.3 M faces: the partitioned engine on a pool of two threads or more, the sequential one
-    // otherwise. The flag is set halfway through the time an uncancelled run takes here (a
-    // fixed delay raced a fast machine: the run ended first), then a quarter, an eighth, until
-    // one run sees it. The bound leaves room for the longest step without a check (the vertex
+    // otherwise. The flag is set at a shrinking share of an uncancelled run's time until one run
+    // sees it (`assert_stops_within`). The bound leaves room for the longest step without a check (the vertex
     // set-up of a part: ~0.3 s on a loaded two-core machine) and for a busy machine; within a
     // pass the flag is seen within 4,096 contractions.
     let big = mesh::procedural::icosphere(8);
-    let started = Instant::now();
-    simplify(&big, &QemParams::with_target(Target::Ratio(0.1))).unwrap();
-    let whole = started.elapsed();
-    let mut delay = whole / 2;
-    for _ in 0..4 {
-        let cancel = Cancel::default();
-        let p = params(&cancel);
-        let setter = cancel.clone();
-        let timer = std::thread::spawn(move || {
-            std::thread::sleep(delay);
-            setter.cancel();
-            Instant::now()
-        });
-        let result = simplify(&big, &p);
-        let ended = Instant::now();
-        let set = timer.join().unwrap();
-        if result.is_ok() {
-            delay /= 2;
-            continue;
-        }
-        assert_eq!(result.unwrap_err(), QemError::Cancelled);
-        let latency = ended.saturating_duration_since(set);
-        println!("{latency:?} from the flag to the return (a whole run: {whole:?})");
-        assert!(
-            latency < Duration::from_millis(1000),
-            "{latency:?} from the flag to the return"
-        );
-        return;
-    }
-    panic!("no run saw the flag (a whole run takes {whole:?})");
+    mesh::cancel::assert_stops_within(
+        |cancel| simplify(&big, &params(cancel)),
+        QemError::Cancelled,
+        Duration::from_millis(1000),
+    );
 }
 
 #[test]

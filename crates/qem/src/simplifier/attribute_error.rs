@@ -19,7 +19,7 @@
 //! seam walked from `along[0]` through the vertex to `along[1]` (the faces holding the directed
 //! edge vertex → `along[1]`). A pair along the seam merges side with side by that orientation.
 
-use super::engine::Seams;
+use super::seams::Seams;
 use glam::DVec3;
 
 /// Per-vertex attribute sums, two sides per vertex, in one flat array.

@@ -8,9 +8,11 @@
 //! and the values, which travel with the contractions ([`wedges`]).
 
 use super::attribute_error::AttributeError;
-use super::engine::{Seams, Vertex};
+use super::engine::Vertex;
+use super::passes::AttributeRun;
+use super::seams::Seams;
 use super::wedges::{self, InputValues, WedgeValues};
-use super::{AttributeRun, Run, prepare};
+use super::{Run, prepare};
 use crate::{QemError, QemParams, QemReport, Quadric};
 use glam::DVec3;
 use mesh::TriMesh;
@@ -128,7 +130,7 @@ pub(crate) fn run(
     };
     let face_origin = index.face;
     super::check_cancel(params)?;
-    let (run, out) = super::simplify_prepared_with(
+    let (run, out) = super::passes::simplify_prepared_with(
         prepared,
         params,
         Some(&locked),

@@ -9,8 +9,9 @@
 //! with more threads it depends on the number of parts (`threads`, at most [`MAX_PARTS`]). What
 //! it costs in Hausdorff distance is measured in docs/notes/qem.md.
 
+use super::passes::simplify_prepared;
 use super::prepare::{self, Prepared};
-use super::{Run, sequential, simplify_prepared};
+use super::{Run, sequential};
 use crate::{QemError, QemParams, Target};
 use glam::DVec3;
 use mesh::TriMesh;

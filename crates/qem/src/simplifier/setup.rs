@@ -3,7 +3,8 @@
 //! independent task (parallel for large meshes; the result does not depend on the thread count).
 
 use super::candidates::Cand;
-use super::engine::{Seams, Vertex};
+use super::engine::Vertex;
+use super::seams::Seams;
 use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use crate::{QemParams, Quadric};
 use glam::DVec3;
