@@ -3,7 +3,7 @@
 //! exactly what was asked for.
 
 use crate::reconstruct::ReconstructionReport;
-use crate::trainer::TrainingStats;
+use crate::train::TrainingStats;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 use std::fmt;
