@@ -15,7 +15,7 @@
 
 use crate::domain::Pieces;
 use crate::params::ReconstructionParams;
-use crate::reconstruct::{OriginalTables, ReconstructionReport};
+use crate::reconstruct::{OriginalTables, Reconstruction, ReconstructionReport};
 use glam::Vec3;
 use mesh::TriMesh;
 use mesh::cancel::Cancel;
@@ -215,4 +215,26 @@ pub(crate) fn run(
         work.end_build(start, build_seconds);
     }
     Ok(work.output(steps, skipped))
+}
+
+impl crate::Snapshot {
+    /// Build the mesh of this network over the `original` mesh it was trained on (phase 2 with
+    /// these options as given: no decimation, no time limit), e.g. for checkpoints of a
+    /// training. The steps are [`crate::Step`]'s; [`crate::Trainer::reconstruct`] does the same
+    /// on the trainer's current network, reusing its tables of the original.
+    pub fn reconstruct(&self, original: &TriMesh, params: &ReconstructionParams) -> Reconstruction {
+        let pieces = Pieces::of(original);
+        let input = Input {
+            original,
+            pieces: &pieces,
+            tables: None,
+            nodes: &self.positions,
+            edges: &self.edges,
+            params,
+            decimate_to: None,
+            charts: None,
+            threads: crate::parallel::threads(None),
+        };
+        reconstruct_only(&input)
+    }
 }

@@ -501,7 +501,7 @@ mod tests {
     #[test]
     fn a_network_below_the_split_size_trains_as_one_part() {
         let sphere = mesh::procedural::icosphere(4);
-        let split = trainer(&sphere, crate::domain::SPLIT_MIN_NODES - 1, true, 2);
+        let split = trainer(&sphere, crate::tuning::SPLIT_MIN_NODES - 1, true, 2);
         assert_eq!(split.parts.len(), 1);
         // And without the option a large one is one part as well.
         assert_eq!(trainer(&sphere, 1000, false, 2).parts.len(), 1);
