@@ -355,12 +355,12 @@ pub struct ReconstructionReport {
     /// Triangles added to close those loops.
     pub fill_faces: usize,
     /// Nodes added by option (f), splitting cells that broke the topology (0 unless
-    /// [`ReconstructionParams::split_bad_cells`]).
+    /// [`crate::ReconstructionParams::split_bad_cells`]).
     pub split_cells: usize,
     /// Rounds of option (f) that split at least one cell.
     pub split_rounds: usize,
     /// Nodes added by option (g) where the mesh stayed farthest from the original (0 unless
-    /// [`ReconstructionParams::detail_rounds`]).
+    /// [`crate::ReconstructionParams::detail_rounds`]).
     pub detail_nodes: usize,
     /// Nodes that no mapped triangle referenced and that were inserted into the nearest
     /// output triangle (edge or face split) so that every node is an output vertex.

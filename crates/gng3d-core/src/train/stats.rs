@@ -6,7 +6,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
 
-/// Shared flag that stops a running [`Trainer`] from another thread (at its next check, within
+/// Shared flag that stops a running [`crate::Trainer`] from another thread (at its next check, within
 /// about a thousand signals): the workspace's one cancel flag, [`mesh::cancel::Cancel`], under
 /// the name the trainer has always given it ([`crate::finish_cancellable`], QEM's
 /// `QemParams::cancel` and the metrics take the same type).
@@ -59,7 +59,7 @@ pub struct Snapshot {
     pub finished: bool,
 }
 
-/// Training progress reported to [`Trainer::train`] observers.
+/// Training progress reported to [`crate::Trainer::train`] observers.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Progress {
@@ -81,7 +81,7 @@ pub struct TrainingStats {
     pub signals: u64,
     /// λ in use (lowered by the time-limit schedule when needed).
     pub lambda: u64,
-    /// Signal budget (see [`GngParams::max_signals`] and [`GngParams::epochs`]).
+    /// Signal budget (see [`crate::GngParams::max_signals`] and [`crate::GngParams::epochs`]).
     pub max_signals: u64,
     /// Nodes inserted (Fritzke insertion).
     pub insertions: u64,
@@ -90,7 +90,7 @@ pub struct TrainingStats {
     /// Nodes removed because they lost their last edge.
     pub removed_isolated: u64,
     /// Connected input components trained, each by its own network (or two, one a half, with
-    /// [`GngParams::split_training`]).
+    /// [`crate::GngParams::split_training`]).
     pub components: usize,
     /// Training time, seconds.
     pub seconds: f64,
