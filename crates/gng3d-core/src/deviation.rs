@@ -35,8 +35,8 @@
 //!    either is taken when the largest distance of the points it changes (the vertex, its
 //!    edges' midpoints and its faces' centroids; the edge's midpoint and its two faces'
 //!    centroids) falls below [`GAIN`] × what it was, and the faces it changes stay sound: not
-//!    degenerate, facing the way the old faces faced on average ([`MIN_NORMAL_COS`]), and with
-//!    a smallest angle of at least the old faces' or [`KEEP_ANGLE_DEGREES`]. A flip also needs
+//!    degenerate, facing the way the old faces faced on average ([`crate::soundness::DEVIATION_MIN_NORMAL_COS`]), and with
+//!    a smallest angle of at least the old faces' or [`crate::soundness::DEVIATION_KEEP_ANGLE_DEGREES`]. A flip also needs
 //!    `c ≠ d` and no edge `c d` already (no duplicate face). Vertices and edges on the output's
 //!    open borders (and at edges with more than two faces) stay.
 //!
@@ -81,17 +81,6 @@ pub const MAX_CANDIDATE_SHARE: f64 = 0.05;
 /// gargoyle-10k at 25 % lost 2.6 % mean distance to moves that traded a vertex's lift for its
 /// faces').
 pub const GAIN: f64 = 0.9;
-
-/// Each changed face's normal must have at least this cosine with the old faces' (area-weighted)
-/// mean normal (as the flips' [`crate::flip::MIN_NORMAL_COS`]).
-pub const MIN_NORMAL_COS: f64 = 0.2;
-
-/// Changed faces may have a smallest angle down to the old faces' smallest, or down to this
-/// many degrees when that was larger. The spikes are mostly vertices of valence 3 (a face split
-/// in three), whose faces flatten into thinner ones: with 20° (the refit's bound) the bunny at
-/// 50 % kept its two worst spikes (Hausdorff 3.3e-4, 1.34e-4 with 10°); 5° changed nothing
-/// more. Over the 42 runs: 20° × 0.908, 10° × 0.810.
-pub const KEEP_ANGLE_DEGREES: f64 = 10.0;
 
 /// What [`repair`] did.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

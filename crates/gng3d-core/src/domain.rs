@@ -24,25 +24,9 @@
 use crate::error::GngError;
 use crate::params::{GngParams, SignalSource};
 use crate::report::GngWarning;
+use crate::tuning::{MIN_COMPONENT_NODES, SPLIT_MIN_NODES, STRAY_RADII};
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
-
-/// A component keeps its own nodes only when its proportional share of the target is at least
-/// this many nodes: fewer cannot make a closed triangle fan, and a 1-2 node piece would be a
-/// dangling sliver. Smaller components are dropped with a [`GngWarning::DroppedComponents`].
-pub const MIN_COMPONENT_NODES: usize = 3;
-
-/// A vertex farther than this many robust radii (90th-percentile distance from the component's
-/// median) is a stray point (scanner outlier, corrupted coordinate) and gives no signal. 1000
-/// keeps legitimate long, thin parts (a rod 100× longer than wide is ~2 radii long at its
-/// tips) and catches the 1e8-away points of the scans.
-pub const STRAY_RADII: f64 = 1000.0;
-
-/// A piece is trained as two halves ([`GngParams::split_training`]) from this many nodes on,
-/// i.e. at least 256 a half: smaller networks train in about 10 ms (the cow at 10 %: 435 nodes,
-/// 43,500 signals, 11-15 ms), less than phase 2 takes, and the cells along the cut would be a
-/// larger share of all cells.
-pub const SPLIT_MIN_NODES: usize = 512;
 
 /// Percentile of the distances from the median that defines the robust radius.
 const RADIUS_PERCENTILE: f64 = 0.9;

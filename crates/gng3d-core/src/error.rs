@@ -1,6 +1,6 @@
 //! Errors of GNG3D training and simplification.
 
-use crate::trainer::StopReason;
+use crate::train::StopReason;
 use thiserror::Error;
 
 /// Why GNG3D could not run on the given mesh and parameters.

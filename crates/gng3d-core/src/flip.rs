@@ -15,8 +15,8 @@
 //!    `a b` with faces `(a b c)` and `(b a d)`, the flip to `c d` is taken when
 //!    - `c ≠ d` and the edge `c d` does not exist (no duplicate face, manifoldness kept),
 //!    - both new faces are non-degenerate, face the way the old pair faced
-//!      ([`MIN_NORMAL_COS`]) and do not fold onto each other ([`MIN_FOLD_COS`]),
-//!    - their smallest angle stays at least `min(old smallest angle, KEEP_ANGLE_DEGREES)`
+//!      ([`crate::soundness::FLIP_MIN_NORMAL_COS`]) and do not fold onto each other ([`MIN_FOLD_COS`]),
+//!    - their smallest angle stays at least `min(old smallest angle, crate::soundness::FLIP_KEEP_ANGLE_DEGREES)`
 //!      (GNG3D's well-shaped triangles are one of its advantages),
 //!    - and either the quad's points' summed squared distance to the new faces is below
 //!      [`GAIN`] × the cached error of the old pair (clearly lower, so flips cannot cycle),
@@ -39,16 +39,8 @@ pub const MAX_PASSES: usize = 4;
 /// A flip is taken when the new error is below this fraction of the old one.
 pub const GAIN: f64 = 0.9;
 
-/// Each new face normal must have at least this cosine with the old pair's (area-weighted)
-/// normal, as in qem's `min_normal_cos`.
-pub const MIN_NORMAL_COS: f64 = 0.2;
-
 /// The two new faces' normals must have at least this cosine (no fold sharper than ~120°).
 pub const MIN_FOLD_COS: f64 = -0.5;
-
-/// New faces may have a smallest angle down to the old pair's, or down to this many degrees
-/// when the old pair's was larger.
-pub const KEEP_ANGLE_DEGREES: f64 = 25.0;
 
 /// A flip for shape is taken when the pair's smallest angle grows by this factor (in sin², so
 /// 1.05 is about +2.5 % in angle), the quad's error does not grow, the fold between the two

@@ -114,15 +114,13 @@
 //!
 //! glam, whose `Vec3` is in the API, is re-exported as [`glam`].
 
+mod clock;
 mod decimate;
 mod deviation;
 mod domain;
 mod error;
 mod fan_search;
-mod features;
 mod flip;
-mod grid;
-mod network;
 mod options;
 mod parallel;
 mod params;
@@ -132,8 +130,10 @@ mod reconstruct;
 mod refit;
 mod relax;
 mod report;
+mod run;
 mod seams;
 mod soundness;
+mod train;
 mod trainer;
 #[doc(hidden)]
 pub mod tuning;
@@ -149,7 +149,8 @@ pub use params::{
 pub use pipeline::{Plan, PlannedStep, Step, StepRecord};
 pub use reconstruct::{Reconstruction, ReconstructionReport};
 pub use report::{GngReport, GngSummary, GngWarning};
-pub use trainer::{CancelToken, Progress, Snapshot, StopReason, Trainer, TrainingStats};
+pub use train::{CancelToken, Progress, Snapshot, StopReason, TrainingStats};
+pub use trainer::Trainer;
 
 use glam::Vec3;
 use mesh::TriMesh;

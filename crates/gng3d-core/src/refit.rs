@@ -29,9 +29,9 @@
 //! 4. **Move** (Jacobi: every vertex from the previous positions): each vertex minimises its
 //!    quadric from its current position along the well-conditioned directions
 //!    ([`Quadric::minimizer_near`]); the move is clamped to [`MAX_STEP`] × its shortest incident
-//!    edge. It is taken when no incident face turns by more than `acos(`[`MAX_TURN_COS`]`)` and,
+//!    edge. It is taken when no incident face turns by more than `acos(`[`crate::soundness::REFIT_MAX_TURN_COS`]`)` and,
 //!    for interior vertices, every incident face keeps its smallest angle above
-//!    [`KEEP_ANGLE_DEGREES`] (or above its old one); otherwise its component along the vertex
+//!    [`crate::soundness::REFIT_KEEP_ANGLE_DEGREES`] (or above its old one); otherwise its component along the vertex
 //!    normal is tried under the same rules, otherwise the vertex stays.
 //!
 //! Deterministic: the sample assignment runs on all cores but gives the same result for any
@@ -64,21 +64,6 @@ pub const EIGEN_REL_TOL: f64 = 1e-2;
 /// A vertex moves at most this share of its shortest incident edge per iteration, so that one
 /// iteration cannot fold a fan (not swept).
 pub const MAX_STEP: f64 = 0.25;
-
-/// An incident face's normal must keep at least this cosine with its normal before the move
-/// (~45°; not swept).
-pub const MAX_TURN_COS: f64 = 0.7;
-
-/// An interior vertex's move must leave each of its faces with a smallest angle of at least
-/// this, or at least the face's angle before the move when that was smaller; otherwise only the
-/// move's component along the vertex normal is tried. Over the survey (45 runs) the refit
-/// without this rule won triangle quality (median smallest angle and share under 20°) against
-/// QEM in 40 runs instead of 41, share under 20° 42 instead of 44 (cow at 10 %: 9.9 → 13.9 %
-/// of triangles under 20°), E_avg 41 instead of 43; with it the median mean-distance ratio is
-/// 1.53 instead of 1.49. 25° (the flips' bound) cost more distance (gargoyle-10k 10 %: 1.23 vs
-/// 1.19× QEM); holding border vertices to it too raised the survey's median Hausdorff ratio
-/// from 2.75 to 2.82 (the bunny's rim at 10 %: 1.77 → 2.62× QEM).
-pub const KEEP_ANGLE_DEGREES: f64 = 20.0;
 
 /// A sample only counts when its normal and its output face's have at least this cosine (60°;
 /// added together with the boundary samples, see [`BOUNDARY_WEIGHT`]).
@@ -203,7 +188,7 @@ pub(crate) fn refit(
             let start = old[v];
             // The full move, else its part along the vertex normal (the fan keeps its shape in
             // the tangent plane), else none. Interior vertices must keep their faces' shape
-            // (KEEP_ANGLE_DEGREES); border vertices only their orientation, so that they can
+            // (crate::soundness::REFIT_KEEP_ANGLE_DEGREES); border vertices only their orientation, so that they can
             // follow the original's rim.
             let on_border = !out_boundary[v].is_empty();
             let mut taken = false;
@@ -268,8 +253,8 @@ fn propose_move(
 }
 
 /// Step 4's rule for a vertex move from `old` to `pos` (the two differ in that vertex only,
-/// whose faces are `fan`): no face turns by more than `acos(`[`MAX_TURN_COS`]`)` and, when
-/// `keep_shape`, every face keeps its smallest angle above [`KEEP_ANGLE_DEGREES`] or above its
+/// whose faces are `fan`): no face turns by more than `acos(`[`crate::soundness::REFIT_MAX_TURN_COS`]`)` and, when
+/// `keep_shape`, every face keeps its smallest angle above [`crate::soundness::REFIT_KEEP_ANGLE_DEGREES`] or above its
 /// old one. Shared with [`crate::relax`].
 pub(crate) fn move_fits(
     fan: &[u32],
@@ -623,7 +608,7 @@ mod tests {
             assert!((b - a).cross(c - a).dot(a + b + c) > 0.0);
             let after = angle(&positions, t);
             assert!(
-                after >= before.min(KEEP_ANGLE_DEGREES) - 1e-6,
+                after >= before.min(crate::soundness::REFIT_KEEP_ANGLE_DEGREES) - 1e-6,
                 "{before}° -> {after}°"
             );
         }

@@ -2,8 +2,8 @@
 //! vertex counts, and machine-readable warnings for everything that kept the output from being
 //! exactly what was asked for.
 
-use crate::reconstruct::ReconstructionReport;
-use crate::trainer::TrainingStats;
+use crate::train::TrainingStats;
+use mesh::topology::TopologyReport;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 use std::fmt;
@@ -114,7 +114,7 @@ impl fmt::Display for GngWarning {
             GngWarning::StrayVertices { vertices } => write!(
                 f,
                 "{vertices} stray vertices (over {} robust radii from their piece) were ignored",
-                crate::domain::STRAY_RADII
+                crate::tuning::STRAY_RADII
             ),
             GngWarning::DroppedComponents {
                 components,
@@ -123,7 +123,7 @@ impl fmt::Display for GngWarning {
             } => write!(
                 f,
                 "{components} small components ({vertices} vertices) were too small for {} nodes and were dropped; {kept} kept",
-                crate::domain::MIN_COMPONENT_NODES
+                crate::tuning::MIN_COMPONENT_NODES
             ),
             GngWarning::TargetAboveCapacity { target, capacity } => write!(
                 f,
@@ -326,6 +326,100 @@ impl GngSummary {
             genus: t.genus,
             boundary_edges: t.boundary_edges,
             non_manifold_edges: t.non_manifold_edges,
+        }
+    }
+}
+
+/// Face counts removed or added by each reconstruction step, and the output topology.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct ReconstructionReport {
+    /// Faces of the original mesh.
+    pub original_faces: usize,
+    /// Original vertices moved to a neighbouring cell to make every node's cell edge-connected.
+    pub relabelled_vertices: usize,
+    /// Original faces whose corners fell on fewer than three distinct nodes.
+    pub degenerate_faces: usize,
+    /// Original faces dropped because another face mapped to the same node triple with the same
+    /// orientation.
+    pub duplicate_faces: usize,
+    /// Original faces dropped because their triple was also produced with the opposite
+    /// orientation (counted per dropped face).
+    pub opposite_faces: usize,
+    /// Triangles dropped by option (a) because a pair of their nodes is not a GNG edge.
+    pub non_gng_faces: usize,
+    /// Triangles dropped by the cleanup pass on edges with more than two faces.
+    pub fin_faces: usize,
+    /// Boundary loops closed by the cleanup pass.
+    pub holes_filled: usize,
+    /// Triangles added to close those loops.
+    pub fill_faces: usize,
+    /// Nodes added by option (f), splitting cells that broke the topology (0 unless
+    /// [`crate::ReconstructionParams::split_bad_cells`]).
+    pub split_cells: usize,
+    /// Rounds of option (f) that split at least one cell.
+    pub split_rounds: usize,
+    /// Nodes added by option (g) where the mesh stayed farthest from the original (0 unless
+    /// [`crate::ReconstructionParams::detail_rounds`]).
+    pub detail_nodes: usize,
+    /// Nodes that no mapped triangle referenced and that were inserted into the nearest
+    /// output triangle (edge or face split) so that every node is an output vertex.
+    pub attached_nodes: usize,
+    /// Nodes that ended up in no triangle and were dropped (0 unless the mesh has no triangle
+    /// near them).
+    pub unreferenced_nodes: usize,
+    /// Output vertices moved by the placement (option (c); 0 for `Placement::Node`).
+    pub placed_vertices: usize,
+    /// Edges flipped by option (d).
+    pub flipped_edges: usize,
+    /// Vertex moves of the surface refit, option (e), summed over its iterations.
+    pub refit_moves: usize,
+    /// Vertices moved by the tangential relaxation of the decimated mesh, option (h) (0 without
+    /// a decimation).
+    pub relaxed_vertices: usize,
+    /// Vertices moved back onto the original by the deviation repair of the decimated mesh,
+    /// option (i) (0 without a decimation).
+    pub deviation_moves: usize,
+    /// Edges flipped by the deviation repair, option (i).
+    pub deviation_flips: usize,
+    /// Output vertex count.
+    pub vertices: usize,
+    /// Output face count.
+    pub faces: usize,
+    /// Topology of the output.
+    pub topology: TopologyReport,
+    /// Time spent, seconds.
+    pub seconds: f64,
+}
+
+impl ReconstructionReport {
+    /// A report with every counter at zero, for an original of `original_faces` faces.
+    pub(crate) fn empty(original_faces: usize) -> ReconstructionReport {
+        ReconstructionReport {
+            original_faces,
+            relabelled_vertices: 0,
+            degenerate_faces: 0,
+            duplicate_faces: 0,
+            opposite_faces: 0,
+            non_gng_faces: 0,
+            fin_faces: 0,
+            holes_filled: 0,
+            fill_faces: 0,
+            split_cells: 0,
+            split_rounds: 0,
+            detail_nodes: 0,
+            attached_nodes: 0,
+            unreferenced_nodes: 0,
+            placed_vertices: 0,
+            flipped_edges: 0,
+            refit_moves: 0,
+            relaxed_vertices: 0,
+            deviation_moves: 0,
+            deviation_flips: 0,
+            vertices: 0,
+            faces: 0,
+            topology: mesh::topology::analyze(&mesh::TriMesh::default()),
+            seconds: 0.0,
         }
     }
 }

@@ -17,14 +17,12 @@
 
 use crate::domain::Pieces;
 use crate::params::{OppositeFaces, ReconstructionParams};
+pub use crate::report::ReconstructionReport;
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
-use mesh::topology::TopologyReport;
 use mesh::topology::UnionFind;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
-#[cfg(feature = "serde")]
-use serde::Serialize;
 
 pub(crate) mod attach;
 mod cleanup;
@@ -51,100 +49,6 @@ pub struct Reconstruction {
     pub node_of_vertex: Vec<u32>,
     /// What each step did.
     pub report: ReconstructionReport,
-}
-
-/// Face counts removed or added by each reconstruction step, and the output topology.
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(Serialize))]
-pub struct ReconstructionReport {
-    /// Faces of the original mesh.
-    pub original_faces: usize,
-    /// Original vertices moved to a neighbouring cell to make every node's cell edge-connected.
-    pub relabelled_vertices: usize,
-    /// Original faces whose corners fell on fewer than three distinct nodes.
-    pub degenerate_faces: usize,
-    /// Original faces dropped because another face mapped to the same node triple with the same
-    /// orientation.
-    pub duplicate_faces: usize,
-    /// Original faces dropped because their triple was also produced with the opposite
-    /// orientation (counted per dropped face).
-    pub opposite_faces: usize,
-    /// Triangles dropped by option (a) because a pair of their nodes is not a GNG edge.
-    pub non_gng_faces: usize,
-    /// Triangles dropped by the cleanup pass on edges with more than two faces.
-    pub fin_faces: usize,
-    /// Boundary loops closed by the cleanup pass.
-    pub holes_filled: usize,
-    /// Triangles added to close those loops.
-    pub fill_faces: usize,
-    /// Nodes added by option (f), splitting cells that broke the topology (0 unless
-    /// [`ReconstructionParams::split_bad_cells`]).
-    pub split_cells: usize,
-    /// Rounds of option (f) that split at least one cell.
-    pub split_rounds: usize,
-    /// Nodes added by option (g) where the mesh stayed farthest from the original (0 unless
-    /// [`ReconstructionParams::detail_rounds`]).
-    pub detail_nodes: usize,
-    /// Nodes that no mapped triangle referenced and that were inserted into the nearest
-    /// output triangle (edge or face split) so that every node is an output vertex.
-    pub attached_nodes: usize,
-    /// Nodes that ended up in no triangle and were dropped (0 unless the mesh has no triangle
-    /// near them).
-    pub unreferenced_nodes: usize,
-    /// Output vertices moved by the placement (option (c); 0 for `Placement::Node`).
-    pub placed_vertices: usize,
-    /// Edges flipped by option (d).
-    pub flipped_edges: usize,
-    /// Vertex moves of the surface refit, option (e), summed over its iterations.
-    pub refit_moves: usize,
-    /// Vertices moved by the tangential relaxation of the decimated mesh, option (h) (0 without
-    /// a decimation).
-    pub relaxed_vertices: usize,
-    /// Vertices moved back onto the original by the deviation repair of the decimated mesh,
-    /// option (i) (0 without a decimation).
-    pub deviation_moves: usize,
-    /// Edges flipped by the deviation repair, option (i).
-    pub deviation_flips: usize,
-    /// Output vertex count.
-    pub vertices: usize,
-    /// Output face count.
-    pub faces: usize,
-    /// Topology of the output.
-    pub topology: TopologyReport,
-    /// Time spent, seconds.
-    pub seconds: f64,
-}
-
-impl ReconstructionReport {
-    /// A report with every counter at zero, for an original of `original_faces` faces.
-    pub(crate) fn empty(original_faces: usize) -> ReconstructionReport {
-        ReconstructionReport {
-            original_faces,
-            relabelled_vertices: 0,
-            degenerate_faces: 0,
-            duplicate_faces: 0,
-            opposite_faces: 0,
-            non_gng_faces: 0,
-            fin_faces: 0,
-            holes_filled: 0,
-            fill_faces: 0,
-            split_cells: 0,
-            split_rounds: 0,
-            detail_nodes: 0,
-            attached_nodes: 0,
-            unreferenced_nodes: 0,
-            placed_vertices: 0,
-            flipped_edges: 0,
-            refit_moves: 0,
-            relaxed_vertices: 0,
-            deviation_moves: 0,
-            deviation_flips: 0,
-            vertices: 0,
-            faces: 0,
-            topology: mesh::topology::analyze(&TriMesh::default()),
-            seconds: 0.0,
-        }
-    }
 }
 
 /// f64 kd-tree over `points` (f64 so that squared distances of 1e30-sized coordinates do not
@@ -412,28 +316,6 @@ pub(crate) struct Candidate {
     pub tri: [u32; 3],
     /// Original faces mapping to the triple in the kept orientation.
     pub support: u32,
-}
-
-impl crate::Snapshot {
-    /// Build the mesh of this network over the `original` mesh it was trained on (phase 2 with
-    /// these options as given: no decimation, no time limit), e.g. for checkpoints of a
-    /// training. The steps are [`crate::Step`]'s; [`crate::Trainer::reconstruct`] does the same
-    /// on the trainer's current network, reusing its tables of the original.
-    pub fn reconstruct(&self, original: &TriMesh, params: &ReconstructionParams) -> Reconstruction {
-        let pieces = Pieces::of(original);
-        let input = crate::pipeline::Input {
-            original,
-            pieces: &pieces,
-            tables: None,
-            nodes: &self.positions,
-            edges: &self.edges,
-            params,
-            decimate_to: None,
-            charts: None,
-            threads: crate::parallel::threads(None),
-        };
-        crate::pipeline::reconstruct_only(&input)
-    }
 }
 
 /// Map the original faces to label triples, merge duplicates, resolve orientation and run

@@ -8,7 +8,7 @@
 //! Errors: every error decays by the factor d after each signal. Instead of touching every
 //! node, the store keeps `E / d^t` and a running `1 / d^t`, renormalised before it overflows.
 
-use crate::grid::{Grid, NONE};
+use super::grid::{Grid, NONE};
 use glam::Vec3;
 
 /// Maximum number of neighbours kept inline per node; adding an edge to a full node evicts its
