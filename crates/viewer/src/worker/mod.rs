@@ -91,9 +91,9 @@ pub enum Event {
         /// Session number.
         session: u64,
         /// The steps the run's parameters plan without a time limit, in order
-        /// ([`Engine::full_plan`]).
+        /// ([`Engine::full_plan`](crate::engine::Engine::full_plan)).
         full_plan: Vec<PlannedStep>,
-        /// Those of them the run will run ([`Engine::plan`]; the rest the time limit left out
+        /// Those of them the run will run ([`Engine::plan`](crate::engine::Engine::plan); the rest the time limit left out
         /// before the run started).
         steps: Vec<PlannedStep>,
         /// The run's time limit (training and steps), seconds.
@@ -105,7 +105,7 @@ pub enum Event {
         steps_estimate: Option<f64>,
     },
     /// Training ended and the finished network's pipeline starts (once per run: "Reconstruct
-    /// now" on a finished network gets the same mesh again, [`Engine::has_final`]).
+    /// now" on a finished network gets the same mesh again, [`Engine::has_final`](crate::engine::Engine::has_final)).
     PipelineStarted {
         /// Session number.
         session: u64,

@@ -30,9 +30,9 @@ struct Training {
     /// Checkpoint reconstructions since the reset, and the seconds of the last one.
     previews: u64,
     last_preview: f64,
-    /// Checkpoints skipped by [`CHECKPOINT_TIME_SHARE`] since the reset (see [`Live`]).
+    /// Checkpoints skipped by [`CHECKPOINT_TIME_SHARE`](super::CHECKPOINT_TIME_SHARE) since the reset (see [`Live`](super::Live)).
     skipped_checkpoints: u64,
-    /// Points of a paced run's error schedule left out since the reset (see [`Live`]).
+    /// Points of a paced run's error schedule left out since the reset (see [`Live`](super::Live)).
     skipped_error_points: u64,
     /// Wall time spent running (pauses excluded) since the reset: the clock of a paced run.
     paced_clock: Duration,
