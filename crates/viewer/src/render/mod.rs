@@ -1,0 +1,368 @@
+//! wgpu rendering of the 3D viewports: GPU copies of meshes and of the live
+//! network, and pipelines that draw them with depth into an offscreen colour+depth target per
+//! viewport. Each target is copied into egui's render pass by a paint callback
+//! ([`ViewportCallback`]): one texel load per pixel, which on a CPU rasterizer (lavapipe) costs a
+//! fraction of egui's own textured-quad shader.
+//!
+//! This file holds the formats, the GPU copies and the types the viewports share; `setup`
+//! builds the pipelines and targets, `frame` records each frame's drawing, and the WGSL
+//! shaders sit beside them (`shader.wgsl` for the scene, `blit.wgsl` for the copy).
+
+mod frame;
+mod setup;
+
+pub use crate::camera::OrbitCamera;
+use bytemuck::{Pod, Zeroable};
+pub use frame::*;
+use glam::Vec3;
+use mesh::TriMesh;
+use std::hash::{Hash, Hasher};
+use std::sync::atomic::{AtomicU64, Ordering};
+use wgpu::util::DeviceExt;
+
+/// Colour format of the offscreen targets: the bytes are shown on screen as they are.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The same bytes read as sRGB, for copying them unchanged into an sRGB render target.
+const COLOR_FORMAT_SRGB: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// How a viewport's bytes (already display-encoded, see [`COLOR_FORMAT`]) reach egui's render
+/// target unchanged. Chosen from the output format and the adapter's capabilities: OpenGL ES
+/// (Mesa llvmpipe via EGL, `WGPU_BACKEND=gl`) has no `DownlevelFlags::VIEW_FORMATS`, and asking
+/// for an sRGB view there is a validation error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CopyMode {
+    /// The output is not sRGB: read the bytes as they are.
+    Direct,
+    /// sRGB output, reinterpreting views supported: read through an sRGB view of the texture,
+    /// so the hardware decode and the output's encode cancel exactly.
+    SrgbView,
+    /// sRGB output without reinterpreting views: decode sRGB in the copy shader (a WGSL
+    /// `override` constant, so the other modes pay nothing for it).
+    DecodeInShader,
+}
+
+impl CopyMode {
+    /// The mode for copying into `output_format` on a device with `downlevel` capabilities.
+    pub fn choose(
+        output_format: wgpu::TextureFormat,
+        downlevel: &wgpu::DownlevelCapabilities,
+    ) -> CopyMode {
+        if !output_format.is_srgb() {
+            CopyMode::Direct
+        } else if downlevel.flags.contains(wgpu::DownlevelFlags::VIEW_FORMATS) {
+            CopyMode::SrgbView
+        } else {
+            CopyMode::DecodeInShader
+        }
+    }
+
+    /// Format of the view the copy shader reads.
+    fn view_format(self) -> wgpu::TextureFormat {
+        match self {
+            CopyMode::SrgbView => COLOR_FORMAT_SRGB,
+            CopyMode::Direct | CopyMode::DecodeInShader => COLOR_FORMAT,
+        }
+    }
+
+    /// Extra view formats the colour texture must be created with (none unless reinterpreted).
+    fn texture_view_formats(self) -> &'static [wgpu::TextureFormat] {
+        match self {
+            CopyMode::SrgbView => &[COLOR_FORMAT_SRGB],
+            CopyMode::Direct | CopyMode::DecodeInShader => &[],
+        }
+    }
+}
+/// Depth format of the offscreen targets.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Clear colour of the viewports (RGB as shown on screen, 0–1).
+pub const CLEAR_COLOR: [f64; 3] = [0.010, 0.012, 0.018];
+/// Distance between per-draw uniform slots in bytes (wgpu's minimum dynamic offset alignment).
+const UNIFORM_STRIDE: u64 = 256;
+/// Draw calls one viewport can issue per frame.
+const MAX_DRAWS: u64 = 8;
+
+/// Per-draw uniforms, laid out like `Draw` in shader.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct DrawUniform {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    light: [f32; 4],
+    color: [f32; 4],
+    params: [f32; 4],
+    viewport: [f32; 4],
+}
+
+/// Vertex of a surface: position and smooth normal.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct SurfaceVertex {
+    position: [f32; 3],
+    normal: [f32; 3],
+}
+
+/// A triangle mesh uploaded to the GPU: vertices with smooth normals, triangle indices and the
+/// unique edges for wireframe.
+pub struct GpuMesh {
+    /// Unique per upload (part of a viewport's content fingerprint).
+    id: u64,
+    vertices: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    triangle_index_count: u32,
+    edges: wgpu::Buffer,
+    edge_index_count: u32,
+    /// Vertex count of the source mesh.
+    pub vertex_count: usize,
+    /// Face count of the source mesh.
+    pub face_count: usize,
+}
+
+impl GpuMesh {
+    /// Upload `mesh` (vertex normals are computed here).
+    pub fn new(device: &wgpu::Device, mesh: &TriMesh) -> GpuMesh {
+        let normals = mesh.vertex_normals();
+        let vertices: Vec<SurfaceVertex> = mesh
+            .positions
+            .iter()
+            .zip(&normals)
+            .map(|(p, n)| SurfaceVertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            })
+            .collect();
+        let triangle_indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        // Wireframe: the unique edges from the mesh crate's one edge builder.
+        let edges = mesh::topology::EdgeTable::new(mesh).edges;
+        let edge_indices: Vec<u32> = edges.into_iter().flatten().collect();
+        GpuMesh {
+            id: NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed),
+            vertices: buffer_init(
+                device,
+                "mesh vertices",
+                &vertices,
+                wgpu::BufferUsages::VERTEX,
+            ),
+            triangles: buffer_init(
+                device,
+                "mesh triangles",
+                &triangle_indices,
+                wgpu::BufferUsages::INDEX,
+            ),
+            triangle_index_count: triangle_indices.len() as u32,
+            edges: buffer_init(
+                device,
+                "mesh edges",
+                &edge_indices,
+                wgpu::BufferUsages::INDEX,
+            ),
+            edge_index_count: edge_indices.len() as u32,
+            vertex_count: mesh.vertex_count(),
+            face_count: mesh.face_count(),
+        }
+    }
+}
+
+/// Source of [`GpuMesh`] and [`GpuNetwork`] content ids.
+static NEXT_UPLOAD_ID: AtomicU64 = AtomicU64::new(1);
+
+/// Create a buffer holding `data` (at least 16 bytes so empty data stays valid).
+fn buffer_init<T: Pod>(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[T],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let bytes: &[u8] = bytemuck::cast_slice(data);
+    if bytes.is_empty() {
+        return device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: 16,
+            usage,
+            mapped_at_creation: false,
+        });
+    }
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage,
+    })
+}
+
+/// The live GNG network on the GPU: node positions (instanced points, line vertices) and edges.
+pub struct GpuNetwork {
+    positions: wgpu::Buffer,
+    position_capacity: u64,
+    edges: wgpu::Buffer,
+    edge_capacity: u64,
+    node_count: u32,
+    edge_index_count: u32,
+    /// Unique per update (part of a viewport's content fingerprint).
+    id: u64,
+}
+
+impl GpuNetwork {
+    /// An empty network.
+    pub fn new(device: &wgpu::Device) -> GpuNetwork {
+        GpuNetwork {
+            positions: growable(device, "network nodes", 4096, wgpu::BufferUsages::VERTEX),
+            position_capacity: 4096,
+            edges: growable(device, "network edges", 4096, wgpu::BufferUsages::INDEX),
+            edge_capacity: 4096,
+            node_count: 0,
+            edge_index_count: 0,
+            id: NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed),
+        }
+    }
+
+    /// Replace the network with `positions` and `edges` (buffers grow geometrically).
+    pub fn update(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        positions: &[Vec3],
+        edges: &[[u32; 2]],
+    ) {
+        let position_bytes: &[u8] = bytemuck::cast_slice(positions);
+        let edge_bytes: &[u8] = bytemuck::cast_slice(edges);
+        if position_bytes.len() as u64 > self.position_capacity {
+            self.position_capacity = (position_bytes.len() as u64).next_power_of_two();
+            self.positions = growable(
+                device,
+                "network nodes",
+                self.position_capacity,
+                wgpu::BufferUsages::VERTEX,
+            );
+        }
+        if edge_bytes.len() as u64 > self.edge_capacity {
+            self.edge_capacity = (edge_bytes.len() as u64).next_power_of_two();
+            self.edges = growable(
+                device,
+                "network edges",
+                self.edge_capacity,
+                wgpu::BufferUsages::INDEX,
+            );
+        }
+        if !position_bytes.is_empty() {
+            queue.write_buffer(&self.positions, 0, position_bytes);
+        }
+        if !edge_bytes.is_empty() {
+            queue.write_buffer(&self.edges, 0, edge_bytes);
+        }
+        self.node_count = positions.len() as u32;
+        // Only edges whose endpoints exist are drawn; the worker guarantees that.
+        self.edge_index_count = (edges.len() * 2) as u32;
+        self.id = NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Number of nodes currently uploaded.
+    pub fn node_count(&self) -> u32 {
+        self.node_count
+    }
+}
+
+fn growable(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16).next_multiple_of(4),
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// How surfaces are shaded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shading {
+    /// One normal per triangle (from screen-space derivatives).
+    Flat,
+    /// Interpolated area-weighted vertex normals.
+    Smooth,
+}
+
+/// One thing to draw into a viewport.
+pub enum DrawItem<'a> {
+    /// An opaque lit surface.
+    Surface {
+        /// The mesh.
+        mesh: &'a GpuMesh,
+        /// RGB base colour (as shown on screen, 0–1).
+        color: [f32; 3],
+        /// Flat or smooth.
+        shading: Shading,
+    },
+    /// The mesh's edges as lines.
+    Wireframe {
+        /// The mesh.
+        mesh: &'a GpuMesh,
+        /// RGBA line colour.
+        color: [f32; 4],
+    },
+    /// A translucent lit surface drawn over everything else (the "original" overlay).
+    Overlay {
+        /// The mesh.
+        mesh: &'a GpuMesh,
+        /// RGB colour and opacity.
+        color: [f32; 4],
+    },
+    /// GNG nodes as round points and GNG edges as lines.
+    Network {
+        /// The network.
+        network: &'a GpuNetwork,
+        /// RGB node colour.
+        node_color: [f32; 3],
+        /// RGBA edge colour.
+        edge_color: [f32; 4],
+        /// Node diameter in pixels.
+        point_px: f32,
+    },
+}
+
+/// An offscreen colour+depth target registered with egui as a texture.
+pub struct ViewTarget {
+    color: wgpu::Texture,
+    color_view: wgpu::TextureView,
+    /// Everything but the live network, drawn when it or the camera changes (see `render`).
+    layer: wgpu::Texture,
+    layer_view: wgpu::TextureView,
+    /// Fingerprint of what `layer` shows.
+    layer_content: Option<u64>,
+    depth_view: wgpu::TextureView,
+    uniforms: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    /// Binds the colour texture to the copy pipeline.
+    blit_group: wgpu::BindGroup,
+    /// Fingerprint of what the colour texture shows (camera, size, items); `None`: nothing yet.
+    content: Option<u64>,
+    /// Size in pixels.
+    pub size: [u32; 2],
+}
+
+impl ViewTarget {
+    /// The colour texture (for read-back in tests and screenshots).
+    pub fn color_texture(&self) -> &wgpu::Texture {
+        &self.color
+    }
+}
+
+/// Pipelines shared by all viewports.
+pub struct SceneRenderer {
+    layout: wgpu::BindGroupLayout,
+    blit_layout: wgpu::BindGroupLayout,
+    blit: wgpu::RenderPipeline,
+    /// How the copy pipeline reads the colour textures (matches the output's encoding).
+    copy_mode: CopyMode,
+    surface: wgpu::RenderPipeline,
+    overlay: wgpu::RenderPipeline,
+    mesh_lines: wgpu::RenderPipeline,
+    network_lines: wgpu::RenderPipeline,
+    points: wgpu::RenderPipeline,
+}
+
+/// A target size in pixels limited to 1..=8192 per side.
+fn clamp_target_size(size: [u32; 2]) -> [u32; 2] {
+    size.map(|s| s.clamp(1, 8192))
+}

@@ -1,0 +1,328 @@
+//! Pipeline setup: the scene's five pipelines and the copy pipeline compiled from the WGSL
+//! shaders beside this file, and the offscreen targets (colour, layer, depth, uniforms) they
+//! draw into.
+
+use super::*;
+
+impl SceneRenderer {
+    /// Compile the shaders and build the pipelines; `output_format` is the format of egui's
+    /// render target (`RenderState::target_format`), into which the viewports are copied, and
+    /// `copy_mode` how (see [`CopyMode::choose`]).
+    pub fn new(
+        device: &wgpu::Device,
+        output_format: wgpu::TextureFormat,
+        copy_mode: CopyMode,
+    ) -> SceneRenderer {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("viewer shader"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("viewer draw uniforms"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(size_of::<DrawUniform>() as u64),
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("viewer pipeline layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let surface_vertex = wgpu::VertexBufferLayout {
+            array_stride: size_of::<SurfaceVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+        };
+        let surface_position_only = wgpu::VertexBufferLayout {
+            array_stride: size_of::<SurfaceVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        };
+        let node_vertex = wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        };
+        let node_instance = wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        };
+        let premultiplied = Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING);
+        let make = |label: &str,
+                    vs: &str,
+                    fs: &str,
+                    buffer: wgpu::VertexBufferLayout<'_>,
+                    topology: wgpu::PrimitiveTopology,
+                    depth_write: bool,
+                    blend: Option<wgpu::BlendState>| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    buffers: &[Some(buffer)],
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR_FORMAT,
+                        blend,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let tri = wgpu::PrimitiveTopology::TriangleList;
+        let lines = wgpu::PrimitiveTopology::LineList;
+        let (blit_layout, blit) = blit_pipeline(device, output_format, copy_mode);
+        SceneRenderer {
+            blit_layout,
+            blit,
+            copy_mode,
+            surface: make(
+                "surface",
+                "vs_surface",
+                "fs_surface",
+                surface_vertex.clone(),
+                tri,
+                true,
+                None,
+            ),
+            overlay: make(
+                "overlay",
+                "vs_surface",
+                "fs_surface",
+                surface_vertex,
+                tri,
+                false,
+                premultiplied,
+            ),
+            mesh_lines: make(
+                "mesh lines",
+                "vs_line",
+                "fs_line",
+                surface_position_only,
+                lines,
+                true,
+                premultiplied,
+            ),
+            network_lines: make(
+                "network lines",
+                "vs_line",
+                "fs_line",
+                node_vertex,
+                lines,
+                false,
+                premultiplied,
+            ),
+            points: make(
+                "points",
+                "vs_point",
+                "fs_point",
+                node_instance,
+                tri,
+                false,
+                None,
+            ),
+            layout,
+        }
+    }
+
+    /// A new viewport target of `size` pixels.
+    pub fn create_target(&self, device: &wgpu::Device, size: [u32; 2]) -> ViewTarget {
+        let size = clamp_target_size(size);
+        let (color, color_view, depth_view) =
+            make_textures(device, size, self.copy_mode.texture_view_formats());
+        let layer = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("viewport layer"),
+            size: color.size(),
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: COLOR_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let layer_view = layer.create_view(&wgpu::TextureViewDescriptor::default());
+        let blit_group = self.blit_group(device, &color);
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("viewport uniforms"),
+            size: UNIFORM_STRIDE * MAX_DRAWS,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("viewport bind group"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &uniforms,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(size_of::<DrawUniform>() as u64),
+                }),
+            }],
+        });
+        ViewTarget {
+            color,
+            color_view,
+            layer,
+            layer_view,
+            layer_content: None,
+            depth_view,
+            uniforms,
+            bind_group,
+            blit_group,
+            content: None,
+            size,
+        }
+    }
+
+    /// Resize `target` to `size` pixels (no-op when unchanged): a new target replaces it.
+    pub fn resize_target(&self, device: &wgpu::Device, target: &mut ViewTarget, size: [u32; 2]) {
+        if target.size != clamp_target_size(size) {
+            *target = self.create_target(device, size);
+        }
+    }
+
+    /// The bind group through which the copy pipeline reads `color`.
+    fn blit_group(&self, device: &wgpu::Device, color: &wgpu::Texture) -> wgpu::BindGroup {
+        let view = color.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(self.copy_mode.view_format()),
+            ..Default::default()
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("viewport copy bind group"),
+            layout: &self.blit_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&view),
+            }],
+        })
+    }
+}
+
+/// The pipeline that copies a viewport texture into a target of `output_format`, and its layout.
+fn blit_pipeline(
+    device: &wgpu::Device,
+    output_format: wgpu::TextureFormat,
+    copy_mode: CopyMode,
+) -> (wgpu::BindGroupLayout, wgpu::RenderPipeline) {
+    let decode = f64::from(u8::from(copy_mode == CopyMode::DecodeInShader));
+    let constants = [("decode_srgb", decode)];
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("viewport copy shader"),
+        source: wgpu::ShaderSource::Wgsl(include_str!("blit.wgsl").into()),
+    });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("viewport copy layout"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("viewport copy pipeline layout"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("viewport copy"),
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_blit"),
+            buffers: &[],
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_blit"),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: output_format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    (layout, pipeline)
+}
+
+fn make_textures(
+    device: &wgpu::Device,
+    size: [u32; 2],
+    view_formats: &[wgpu::TextureFormat],
+) -> (wgpu::Texture, wgpu::TextureView, wgpu::TextureView) {
+    let extent = wgpu::Extent3d {
+        width: size[0].max(1),
+        height: size[1].max(1),
+        depth_or_array_layers: 1,
+    };
+    let color = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("viewport colour"),
+        size: extent,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: COLOR_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats,
+    });
+    let depth = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("viewport depth"),
+        size: extent,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
+    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor::default());
+    (color, color_view, depth_view)
+}
