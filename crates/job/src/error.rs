@@ -48,7 +48,8 @@ pub enum JobError {
         /// Vertices it returned.
         vertices: usize,
     },
-    /// The output would be written where it must not be (see the message).
+    /// The output path cannot take a model (an unknown extension, a folder) or the model has
+    /// no triangles: nothing is written.
     #[error("{}: {message}", path.display())]
     Output {
         /// The output path.
@@ -116,7 +117,6 @@ impl JobError {
             JobError::Mesh(
                 mesh::error::MeshError::Io { .. } | mesh::error::MeshError::Write { .. },
             ) => ErrorKind::Io,
-            JobError::Output { .. } => ErrorKind::Io,
             JobError::Cancelled => ErrorKind::Cancelled,
             JobError::Gng(e) if matches!(**e, G::Cancelled) => ErrorKind::Cancelled,
             JobError::Qem(e) if matches!(**e, qem::QemError::Cancelled) => ErrorKind::Cancelled,

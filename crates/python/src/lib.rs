@@ -167,7 +167,7 @@ fn prepared(
     Ok((py.detach(|| mesh::clean::prepare(&input).0), origin))
 }
 
-/// Simplify a triangle mesh with GNG3D-Q (default), the paper's GNG3D or QEM.
+/// Simplify a triangle mesh with QEM (default), GNG3D-Q or the paper's GNG3D.
 ///
 /// Args:
 ///     vertices: array-like of shape (n, 3), any real dtype (read as float32, as the mesh
@@ -180,8 +180,10 @@ fn prepared(
 ///         It is *not* a reduction (fast_simplification's ``target_reduction=0.9`` is
 ///         ``ratio=0.1`` here) and not a share of faces (the CLI's ``--face-ratio``, QEM only:
 ///         use ``faces_target`` for that). Give exactly one of the three targets.
-///     method: "gng" (GNG3D-Q, the CLI's ``--method gng``), "paper" (the published GNG3D:
-///         node placement, 30 epochs) or "qem" (Garland-Heckbert).
+///     method: "qem" (Garland-Heckbert; the default of every front end, ``gng3d.DEFAULT_METHOD``:
+///         the closest to the surface of the simplifiers measured, and it keeps attributes),
+///         "gng" (GNG3D-Q, the CLI's ``--method gng``: exactly N vertices, even triangles) or
+///         "paper" (the published GNG3D: node placement, 30 epochs).
 ///     time_limit: GNG3D's most seconds for the whole run (steps are left out to keep it;
 ///         each is a warning); the vertex count stays exact.
 ///     seed: GNG3D's random seed, an int in 0 to 2**64 - 1 (the same seed gives the same
@@ -193,7 +195,12 @@ fn prepared(
 ///     placement, flips, refit, relax, deviation_repair, epochs, signals, oversample,
 ///         detail_rounds: GNG3D's variant, as the CLI's flags (``flips=False`` is
 ///         ``--no-flips``, ``placement="node"`` is ``--placement node``).
+///     attributes: "keep" (default) or "drop": :func:`simplify_file` carries the file's
+///         normals, texture coordinates, colours and materials, or drops them (positions only).
 ///     threshold: QEM's pair distance threshold in model units (0: edges only).
+///     lock_border: QEM: never contract the vertices on the input's border edges.
+///     max_error: QEM's stop rule as a share of the bounding-box diagonal (alone, without a
+///         target, it simplifies as far as it allows).
 ///     threads: most threads the run uses, 1 to ``gng3d.MAX_THREADS`` (256; default: the
 ///         machine's cores, GNG3D's training at most 4); ``threads=1`` for many runs side by
 ///         side (:mod:`gng3d.batch` does). The mesh is the same for any count, except QEM on

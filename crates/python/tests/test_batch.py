@@ -64,7 +64,7 @@ def test_same_files_as_a_serial_run_and_resume(folder, tmp_path):
     for p in sorted(folder.glob("*.ply")):
         v, f = gng3d.load(p)
         gng3d.save(serial / p.name if serial.exists() else _mkdir(serial) / p.name,
-                   *gng3d.simplify(v, f, method="gng", ratio=0.2))  # fmt: skip
+                   *gng3d.simplify(v, f, ratio=0.2))  # fmt: skip
     out = tmp_path / "out"
     # A first run over part of the files (as if killed), then the whole folder.
     batch.simplify_files(sorted(folder.glob("*.ply"))[:2], out, ratio=0.2, jobs=2)
@@ -83,7 +83,7 @@ def _mkdir(path):
 
 
 def test_bad_options_are_one_error_before_any_file(folder, tmp_path):
-    with pytest.raises(ValueError, match=r"^parameter target ratio = 2 is out of range"):
+    with pytest.raises(ValueError, match=r"^ratio must be in \(0, 1\], got 2"):
         batch.simplify_files(folder, tmp_path / "out", ratio=2.0)
     with pytest.raises(ValueError, match=r"^faces_target applies to method 'qem' only"):
         batch.simplify_files(folder, tmp_path / "out", faces_target=100, method="gng")

@@ -144,7 +144,7 @@ def test_batch_without_a_seed_writes_what_the_cli_writes(tmp_path, small_torus):
                     "--method", "gng", "--vertices", "200"],
                    check=True, capture_output=True)  # fmt: skip
     code = gng3d.batch.main([str(source), "--out", str(tmp_path / "py"), "--vertices", "200",
-                             "--jobs", "1"])  # fmt: skip
+                             "--method", "gng", "--jobs", "1"])  # fmt: skip
     assert code == 0
     cli_v, cli_f = gng3d.load(tmp_path / "cli.ply")
     py_v, py_f = gng3d.load(tmp_path / "py" / "torus.ply")

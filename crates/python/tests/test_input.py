@@ -78,25 +78,25 @@ def test_bad_input_raises_value_error(method, name, vertices, faces, message):
 
 
 BAD_OPTIONS = [
-    (dict(ratio=1.5), r"^parameter target ratio = 1.5 is out of range: must be in \(0, 1\]$"),
-    (dict(ratio=0.0), r"^parameter target ratio = 0 is out of range: must be in \(0, 1\]$"),
-    (dict(ratio=float("nan")), r"^parameter target ratio = NaN is out of range"),
-    (dict(ratio=1.5, method="qem"), r"^parameter target ratio = 1.5 is out of range"),
-    (dict(vertices_target=10, time_limit=-1.0),
+    (dict(ratio=1.5), r"^ratio must be in \(0, 1\], got 1.5$"),
+    (dict(ratio=0.0), r"^ratio must be in \(0, 1\], got 0$"),
+    (dict(ratio=float("nan"), method="gng"), r"^ratio must be in \(0, 1\], got NaN"),
+    (dict(ratio=1.5, method="qem"), r"^ratio must be in \(0, 1\]"),
+    (dict(vertices_target=10, method="gng", time_limit=-1.0),
      r"^parameter time limit = -1 is out of range: must be a finite number of seconds > 0$"),
-    (dict(vertices_target=10, time_limit=float("inf")), r"^parameter time limit = inf"),
-    (dict(vertices_target=10, oversample=5.0),
+    (dict(vertices_target=10, method="gng", time_limit=float("inf")), r"^parameter time limit = inf"),
+    (dict(vertices_target=10, method="gng", oversample=5.0),
      r"^parameter oversample = 5 is out of range: must be in \[1, 4\]$"),
-    (dict(vertices_target=10, epochs=0.0), r"^parameter epochs = 0 is out of range"),
-    (dict(vertices_target=10, detail_rounds=9), r"^parameter detail rounds = 9 is out of range"),
-    (dict(vertices_target=2),
+    (dict(vertices_target=10, method="gng", epochs=0.0), r"^parameter epochs = 0 is out of range"),
+    (dict(vertices_target=10, method="gng", detail_rounds=9), r"^parameter detail rounds = 9 is out of range"),
+    (dict(vertices_target=2, method="gng"),
      r"^target of 2 vertices is out of range: it must be between 3 and the 1152 distinct"),
-    (dict(vertices_target=5000), r"^target of 5000 vertices is out of range"),
+    (dict(vertices_target=5000, method="gng"), r"^target of 5000 vertices is out of range"),
     (dict(), r"^give a target: vertices_target=N, faces_target=N \(QEM\) or ratio=R$"),
     (dict(ratio=0.1, vertices_target=10), r"^give one target"),
     (dict(faces_target=100, method="gng"), r"^faces_target applies to method 'qem' only"),
     (dict(ratio=0.1, method="qem", flips=False, time_limit=1.0),
-     r"^time_limit, flips apply to method 'gng' and 'paper' only, not 'qem'$"),
+     r"^time_limit and flips apply to method 'gng' and 'paper' only, not 'qem'$"),
     (dict(ratio=0.1, method="gng", threshold=0.1), r"^threshold applies to method 'qem' only$"),
     (dict(ratio=0.1, method="qem", threshold=-1.0),
      r"^threshold must be a finite distance >= 0, got -1$"),
@@ -104,7 +104,7 @@ BAD_OPTIONS = [
      r"^invalid parameter: pair threshold 1e30 is above the limit"),
     (dict(ratio=0.1, threads=0), r"^parameter threads = 0 is out of range: must be at least 1$"),
     (dict(ratio=0.1, method="qem", threads=0), r"^parameter threads = 0 is out of range"),
-    (dict(ratio=0.1, method="QEM"), r"^method must be 'gng', 'paper' or 'qem', got \"QEM\"$"),
+    (dict(ratio=0.1, method="QEM"), r"^method must be 'qem', 'gng' or 'paper', got \"QEM\"$"),
     (dict(ratio=0.1, placement="nodes"), r"^placement must be 'node', 'project' or 'quadric'"),
     (dict(ratio=0.1, signals="edges"), r"^signals must be 'vertices', 'surface' or 'curvature'"),
 ]  # fmt: skip
@@ -120,7 +120,7 @@ def test_bad_options_raise_value_error(small_torus, options, message):
 def test_targets_are_keyword_only(small_torus):
     v, f = small_torus
     with pytest.raises(TypeError):
-        gng3d.simplify(v, f, method="gng", 100)  # type: ignore[misc]
+        gng3d.simplify(v, f, 100)  # type: ignore[misc]
 
 
 def test_metrics_options_and_input_are_checked(small_torus):

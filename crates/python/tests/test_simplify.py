@@ -124,7 +124,8 @@ def test_time_limit_keeps_the_count(small_torus):
 def test_method_options_reach_the_library(small_torus):
     v, f = small_torus
     plain = gng3d.simplify(
-        v, f, vertices_target=300, placement="node", flips=False, oversample=1.0, epochs=5
+        v, f, vertices_target=300, method="gng", placement="node", flips=False, oversample=1.0,
+        epochs=5,
     )
     assert plain.report["placement"] == "node" and not plain.report["flips"]
     assert plain.report["iterations"] == 5 * len(v)
