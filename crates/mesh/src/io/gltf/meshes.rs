@@ -124,6 +124,10 @@ struct Placement {
 /// accessors share their vertices.
 type SetKey = (usize, [Option<usize>; 5]);
 
+/// The geometry read ([`Geometry::finish`]): the vertices (one wedge each), the triangles (wedge
+/// indices) and the glTF material of each triangle (`u32::MAX`: none).
+pub(super) type Triangles = (Vertices, Vec<[u32; 3]>, Vec<u32>);
+
 /// The triangles of the instances' primitives, their vertices, and what was not read.
 #[derive(Default)]
 pub(super) struct Geometry {
@@ -290,7 +294,7 @@ impl Geometry {
         self,
         source: &Source,
         warnings: &mut Vec<MeshWarning>,
-    ) -> Result<(Vertices, Vec<[u32; 3]>, Vec<u32>), MeshError> {
+    ) -> Result<Triangles, MeshError> {
         let Geometry {
             v,
             corners,
