@@ -1,0 +1,131 @@
+//! The checked save ([`save_with_optional_attributes`], behind [`save`](super::save) and
+//! [`save_with_attributes`](super::save_with_attributes)): encode, read the bytes back, refuse an
+//! output that does not load or lacks what the format stores, write atomically, copy the files
+//! the materials name.
+
+use super::atomic::write_atomic_all;
+use super::encode::{GltfBuffer, encode_parts};
+use super::side_files::{copy_gltf_images, copy_material_files};
+use super::{Format, load_encoded};
+use crate::TriMesh;
+use crate::attributes::{Attributes, Materials};
+use crate::error::MeshError;
+use glam::DVec3;
+use std::path::Path;
+
+/// What writing a mesh with its attributes did with them
+/// ([`save_with_attributes`](super::save_with_attributes)): the `"attributes"` object of
+/// `gng3d simplify --json` and of the Python report.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+#[non_exhaustive]
+pub struct KeptAttributes {
+    /// Attributes of the input (`normals`, `uv0`, `uv1`, `colors`, `materials`).
+    pub input: Vec<&'static str>,
+    /// Attributes written to the output (it reads back with each of them).
+    pub kept: Vec<&'static str>,
+    /// What was not written or not copied, one sentence each (the caller shows them as warnings).
+    pub dropped: Vec<String>,
+}
+
+impl Format {
+    /// Whether this format stores attribute `name` (as [`Attributes::names`] gives it).
+    pub fn stores(self, name: &str) -> bool {
+        match self {
+            Format::Stl => false,
+            Format::Obj => name != "uv1",
+            Format::Ply => matches!(name, "normals" | "uv0" | "colors"),
+            Format::Gltf | Format::Glb => true,
+        }
+    }
+}
+
+/// [`save_with_attributes`](super::save_with_attributes) when `attributes` are given,
+/// [`save`](super::save) when not (then the returned [`KeptAttributes`] is empty): the one branch
+/// of the front ends whose input may have no attributes (`gng3d simplify`, Python's
+/// `simplify_file`), as [`crate::clean::prepare_with_optional_attributes`] is for the cleaning.
+/// `origin` is the input's [`LoadedMesh::origin`](super::LoadedMesh::origin), added back to the
+/// positions in f64 (zero: written as they are).
+pub fn save_with_optional_attributes(
+    mesh: &TriMesh,
+    attributes: Option<&Attributes>,
+    materials: Option<&Materials>,
+    origin: DVec3,
+    path: &Path,
+) -> Result<KeptAttributes, MeshError> {
+    let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
+    let refuse = |message: String| MeshError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    if mesh.face_count() == 0 {
+        return Err(refuse(format!(
+            "the mesh has {} vertices and no triangles; nothing written",
+            mesh.vertex_count()
+        )));
+    }
+    let encoded = encode_parts(
+        mesh,
+        attributes,
+        materials,
+        origin,
+        format,
+        path,
+        GltfBuffer::BinFile,
+    )?;
+    let input = attributes.map(Attributes::names).unwrap_or_default();
+    let kept: Vec<&'static str> = input.iter().copied().filter(|n| format.stores(n)).collect();
+    let side = encoded
+        .bin
+        .as_ref()
+        .map(|(name, bytes)| (name.as_str(), bytes.as_slice()));
+    let reread = load_encoded(&encoded.main, side, format, path).map_err(|e| {
+        refuse(format!(
+            "the output does not load back ({e}); nothing written"
+        ))
+    })?;
+    let back = reread
+        .attributes
+        .as_ref()
+        .map(Attributes::names)
+        .unwrap_or_default();
+    if reread.mesh.face_count() == 0 || kept.iter().any(|n| !back.contains(n)) {
+        return Err(refuse(format!(
+            "the output does not read back with {}; nothing written",
+            if kept.is_empty() {
+                "its faces".to_string()
+            } else {
+                kept.join(", ")
+            }
+        )));
+    }
+    // A `.gltf` and its `.bin` together: both written in full before either is renamed, the
+    // `.bin` first (a failed write leaves both files as they were).
+    let bin = encoded
+        .bin
+        .as_ref()
+        .map(|(name, bytes)| (path.with_file_name(name), bytes.as_slice()));
+    let files: Vec<(&Path, &[u8])> = bin
+        .iter()
+        .map(|(p, b)| (p.as_path(), *b))
+        .chain([(path, encoded.main.as_slice())])
+        .collect();
+    write_atomic_all(&files)?;
+    let mut dropped: Vec<String> = encoded.warnings.iter().map(ToString::to_string).collect();
+    if let Some(m) = materials
+        && attributes.is_some_and(|a| a.face_material.is_some())
+    {
+        let copied = match format {
+            Format::Obj => copy_material_files(m, path),
+            Format::Gltf | Format::Glb => copy_gltf_images(m, path),
+            Format::Ply | Format::Stl => Vec::new(),
+        };
+        dropped.extend(copied.iter().map(ToString::to_string));
+    }
+    Ok(KeptAttributes {
+        input,
+        kept,
+        dropped,
+    })
+}
