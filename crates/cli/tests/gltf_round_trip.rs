@@ -39,7 +39,11 @@ fn validate(files: &[PathBuf]) -> Option<Vec<serde_json::Value>> {
     if out.status.code() == Some(3) {
         mesh::fixtures::skip(&format!(
             "glTF validator not run: {} (GLTF_VALIDATOR_MODULE, docs/testing.md)",
-            String::from_utf8_lossy(&out.stderr).lines().next().unwrap_or("").trim()
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .next()
+                .unwrap_or("")
+                .trim()
         ));
         return None;
     }

@@ -46,7 +46,7 @@ pub fn find_shared_meshes(probe: &str) -> Result<PathBuf, String> {
 fn locate(value: Option<OsString>, cwd: Option<&Path>, probe: &str) -> Result<PathBuf, String> {
     let Some(value) = value else {
         return Err(format!(
-            "{MESHES_ENV} not set (export {MESHES_ENV}=../shared/meshes to run it)"
+            "{MESHES_ENV} not set (export {MESHES_ENV}=/path/to/the/test/meshes, docs/testing.md)"
         ));
     };
     let dir = PathBuf::from(value);
@@ -75,7 +75,7 @@ pub fn skip_unless_ci(reason: &str) {
 /// (its thread's), or the executable's for a benchmark.
 ///
 /// libtest counts a skipped test as passed, so every skip is also recorded: when the process
-/// exits it prints one line `skipped: N tests of <binary> (...); M in this cargo run so far`
+/// exits it prints one line `skipped: N tests of <binary>; M in this cargo run so far — ...`
 /// after libtest's `test result` line, the reasons counted (see [`summary`]).
 pub fn skip(reason: &str) {
     use std::io::Write;
@@ -116,8 +116,8 @@ extern "C" fn report_skips_at_exit() {
     let _ = writeln!(std::io::stderr().lock(), "{line}");
 }
 
-/// The line printed when a test binary that skipped exits, e.g. `skipped: 3 tests of cli (2
-/// GNG3D_MESHES not set (…); 1 no /dev/full on this system); 7 in this cargo run so far`:
+/// The line printed when a test binary that skipped exits, e.g. `skipped: 3 tests of cli; 7 in
+/// this cargo run so far — 2: GNG3D_MESHES not set (…); 1: no /dev/full on this system`:
 /// `reasons` one per skipped test, grouped in order of first appearance; `run_total` the
 /// skips of the whole `cargo test` run up to this binary, where known.
 pub fn summary(binary: &str, reasons: &[&str], run_total: Option<usize>) -> String {
@@ -128,16 +128,16 @@ pub fn summary(binary: &str, reasons: &[&str], run_total: Option<usize>) -> Stri
             None => groups.push((r, 1)),
         }
     }
-    let why: Vec<String> = groups.iter().map(|(r, n)| format!("{n} {r}")).collect();
     let n = reasons.len();
     let mut line = format!(
-        "skipped: {n} test{} of {binary} ({})",
-        if n == 1 { "" } else { "s" },
-        why.join("; ")
+        "skipped: {n} test{} of {binary}",
+        if n == 1 { "" } else { "s" }
     );
     if let Some(total) = run_total {
         line.push_str(&format!("; {total} in this cargo run so far"));
     }
+    let why: Vec<String> = groups.iter().map(|(r, n)| format!("{n}: {r}")).collect();
+    line.push_str(&format!(" — {}", why.join("; ")));
     line
 }
 
@@ -619,11 +619,11 @@ mod tests {
         let reasons = ["no meshes", "no GPU", "no meshes"];
         assert_eq!(
             summary("ui", &reasons, Some(5)),
-            "skipped: 3 tests of ui (2 no meshes; 1 no GPU); 5 in this cargo run so far"
+            "skipped: 3 tests of ui; 5 in this cargo run so far — 2: no meshes; 1: no GPU"
         );
         assert_eq!(
             summary("bench", &["no meshes"], None),
-            "skipped: 1 test of bench (1 no meshes)"
+            "skipped: 1 test of bench — 1: no meshes"
         );
     }
 

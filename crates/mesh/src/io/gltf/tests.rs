@@ -878,7 +878,11 @@ fn written_files_pass_the_khronos_validator_when_installed() {
     if out.status.code() == Some(3) {
         crate::fixtures::skip(&format!(
             "glTF validator not run: {} (GLTF_VALIDATOR_MODULE, docs/testing.md)",
-            String::from_utf8_lossy(&out.stderr).lines().next().unwrap_or("").trim()
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .next()
+                .unwrap_or("")
+                .trim()
         ));
         return;
     }
