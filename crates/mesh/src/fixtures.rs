@@ -4,7 +4,8 @@
 //!   rule: without them a test skips with a message, except under `CI`, where it fails
 //!   ([`find_shared_meshes`]: the same search, silent).
 //! - [`skip`] / [`skip_unless_ci`]: the message of a test that skips, one `SKIPPED <test>:
-//!   <reason>` line that a plain `cargo test` shows (docs/testing.md).
+//!   <reason>` line that a plain `cargo test` shows, and when the test binary exits one line
+//!   counting its skips and the `cargo test` run's so far, by reason (docs/testing.md).
 //! - [`fuzz`]: the seed files and byte mutations shared by the loader fuzz tests (mesh) and the
 //!   CLI fuzz tests and driver (crates/cli).
 //! - [`attribute_values_near`]: the brute-force oracle of an attribute's value on a surface,
@@ -45,7 +46,7 @@ pub fn find_shared_meshes(probe: &str) -> Result<PathBuf, String> {
 fn locate(value: Option<OsString>, cwd: Option<&Path>, probe: &str) -> Result<PathBuf, String> {
     let Some(value) = value else {
         return Err(format!(
-            "{MESHES_ENV} not set (export {MESHES_ENV}=../shared/meshes to run it)"
+            "{MESHES_ENV} not set (export {MESHES_ENV}=/path/to/the/test/meshes, docs/testing.md)"
         ));
     };
     let dir = PathBuf::from(value);
@@ -70,22 +71,137 @@ pub fn skip_unless_ci(reason: &str) {
 /// Reports that the running test skips (all of it, or the part that needs what is missing):
 /// one line `SKIPPED <test>: <reason>` on the process's stderr, once per test. The line goes
 /// to stderr directly, not through `eprintln!`, which the test harness captures (and shows only
-/// for a failing test), so a plain `cargo test` shows every skip;
-/// `cargo test 2>&1 | grep -c 'SKIPPED '` counts them. `<test>` is the test's name (its
-/// thread's), or the executable's for a benchmark.
+/// for a failing test), so a plain `cargo test` shows every skip. `<test>` is the test's name
+/// (its thread's), or the executable's for a benchmark.
+///
+/// libtest counts a skipped test as passed, so every skip is also recorded: when the process
+/// exits it prints one line `skipped: N tests of <binary>; M in this cargo run so far — ...`
+/// after libtest's `test result` line, the reasons counted (see [`summary`]).
 pub fn skip(reason: &str) {
     use std::io::Write;
-    static REPORTED: Mutex<Vec<String>> = Mutex::new(Vec::new());
     let test = match std::thread::current().name() {
         Some(name) if name != "main" => name.to_string(),
         _ => executable_name(),
     };
-    let mut reported = REPORTED.lock().unwrap_or_else(PoisonError::into_inner);
-    if reported.contains(&test) {
+    let mut reported = SKIPPED.lock().unwrap_or_else(PoisonError::into_inner);
+    if reported.iter().any(|(t, _)| *t == test) {
         return;
     }
     let _ = writeln!(std::io::stderr().lock(), "SKIPPED {test}: {reason}");
-    reported.push(test);
+    if reported.is_empty() {
+        // SAFETY: `atexit` is the C runtime's; the handler is a plain function that only
+        // writes to stderr and a file.
+        unsafe { atexit(report_skips_at_exit) };
+    }
+    reported.push((test, reason.to_string()));
+    run_log::record(reason);
+}
+
+/// The tests of this process that skipped, and why, in the order they skipped.
+static SKIPPED: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
+
+unsafe extern "C" {
+    fn atexit(handler: extern "C" fn()) -> std::ffi::c_int;
+}
+
+/// Prints [`summary`] of this process's skips, with the run's total where it is known.
+extern "C" fn report_skips_at_exit() {
+    use std::io::Write;
+    // A test thread still holding the lock at exit (a panic elsewhere): no summary then.
+    let Ok(reported) = SKIPPED.try_lock() else {
+        return;
+    };
+    let reasons: Vec<&str> = reported.iter().map(|(_, r)| r.as_str()).collect();
+    let line = summary(&executable_name(), &reasons, run_log::total());
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
+/// The line printed when a test binary that skipped exits, e.g. `skipped: 3 tests of cli; 7 in
+/// this cargo run so far — 2: GNG3D_MESHES not set (…); 1: no /dev/full on this system`:
+/// `reasons` one per skipped test, grouped in order of first appearance; `run_total` the
+/// skips of the whole `cargo test` run up to this binary, where known.
+pub fn summary(binary: &str, reasons: &[&str], run_total: Option<usize>) -> String {
+    let mut groups: Vec<(&str, usize)> = Vec::new();
+    for &r in reasons {
+        match groups.iter_mut().find(|(g, _)| *g == r) {
+            Some((_, n)) => *n += 1,
+            None => groups.push((r, 1)),
+        }
+    }
+    let n = reasons.len();
+    let mut line = format!(
+        "skipped: {n} test{} of {binary}",
+        if n == 1 { "" } else { "s" }
+    );
+    if let Some(total) = run_total {
+        line.push_str(&format!("; {total} in this cargo run so far"));
+    }
+    let why: Vec<String> = groups.iter().map(|(r, n)| format!("{n}: {r}")).collect();
+    line.push_str(&format!(" — {}", why.join("; ")));
+    line
+}
+
+/// The skips of one `cargo test` run, across its test binaries: cargo runs them one after the
+/// other as children of one process, so each binary appends its skips to a file named after
+/// that process (its id and start time, from `/proc`) in `skipped-tests/` beside the test
+/// executables (`target/debug/`), where files of earlier runs are removed. Linux only;
+/// elsewhere the summary counts one binary's skips.
+mod run_log {
+    use std::io::Write;
+    use std::path::PathBuf;
+
+    /// This run's file, or `None` when the parent cannot be identified.
+    #[cfg(target_os = "linux")]
+    fn file() -> Option<PathBuf> {
+        let parent = std::os::unix::process::parent_id();
+        let stat = std::fs::read_to_string(format!("/proc/{parent}/stat")).ok()?;
+        // Field 22 (start time); the fields after the command name, which may hold spaces,
+        // start at field 3.
+        let started = stat.rsplit_once(')')?.1.split_whitespace().nth(19)?;
+        let exe = std::env::current_exe().ok()?;
+        // target/debug/deps/<test> (tests) or target/debug/<binary>.
+        let profile_dir = match exe.parent()? {
+            d if d.ends_with("deps") => d.parent()?,
+            d => d,
+        };
+        Some(
+            profile_dir
+                .join("skipped-tests")
+                .join(format!("{parent}-{started}")),
+        )
+    }
+
+    /// No run-wide count off Linux.
+    #[cfg(not(target_os = "linux"))]
+    fn file() -> Option<PathBuf> {
+        None
+    }
+
+    /// Appends one skip to this run's file (a line holding `reason`).
+    pub(super) fn record(reason: &str) {
+        let Some(path) = file() else { return };
+        let dir = path.parent().expect("a file in skipped-tests/");
+        if !path.exists() {
+            let _ = std::fs::create_dir_all(dir);
+            for old in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+                let _ = std::fs::remove_file(old.path());
+            }
+        }
+        let line = reason.replace('\n', " ");
+        if let Ok(mut f) = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&path)
+        {
+            let _ = writeln!(f, "{line}");
+        }
+    }
+
+    /// The number of skips recorded in this run so far.
+    pub(super) fn total() -> Option<usize> {
+        let text = std::fs::read_to_string(file()?).ok()?;
+        Some(text.lines().count())
+    }
 }
 
 /// This executable's name without cargo's hash suffix.
@@ -495,6 +611,19 @@ mod tests {
         assert!(
             unset.starts_with("GNG3D_MESHES not set (export GNG3D_MESHES="),
             "{unset}"
+        );
+    }
+
+    #[test]
+    fn the_summary_counts_skips_by_reason() {
+        let reasons = ["no meshes", "no GPU", "no meshes"];
+        assert_eq!(
+            summary("ui", &reasons, Some(5)),
+            "skipped: 3 tests of ui; 5 in this cargo run so far — 2: no meshes; 1: no GPU"
+        );
+        assert_eq!(
+            summary("bench", &["no meshes"], None),
+            "skipped: 1 test of bench — 1: no meshes"
         );
     }
 
