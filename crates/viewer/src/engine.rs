@@ -520,34 +520,43 @@ pub struct Loaded {
     pub attributes: Option<Attributes>,
 }
 
-/// Load a mesh file (OBJ, PLY, STL, glTF, GLB) and clean it for display and training.
+/// `e`'s message and its causes ("cannot read file: No such file or directory"), without the
+/// file name it starts with (the viewer's error names the file).
+fn with_causes(e: &dyn std::error::Error, path: &Path) -> String {
+    let mut message = e.to_string();
+    let mut source = e.source();
+    while let Some(cause) = source {
+        message = format!("{message}: {cause}");
+        source = cause.source();
+    }
+    message
+        .trim_start_matches(&format!("{}: ", path.display()))
+        .to_string()
+}
+
+/// Load a mesh file (OBJ, PLY, STL, glTF, GLB) for display and training: the job's load
+/// (`job::load`, the CLI's: welded and cleaned, its attributes following).
 pub fn load_mesh(path: &Path) -> Result<Loaded> {
-    let loaded = mesh::io::load(path).map_err(|e| ViewerError::Load {
+    let request = job::Request::new(job::Target::Ratio(1.0));
+    let loaded = job::load(path, &request, &[]).map_err(|e| ViewerError::Load {
         path: path.to_path_buf(),
-        // The mesh crate's message already starts with the file name.
-        message: e
-            .to_string()
-            .trim_start_matches(&format!("{}: ", path.display()))
-            .to_string(),
+        message: with_causes(&e, path),
     })?;
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
-    if loaded.origin != glam::DVec3::ZERO {
+    let o = loaded.model.origin;
+    if o != glam::DVec3::ZERO {
         // The viewer keeps one f32 mesh: a far model is shown and saved recentred, said here.
-        let o = loaded.origin;
         warnings.push(format!(
             "the model lies far from its coordinates' origin: shown and saved moved by \
              ({}, {}, {}) (gng3d simplify keeps the coordinates)",
             -o.x, -o.y, -o.z
         ));
     }
-    let (mesh, attributes, report) = mesh::clean::prepare_with_optional_attributes(
-        &loaded.mesh,
-        loaded.attributes.as_ref().filter(|a| a.has_values()),
-    );
-    if report.welded_vertices > 0 || report.unreferenced_vertices > 0 {
+    let mesh = loaded.model.mesh;
+    let dropped = loaded.file_vertices.saturating_sub(mesh.vertex_count());
+    if dropped > 0 {
         warnings.push(format!(
-            "cleaned: {} vertices welded, {} unreferenced removed",
-            report.welded_vertices, report.unreferenced_vertices
+            "cleaned: {dropped} vertices welded or unreferenced removed"
         ));
     }
     if mesh.face_count() == 0 {
@@ -559,7 +568,7 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
     Ok(Loaded {
         mesh,
         warnings,
-        attributes,
+        attributes: loaded.model.attributes,
     })
 }
 

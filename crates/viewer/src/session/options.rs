@@ -98,18 +98,22 @@ pub fn train_params(options: &ViewerOptions) -> Result<TrainParams> {
             other => ("--target", other.to_string()),
         }
     };
-    // The input's size is not known yet: the options are checked here (ratios are not offered,
-    // so any count will do) and resolved against the mesh when a run starts (`Engine::new`).
-    // The step switches the UI shows are the user's choices, not what a resolution against an
-    // unknown size would make of them (against usize::MAX every output is under 5 % of the
-    // input, which turned the deviation repair off for every run).
-    let params = gng.resolve_for_vertex_count(usize::MAX).map_err(|e| {
+    // The input's size is not known yet: the options are checked here, once, and resolved
+    // against the mesh when a run starts (`Engine::new`, the one resolution). The parameters
+    // the UI shows and edits are the user's choices over the library's defaults.
+    gng.validate().map_err(|e| {
         let (flag, problem) = flag_and_problem(&e);
         invalid(flag, problem)
     })?;
     let params = TrainParams {
+        lambda: gng.lambda,
+        max_signals: gng.max_signals,
+        time_limit: gng
+            .time_limit_seconds
+            .map(std::time::Duration::from_secs_f64),
+        seed: gng.seed,
         reconstruction: gng.reconstruction.clone(),
-        ..params
+        ..TrainParams::for_target(target)
     };
     if let Some(seconds) = options.watch_seconds
         && !(seconds.is_finite() && seconds >= 0.0)
