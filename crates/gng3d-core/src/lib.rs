@@ -115,24 +115,17 @@
 //! glam, whose `Vec3` is in the API, is re-exported as [`glam`].
 
 mod clock;
-mod decimate;
-mod deviation;
 mod domain;
 mod error;
-mod fan_search;
-mod flip;
+mod finish;
 mod options;
 mod parallel;
 mod params;
 mod pipeline;
-mod placement;
 mod reconstruct;
-mod refit;
-mod relax;
 mod report;
 mod run;
-mod seams;
-mod soundness;
+mod surface;
 mod train;
 mod trainer;
 #[doc(hidden)]

@@ -77,7 +77,7 @@ impl Run {
         params.validate()?;
         let charts = attributes
             .filter(|a| !a.seam_edges(mesh).is_empty())
-            .map(|a| Arc::new(crate::seams::seam_sides(mesh, a)));
+            .map(|a| Arc::new(crate::finish::seams::seam_sides(mesh, a)));
         // The time limit is shared between the training and the steps after it, once.
         let time_plan =
             crate::pipeline::plan_for_time(params, mesh.positions.len(), charts.is_some());
