@@ -529,7 +529,7 @@ mod tests {
     fn resolved_params_train() {
         let opts = GngOptions::for_target(GngTarget::VertexRatio(0.5));
         let m = sphere();
-        let r = crate::simplify(&m, &opts).unwrap();
+        let r = crate::simplify(&m.clone().into(), &opts).unwrap();
         assert_eq!(r.mesh.vertex_count(), 81);
     }
 }

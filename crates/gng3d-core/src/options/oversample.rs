@@ -251,7 +251,7 @@ mod tests {
             oversample: Some(1.5),
             ..GngOptions::for_target(GngTarget::Vertices(200))
         };
-        let r = crate::simplify(&m, &options).unwrap();
+        let r = crate::simplify(&m.clone().into(), &options).unwrap();
         // The network's 300 nodes, plus those options (f) and (g) added, decimated to 200.
         let rec = &r.report.reconstruction;
         assert_eq!(
