@@ -27,7 +27,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| gng3d::qem::simplify(&mesh, &params.qem).expect("qem"))
     });
     group.bench_function("gng_only", |b| {
-        b.iter(|| gng3d::gng3d_core::simplify(&mesh, &params.gng).expect("gng"))
+        b.iter(|| gng3d::gng3d_core::simplify(&mesh.clone().into(), &params.gng).expect("gng"))
     });
     group.finish();
 }

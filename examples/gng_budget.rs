@@ -31,7 +31,7 @@ fn main() {
             } else {
                 p.max_signals = Some((b.parse::<f64>().expect("spn") * target as f64) as u64);
             }
-            let r = simplify(&m, &p).expect("gng");
+            let r = simplify(&m.clone().into(), &p).expect("gng");
             let h = hausdorff(&m, &r.mesh, &hp).expect("hausdorff");
             let e = metrics::vertex_errors(&m.positions, &r.mesh.positions).expect("errors");
             let d = h.bbox_diagonal;

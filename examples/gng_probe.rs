@@ -26,7 +26,7 @@ fn main() {
         if let Ok(s) = std::env::var("GNG_SEED") {
             options.seed = s.parse().unwrap_or(1);
         }
-        match simplify(&m, &options) {
+        match simplify(&m.clone().into(), &options) {
             Ok(r) => {
                 let t = &r.report.reconstruction.topology;
                 let e = metrics::vertex_errors(&m.positions, &r.mesh.positions).unwrap();

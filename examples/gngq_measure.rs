@@ -154,7 +154,7 @@ fn main() -> anyhow::Result<()> {
                 let mut params = GngParams::for_target(target);
                 params.signal_source = source;
                 let t = Instant::now();
-                let mut trainer = Trainer::new(&original, params)?;
+                let mut trainer = Trainer::new(&original.clone().into(), params)?;
                 while !trainer.is_finished() {
                     trainer.step(u64::MAX);
                 }

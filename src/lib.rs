@@ -11,7 +11,7 @@
 //! // A built-in model; `mesh::io::load(path)?.mesh` reads OBJ, PLY or STL instead.
 //! let original = mesh::clean::prepare(&mesh::procedural::icosphere(4)).0; // 2,562 vertices
 //! let options = gng3d_core::GngOptions::for_target(gng3d_core::GngTarget::Vertices(600));
-//! let gng = gng3d_core::simplify(&original, &options).unwrap(); // GNG3D-Q, as the CLI runs it
+//! let gng = gng3d_core::simplify(&original.clone().into(), &options).unwrap(); // GNG3D-Q, as the CLI runs it
 //! let qem_params = qem::QemParams::with_target(qem::Target::Vertices(600));
 //! let (qem_mesh, _) = qem::simplify(&original, &qem_params).unwrap();
 //! let mut params = metrics::MetricsParams::default();

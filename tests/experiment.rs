@@ -231,7 +231,7 @@ fn surface_refit_lowers_the_distance_without_adding_slivers() {
             return;
         };
         let n = (m.vertex_count() as f64 * 0.1).round() as usize;
-        let mut trainer = Trainer::new(&m, GngParams::for_target(n)).unwrap();
+        let mut trainer = Trainer::new(&m.clone().into(), GngParams::for_target(n)).unwrap();
         while !trainer.is_finished() {
             trainer.step(u64::MAX);
         }
@@ -274,7 +274,7 @@ fn relaxation_after_the_decimation_wins_e_avg_back_at_a_small_cost_in_distance()
         // The deviation repair after it would flip different edges in the two runs.
         options.reconstruction.repair_deviations = false;
         options.oversample = Some(DEFAULT_OVERSAMPLE);
-        gng3d::gng3d_core::simplify(&m, &options).unwrap()
+        gng3d::gng3d_core::simplify(&m.clone().into(), &options).unwrap()
     };
     let (with, without) = (run(true), run(false));
     let (rw, rn) = (&with.report.reconstruction, &without.report.reconstruction);
@@ -322,7 +322,7 @@ fn deviation_repair_lowers_the_output_to_original_maximum_at_no_cost_in_mean_dis
         let mut options = GngOptions::for_target(GngTarget::Vertices(n));
         options.reconstruction.repair_deviations = repair;
         options.oversample = Some(DEFAULT_OVERSAMPLE);
-        gng3d::gng3d_core::simplify(&m, &options).unwrap()
+        gng3d::gng3d_core::simplify(&m.clone().into(), &options).unwrap()
     };
     let (with, without) = (run(true), run(false));
     let (rw, rn) = (&with.report.reconstruction, &without.report.reconstruction);
@@ -519,7 +519,7 @@ fn run_params(
     m: &gng3d::mesh::TriMesh,
     params: &gng3d::gng3d_core::GngParams,
 ) -> gng3d::gng3d_core::GngResult {
-    let mut trainer = gng3d::gng3d_core::Trainer::new(m, params.clone()).unwrap();
+    let mut trainer = gng3d::gng3d_core::Trainer::new(&m.clone().into(), params.clone()).unwrap();
     while !trainer.is_finished() {
         trainer.step(u64::MAX);
     }
@@ -547,7 +547,7 @@ fn a_closed_input_never_returns_an_open_mesh_without_a_warning() {
                 if paper {
                     options.reconstruction = ReconstructionParams::paper();
                 }
-                let r = gng3d::gng3d_core::simplify(&m, &options).unwrap();
+                let r = gng3d::gng3d_core::simplify(&m.clone().into(), &options).unwrap();
                 let t = gng3d::mesh::topology::analyze(&r.mesh);
                 let warned = r.report.warnings.iter().find_map(|w| match w {
                     GngWarning::OpenedHoles { boundary_edges, .. } => Some(*boundary_edges),
@@ -625,7 +625,11 @@ fn the_survey_measures_the_meshes_simplify_writes_for_an_input_with_seams() {
         ),
         ..params.gngq.clone()
     };
-    let (gngq, _) = gng3d::gng3d_core::simplify_with_attributes(&sphere, &uv, &gqp).unwrap();
+    let model = gng3d::mesh::Model {
+        attributes: Some(uv.clone()),
+        ..sphere.clone().into()
+    };
+    let gngq = gng3d::gng3d_core::simplify(&model, &gqp).unwrap();
     assert!(
         (row.gngq.e_sur_signed - (area - gngq.mesh.area())).abs() < 1e-9 * area,
         "survey GNG3D-Q is not the attribute path's"

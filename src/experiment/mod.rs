@@ -130,18 +130,18 @@ pub(crate) fn qem_as_simplify(
 }
 
 /// GNG3D as `gng3d simplify --method gng` runs it: with `attributes`, triangles that follow
-/// their seams and values from the original (`gng3d_core::simplify_with_attributes`);
+/// their seams and values from the original (`gng3d_core::simplify` of a model with attributes);
 /// positions only otherwise.
 pub(crate) fn gng_as_simplify(
     original: &TriMesh,
     attributes: Option<&Attributes>,
     options: &gng3d_core::GngOptions,
 ) -> Result<(gng3d_core::GngResult, Option<Attributes>), ExperimentError> {
-    Ok(match attributes {
-        Some(a) => {
-            let (result, kept) = gng3d_core::simplify_with_attributes(original, a, options)?;
-            (result, Some(kept))
-        }
-        None => (gng3d_core::simplify(original, options)?, None),
-    })
+    let model = mesh::Model {
+        attributes: attributes.cloned(),
+        ..original.clone().into()
+    };
+    let mut result = gng3d_core::simplify(&model, options)?;
+    let kept = result.attributes.take();
+    Ok((result, kept))
 }

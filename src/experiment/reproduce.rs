@@ -231,7 +231,7 @@ pub fn reproduce_with_attributes(
         time_limit_seconds: None,
         ..params.gng.clone()
     };
-    let mut trainer = Trainer::new(original, options.resolve(original)?)?;
+    let mut trainer = Trainer::new(&original.clone().into(), options.resolve(original)?)?;
 
     // Phase 1 with snapshots; reconstruction and metrics run afterwards, in parallel.
     let mut snapshots = Vec::new();

@@ -12,7 +12,7 @@
 //! the figures are those of the files a user gets: QEM keeps the attributes through its
 //! contractions (`qem::simplify_with_attributes`; its seams shape the geometry), both GNG3D
 //! variants' triangles follow the seams and take the original's values
-//! (`gng3d_core::simplify_with_attributes`). Each output's attribute deviation
+//! (`gng3d_core::simplify` of a model with attributes). Each output's attribute deviation
 //! ([`metrics::attribute_deviation`]) is in [`SurveyRow::attributes`]. `gng3d compare` and the
 //! viewer follow the same policy.
 

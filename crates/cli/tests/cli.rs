@@ -638,7 +638,7 @@ fn the_library_default_is_the_cli_default_byte_for_byte() {
         let loaded = gng3d::mesh::io::load(&input).unwrap().mesh;
         let (prepared, _) = gng3d::mesh::clean::prepare(&loaded);
         let options = GngOptions::for_target(GngTarget::VertexRatio(ratio));
-        let result = gng3d::gng3d_core::simplify(&prepared, &options).unwrap();
+        let result = gng3d::gng3d_core::simplify(&prepared.clone().into(), &options).unwrap();
         let lib = dir.path().join("lib.ply");
         gng3d::mesh::io::save(&result.mesh, &lib).unwrap();
         let (a, b) = (std::fs::read(&cli).unwrap(), std::fs::read(&lib).unwrap());

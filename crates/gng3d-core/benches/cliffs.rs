@@ -54,7 +54,9 @@ fn bench(c: &mut Criterion) {
     ] {
         assert_eq!(input.face_count(), 65_536);
         let input = mesh::clean::prepare(&input).0;
-        group.bench_function(name, |b| b.iter(|| simplify(&input, &options).unwrap()));
+        group.bench_function(name, |b| {
+            b.iter(|| simplify(&input.clone().into(), &options).unwrap())
+        });
     }
     group.finish();
 
@@ -72,7 +74,9 @@ fn bench(c: &mut Criterion) {
         ("icosphere_327680_faces", mesh::procedural::icosphere(7)),
     ] {
         let input = mesh::clean::prepare(&input).0;
-        group.bench_function(name, |b| b.iter(|| simplify(&input, &options).unwrap()));
+        group.bench_function(name, |b| {
+            b.iter(|| simplify(&input.clone().into(), &options).unwrap())
+        });
     }
     group.finish();
 }

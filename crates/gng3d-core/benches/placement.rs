@@ -21,7 +21,7 @@ fn bench(c: &mut Criterion) {
         let target = (original.vertex_count() as f64 * ratio).round() as usize;
         let mut params = GngParams::for_target(target);
         params.max_signals = Some(20 * original.vertex_count() as u64);
-        let mut trainer = Trainer::new(&original, params).expect("trainer");
+        let mut trainer = Trainer::new(&original.clone().into(), params).expect("trainer");
         while !trainer.is_finished() {
             trainer.step(u64::MAX);
         }

@@ -24,7 +24,7 @@ fn grown(mesh: &TriMesh, nodes: usize, source: SignalSource) -> Trainer {
     params.signal_source = source;
     params.lambda = Some(20);
     params.max_signals = Some(u64::MAX / 4);
-    let mut t = Trainer::new(mesh, params).expect("trainer");
+    let mut t = Trainer::new(&mesh.clone().into(), params).expect("trainer");
     while t.node_count() < nodes {
         t.step(100_000);
     }
@@ -70,7 +70,8 @@ fn gargoyle_protocol(c: &mut Criterion) {
     group.measurement_time(Duration::from_secs(5));
     group.bench_function("phase1+2", |b| {
         b.iter(|| {
-            let mut trainer = Trainer::new(&gargoyle, params.clone()).expect("trainer");
+            let mut trainer =
+                Trainer::new(&gargoyle.clone().into(), params.clone()).expect("trainer");
             while !trainer.is_finished() {
                 trainer.step(u64::MAX);
             }

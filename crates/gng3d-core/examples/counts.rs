@@ -32,7 +32,7 @@ fn main() {
             params.epochs = env("GNG_EPOCHS");
             params.time_limit_seconds = env("GNG_TIME");
             let name = Path::new(file).file_name().unwrap().to_string_lossy();
-            match simplify(&m, &params) {
+            match simplify(&m.clone().into(), &params) {
                 Ok(r) => {
                     let t = &r.report.reconstruction.topology;
                     println!(

@@ -32,7 +32,7 @@ fn main() {
     let mut params = GngParams::for_target(nodes);
     params.lambda = Some(20);
     params.max_signals = Some(u64::MAX / 4);
-    let mut t = Trainer::new(&m, params).expect("trainer");
+    let mut t = Trainer::new(&m.clone().into(), params).expect("trainer");
     while t.node_count() < nodes {
         t.step(100_000);
     }

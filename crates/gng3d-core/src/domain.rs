@@ -598,7 +598,7 @@ mod tests {
             let d = Domain::build(&fan, &Pieces::of(&fan), &params).unwrap();
             assert_eq!(d.pieces.len(), 1, "{source:?}");
             assert_eq!(d.pieces[0].target, 600);
-            assert!(crate::Trainer::new(&fan, params).is_ok());
+            assert!(crate::Trainer::new(&fan.clone().into(), params).is_ok());
         }
     }
 

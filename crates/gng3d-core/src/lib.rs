@@ -17,7 +17,7 @@
 //! use gng3d_core::{GngOptions, GngTarget, simplify};
 //! let sphere = mesh::procedural::icosphere(3); // 642 vertices
 //! let options = GngOptions { seed: 7, ..GngOptions::for_target(GngTarget::Vertices(200)) };
-//! let result = simplify(&sphere, &options).unwrap();
+//! let result = simplify(&sphere.into(), &options).unwrap();
 //! assert_eq!(result.mesh.vertex_count(), 200); // exactly the count asked for
 //! assert!(result.report.warnings.is_empty());
 //! for step in &result.report.steps {
@@ -85,7 +85,7 @@
 //! use gng3d_core::{GngParams, Trainer};
 //! use std::ops::ControlFlow;
 //! let torus = mesh::procedural::torus(1.0, 0.3, 48, 24);
-//! let mut trainer = Trainer::new(&torus, GngParams::for_target(300)).unwrap();
+//! let mut trainer = Trainer::new(&torus.into(), GngParams::for_target(300)).unwrap();
 //! trainer.step(5_000);
 //! let snap = trainer.snapshot(); // compact positions + edges
 //! assert_eq!(snap.positions.len(), trainer.node_count());
@@ -115,24 +115,17 @@
 //! glam, whose `Vec3` is in the API, is re-exported as [`glam`].
 
 mod clock;
-mod decimate;
-mod deviation;
 mod domain;
 mod error;
-mod fan_search;
-mod flip;
+mod finish;
 mod options;
 mod parallel;
 mod params;
 mod pipeline;
-mod placement;
 mod reconstruct;
-mod refit;
-mod relax;
 mod report;
 mod run;
-mod seams;
-mod soundness;
+mod surface;
 mod train;
 mod trainer;
 #[doc(hidden)]
@@ -150,16 +143,21 @@ pub use pipeline::{Plan, PlannedStep, Step, StepRecord};
 pub use reconstruct::{Reconstruction, ReconstructionReport};
 pub use report::{GngReport, GngSummary, GngWarning};
 pub use train::{CancelToken, Progress, Snapshot, StopReason, TrainingStats};
-pub use trainer::Trainer;
+pub use trainer::{Trainer, training_round};
 
 use glam::Vec3;
 use mesh::TriMesh;
+use std::ops::ControlFlow;
 
 /// Output of [`simplify`] and [`finish`].
 #[derive(Debug, Clone)]
 pub struct GngResult {
     /// The simplified mesh (original orientation).
     pub mesh: TriMesh,
+    /// The output's attributes, taken from the original's surface at its corners
+    /// (`mesh::transfer::transfer_attributes`), when the trainer's model has attributes
+    /// ([`finish`] and [`finish_cancellable`]; a [`Trainer::preview`] has none).
+    pub attributes: Option<mesh::attributes::Attributes>,
     /// All trained node positions.
     pub nodes: Vec<Vec3>,
     /// What happened in both phases, including why the vertex count differs from the target
@@ -167,45 +165,29 @@ pub struct GngResult {
     pub report: GngReport,
 }
 
-/// Simplify `mesh` with GNG3D to the options' vertex count: resolve the options
-/// ([`GngOptions::resolve`]), train ([`Trainer`]), then run the pipeline after training
-/// ([`finish`]). With default options this is `gng3d simplify --method gng`: the same mesh
-/// for the same seed.
+/// Simplify `model` with GNG3D to the options' vertex count: resolve the options
+/// ([`GngOptions::resolve`]), train in the rounds every front end uses
+/// ([`Trainer::train_to_end`]), then run the pipeline after training ([`finish`]). With default
+/// options this is `gng3d simplify --method gng`: the same mesh for the same seed.
+///
+/// With attributes (normals, texture coordinates, colours, materials; they must fit the mesh)
+/// the output's triangles follow their seams and its corners take the original's values at
+/// their place, on their side of the seams ([`GngResult::attributes`]; see [`Trainer::new`]).
 ///
 /// The input should be welded (e.g. `mesh::clean::prepare`); signals use distinct vertex
 /// positions either way. On a closed manifold input that can hold N vertices the output has
 /// exactly N; otherwise [`GngReport::warnings`] says why not. Errors are returned for unusable
 /// input or options and for results with no mesh (fewer than three nodes, no triangle), never
 /// panics.
-pub fn simplify(mesh: &TriMesh, options: &GngOptions) -> Result<GngResult, GngError> {
-    let mut trainer = Trainer::new(mesh, options.resolve(mesh)?)?;
-    while !trainer.is_finished() {
-        trainer.step(u64::MAX);
-    }
+pub fn simplify(model: &mesh::Model, options: &GngOptions) -> Result<GngResult, GngError> {
+    let mut trainer = Trainer::new(model, options.resolve(&model.mesh)?)?;
+    trainer.train_to_end(|_| ControlFlow::Continue(()));
     finish(&trainer, |_| {})
 }
 
-/// [`simplify`] for a mesh with `attributes` (normals, texture coordinates, colours, materials;
-/// they must fit `mesh`), as `gng3d simplify --method gng` runs it: the output's triangles
-/// follow the seams ([`Trainer::with_attributes`]) and its corners take the original's values
-/// at their place, on their side of the seams (`mesh::transfer::transfer_attributes`). Returns
-/// the result and the output's attributes.
-pub fn simplify_with_attributes(
-    mesh: &TriMesh,
-    attributes: &mesh::attributes::Attributes,
-    options: &GngOptions,
-) -> Result<(GngResult, mesh::attributes::Attributes), GngError> {
-    let mut trainer = Trainer::with_attributes(mesh, attributes, options.resolve(mesh)?)?;
-    while !trainer.is_finished() {
-        trainer.step(u64::MAX);
-    }
-    let result = finish(&trainer, |_| {})?;
-    let kept = mesh::transfer::transfer_attributes(mesh, attributes, &result.mesh);
-    Ok((result, kept))
-}
-
 /// The run after training, on a trained (or stopped) `trainer`: the steps of its
-/// [`Trainer::plan`] (see [`Step`]), the checks and the warnings. `on_step` sees each step as it
+/// [`Trainer::plan`] (see [`Step`]), the checks and the warnings, and the output's attributes
+/// when the trainer's model has some ([`GngResult::attributes`]). `on_step` sees each step as it
 /// finishes (a front end's progress). Front ends that drive the trainer themselves (progress
 /// bars, viewers) call this to get what [`simplify`] gives.
 ///

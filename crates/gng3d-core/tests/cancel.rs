@@ -9,7 +9,8 @@ use std::time::{Duration, Instant};
 fn trained() -> Trainer {
     let sphere = mesh::procedural::icosphere(4);
     let options = GngOptions::for_target(GngTarget::Vertices(300));
-    let mut trainer = Trainer::new(&sphere, options.resolve(&sphere).unwrap()).unwrap();
+    let mut trainer =
+        Trainer::new(&sphere.clone().into(), options.resolve(&sphere).unwrap()).unwrap();
     while !trainer.is_finished() {
         trainer.step(u64::MAX);
     }

@@ -31,11 +31,13 @@ fn gngq_on_fan_caps_costs_about_an_ordinary_mesh() {
         ..GngOptions::for_target(GngTarget::VertexRatio(0.5))
     };
     let mut out = None;
-    let fan = fastest(2, || out = Some(simplify(&cylinder, &options).unwrap()));
+    let fan = fastest(2, || {
+        out = Some(simplify(&cylinder.clone().into(), &options).unwrap())
+    });
     let out = out.unwrap();
     assert_eq!(out.mesh.vertex_count(), cylinder.vertex_count().div_ceil(2));
     let plain = fastest(2, || {
-        simplify(&torus, &options).unwrap();
+        simplify(&torus.clone().into(), &options).unwrap();
     });
     eprintln!(
         "fan-capped cylinder {fan:.3} s, torus {plain:.3} s ({:.2}x)",
@@ -74,10 +76,10 @@ fn many_pieces_cost_about_an_ordinary_mesh() {
         ..GngOptions::for_target(GngTarget::Vertices(3))
     };
     let many = fastest(2, || {
-        simplify(&pieces, &options).unwrap();
+        simplify(&pieces.clone().into(), &options).unwrap();
     });
     let plain = fastest(2, || {
-        simplify(&sphere, &options).unwrap();
+        simplify(&sphere.clone().into(), &options).unwrap();
     });
     eprintln!(
         "100k pieces {many:.3} s, icosphere {plain:.3} s ({:.1}x)",

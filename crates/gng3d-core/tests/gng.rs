@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 
 /// A run with these exact parameters (no option resolution): train, then `gng3d_core::finish`.
 fn simplify(mesh: &TriMesh, params: &GngParams) -> Result<GngResult, GngError> {
-    let mut trainer = Trainer::new(mesh, params.clone())?;
+    let mut trainer = Trainer::new(&mesh.clone().into(), params.clone())?;
     while !trainer.is_finished() {
         trainer.step(u64::MAX);
     }
@@ -72,7 +72,7 @@ fn rms_nearest_distance(from: &[Vec3], to: &[Vec3]) -> f64 {
 fn node_count_reaches_and_holds_the_target() {
     let sphere = icosphere(4); // 2562 vertices
     let target = 500;
-    let mut trainer = Trainer::new(&sphere, GngParams::for_target(target)).unwrap();
+    let mut trainer = Trainer::new(&sphere.clone().into(), GngParams::for_target(target)).unwrap();
     let mut reached_at = None;
     let mut after = Vec::new();
     while !trainer.is_finished() {
@@ -159,7 +159,7 @@ fn grid_search_matches_linear_scan() {
 fn vertex_error_falls_and_nodes_end_on_the_sphere() {
     let sphere = icosphere(4);
     let params = GngParams::for_target(400);
-    let mut trainer = Trainer::new(&sphere, params).unwrap();
+    let mut trainer = Trainer::new(&sphere.clone().into(), params).unwrap();
     let mut e_avg = Vec::new();
     while !trainer.is_finished() {
         trainer.step(5_000);
@@ -256,7 +256,7 @@ fn snapshot_is_compact_and_cancel_works_from_another_thread() {
     let sphere = icosphere(5);
     let mut params = GngParams::for_target(3000);
     params.max_signals = Some(u64::MAX / 4);
-    let mut trainer = Trainer::new(&sphere, params).unwrap();
+    let mut trainer = Trainer::new(&sphere.clone().into(), params).unwrap();
     trainer.step(50_000);
     let snap = trainer.snapshot();
     assert_eq!(snap.positions.len(), trainer.node_count());
@@ -372,7 +372,7 @@ fn trainer_and_outputs_can_move_to_other_threads() {
     assert_send::<gng3d_core::GngResult>();
     // And actually run one on a worker thread.
     let sphere = icosphere(2);
-    let mut trainer = Trainer::new(&sphere, GngParams::for_target(50)).unwrap();
+    let mut trainer = Trainer::new(&sphere.clone().into(), GngParams::for_target(50)).unwrap();
     let handle = std::thread::spawn(move || {
         trainer.step(u64::MAX);
         trainer.node_count()
@@ -534,7 +534,7 @@ fn a_limit_below_the_minimum_gives_the_fastest_exact_run_and_says_so() {
             time_limit_seconds: Some(limit.as_secs_f64()),
             ..GngOptions::for_target(GngTarget::Vertices(target))
         };
-        let r = gng3d_core::simplify(&sphere, &options).unwrap();
+        let r = gng3d_core::simplify(&sphere.clone().into(), &options).unwrap();
         assert_eq!(r.mesh.vertex_count(), target);
         let minimum = r
             .report
@@ -622,22 +622,22 @@ fn validate_names_the_parameter() {
     ));
     p.alpha = 0.5;
     p.removal_window = -1.0;
-    let e = Trainer::new(&icosphere(2), p).unwrap_err();
+    let e = Trainer::new(&icosphere(2).into(), p).unwrap_err();
     assert!(e.to_string().contains("removal_window"), "{e}");
 }
 
 #[test]
 fn default_budget_follows_the_target_and_paper_budget_the_input() {
     let sphere = icosphere(5); // 10242 vertices
-    let t = Trainer::new(&sphere, GngParams::for_target(100)).unwrap();
+    let t = Trainer::new(&sphere.clone().into(), GngParams::for_target(100)).unwrap();
     assert_eq!(
         t.stats().max_signals,
         (gng3d_core::tuning::DEFAULT_SIGNALS_PER_NODE * 100.0) as u64
     );
-    let t = Trainer::new(&sphere, GngParams::paper(100)).unwrap();
+    let t = Trainer::new(&sphere.clone().into(), GngParams::paper(100)).unwrap();
     assert_eq!(t.stats().max_signals, 30 * 10242);
     // Large ratios too: the budget follows the output, not the paper's 30 epochs.
-    let t = Trainer::new(&sphere, GngParams::for_target(9000)).unwrap();
+    let t = Trainer::new(&sphere.clone().into(), GngParams::for_target(9000)).unwrap();
     assert_eq!(
         t.stats().max_signals,
         (gng3d_core::tuning::DEFAULT_SIGNALS_PER_NODE * 9000.0) as u64
@@ -645,7 +645,7 @@ fn default_budget_follows_the_target_and_paper_budget_the_input() {
     // Oversampled: the output's count sets it, the extra nodes share it.
     let mut p = GngParams::for_target(100);
     p.network_vertices = Some(150);
-    let t = Trainer::new(&sphere, p).unwrap();
+    let t = Trainer::new(&sphere.clone().into(), p).unwrap();
     assert_eq!(
         t.stats().max_signals,
         (gng3d_core::tuning::DEFAULT_SIGNALS_PER_NODE * 100.0) as u64
@@ -661,7 +661,7 @@ fn trainer_reconstruction_equals_the_snapshots() {
     let sphere = icosphere(6);
     let mut params = GngParams::for_target(500);
     params.seed = 3;
-    let mut trainer = Trainer::new(&sphere, params).unwrap();
+    let mut trainer = Trainer::new(&sphere.clone().into(), params).unwrap();
     while !trainer.is_finished() {
         trainer.step(u64::MAX);
     }
@@ -686,7 +686,9 @@ fn the_thread_count_does_not_change_the_output() {
             seed: 5,
             ..GngOptions::for_target(GngTarget::Vertices(2_000))
         };
-        gng3d_core::simplify(&sphere, &options).unwrap().mesh
+        gng3d_core::simplify(&sphere.clone().into(), &options)
+            .unwrap()
+            .mesh
     };
     let one = run(Some(1));
     assert_eq!(one.vertex_count(), 2_000);
@@ -746,7 +748,7 @@ fn a_decimation_that_stops_above_the_target_is_reported() {
         seed: 5,
         ..GngOptions::for_target(GngTarget::Vertices(target))
     };
-    let result = gng3d_core::simplify(&holed, &options).unwrap();
+    let result = gng3d_core::simplify(&holed.clone().into(), &options).unwrap();
     let vertices = result.mesh.vertex_count();
     assert!(result.report.network_vertices > target);
     assert!(vertices > target, "{vertices} vertices");
@@ -775,7 +777,7 @@ fn a_decimation_that_stops_above_the_target_is_reported() {
 fn the_trainer_is_finished_once_its_budget_is_spent() {
     // Not at the next call: a front end that steps exactly the budget sees the end at once.
     let sphere = icosphere(3);
-    let mut trainer = Trainer::new(&sphere, GngParams::for_target(200)).unwrap();
+    let mut trainer = Trainer::new(&sphere.clone().into(), GngParams::for_target(200)).unwrap();
     let budget = trainer.stats().max_signals;
     assert_eq!(trainer.step(budget - 1), budget - 1);
     assert!(!trainer.is_finished());
@@ -793,8 +795,8 @@ fn a_discounted_pause_does_not_count_against_the_time_limit() {
     let mut p = GngParams::for_target(500);
     p.max_signals = Some(u64::MAX / 4);
     p.time_limit = Some(Duration::from_millis(200));
-    let mut paused = Trainer::new(&sphere, p.clone()).unwrap();
-    let mut resumed = Trainer::new(&sphere, p).unwrap();
+    let mut paused = Trainer::new(&sphere.clone().into(), p.clone()).unwrap();
+    let mut resumed = Trainer::new(&sphere.clone().into(), p).unwrap();
     std::thread::sleep(Duration::from_millis(250));
     resumed.discount(Duration::from_millis(250));
     assert!(resumed.run_elapsed() < Duration::from_millis(100));

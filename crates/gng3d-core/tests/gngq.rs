@@ -13,7 +13,7 @@ fn trained(m: &TriMesh, target: usize, seed: u64, source: SignalSource) -> Train
     params.seed = seed;
     params.signal_source = source;
     params.max_signals = Some(40 * target as u64 + 20 * m.vertex_count() as u64);
-    let mut t = Trainer::new(m, params).expect("trainer");
+    let mut t = Trainer::new(&m.clone().into(), params).expect("trainer");
     while !t.is_finished() {
         t.step(u64::MAX);
     }

@@ -1,5 +1,5 @@
 //! GNG3D-Q on a textured mesh whose UV atlas has two charts: the output's triangles follow the
-//! seam between them ([`gng3d_core::Trainer::with_attributes`]), so the texture coordinates
+//! seam between them ([`gng3d_core::Trainer::new`] with attributes), so the texture coordinates
 //! taken from the original (`mesh::transfer::transfer_attributes`, as `gng3d simplify` does)
 //! are right inside the triangles, not only at their corners, and the vertex count is exact.
 
@@ -54,16 +54,19 @@ fn simplify(
         ..GngOptions::for_target(GngTarget::Vertices(n))
     };
     let params = options.resolve(sphere).unwrap();
-    let mut trainer = if seams {
-        Trainer::with_attributes(sphere, attributes, params).unwrap()
-    } else {
-        Trainer::new(sphere, params).unwrap()
-    };
+    let mut model = mesh::Model::from(sphere.clone());
+    if seams {
+        model.attributes = Some(attributes.clone());
+    }
+    let mut trainer = Trainer::new(&model, params).unwrap();
     while !trainer.is_finished() {
         trainer.step(u64::MAX);
     }
     let result = gng3d_core::finish(&trainer, |_| {}).unwrap();
-    let out = mesh::transfer::transfer_attributes(sphere, attributes, &result.mesh);
+    let out = match result.attributes {
+        Some(out) => out,
+        None => mesh::transfer::transfer_attributes(sphere, attributes, &result.mesh),
+    };
     out.validate(&result.mesh).unwrap();
     (result.mesh, out)
 }

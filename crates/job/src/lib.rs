@@ -32,5 +32,5 @@ pub use request::{
     AttributePolicy, DEFAULT_METHOD, DEFAULT_SEED, GngVariant, MAX_THREADS, Method, Opt,
     QemOptions, Request, Target, parse_placement, parse_signals, placement_name, signals_name,
 };
-pub use run::{Job, Observer, Outcome, run, training_round};
+pub use run::{Job, Observer, Outcome, run};
 pub use summary::{QemSummary, Summary, Warning};

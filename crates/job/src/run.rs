@@ -13,7 +13,7 @@ use std::time::Instant;
 /// What a front end sees of a run while it goes (progress bars, a viewer's status line). Every
 /// method has a default that does nothing; `()` observes nothing.
 pub trait Observer: Send {
-    /// GNG3D's training moved on (every [`training_round`] signals): `budget` is the most
+    /// GNG3D's training moved on (every [`gng3d_core::training_round`] signals): `budget` is the most
     /// signals it presents.
     fn training(&mut self, _progress: &Progress, _budget: u64) {}
     /// GNG3D's training ended; these steps come next.
@@ -25,16 +25,6 @@ pub trait Observer: Send {
 }
 
 impl Observer for () {}
-
-/// Signals between two progress reports of GNG3D's training: 5 % of the budget, within 1,000
-/// and 2,000,000. Training goes in rounds of this size, and the rounds shape the run (each
-/// round shares its signals among the network's parts), so every front end uses this one size
-/// and gets the same mesh. The bar moves every 5 %: each round starts the parts' threads, and
-/// at 0.5 % a round (igea at 1 %: 2,000 signals, ~0.6 ms) starting them cost a third of the
-/// gain.
-pub fn training_round(budget: u64) -> u64 {
-    (budget / 20).clamp(1_000, 2_000_000)
-}
 
 /// A finished run.
 #[derive(Debug, Clone)]
@@ -144,10 +134,7 @@ impl<'a> Job<'a> {
         // The run's clock starts with the trainer (its tables are part of the run).
         let started = Instant::now();
         // With attributes, the output's triangles follow their seams.
-        let trainer = match &input.attributes {
-            Some(a) => Trainer::with_attributes(&input.mesh, a, params)?,
-            None => Trainer::new(&input.mesh, params)?,
-        };
+        let trainer = Trainer::new(input, params)?;
         let cancel = trainer.cancel_token();
         Ok(Job {
             input,
@@ -177,7 +164,7 @@ impl<'a> Job<'a> {
                 options,
             } => {
                 let budget = trainer.stats().max_signals;
-                trainer.train(training_round(budget), |p| {
+                trainer.train_to_end(|p| {
                     observer.training(p, budget);
                     ControlFlow::Continue(())
                 });
@@ -189,12 +176,6 @@ impl<'a> Job<'a> {
                     gng3d_core::finish_cancellable(&trainer, &self.cancel, |r| observer.step(r))
                 })?;
                 let seconds = self.started.elapsed().as_secs_f64();
-                // The input's attributes from its surface at the output's corners.
-                let attributes = self.input.attributes.as_ref().map(|a| {
-                    in_pool(pool, || {
-                        mesh::transfer::transfer_attributes(&self.input.mesh, a, &result.mesh)
-                    })
-                });
                 let summary = gng3d_core::GngSummary::new(
                     self.request.method.name(),
                     &trainer,
@@ -209,7 +190,7 @@ impl<'a> Job<'a> {
                     .map(|w| w.to_string())
                     .collect();
                 Ok(Outcome {
-                    model: self.input.with_mesh(result.mesh, attributes),
+                    model: self.input.with_mesh(result.mesh, result.attributes),
                     summary: Summary::Gng(Box::new(summary)),
                     warnings,
                     training_stop: trainer.stats().stop,

@@ -185,7 +185,7 @@ impl Trainer {
         let trainer = py
             .detach(|| {
                 let params = options.resolve(&input)?;
-                gng3d_core::Trainer::new(&input, params)
+                gng3d_core::Trainer::new(&input.into(), params)
             })
             .map_err(run::gng_error)?;
         Ok(Trainer {

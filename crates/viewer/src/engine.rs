@@ -126,7 +126,7 @@ impl Engine {
     /// age, removal window, search) are then taken as edited.
     ///
     /// With `attributes` whose seams the output is to follow, the run is
-    /// `Trainer::with_attributes`'s, as `gng3d simplify --method gng` runs it.
+    /// `Trainer::new`'s with them, as `gng3d simplify --method gng` runs it.
     pub fn new(
         mesh: &TriMesh,
         attributes: Option<&Attributes>,
@@ -158,15 +158,16 @@ impl Engine {
             search: params.search,
             ..resolved
         };
-        match attributes {
-            Some(a) => gng3d_core::Trainer::with_attributes(mesh, a, resolved),
-            None => gng3d_core::Trainer::new(mesh, resolved),
-        }
-        .map(|trainer| Engine {
-            trainer,
-            finished: None,
-        })
-        .map_err(|e| ViewerError::Gng(e.to_string()))
+        let model = mesh::Model {
+            attributes: attributes.cloned(),
+            ..mesh.clone().into()
+        };
+        gng3d_core::Trainer::new(&model, resolved)
+            .map(|trainer| Engine {
+                trainer,
+                finished: None,
+            })
+            .map_err(|e| ViewerError::Gng(e.to_string()))
     }
 
     /// The signal budget this run resolved to (the crate's default when none was given).

@@ -52,7 +52,7 @@ pub enum Step {
     /// One round of detail nodes (option (g)); the build steps run again after it.
     DetailRound,
     /// The network's mesh cut along the original's attribute seams, for a decimation that
-    /// keeps them (inputs with seams only: [`crate::Trainer::with_attributes`]).
+    /// keeps them (inputs with seams only: [`crate::Trainer::new`] with attributes).
     CutSeams,
     /// QEM decimation of an oversampled network's mesh to the output count.
     Decimate,
@@ -168,7 +168,7 @@ impl Plan {
     }
 
     /// [`Plan::of`], and with `seams` (the input's attributes have seams:
-    /// [`crate::Trainer::with_attributes`]) [`Step::CutSeams`] then [`Step::Decimate`] after the
+    /// [`crate::Trainer::new`] with attributes) [`Step::CutSeams`] then [`Step::Decimate`] after the
     /// last build whether or not `decimates`: the cut adds vertices, the decimation takes the
     /// mesh back to the output count along the seams.
     pub fn with_seams(params: &ReconstructionParams, decimates: bool, seams: bool) -> Plan {

@@ -254,14 +254,15 @@ impl<'a> Work<'a> {
                 weights: a.weights,
             })
             .collect();
-        self.owner = crate::placement::owners(&self.labels, &self.node_of_vertex, nodes.len());
+        self.owner =
+            crate::reconstruct::placement::owners(&self.labels, &self.node_of_vertex, nodes.len());
         attachments.len()
     }
 
     /// [`Step::Place`].
     pub(super) fn place(&mut self) -> usize {
         let tables = self.tables.as_deref().expect("labelled");
-        let placed = crate::placement::place(
+        let placed = crate::reconstruct::placement::place(
             self.original,
             &tables.edges,
             &self.owner,
@@ -277,7 +278,7 @@ impl<'a> Work<'a> {
 
     /// [`Step::Flip`].
     pub(super) fn flip(&mut self) -> usize {
-        let flips = crate::flip::flip_edges(
+        let flips = crate::reconstruct::flip::flip_edges(
             &self.positions,
             &mut self.triangles,
             &self.original.positions,
@@ -293,7 +294,7 @@ impl<'a> Work<'a> {
     /// of 8).
     pub(super) fn refit(&mut self) -> usize {
         let tables = self.tables.as_deref().expect("labelled");
-        let refit = crate::refit::refit(
+        let refit = crate::reconstruct::refit::refit(
             &mut self.positions,
             &self.triangles,
             self.original,
@@ -354,7 +355,7 @@ impl<'a> Work<'a> {
     }
 
     /// [`Step::CutSeams`]: the network's mesh cut along the original's seams
-    /// ([`crate::seams::cut`]).
+    /// ([`crate::finish::seams::cut`]).
     pub(super) fn cut_seams(&mut self) -> usize {
         let Some(charts) = self.charts else {
             return 0;
@@ -367,7 +368,7 @@ impl<'a> Work<'a> {
             std::mem::take(&mut self.positions),
             std::mem::take(&mut self.triangles),
         );
-        let cut = crate::seams::cut(
+        let cut = crate::finish::seams::cut(
             self.original,
             grid,
             charts,
@@ -404,7 +405,7 @@ impl<'a> Work<'a> {
 
     /// [`Step::Decimate`]: error first down to the output count, when the network's mesh has
     /// more vertices; along the seams after [`Step::CutSeams`]
-    /// ([`crate::decimate::decimate_along_seams`]).
+    /// ([`crate::finish::decimate::decimate_along_seams`]).
     pub(super) fn decimate(&mut self) -> Result<usize, qem::QemError> {
         let Some(n) = self.decimate_to else {
             return Ok(0);
@@ -421,11 +422,11 @@ impl<'a> Work<'a> {
         let out = match (self.triangle_charts.take(), self.uncut.take()) {
             (Some(charts), Some(uncut)) => {
                 let (along, charts) =
-                    crate::decimate::decimate_along_seams(&mesh, &charts, n, cancel)?;
+                    crate::finish::decimate::decimate_along_seams(&mesh, &charts, n, cancel)?;
                 // The same count without the seams, from the mesh before the cut: kept when
                 // the seams would cost too much of the surface (SEAM_DISTANCE_RATIO).
                 let plain = if uncut.vertex_count() > n {
-                    crate::decimate::decimate(&uncut, n, cancel)?
+                    crate::finish::decimate::decimate(&uncut, n, cancel)?
                 } else {
                     uncut
                 };
@@ -435,8 +436,8 @@ impl<'a> Work<'a> {
                     .get_or_insert_with(|| mesh::transfer::FaceGrid::new(original));
                 // (No charts: the decimation along the seams could not reach the count.)
                 let ratio = charts.as_ref().map(|_| {
-                    let (along_mean, _) = crate::seams::distance_to(grid, original, &along);
-                    let (plain_mean, _) = crate::seams::distance_to(grid, original, &plain);
+                    let (along_mean, _) = crate::finish::seams::distance_to(grid, original, &along);
+                    let (plain_mean, _) = crate::finish::seams::distance_to(grid, original, &plain);
                     along_mean / plain_mean.max(f64::MIN_POSITIVE)
                 });
                 if ratio.is_some_and(|r| r <= SEAM_DISTANCE_RATIO) {
@@ -447,7 +448,7 @@ impl<'a> Work<'a> {
                     plain
                 }
             }
-            _ => crate::decimate::decimate(&mesh, n, cancel)?,
+            _ => crate::finish::decimate::decimate(&mesh, n, cancel)?,
         };
         self.decimated = true;
         let TriMesh {
@@ -466,7 +467,7 @@ impl<'a> Work<'a> {
             return 0;
         }
         let seams = self.seam_vertices();
-        let relaxed = crate::relax::relax(
+        let relaxed = crate::finish::relax::relax(
             &mut self.positions,
             &self.triangles,
             self.original,
@@ -483,7 +484,7 @@ impl<'a> Work<'a> {
             return 0;
         }
         let seams = self.seam_vertices();
-        let repaired = crate::deviation::repair_until(
+        let repaired = crate::finish::deviation::repair_until(
             &mut self.positions,
             &mut self.triangles,
             self.original,

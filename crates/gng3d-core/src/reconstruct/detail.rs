@@ -73,14 +73,14 @@ pub(crate) fn farthest_vertices(
         return Vec::new();
     }
     let outputs = positions.len();
-    let fans = crate::flip::fans(triangles, outputs);
+    let fans = crate::surface::fans(triangles, outputs);
     let pos: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
     let adjacency = &tables.adjacency;
     // Squared distance from `q` to the faces around the output vertices in `around`
     // (crate::fan_search: each face once, a bounding-box bound before the exact test, a tree
     // for high-valence fans). The bound cut detail rounds of gargoyle-10k at 50 % 0.22 ->
     // 0.12 s, stanford-bunny at 10 % 0.16 -> 0.11 s (medians of 5 alternating runs).
-    let search = crate::fan_search::FanSearch::new(&fans, triangles, &pos);
+    let search = crate::surface::fan_search::FanSearch::new(&fans, triangles, &pos);
     let distance_to_fans = |q: DVec3, around: &[u32]| search.nearest(q, around).0;
     // The output vertices whose fans hold the closest face to a point near original vertices
     // `ends` (their own cells and their neighbours'; at most 16).

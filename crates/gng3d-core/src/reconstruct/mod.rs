@@ -2,8 +2,8 @@
 //! node; every original face becomes the triple of its corners' labels. Degenerate triples are
 //! dropped, duplicates (in either orientation) merged, and optional passes filter by GNG edges,
 //! remove non-manifold fins and fill small holes; then every node that no triangle references is
-//! attached, the output vertices are placed ([`crate::placement`]) and edges flipped toward
-//! the surface ([`crate::flip`]).
+//! attached, the output vertices are placed ([`placement`]) and edges flipped toward
+//! the surface ([`flip`]).
 //!
 //! The steps and their order are [`crate::pipeline`]'s; this module holds the steps of the
 //! reconstruction proper (labelling, connected cells, face mapping, cleanup, attachment) with
@@ -18,8 +18,9 @@
 use crate::domain::Pieces;
 use crate::params::{OppositeFaces, ReconstructionParams};
 pub use crate::report::ReconstructionReport;
+use crate::surface::{kd_tree, label_with_threads, nearest};
 use glam::Vec3;
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::ImmutableKdTree;
 use mesh::TriMesh;
 use mesh::topology::UnionFind;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
@@ -27,6 +28,9 @@ use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 pub(crate) mod attach;
 mod cleanup;
 pub(crate) mod detail;
+pub(crate) mod flip;
+pub(crate) mod placement;
+pub(crate) mod refit;
 pub(crate) mod split;
 
 /// Most rounds of option (f) (map, split the bad cells, map again). The cow at 10 % needs 7, the
@@ -49,43 +53,6 @@ pub struct Reconstruction {
     pub node_of_vertex: Vec<u32>,
     /// What each step did.
     pub report: ReconstructionReport,
-}
-
-/// f64 kd-tree over `points` (f64 so that squared distances of 1e30-sized coordinates do not
-/// overflow); `None` when empty.
-fn kd_tree(points: &[Vec3]) -> Option<ImmutableKdTree<f64, 3>> {
-    if points.is_empty() {
-        return None;
-    }
-    let pts: Vec<[f64; 3]> = points.iter().map(|p| p.as_dvec3().to_array()).collect();
-    ImmutableKdTree::<f64, 3>::new_from_slice(&pts).ok()
-}
-
-/// Index of the point of `tree` nearest to `p`.
-#[inline]
-fn nearest(tree: &ImmutableKdTree<f64, 3>, p: Vec3) -> u32 {
-    tree.query(&p.as_dvec3().to_array())
-        .nearest_one::<SquaredEuclidean<f64>>()
-        .execute()
-        .item
-}
-
-/// Below this many vertices per thread the labelling stays on one (a thread start costs more
-/// than it saves).
-const MIN_VERTICES_PER_LABEL_THREAD: usize = 16_384;
-
-/// Each original vertex's nearest node (`u32::MAX` when there are no nodes), on up to
-/// `threads` threads (same labels for any count).
-pub(crate) fn label_with_threads(original: &[Vec3], nodes: &[Vec3], threads: usize) -> Vec<u32> {
-    let Some(tree) = kd_tree(nodes) else {
-        return vec![u32::MAX; original.len()];
-    };
-    crate::parallel::map_indexed(
-        original.len(),
-        threads,
-        MIN_VERTICES_PER_LABEL_THREAD,
-        |v| nearest(&tree, original[v]),
-    )
 }
 
 /// Component-aware labels: each node belongs to the connected piece of the original holding

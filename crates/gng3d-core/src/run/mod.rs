@@ -30,8 +30,11 @@ pub(crate) struct Run {
     /// Phase 2's tables of `original`, built on a helper thread while training runs.
     tables: Arc<BackgroundTables>,
     /// Each original triangle's side of the seams when the input's attributes have seams
-    /// ([`crate::Trainer::with_attributes`], `seams::seam_sides`).
+    /// ([`crate::Trainer::new`] with attributes, `seams::seam_sides`).
     charts: Option<Arc<Vec<u32>>>,
+    /// The input's attributes, whose values the output takes at its corners
+    /// ([`crate::GngResult::attributes`]).
+    attributes: Option<Arc<Attributes>>,
     /// The steps after training ([`Plan::of`] the parameters, less what the time limit left
     /// out).
     plan: Plan,
@@ -77,7 +80,7 @@ impl Run {
         params.validate()?;
         let charts = attributes
             .filter(|a| !a.seam_edges(mesh).is_empty())
-            .map(|a| Arc::new(crate::seams::seam_sides(mesh, a)));
+            .map(|a| Arc::new(crate::finish::seams::seam_sides(mesh, a)));
         // The time limit is shared between the training and the steps after it, once.
         let time_plan =
             crate::pipeline::plan_for_time(params, mesh.positions.len(), charts.is_some());
@@ -102,6 +105,7 @@ impl Run {
             pieces,
             tables,
             charts,
+            attributes: attributes.map(|a| Arc::new(a.clone())),
             plan: time_plan.plan,
             full_plan: time_plan.full,
             cut_runs: time_plan.cut_runs,
@@ -189,7 +193,8 @@ impl Run {
     }
 
     /// [`crate::finish_cancellable`]: `plan` on what training handed over, with the checks and
-    /// warnings of a run, stopped with [`GngError::Cancelled`] when `cancel` is set.
+    /// warnings of a run, stopped with [`GngError::Cancelled`] when `cancel` is set; the
+    /// output's attributes from the original's surface when the input has some.
     pub(crate) fn finish(
         &self,
         trained: Trained<'_>,
@@ -201,7 +206,13 @@ impl Run {
             self.clock.started + Duration::from_secs_f64(crate::pipeline::aim_seconds(limit))
         });
         let reconstruction = &trained.params.reconstruction;
-        self.finish_with(trained, plan, reconstruction, deadline, cancel, on_step)
+        let mut result =
+            self.finish_with(trained, plan, reconstruction, deadline, cancel, on_step)?;
+        result.attributes = self
+            .attributes
+            .as_deref()
+            .map(|a| mesh::transfer::transfer_attributes(&self.original, a, &result.mesh));
+        Ok(result)
     }
 
     /// `plan` with `reconstruction` on what training handed over, then the checks and the
@@ -305,6 +316,7 @@ impl Run {
         };
         Ok(GngResult {
             mesh: out.mesh,
+            attributes: None,
             nodes: snap.positions.clone(),
             report,
         })

@@ -16,8 +16,9 @@
 //! GNG3D as published (Node) keeps the node positions: they sit at the centroid of their
 //! signals, i.e. inside curved surfaces and off creases.
 
+use super::Attachment;
 use crate::params::Placement;
-use crate::reconstruct::Attachment;
+use crate::surface::{CellFaces, cell_faces, closest_on_faces};
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
 use mesh::geometry::{box_distance2, closest_point_triangle};
@@ -48,9 +49,6 @@ const MIN_VERTICES_PER_THREAD: usize = 512;
 /// borders stay where the original's are.
 pub const BOUNDARY_WEIGHT: f64 = 1000.0;
 
-/// The original faces of each output vertex's cell: `of(o)` (see [`cell_faces`]).
-pub(crate) type CellFaces = mesh::topology::VertexFaces;
-
 /// Output vertex of each original vertex (`u32::MAX` when its node is not in the output).
 pub(crate) fn owners(labels: &[u32], node_of_vertex: &[u32], node_count: usize) -> Vec<u32> {
     let mut out_of_node = vec![u32::MAX; node_count];
@@ -61,14 +59,6 @@ pub(crate) fn owners(labels: &[u32], node_of_vertex: &[u32], node_count: usize) 
         .iter()
         .map(|&l| out_of_node.get(l as usize).copied().unwrap_or(u32::MAX))
         .collect()
-}
-
-/// Step 1: the original faces with a corner owned by each output vertex (each face once per
-/// distinct owner), grouped by a counting sort over the owners.
-pub(crate) fn cell_faces(original: &TriMesh, owner: &[u32], outputs: usize) -> CellFaces {
-    CellFaces::grouped(outputs, original.triangles.len(), |f| {
-        original.triangles[f].map(|v| owner[v as usize])
-    })
 }
 
 /// What [`place`] did.
@@ -209,30 +199,6 @@ pub(crate) fn place(
     placed
 }
 
-/// The closest point to `p` on the original `faces`, starting from the bound `best` (squared
-/// distance, point); faces whose bounding box is no nearer than the best so far are skipped
-/// (on igea at 1 % a cell has ~300 faces and nearly all are culled by the box test).
-pub(crate) fn closest_on_faces(
-    original: &TriMesh,
-    faces: &[u32],
-    p: DVec3,
-    mut best: (f64, DVec3),
-) -> (f64, DVec3) {
-    for &f in faces {
-        let [a, b, c] =
-            original.triangles[f as usize].map(|v| original.positions[v as usize].as_dvec3());
-        if box_distance2(p, a, b, c) >= best.0 {
-            continue;
-        }
-        let q = closest_point_triangle(p, a, b, c);
-        let d = (q - p).length_squared();
-        if d < best.0 {
-            best = (d, q);
-        }
-    }
-    best
-}
-
 /// Whether one of the original `faces` comes within `sqrt(limit2)` of `p`: [`closest_on_faces`]
 /// `<= limit2`, stopping at the first face that does (on igea at 1 % the check of the quadric
 /// solutions took half of step 3 when it searched for the closest face).
@@ -269,7 +235,7 @@ fn place_attached(
         }
     }
     let corners = |f: u32| original.triangle_f64(f as usize);
-    let large = crate::fan_search::LargeLists::new(
+    let large = crate::surface::fan_search::LargeLists::new(
         positions.len(),
         |c| {
             if searches[c] >= MIN_SEARCHES_FOR_TREE {

@@ -15,8 +15,8 @@
 //!    `a b` with faces `(a b c)` and `(b a d)`, the flip to `c d` is taken when
 //!    - `c ≠ d` and the edge `c d` does not exist (no duplicate face, manifoldness kept),
 //!    - both new faces are non-degenerate, face the way the old pair faced
-//!      ([`crate::soundness::FLIP_MIN_NORMAL_COS`]) and do not fold onto each other ([`MIN_FOLD_COS`]),
-//!    - their smallest angle stays at least `min(old smallest angle, crate::soundness::FLIP_KEEP_ANGLE_DEGREES)`
+//!      ([`crate::surface::soundness::FLIP_MIN_NORMAL_COS`]) and do not fold onto each other ([`MIN_FOLD_COS`]),
+//!    - their smallest angle stays at least `min(old smallest angle, crate::surface::soundness::FLIP_KEEP_ANGLE_DEGREES)`
 //!      (GNG3D's well-shaped triangles are one of its advantages),
 //!    - and either the quad's points' summed squared distance to the new faces is below
 //!      [`GAIN`] × the cached error of the old pair (clearly lower, so flips cannot cycle),
@@ -28,7 +28,8 @@
 //! tests per point of its quad (each fan face and each second new face is first tested by its
 //! bounding box, [`mesh::geometry::box_distance2`]); no allocation in the loop.
 
-use crate::soundness::{FaceRule, min_angle_sin2};
+use crate::surface::soundness::{FaceRule, min_angle_sin2};
+use crate::surface::{apply_flip, faces_on_edge, fans, has_edge};
 use glam::{DVec3, Vec3};
 use mesh::geometry::{box_distance2, closest_point_triangle, is_degenerate};
 
@@ -81,79 +82,6 @@ pub struct FlipStats {
     pub error_after: f64,
 }
 
-/// The faces around each of `n` vertices, in face order, as lists a pass can edit (flips
-/// change them as they go); shared by every pass that walks fans.
-pub(crate) fn fans(triangles: &[[u32; 3]], n: usize) -> Vec<Vec<u32>> {
-    mesh::topology::VertexFaces::new(triangles, n).to_lists()
-}
-
-/// The faces on edge `a b`, found in the smaller fan of `a` and `b` (a hub of thousands of
-/// faces made every edge at it a scan of its whole fan): how many there are, and the last of
-/// them other than `not` that runs `b → a` in that fan's order (the face across the edge from
-/// one running `a → b`; the only one when the edge has two faces, which every caller checks).
-pub(crate) fn faces_on_edge(
-    fan: &[Vec<u32>],
-    triangles: &[[u32; 3]],
-    a: u32,
-    b: u32,
-    not: u32,
-) -> (usize, Option<u32>) {
-    let mut across = None;
-    let mut on_edge = 0;
-    let (from, to) = if fan[b as usize].len() < fan[a as usize].len() {
-        (b, a)
-    } else {
-        (a, b)
-    };
-    for &g in &fan[from as usize] {
-        let t = triangles[g as usize];
-        if t.contains(&to) {
-            on_edge += 1;
-            if g != not && oriented(t, b, a).is_some() {
-                across = Some(g);
-            }
-        }
-    }
-    (on_edge, across)
-}
-
-/// `(a, b, c)` when face `t` runs `a → b` (its third corner `c`).
-pub(crate) fn oriented(t: [u32; 3], a: u32, b: u32) -> Option<(u32, u32, u32)> {
-    (0..3)
-        .find(|&i| t[i] == a && t[(i + 1) % 3] == b)
-        .map(|i| (a, b, t[(i + 2) % 3]))
-}
-
-/// Whether some face has the edge `c d` (a flip to `c d` would then duplicate it), found in
-/// the smaller of their fans.
-pub(crate) fn has_edge(fan: &[Vec<u32>], triangles: &[[u32; 3]], c: u32, d: u32) -> bool {
-    let (from, to) = if fan[d as usize].len() < fan[c as usize].len() {
-        (d, c)
-    } else {
-        (c, d)
-    };
-    fan[from as usize]
-        .iter()
-        .any(|&g| triangles[g as usize].contains(&to))
-}
-
-/// Flips edge `a b` of faces `f1 = (a b c)` and `f2 = (b a d)` to `c d`: `f1` becomes
-/// `(c a d)` and `f2` `(d b c)`; in the fans `a` leaves `f2`, `b` leaves `f1`, `c` joins `f2`
-/// and `d` joins `f1`.
-pub(crate) fn apply_flip(
-    triangles: &mut [[u32; 3]],
-    fan: &mut [Vec<u32>],
-    [f1, f2]: [u32; 2],
-    [a, b, c, d]: [u32; 4],
-) {
-    triangles[f1 as usize] = [c, a, d];
-    triangles[f2 as usize] = [d, b, c];
-    fan[a as usize].retain(|&g| g != f2);
-    fan[b as usize].retain(|&g| g != f1);
-    fan[c as usize].push(f2);
-    fan[d as usize].push(f1);
-}
-
 /// Squared distance from `p` to triangle `t` of `pos`.
 #[inline]
 fn dist2(p: DVec3, t: [u32; 3], pos: &[DVec3]) -> f64 {
@@ -202,7 +130,7 @@ pub(crate) fn flip_edges(
     // result for any count).
     let closest = {
         let triangles = &*triangles;
-        let search = crate::fan_search::FanSearch::new(&fan, triangles, &pos);
+        let search = crate::surface::fan_search::FanSearch::new(&fan, triangles, &pos);
         crate::parallel::map_indexed(
             owner.len().div_ceil(stride),
             threads,
@@ -254,7 +182,7 @@ pub(crate) fn flip_edges(
     // Step 2: passes. After the first, only edges of faces near a flip (faces of the fans of
     // its four corners) are looked at again: an edge's verdict depends only on its two faces,
     // their points and the fans of its corners.
-    let rule = crate::soundness::FLIP;
+    let rule = crate::surface::soundness::FLIP;
     let keep_sin2 = rule.keep_sin2();
     let mut dirty = vec![true; triangles.len()];
     let mut next_dirty = vec![false; triangles.len()];

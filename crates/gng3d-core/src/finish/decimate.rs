@@ -86,7 +86,7 @@ fn relaxing<T>(
 /// 5 × QEM's) is what a lower weight would raise.
 pub const SEAM_WEIGHT: f64 = 30.0;
 
-/// [`decimate`] of a mesh cut along the original's seams ([`crate::seams::cut`]; `charts`: each
+/// [`decimate`] of a mesh cut along the original's seams ([`crate::finish::seams::cut`]; `charts`: each
 /// triangle's chart): QEM's attribute path (`qem::simplify_with_attributes`) with the charts as
 /// materials, so every chart border is a seam that QEM keeps (contracted only along itself,
 /// seam ends and crossings kept, constraint planes along it) and every output triangle stays in

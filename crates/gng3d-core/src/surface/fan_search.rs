@@ -363,7 +363,7 @@ mod tests {
     fn large_fans_find_the_scans_face() {
         let (triangles, positions) = tilted_fan(500);
         let n = positions.len();
-        let fans = crate::flip::fans(&triangles, n);
+        let fans = crate::surface::fans(&triangles, n);
         let search = FanSearch::new(&fans, &triangles, &positions);
         assert_eq!(search.large.trees.len(), 1, "the hub's fan gets a tree");
         let mut rng = 12345u64;
@@ -406,7 +406,7 @@ mod tests {
     #[test]
     fn small_fans_are_scanned() {
         let (triangles, positions) = tilted_fan(LARGE_FAN);
-        let fans = crate::flip::fans(&triangles, positions.len());
+        let fans = crate::surface::fans(&triangles, positions.len());
         let search = FanSearch::new(&fans, &triangles, &positions);
         assert!(search.large.trees.is_empty());
         let (d, f, _) = search.nearest(DVec3::new(0.5, 0.01, 0.2), &[0]);

@@ -20,14 +20,14 @@
 //! 3. **Move**: `d = STEP · (T + μI)⁻¹ μ (c − x)`: toward the centroid along the directions in
 //!    which the cell is flat (eigenvalues of `T` well below [`TANGENT_WEIGHT`] = μ), hardly
 //!    across its normal or a crease. Vertices of the output's open borders stay (they would
-//!    leave the border). A move is taken under the refit's rules ([`crate::refit`]: no face
+//!    leave the border). A move is taken under the refit's rules ([`crate::surface::moves`]: no face
 //!    turns by more than 45°, every face keeps its smallest angle above 20° or its old one),
 //!    else the vertex stays. Every move is computed from the decimated positions; the rules are
 //!    checked against the moves taken so far.
 //!
 //! Deterministic: the labels are per vertex and the sums run in vertex and face order.
 
-use crate::refit::{move_fits, output_boundary};
+use crate::surface::{move_fits, output_boundary};
 use glam::{DMat3, DVec3, Vec3};
 use mesh::TriMesh;
 
@@ -77,7 +77,7 @@ pub(crate) fn relax(
         .div_ceil(MAX_VERTICES_PER_CELL * n)
         .max(1);
     let labelled: Vec<Vec3> = original.positions.iter().step_by(stride).copied().collect();
-    let strided = crate::reconstruct::label_with_threads(&labelled, positions, threads);
+    let strided = crate::surface::label_with_threads(&labelled, positions, threads);
     let mut label = vec![u32::MAX; original.positions.len()];
     for (k, l) in strided.into_iter().enumerate() {
         label[k * stride] = l;
@@ -118,7 +118,7 @@ pub(crate) fn relax(
     }
 
     // Step 3: moves.
-    let fan = crate::flip::fans(triangles, n);
+    let fan = crate::surface::fans(triangles, n);
     let border = output_boundary(triangles, n);
     let old: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
     let mut pos = old.clone();

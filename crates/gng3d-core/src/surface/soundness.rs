@@ -55,7 +55,7 @@ pub const DEVIATION_KEEP_ANGLE_DEGREES: f64 = 10.0;
 
 /// The flips' rule (new diagonal's faces against the old pair's summed normal):
 /// [`FLIP_MIN_NORMAL_COS`], [`FLIP_KEEP_ANGLE_DEGREES`]. The flips also refuse
-/// folds sharper than [`crate::flip::MIN_FOLD_COS`] between the two new faces.
+/// folds sharper than [`crate::reconstruct::flip::MIN_FOLD_COS`] between the two new faces.
 pub(crate) const FLIP: FaceRule = FaceRule {
     min_normal_cos: FLIP_MIN_NORMAL_COS,
     keep_angle_degrees: FLIP_KEEP_ANGLE_DEGREES,

@@ -35,20 +35,17 @@
 //!    either is taken when the largest distance of the points it changes (the vertex, its
 //!    edges' midpoints and its faces' centroids; the edge's midpoint and its two faces'
 //!    centroids) falls below [`GAIN`] × what it was, and the faces it changes stay sound: not
-//!    degenerate, facing the way the old faces faced on average ([`crate::soundness::DEVIATION_MIN_NORMAL_COS`]), and with
-//!    a smallest angle of at least the old faces' or [`crate::soundness::DEVIATION_KEEP_ANGLE_DEGREES`]. A flip also needs
+//!    degenerate, facing the way the old faces faced on average ([`crate::surface::soundness::DEVIATION_MIN_NORMAL_COS`]), and with
+//!    a smallest angle of at least the old faces' or [`crate::surface::soundness::DEVIATION_KEEP_ANGLE_DEGREES`]. A flip also needs
 //!    `c ≠ d` and no edge `c d` already (no duplicate face). Vertices and edges on the output's
 //!    open borders (and at edges with more than two faces) stay.
 //!
 //! Deterministic: the measuring runs on all cores, one result per point; the repairs run in a
 //! fixed order on one thread.
 
-use crate::fan_search::LargeLists;
-use crate::flip::{apply_flip, faces_on_edge, has_edge, oriented};
-use crate::placement::{CellFaces, cell_faces, closest_on_faces};
-use crate::soundness::min_angle_sin2;
+use crate::surface::soundness::min_angle_sin2;
+use crate::surface::{Surface, apply_flip, faces_on_edge, has_edge, oriented};
 use glam::{DVec3, Vec3};
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use mesh::TriMesh;
 use std::num::NonZeroUsize;
 
@@ -89,76 +86,6 @@ pub struct DeviationStats {
     pub moves: usize,
     /// Edges flipped.
     pub flips: usize,
-}
-
-/// Closest-point queries against the original surface: a kd-tree over its vertices and the
-/// faces around each vertex (the placement's cell lists with every vertex its own cell).
-struct Surface<'a> {
-    original: &'a TriMesh,
-    tree: ImmutableKdTree<f64, 3>,
-    faces: CellFaces,
-    /// Trees of the vertices of high valence (crate::fan_search: a fan-triangulated cap's hub
-    /// has thousands of faces, and every query near it searched them all).
-    large: LargeLists,
-}
-
-impl<'a> Surface<'a> {
-    fn new(original: &'a TriMesh) -> Option<Surface<'a>> {
-        let points: Vec<[f64; 3]> = original
-            .positions
-            .iter()
-            .map(|p| p.as_dvec3().to_array())
-            .collect();
-        let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&points).ok()?;
-        let n = original.positions.len();
-        let itself: Vec<u32> = (0..n as u32).collect();
-        let faces = cell_faces(original, &itself, n);
-        let large = LargeLists::new(
-            n,
-            |v| faces.of(v),
-            |v| original.positions[v].as_dvec3(),
-            |f| original.triangle_f64(f as usize),
-        );
-        Some(Surface {
-            original,
-            tree,
-            faces,
-            large,
-        })
-    }
-
-    /// Distance from `p` to the original and the closest point found.
-    fn closest(&self, p: DVec3) -> (f64, DVec3) {
-        let k = NonZeroUsize::new(NEIGHBOURS).expect("NEIGHBOURS > 0");
-        let hits = self
-            .tree
-            .query(&p.to_array())
-            .nearest_n::<SquaredEuclidean<f64>>(k)
-            .execute();
-        let mut best = (f64::INFINITY, p);
-        for hit in hits {
-            let v = hit.item as usize;
-            // A vertex without faces still bounds the distance.
-            if hit.distance < best.0 {
-                best = (hit.distance, self.original.positions[v].as_dvec3());
-            }
-            best = match self.large.tree(v) {
-                Some(tree) => {
-                    let mut found = (best.0, u32::MAX, best.1);
-                    tree.nearest(p, &mut found, |f| {
-                        Some(self.original.triangle_f64(f as usize))
-                    });
-                    (found.0, found.2)
-                }
-                None => closest_on_faces(self.original, self.faces.of(v), p, best),
-            };
-        }
-        (best.0.sqrt(), best.1)
-    }
-
-    fn distance(&self, p: DVec3) -> f64 {
-        self.closest(p).0
-    }
 }
 
 /// Largest and summed distance of a set of points.
@@ -235,7 +162,7 @@ fn faces_sound(old: &[[DVec3; 3]], new: &[[DVec3; 3]]) -> bool {
         .map(|&[a, b, c]| min_angle_sin2(a, b, c))
         .fold(f64::INFINITY, f64::min);
     new.iter()
-        .all(|&face| crate::soundness::DEVIATION.accepts(face, mean, old_sin2))
+        .all(|&face| crate::surface::soundness::DEVIATION.accepts(face, mean, old_sin2))
 }
 
 impl Work<'_> {
@@ -471,10 +398,13 @@ pub(crate) fn repair_until(
     if n == 0 || triangles.is_empty() || original.triangles.is_empty() {
         return stats;
     }
-    let Some(surface) = Surface::new(original) else {
+    let Some(surface) = Surface::new(
+        original,
+        NonZeroUsize::new(NEIGHBOURS).expect("NEIGHBOURS > 0"),
+    ) else {
         return stats;
     };
-    let fan = crate::flip::fans(triangles, n);
+    let fan = crate::surface::fans(triangles, n);
     // Vertices on open borders and on edges with more than two faces stay (no repair adds
     // or removes either kind of edge).
     let mut fixed = vec![false; n];
@@ -703,7 +633,7 @@ mod tests {
     #[test]
     fn edges_with_three_faces_and_their_vertices_are_fixed() {
         let triangles = [[0, 1, 2], [1, 0, 3], [0, 1, 4], [2, 1, 5]];
-        let fan = crate::flip::fans(&triangles, 6);
+        let fan = crate::surface::fans(&triangles, 6);
         let mut fixed = [false; 6];
         let edges = two_face_edges(&triangles, &fan, |a, b| {
             fixed[a as usize] = true;

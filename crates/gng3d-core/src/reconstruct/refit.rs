@@ -29,16 +29,16 @@
 //! 4. **Move** (Jacobi: every vertex from the previous positions): each vertex minimises its
 //!    quadric from its current position along the well-conditioned directions
 //!    ([`Quadric::minimizer_near`]); the move is clamped to [`MAX_STEP`] × its shortest incident
-//!    edge. It is taken when no incident face turns by more than `acos(`[`crate::soundness::REFIT_MAX_TURN_COS`]`)` and,
+//!    edge. It is taken when no incident face turns by more than `acos(`[`crate::surface::soundness::REFIT_MAX_TURN_COS`]`)` and,
 //!    for interior vertices, every incident face keeps its smallest angle above
-//!    [`crate::soundness::REFIT_KEEP_ANGLE_DEGREES`] (or above its old one); otherwise its component along the vertex
+//!    [`crate::surface::soundness::REFIT_KEEP_ANGLE_DEGREES`] (or above its old one); otherwise its component along the vertex
 //!    normal is tried under the same rules, otherwise the vertex stays.
 //!
 //! Deterministic: the sample assignment runs on all cores but gives the same result for any
 //! thread count, and the quadrics are summed in sample order.
 
-use crate::fan_search::FanSearch;
-use crate::soundness::{FaceRule, min_angle_sin2};
+use crate::surface::fan_search::FanSearch;
+use crate::surface::{move_fits, normal, output_boundary};
 use glam::{DVec3, Vec3};
 use mesh::TriMesh;
 use mesh::geometry::closest_point_triangle;
@@ -57,7 +57,7 @@ pub const ITERATIONS: usize = 4;
 pub const ANCHOR_WEIGHT: f64 = 1.0 / 3.0;
 
 /// Eigenvalues below this fraction of the largest are left out of a vertex's solve (ten times
-/// placement's [`crate::placement::EIGEN_REL_TOL`]: a refit moves a vertex mostly along its
+/// placement's [`crate::reconstruct::placement::EIGEN_REL_TOL`]: a refit moves a vertex mostly along its
 /// normal, and the weak tangential directions only add drift).
 pub const EIGEN_REL_TOL: f64 = 1e-2;
 
@@ -126,7 +126,7 @@ pub(crate) fn refit(
     if n == 0 || triangles.is_empty() {
         return RefitStats::default();
     }
-    let fan = crate::flip::fans(triangles, n);
+    let fan = crate::surface::fans(triangles, n);
     let surface = surface_samples(original, owner, triangles.len());
     let boundary = boundary_samples(original, edges, owner);
     let out_boundary = output_boundary(triangles, n);
@@ -188,7 +188,7 @@ pub(crate) fn refit(
             let start = old[v];
             // The full move, else its part along the vertex normal (the fan keeps its shape in
             // the tangent plane), else none. Interior vertices must keep their faces' shape
-            // (crate::soundness::REFIT_KEEP_ANGLE_DEGREES); border vertices only their orientation, so that they can
+            // (crate::surface::soundness::REFIT_KEEP_ANGLE_DEGREES); border vertices only their orientation, so that they can
             // follow the original's rim.
             let on_border = !out_boundary[v].is_empty();
             let mut taken = false;
@@ -250,35 +250,6 @@ fn propose_move(
         .sum::<DVec3>()
         .normalize_or_zero();
     Some((step, normal_dir))
-}
-
-/// Step 4's rule for a vertex move from `old` to `pos` (the two differ in that vertex only,
-/// whose faces are `fan`): no face turns by more than `acos(`[`crate::soundness::REFIT_MAX_TURN_COS`]`)` and, when
-/// `keep_shape`, every face keeps its smallest angle above [`crate::soundness::REFIT_KEEP_ANGLE_DEGREES`] or above its
-/// old one. Shared with [`crate::relax`].
-pub(crate) fn move_fits(
-    fan: &[u32],
-    triangles: &[[u32; 3]],
-    old: &[DVec3],
-    pos: &[DVec3],
-    keep_shape: bool,
-) -> bool {
-    let rule = crate::soundness::REFIT;
-    let keep_sin2 = rule.keep_sin2();
-    fan.iter().all(|&f| {
-        let t = triangles[f as usize];
-        let turns_little = rule.normal_agrees(normal(t, old), normal(t, pos));
-        let keeps_shape = !keep_shape || {
-            let [a0, b0, c0] = t.map(|u| old[u as usize]);
-            let [a1, b1, c1] = t.map(|u| pos[u as usize]);
-            FaceRule::keeps_shape(
-                min_angle_sin2(a1, b1, c1),
-                min_angle_sin2(a0, b0, c0),
-                keep_sin2,
-            )
-        };
-        turns_little && keeps_shape
-    })
 }
 
 /// Step 1, surface samples: face centroids and vertices of the original, strided.
@@ -387,28 +358,6 @@ fn boundary_samples(original: &TriMesh, edges: &EdgeTable, owner: &[u32]) -> Vec
     samples
 }
 
-/// The other ends of each output vertex's boundary edges (edges with one face).
-pub(crate) fn output_boundary(triangles: &[[u32; 3]], n: usize) -> Vec<Vec<u32>> {
-    let mut half: rustc_hash::FxHashSet<(u32, u32)> = Default::default();
-    half.reserve(3 * triangles.len());
-    for t in triangles {
-        for k in 0..3 {
-            half.insert((t[k], t[(k + 1) % 3]));
-        }
-    }
-    let mut out = vec![Vec::new(); n];
-    for t in triangles {
-        for k in 0..3 {
-            let (u, w) = (t[k], t[(k + 1) % 3]);
-            if !half.contains(&(w, u)) {
-                out[u as usize].push(w);
-                out[w as usize].push(u);
-            }
-        }
-    }
-    out
-}
-
 /// Step 2 for a surface sample: the closest face (and point on it) in its owners' fans, if
 /// that face's normal agrees with the sample's.
 fn closest_face(
@@ -488,12 +437,6 @@ fn barycentric(q: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
     [1.0 - v - w, v, w]
 }
 
-/// Unit normal of face `t` (zero when degenerate).
-fn normal(t: [u32; 3], pos: &[DVec3]) -> DVec3 {
-    let [a, b, c] = t.map(|v| pos[v as usize]);
-    (b - a).cross(c - a).normalize_or_zero()
-}
-
 /// `q` scaled by `s`.
 fn scaled(q: Quadric, s: f64) -> Quadric {
     Quadric {
@@ -506,6 +449,7 @@ fn scaled(q: Quadric, s: f64) -> Quadric {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::surface::soundness::min_angle_sin2;
 
     /// Output vertex of each original vertex: the nearest output vertex (brute force).
     fn nearest_owner(original: &TriMesh, output: &[Vec3]) -> Vec<u32> {
@@ -608,7 +552,7 @@ mod tests {
             assert!((b - a).cross(c - a).dot(a + b + c) > 0.0);
             let after = angle(&positions, t);
             assert!(
-                after >= before.min(crate::soundness::REFIT_KEEP_ANGLE_DEGREES) - 1e-6,
+                after >= before.min(crate::surface::soundness::REFIT_KEEP_ANGLE_DEGREES) - 1e-6,
                 "{before}° -> {after}°"
             );
         }

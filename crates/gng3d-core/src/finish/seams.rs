@@ -1,6 +1,6 @@
 //! [`crate::Step::CutSeams`]: the network's mesh is cut along the original's attribute seams
 //! (UV, normal and colour seams, material borders), so that the decimation that follows
-//! ([`crate::decimate::decimate_along_seams`]) keeps them as QEM keeps the original's: each
+//! ([`crate::finish::decimate::decimate_along_seams`]) keeps them as QEM keeps the original's: each
 //! triangle on one side, seams contracted only along themselves.
 //!
 //! The network's triangulation does not know the seams: its triangles straddle them, a corner
