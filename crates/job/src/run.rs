@@ -41,6 +41,40 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// The outcome of a GNG3D run: `result`, the mesh [`gng3d_core::finish`] made of
+    /// `trainer`'s network (resolved from `options`), in `base`'s place (its materials and
+    /// origin), with `method`'s summary and `seconds` as the front end measured them. The one
+    /// assembly of the job and of front ends that drive a trainer themselves (Python's
+    /// `Trainer.mesh`).
+    pub fn of_gng(
+        base: &Model,
+        method: Method,
+        trainer: &Trainer,
+        options: &GngOptions,
+        result: gng3d_core::GngResult,
+        seconds: f64,
+    ) -> Outcome {
+        let summary = gng3d_core::GngSummary::new(
+            method.name(),
+            trainer,
+            options.oversample_factor(),
+            &result,
+            seconds,
+        );
+        let warnings = result
+            .report
+            .warnings
+            .iter()
+            .map(|w| w.to_string())
+            .collect();
+        Outcome {
+            model: base.with_mesh(result.mesh, result.attributes),
+            summary: Summary::Gng(Box::new(summary)),
+            warnings,
+            training_stop: trainer.stats().stop,
+        }
+    }
+
     /// One line for people: the method, the counts before and after, the work and the time,
     /// the output's topology — the same line for every method and front end.
     pub fn line(&self) -> String {
@@ -176,25 +210,14 @@ impl<'a> Job<'a> {
                     gng3d_core::finish_cancellable(&trainer, &self.cancel, |r| observer.step(r))
                 })?;
                 let seconds = self.started.elapsed().as_secs_f64();
-                let summary = gng3d_core::GngSummary::new(
-                    self.request.method.name(),
+                Ok(Outcome::of_gng(
+                    self.input,
+                    self.request.method,
                     &trainer,
-                    options.oversample_factor(),
-                    &result,
+                    &options,
+                    result,
                     seconds,
-                );
-                let warnings = result
-                    .report
-                    .warnings
-                    .iter()
-                    .map(|w| w.to_string())
-                    .collect();
-                Ok(Outcome {
-                    model: self.input.with_mesh(result.mesh, result.attributes),
-                    summary: Summary::Gng(Box::new(summary)),
-                    warnings,
-                    training_stop: trainer.stats().stop,
-                })
+                ))
             }
             Prepared::Qem { params, target } => {
                 observer.contracting();

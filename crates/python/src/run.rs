@@ -140,8 +140,8 @@ pub fn gng_error(e: GngError) -> PyErr {
     }
 }
 
-/// The outcome of `result`, a mesh of `trainer`'s network (finished, or a preview), summarised
-/// as the job summarises a GNG3D run.
+/// The outcome of `result`, a mesh of `trainer`'s network (finished, or a preview), as the job
+/// assembles a GNG3D run's (`job::Outcome::of_gng`).
 pub fn summarize(
     trainer: &Trainer,
     options: &GngOptions,
@@ -149,25 +149,14 @@ pub fn summarize(
     started: Instant,
     result: gng3d_core::GngResult,
 ) -> job::Outcome {
-    let summary = gng3d_core::GngSummary::new(
-        method.name(),
+    job::Outcome::of_gng(
+        &mesh::Model::default(),
+        method,
         trainer,
-        options.oversample_factor(),
-        &result,
+        options,
+        result,
         started.elapsed().as_secs_f64(),
-    );
-    let warnings = result
-        .report
-        .warnings
-        .iter()
-        .map(|w| w.to_string())
-        .collect();
-    job::Outcome {
-        model: mesh::Model::from(result.mesh),
-        summary: job::Summary::Gng(Box::new(summary)),
-        warnings,
-        training_stop: trainer.stats().stop,
-    }
+    )
 }
 
 /// How often [`interruptible`] runs Python's signal handlers while the work runs.
