@@ -96,3 +96,43 @@ fn measure(
     let report = metrics::evaluate(&a.mesh, &b.mesh, &params).map_err(|e| e.to_string())?;
     Ok((report.hausdorff.max, report.hausdorff.mean))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Target;
+
+    #[test]
+    fn a_file_is_a_row_and_a_broken_one_an_error_row() {
+        let dir = std::env::temp_dir().join(format!("job-batch-one-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let good = Item {
+            input: dir.join("sphere.ply"),
+            output: dir.join("out.ply"),
+        };
+        mesh::io::save(&mesh::procedural::icosphere(3), &good.input).unwrap();
+        let request = Request::new(Target::Ratio(0.25));
+        let row = run_one(&good, &request, &Settings::default(), &describe);
+        assert_eq!(row.status, Status::Ok, "{row:?}");
+        assert_eq!((row.input_vertices, row.vertices), (Some(642), Some(161)));
+        let skip = Settings {
+            skip_existing: true,
+            ..Settings::default()
+        };
+        let row = run_one(&good, &request, &skip, &describe);
+        assert_eq!((row.status, row.vertices), (Status::Skipped, None));
+        let broken = Item {
+            input: dir.join("broken.ply"),
+            output: dir.join("broken-out.ply"),
+        };
+        std::fs::write(&broken.input, "ply\nformat ascii 1.0\nelement vertex 3\n").unwrap();
+        let row = run_one(&broken, &request, &Settings::default(), &describe);
+        let error = row.error.unwrap_or_default();
+        assert_eq!(row.status, Status::Error);
+        assert!(
+            error.starts_with("QEM on ") && error.contains("broken.ply"),
+            "{error}"
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
