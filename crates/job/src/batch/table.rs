@@ -71,7 +71,7 @@ impl Table {
                 .map_err(|e| io("cannot read", e))?;
             let existing = String::from_utf8_lossy(&bytes);
             let mut records = parse_csv(&existing).into_iter();
-            if !records.next().is_none_or(|h| h == FIELDS) {
+            if records.next().is_some_and(|h| h != FIELDS) {
                 return Err(PlanError::Invalid(format!(
                     "{}: not a gng3d stats table (its header differs); move it or choose \
                      another --out",
