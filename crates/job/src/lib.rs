@@ -8,6 +8,8 @@
 //! - [`run`] (or [`Job`], to cancel it from another thread): a [`mesh::Model`] in, an
 //!   [`Outcome`] out (the output model, a [`Summary`], the warnings).
 //! - [`load`], [`save`], [`simplify_file`]: the same on files.
+//! - [`batch`]: many files into one folder, a status row each (`gng3d batch`, Python's
+//!   `gng3d.batch`).
 //!
 //! ```
 //! use job::{Method, Request, Target};
@@ -20,6 +22,7 @@
 //! }
 //! ```
 
+pub mod batch;
 mod error;
 mod file;
 mod request;

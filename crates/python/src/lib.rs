@@ -3,6 +3,7 @@
 //! the GIL released while they work. The package (python/gng3d) re-exports it; its docstrings
 //! are the doc comments here.
 
+mod batch;
 mod convert;
 mod file;
 mod keywords;
@@ -258,7 +259,7 @@ fn run_job(py: Python<'_>, model: &mesh::Model, request: &job::Request) -> PyRes
 
 /// A Python exception of `e`'s type with its message behind `path` ("spot.obj: ..."), unless
 /// the message names it already.
-fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr {
+pub(crate) fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr {
     let name = path.display().to_string();
     let message = e.value(py).to_string();
     if message.starts_with(&name) {
@@ -647,6 +648,7 @@ fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(allow_outside_references, m)?)?;
     m.add_class::<SimplifyResult>()?;
     m.add_class::<trainer::Trainer>()?;
+    batch::register(m)?;
     m.add("Gng3dWarning", m.py().get_type::<Gng3dWarning>())?;
     // GNG3D's seed when none is given: the library's default, which the CLI's is too.
     m.add("DEFAULT_SEED", run::default_seed())?;
