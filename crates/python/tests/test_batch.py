@@ -8,6 +8,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 import gng3d
@@ -166,3 +167,22 @@ def test_dask_local_cluster_same_files_as_serial(tmp_path):
     assert bad["input"].endswith("broken.ply") and bad["error"].startswith("ValueError: ")
     assert all(r["hausdorff_max"] > 0 for r in rows if r["status"] == "ok")
     assert outputs(tmp_path / "dask") == outputs(serial)
+
+
+def test_rows_count_the_input_as_the_cli_batch(tmp_path, small_torus):
+    """A file with unreferenced vertices: both batch fronts count the mesh the run was given
+    (welded and cleaned), the count a ratio is a share of, in the one row schema."""
+    cli = cli_binary()
+    if not cli:
+        pytest.skip("needs the gng3d CLI (GNG3D_CLI)")
+    v, f = small_torus
+    folder = tmp_path / "in"
+    folder.mkdir()
+    gng3d.save(folder / "t.ply", np.vstack([v, v[:50] + 10.0]), f)  # 50 unreferenced vertices
+    py = batch.simplify_files(folder, tmp_path / "py", ratio=0.2, jobs=1)
+    subprocess.run([cli, "batch", str(folder), "--out", str(tmp_path / "cli"), "--ratio", "0.2"],
+                   check=True, capture_output=True)  # fmt: skip
+    with open(tmp_path / "cli" / "stats.csv", newline="") as table:
+        cli_rows = list(csv.DictReader(table))
+    assert py[0]["input_vertices"] == int(cli_rows[0]["input_vertices"]) == len(v)
+    assert py[0]["vertices"] == int(cli_rows[0]["vertices"]) == round(0.2 * len(v))

@@ -55,7 +55,10 @@ pub fn run_one(
     warnings.extend(done.kept.dropped.iter().map(|w| format!("{output}: {w}")));
     warnings.extend(done.outcome.warnings.iter().cloned());
     let count = |n: usize| Some(n as u64);
-    (row.input_vertices, row.input_faces) = (count(done.file_counts.0), count(done.file_counts.1));
+    // The mesh the run was given (welded and cleaned), as `gng3d simplify --json` counts it:
+    // the count a ratio is a share of.
+    let (input_vertices, input_faces) = done.outcome.summary.input_counts();
+    (row.input_vertices, row.input_faces) = (count(input_vertices), count(input_faces));
     let (vertices, faces) = done.outcome.summary.counts();
     (row.vertices, row.faces) = (count(vertices), count(faces));
     if let Some(params) = &settings.measure {

@@ -127,11 +127,13 @@ fn append(file: &mut std::fs::File, path: &Path, line: &str) -> Result<(), PlanE
 /// A skipped row with the counts a run gives, read from its input and output files (what
 /// cannot be read is the row's error).
 fn counted(mut row: Row) -> Row {
+    // As a run counts them: the input welded and cleaned (`crate::load`), the output as written.
+    let request = crate::Request::new(crate::Target::Ratio(1.0));
     let counts = |path: &str| {
-        mesh::io::load(Path::new(path)).map(|m| {
+        crate::load(Path::new(path), &request, &[]).map(|m| {
             (
-                Some(m.mesh.vertex_count() as u64),
-                Some(m.mesh.face_count() as u64),
+                Some(m.model.mesh.vertex_count() as u64),
+                Some(m.model.mesh.face_count() as u64),
             )
         })
     };

@@ -76,8 +76,8 @@ def simplify_file(
     normals, texture coordinates, colours and materials where the output format stores them;
     what it cannot keep is one of the row's ``warnings``), in this process with the GIL
     released; never raises for the file's own failure: it is the row's ``error``
-    (``"ValueError: ..."``). ``input_vertices`` and ``input_faces`` are the file's vertex
-    records and triangles, as :func:`gng3d.load` counts them."""
+    (``"ValueError: ..."``). ``input_vertices`` and ``input_faces`` count the mesh the run
+    was given (welded and cleaned), as ``gng3d batch`` and ``gng3d simplify --json`` do."""
     return _gng3d.batch_run(path, out, skip_existing, measure, samples, **options)
 
 
