@@ -25,8 +25,9 @@ fn inputs(dir: &Path) -> (TriMesh, TriMesh) {
         .expect("load igea.ply")
         .mesh;
     let params = qem::QemParams::with_target(qem::Target::Faces(TARGET_FACES));
+    let original = mesh::Model::from(original);
     let (simplified, _) = qem::simplify(&original, &params).expect("qem simplify");
-    (original, simplified)
+    (original.mesh, simplified.mesh)
 }
 
 /// Times pymeshlab's symmetric Hausdorff distance (both one-sided calls) on the same meshes and

@@ -197,8 +197,10 @@ fn main() -> anyhow::Result<()> {
                 }
             }
             let qp = qem::QemParams::with_target(qem::Target::Vertices(qem_vertices.max(4)));
+            let input = mesh::Model::from(original.clone());
             let t = Instant::now();
-            let (qm, _) = qem::simplify(&original, &qp)?;
+            let (qm, _) = qem::simplify(&input, &qp)?;
+            let qm = qm.mesh;
             let qs = t.elapsed().as_secs_f64();
             emit("qem", &qm, qs)?;
         }

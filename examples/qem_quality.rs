@@ -25,7 +25,8 @@ fn main() {
         );
     };
     let params = qem::QemParams::with_target(qem::Target::Faces(faces));
-    let (q, report) = qem::simplify(&original, &params).expect("qem");
+    let (q, report) = qem::simplify(&mesh::Model::from(original.clone()), &params).expect("qem");
+    let q = q.mesh;
     println!("{report:?}");
     show("qem", &q);
     // meshoptimizer at the same target, for context (vertices unreferenced by its output dropped).

@@ -13,7 +13,8 @@
 //! let options = gng3d_core::GngOptions::for_target(gng3d_core::GngTarget::Vertices(600));
 //! let gng = gng3d_core::simplify(&original.clone().into(), &options).unwrap(); // GNG3D-Q, as the CLI runs it
 //! let qem_params = qem::QemParams::with_target(qem::Target::Vertices(600));
-//! let (qem_mesh, _) = qem::simplify(&original, &qem_params).unwrap();
+//! let (qem_model, _) = qem::simplify(&mesh::Model::from(original.clone()), &qem_params).unwrap();
+//! let qem_mesh = qem_model.mesh;
 //! let mut params = metrics::MetricsParams::default();
 //! params.hausdorff.samples = Some(20_000);
 //! let g = metrics::evaluate(&original, &gng.mesh, &params).unwrap();

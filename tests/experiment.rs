@@ -602,8 +602,13 @@ fn the_survey_measures_the_meshes_simplify_writes_for_an_input_with_seams() {
     let area = sphere.area();
     let target = gng3d::qem::Target::Vertices(row.qem.vertices);
     let qp = gng3d::qem::QemParams::with_target(target);
-    let (kept, _, _) = gng3d::qem::simplify_with_attributes(&sphere, &uv, &qp).unwrap();
-    let (plain, _) = gng3d::qem::simplify(&sphere, &qp).unwrap();
+    let plain = gng3d::mesh::Model::from(sphere.clone());
+    let textured = gng3d::mesh::Model {
+        attributes: Some(uv.clone()),
+        ..plain.clone()
+    };
+    let kept = gng3d::qem::simplify(&textured, &qp).unwrap().0.mesh;
+    let plain = gng3d::qem::simplify(&plain, &qp).unwrap().0.mesh;
     let e_sur = |m: &gng3d::mesh::TriMesh| area - m.area();
     assert!(
         (e_sur(&kept) - e_sur(&plain)).abs() > 1e-6 * area,

@@ -113,20 +113,20 @@ impl PaperEvaluator {
 }
 
 /// QEM as `gng3d simplify --method qem` runs it: keeping `attributes` through its contractions
-/// when there are some (`qem::simplify_with_attributes`, whose seams also shape the geometry),
-/// positions only otherwise. The one policy of `compare` and the survey (and the viewer's).
+/// when there are some (`qem::simplify` of a model with attributes, whose seams also shape the
+/// geometry), positions only otherwise. The one policy of `compare` and the survey (and the
+/// viewer's).
 pub(crate) fn qem_as_simplify(
     original: &TriMesh,
     attributes: Option<&Attributes>,
     params: &qem::QemParams,
 ) -> Result<(TriMesh, Option<Attributes>), ExperimentError> {
-    Ok(match attributes {
-        Some(a) => {
-            let (mesh, kept, _) = qem::simplify_with_attributes(original, a, params)?;
-            (mesh, Some(kept))
-        }
-        None => (qem::simplify(original, params)?.0, None),
-    })
+    let model = mesh::Model {
+        attributes: attributes.cloned(),
+        ..mesh::Model::from(original.clone())
+    };
+    let (out, _) = qem::simplify(&model, params)?;
+    Ok((out.mesh, out.attributes))
 }
 
 /// GNG3D as `gng3d simplify --method gng` runs it: with `attributes`, triangles that follow

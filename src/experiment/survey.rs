@@ -10,8 +10,8 @@
 //! An original with attributes (normals, texture coordinates, colours:
 //! [`survey_mesh_with_attributes`]) goes through every method as `gng3d simplify` runs it, so
 //! the figures are those of the files a user gets: QEM keeps the attributes through its
-//! contractions (`qem::simplify_with_attributes`; its seams shape the geometry), both GNG3D
-//! variants' triangles follow the seams and take the original's values
+//! contractions (`qem::simplify` of a model with attributes; its seams shape the geometry), both
+//! GNG3D variants' triangles follow the seams and take the original's values
 //! (`gng3d_core::simplify` of a model with attributes). Each output's attribute deviation
 //! ([`metrics::attribute_deviation`]) is in [`SurveyRow::attributes`]. `gng3d compare` and the
 //! viewer follow the same policy.

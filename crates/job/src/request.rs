@@ -550,6 +550,11 @@ impl Request {
             target,
             pair_threshold: self.qem.threshold,
             max_relative_error: self.qem.max_error,
+            lock: if self.qem.lock_border {
+                qem::Lock::Border
+            } else {
+                qem::Lock::None
+            },
             ..qem::QemParams::default()
         };
         if let Some(w) = self.qem.attribute_weights {

@@ -221,29 +221,11 @@ impl<'a> Job<'a> {
             }
             Prepared::Qem { params, target } => {
                 observer.contracting();
-                let input = self.input;
-                let lock_border = self.request.qem.lock_border;
-                let (mesh, attributes, report) = in_pool(pool, || {
-                    if lock_border {
-                        let locked = qem::border_vertices(&input.mesh);
-                        return qem::simplify_locked(
-                            &input.mesh,
-                            input.attributes.as_ref(),
-                            &params,
-                            &locked,
-                        );
-                    }
-                    match &input.attributes {
-                        Some(a) => qem::simplify_with_attributes(&input.mesh, a, &params)
-                            .map(|(mesh, a, report)| (mesh, Some(a), report)),
-                        None => qem::simplify(&input.mesh, &params)
-                            .map(|(mesh, report)| (mesh, None, report)),
-                    }
-                })?;
-                if mesh.face_count() == 0 {
+                let (model, report) = in_pool(pool, || qem::simplify(self.input, &params))?;
+                if model.mesh.face_count() == 0 {
                     return Err(JobError::EmptyOutput {
                         method: "QEM",
-                        vertices: mesh.vertex_count(),
+                        vertices: model.mesh.vertex_count(),
                     });
                 }
                 // With a bound on the error alone there is no size to fall short of.
@@ -267,7 +249,7 @@ impl<'a> Job<'a> {
                     report,
                 };
                 Ok(Outcome {
-                    model: input.with_mesh(mesh, attributes),
+                    model,
                     summary: Summary::Qem(Box::new(summary)),
                     warnings,
                     training_stop: None,

@@ -1,11 +1,11 @@
-//! Criterion bench `attributes`: `qem::simplify_with_attributes` next to meshoptimizer's
+//! Criterion bench `attributes`: `qem::simplify` of a model with attributes next to meshoptimizer's
 //! `meshopt_simplifyWithAttributes` on the same input and face target (10 % and 20 % of the
 //! faces), on the textured and coloured assets: spot (`GNG3D_MESHES`, real UVs), the fandisk
 //! atlas (xatlas UVs and normals) and the knight with vertex colours (`tests/assets`). All
 //! attribute weights are 0 for both, the library default here.
 //!
 //! meshoptimizer gets what it takes: one vertex per wedge (position and attributes, f32) and the
-//! corners as indices, built before timing; ours gets the mesh and its `Attributes`, prepared as
+//! corners as indices, built before timing; ours gets the model (mesh and `Attributes`), prepared as
 //! the CLI does (`mesh::clean::prepare_with_attributes`). Before the criterion groups it prints
 //! the best of 15 alternating calls of each and the ratio ours / meshoptimizer's
 //! (`cargo bench -p gng3d-qem --bench attributes`).
@@ -20,21 +20,20 @@
 extern crate gng3d_qem as qem;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mesh::TriMesh;
-use mesh::attributes::Attributes;
+use mesh::Model;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-/// One input: ours (mesh, attributes) and meshoptimizer's (wedge positions, wedge attributes,
-/// stride in floats, corner indices).
+/// One input: ours (the model with its attributes, and its mesh alone) and meshoptimizer's
+/// (wedge positions, wedge attributes, stride in floats, corner indices).
 struct Input {
     name: String,
     /// From `GNG3D_ATTRIBUTE_MESHES`: compared in fewer calls, and left out of the criterion
     /// groups.
     large: bool,
-    mesh: TriMesh,
-    attributes: Attributes,
+    model: Model,
+    plain: Model,
     positions: Vec<f32>,
     values: Vec<f32>,
     stride: usize,
@@ -88,8 +87,11 @@ fn inputs() -> Vec<Input> {
             Input {
                 name,
                 large,
-                mesh,
-                attributes,
+                plain: Model::from(mesh.clone()),
+                model: Model {
+                    attributes: Some(attributes),
+                    ..Model::from(mesh)
+                },
                 positions,
                 values,
                 stride,
@@ -101,17 +103,17 @@ fn inputs() -> Vec<Input> {
 
 fn run_qem(input: &Input, faces: usize) -> usize {
     let params = qem::QemParams::with_target(qem::Target::Faces(faces));
-    let (out, _, _) =
-        qem::simplify_with_attributes(&input.mesh, &input.attributes, &params).expect("qem");
-    out.face_count()
+    let (out, _) = qem::simplify(&input.model, &params).expect("qem");
+    out.mesh.face_count()
 }
 
 /// The same mesh without its attributes: the floor an attribute run cannot go below.
 fn run_qem_positions(input: &Input, faces: usize) -> usize {
     let params = qem::QemParams::with_target(qem::Target::Faces(faces));
-    qem::simplify(&input.mesh, &params)
+    qem::simplify(&input.plain, &params)
         .expect("qem")
         .0
+        .mesh
         .face_count()
 }
 
@@ -177,7 +179,7 @@ fn bench(c: &mut Criterion) {
     for input in &inputs {
         let runs = if input.large { 5 } else { 15 };
         for pct in [10usize, 20] {
-            let faces = input.mesh.face_count() * pct / 100;
+            let faces = input.model.mesh.face_count() * pct / 100;
             let [(tq, fq), (tm, fm)] =
                 alternate(runs, || run_qem(input, faces), || run_meshopt(input, faces));
             let [(tp, _), (tm2, _)] = alternate(
@@ -188,7 +190,7 @@ fn bench(c: &mut Criterion) {
             println!(
                 "  {} {} -> {faces} faces ({pct}%): qem {:.3} ms ({fq} faces), meshopt {:.3} ms ({fm} faces), ratio {:.2}; qem without the attributes {:.3} ms, ratio {:.2}",
                 input.name,
-                input.mesh.face_count(),
+                input.model.mesh.face_count(),
                 tq.as_secs_f64() * 1e3,
                 tm.as_secs_f64() * 1e3,
                 tq.as_secs_f64() / tm.as_secs_f64(),
@@ -198,7 +200,7 @@ fn bench(c: &mut Criterion) {
         }
     }
     for input in inputs.iter().filter(|i| !i.large) {
-        let faces = input.mesh.face_count() / 10;
+        let faces = input.model.mesh.face_count() / 10;
         let mut group = c.benchmark_group(format!("attributes-{}-10pct", input.name));
         group.sample_size(20);
         group.bench_function("qem", |b| b.iter(|| run_qem(black_box(input), faces)));

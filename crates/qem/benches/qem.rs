@@ -11,12 +11,12 @@
 extern crate gng3d_qem as qem;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mesh::TriMesh;
+use mesh::{Model, TriMesh};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-/// (file, prepared mesh) for the bench inputs.
-fn inputs() -> Vec<(&'static str, TriMesh)> {
+/// (file, prepared model) for the bench inputs.
+fn inputs() -> Vec<(&'static str, Model)> {
     let Some(dir) = mesh::fixtures::shared_meshes_dir("igea.ply") else {
         return Vec::new();
     };
@@ -24,14 +24,14 @@ fn inputs() -> Vec<(&'static str, TriMesh)> {
         .into_iter()
         .map(|name| {
             let loaded = mesh::io::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
-            (name, mesh::clean::prepare(&loaded.mesh).0)
+            (name, Model::from(mesh::clean::prepare(&loaded.mesh).0))
         })
         .collect()
 }
 
-fn run_qem(m: &TriMesh, faces: usize) -> usize {
+fn run_qem(m: &Model, faces: usize) -> usize {
     let params = qem::QemParams::with_target(qem::Target::Faces(faces));
-    qem::simplify(m, &params).expect("qem").0.face_count()
+    qem::simplify(m, &params).expect("qem").0.mesh.face_count()
 }
 
 fn run_meshopt(m: &TriMesh, indices: &[u32], faces: usize) -> usize {
@@ -62,14 +62,14 @@ fn best_of(runs: usize, mut f: impl FnMut() -> usize) -> (Duration, usize) {
 
 /// Issue 33: the 1M-triangle fan against a grid of the same size, both at 10 %.
 fn bench_fan(c: &mut Criterion) {
-    let fan = mesh::procedural::fan(1_000_000);
-    let grid = mesh::procedural::unit_square_grid(707); // 999,698 faces
-    let (tf, ff) = best_of(5, || run_qem(&fan, fan.face_count() / 10));
-    let (tg, fg) = best_of(5, || run_qem(&grid, grid.face_count() / 10));
+    let fan = Model::from(mesh::procedural::fan(1_000_000));
+    let grid = Model::from(mesh::procedural::unit_square_grid(707)); // 999,698 faces
+    let (tf, ff) = best_of(5, || run_qem(&fan, fan.mesh.face_count() / 10));
+    let (tg, fg) = best_of(5, || run_qem(&grid, grid.mesh.face_count() / 10));
     println!(
         "qem on a fan of {} triangles around one hub vs a grid of {} (best of 5, 10 %): fan {:.4} s ({ff} faces), grid {:.4} s ({fg} faces), ratio {:.2}",
-        fan.face_count(),
-        grid.face_count(),
+        fan.mesh.face_count(),
+        grid.mesh.face_count(),
         tf.as_secs_f64(),
         tg.as_secs_f64(),
         tf.as_secs_f64() / tg.as_secs_f64()
@@ -77,7 +77,7 @@ fn bench_fan(c: &mut Criterion) {
     let mut group = c.benchmark_group("hostile-fan-10pct");
     group.sample_size(10);
     for (name, m) in [("fan-1m", &fan), ("grid-1m", &grid)] {
-        let faces = m.face_count() / 10;
+        let faces = m.mesh.face_count() / 10;
         group.bench_function(name, |b| b.iter(|| run_qem(black_box(m), faces)));
     }
     group.finish();
@@ -86,11 +86,12 @@ fn bench_fan(c: &mut Criterion) {
 fn bench(c: &mut Criterion) {
     let inputs = inputs();
     println!("qem vs meshopt (best of 5, same process):");
-    for (name, m) in &inputs {
+    for (name, model) in &inputs {
+        let m = &model.mesh;
         let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
         for pct in [10usize, 1] {
             let faces = m.face_count() * pct / 100;
-            let (tq, fq) = best_of(5, || run_qem(m, faces));
+            let (tq, fq) = best_of(5, || run_qem(model, faces));
             let (tm, fm) = best_of(5, || run_meshopt(m, &indices, faces));
             println!(
                 "  {name} {} -> {faces} faces ({pct}%): qem {:.4} s ({fq} faces), meshopt {:.4} s ({fm} faces), ratio {:.2}",
@@ -101,7 +102,8 @@ fn bench(c: &mut Criterion) {
             );
         }
     }
-    for (name, m) in &inputs {
+    for (name, model) in &inputs {
+        let m = &model.mesh;
         let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
         for pct in [10usize, 1] {
             let faces = m.face_count() * pct / 100;
@@ -110,7 +112,7 @@ fn bench(c: &mut Criterion) {
                 name.split('.').next().unwrap_or(name)
             ));
             group.sample_size(10);
-            group.bench_function("qem", |b| b.iter(|| run_qem(black_box(m), faces)));
+            group.bench_function("qem", |b| b.iter(|| run_qem(black_box(model), faces)));
             group.bench_function("meshopt", |b| {
                 b.iter(|| run_meshopt(black_box(m), &indices, faces))
             });

@@ -26,7 +26,8 @@ fn main() {
         .unwrap_or(7);
     let ratio: f64 = args.get(2).map_or(0.1, |s| s.parse().expect("ratio"));
     let loaded = mesh::io::load(path).expect("load");
-    let (m, _) = mesh::clean::prepare(&loaded.mesh);
+    let model = mesh::Model::from(mesh::clean::prepare(&loaded.mesh).0);
+    let m = &model.mesh;
     let target = ((m.face_count() as f64) * ratio).round() as usize;
     let params = gng3d_qem::QemParams::with_target(gng3d_qem::Target::Faces(target));
     let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
@@ -40,7 +41,7 @@ fn main() {
     for _ in 0..reps {
         let t = Instant::now();
         let c = cpu_seconds();
-        let r = gng3d_qem::simplify(&m, &params).expect("qem");
+        let r = gng3d_qem::simplify(&model, &params).expect("qem");
         wall.push(t.elapsed().as_secs_f64());
         best_cpu = best_cpu.min(cpu_seconds() - c);
         result = Some(r);
@@ -59,6 +60,7 @@ fn main() {
         mo_faces = r.len() / 3;
     }
     let (out, report) = result.expect("ran");
+    let out = out.mesh;
     let best = wall.iter().copied().fold(f64::INFINITY, f64::min);
     let best_mo = wall_mo.iter().copied().fold(f64::INFINITY, f64::min);
     let median = |v: &mut Vec<f64>| {

@@ -79,7 +79,8 @@ fn load(path: &str, subdivisions: usize) -> TriMesh {
 
 /// One call of `method` in this process; prints a JSON line.
 fn run(method: &str, path: &str, ratio: f64, subdivisions: usize) {
-    let m = load(path, subdivisions);
+    let model = mesh::Model::from(load(path, subdivisions));
+    let m = &model.mesh;
     let target = ((m.face_count() as f64) * ratio).round() as usize;
     let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
     let rss_before = rss_now();
@@ -88,9 +89,10 @@ fn run(method: &str, path: &str, ratio: f64, subdivisions: usize) {
     let faces = match method {
         "qem" => {
             let params = gng3d_qem::QemParams::with_target(gng3d_qem::Target::Faces(target));
-            gng3d_qem::simplify(&m, &params)
+            gng3d_qem::simplify(&model, &params)
                 .expect("qem")
                 .0
+                .mesh
                 .face_count()
         }
         "meshopt" => {

@@ -17,11 +17,16 @@
 //! output depends on the number of threads; with `RAYON_NUM_THREADS=1`, or below that size, the
 //! sequential engine runs and the output is the same for every thread count.
 //!
+//! One entry point, [`simplify`], takes a [`mesh::Model`]: with attributes (normals, texture
+//! coordinates, colours, materials) they are kept through the contractions, and
+//! [`QemParams::lock`] keeps chosen vertices ([`Lock`]) where they are.
+//!
 //! ```
 //! use gng3d_qem::{QemParams, Target, simplify};
-//! let sphere = mesh::procedural::icosphere(4); // 2,562 vertices, 5,120 faces
+//! let sphere = mesh::Model::from(mesh::procedural::icosphere(4)); // 2,562 vertices, 5,120 faces
 //! let params = QemParams::with_target(Target::Vertices(500));
 //! let (coarse, report) = simplify(&sphere, &params).unwrap();
+//! let coarse = coarse.mesh;
 //! assert!(coarse.vertex_count() <= 500 && coarse.face_count() > 900);
 //! // The unit sphere stays a unit sphere: every vertex within 1 % of radius 1.
 //! assert!(coarse.positions.iter().all(|p| (p.length() - 1.0).abs() < 0.01));
@@ -35,8 +40,8 @@ mod simplifier;
 
 pub use quadric::Quadric;
 
-use mesh::TriMesh;
 use mesh::cancel::Cancel;
+use mesh::{Model, TriMesh};
 use serde::{Deserialize, Serialize};
 
 /// What to simplify down to.
@@ -75,8 +80,8 @@ pub struct QemParams {
     pub preserve_boundary: bool,
     /// Weight of the boundary constraint planes (multiplied by the squared edge length).
     pub boundary_weight: f64,
-    /// Weight of the seams' constraint planes in [`simplify_with_attributes`] (multiplied by
-    /// the squared edge length; ignored by [`simplify`]). Default 15: a seam has to stay where
+    /// Weight of the seams' constraint planes when the model has attributes (multiplied by
+    /// the squared edge length; ignored without). Default 15: a seam has to stay where
     /// it is on the surface, not hold an open edge as a border does, and heavier planes keep the
     /// vertices along it from going where the surface needs them. Against 30, on spot at 5 / 10
     /// / 20 %: Hausdorff distance 1.84 → 1.69, 1.03 → 1.03, 0.72 → 0.72 % of the diagonal (1M
@@ -113,26 +118,30 @@ pub struct QemParams {
     /// contraction is [`QemReport::max_relative_error`].
     #[serde(default)]
     pub max_relative_error: Option<f64>,
-    /// Weights of the attribute error in the collapse cost of [`simplify_with_attributes`]
-    /// (ignored by [`simplify`]).
+    /// Weights of the attribute error in the collapse cost when the model has attributes
+    /// (ignored without).
     #[serde(default)]
     pub attribute_weights: AttributeWeights,
-    /// Stops the run from another thread: when the flag is set, [`simplify`],
-    /// [`simplify_with_attributes`] and [`simplify_locked`] return [`QemError::Cancelled`] at
-    /// their next check (between the set-up steps, between passes and every few thousand
-    /// contractions), never a partial mesh. `None` (the default): not cancellable. Not part of
-    /// the serialized parameters; equal when both are `None` or share one flag.
+    /// The vertices never contracted ([`Lock`]; default none). Serialized only when some are.
+    #[serde(default, skip_serializing_if = "Lock::is_none")]
+    pub lock: Lock,
+    /// Stops the run from another thread: when the flag is set, [`simplify`] returns
+    /// [`QemError::Cancelled`] at its next check (between the set-up steps, between passes and
+    /// every few thousand contractions), never a partial mesh. `None` (the default): not
+    /// cancellable. Not part of the serialized parameters; equal when both are `None` or share
+    /// one flag.
     #[serde(skip)]
     pub cancel: Option<Cancel>,
 }
 
 /// Weights of the attribute error (Hoppe 1999's attribute quadrics, minimised over the value at
 /// the geometric placement; docs/notes/qem.md "Attribute error") in the collapse cost of
-/// [`simplify_with_attributes`]. A weight scales its attribute's values before the error is
-/// taken, so an attribute deviation `δ` costs as much as a distance `weight · δ` in units of
-/// the bounding-box diagonal. 0 leaves the attribute out of the cost (all 0: the order is the
-/// geometric one), which is the default: measured, a weight bought less attribute error than
-/// it cost geometry on the test assets except normals at CAD creases (docs/notes/attributes.md).
+/// [`simplify`] on a model with attributes. A weight scales its attribute's values before the
+/// error is taken, so an attribute deviation `δ` costs as much as a distance `weight · δ` in
+/// units of the bounding-box diagonal. 0 leaves the attribute out of the cost (all 0: the order
+/// is the geometric one), which is the default: measured, a weight bought less attribute error
+/// than it cost geometry on the test assets except normals at CAD creases
+/// (docs/notes/attributes.md).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct AttributeWeights {
@@ -196,6 +205,7 @@ impl Default for QemParams {
             edge_length_weight: 0.0,
             max_relative_error: None,
             attribute_weights: AttributeWeights::default(),
+            lock: Lock::None,
             cancel: None,
         }
     }
@@ -214,6 +224,31 @@ impl QemParams {
             target,
             ..Default::default()
         }
+    }
+}
+
+/// The vertices [`simplify`] never contracts ([`QemParams::lock`]): they keep their positions
+/// and stay in the output, as do the faces between them. Meant for borders shared with other
+/// meshes (tiles, parts of an assembly) and vertices a rig or a gameplay script refers to. A
+/// lock runs the sequential engine (no spatial parts), so the result does not depend on the
+/// thread count.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Lock {
+    /// None: every vertex may be contracted.
+    #[default]
+    None,
+    /// The vertices on the mesh's border edges ([`border_vertices`]; `--lock-border`).
+    Border,
+    /// The vertices flagged here, one flag per vertex of the mesh (another length is refused
+    /// with [`QemError::InvalidParameter`]).
+    Vertices(Vec<bool>),
+}
+
+impl Lock {
+    /// Whether no vertex is locked ([`Lock::None`]).
+    pub fn is_none(&self) -> bool {
+        *self == Lock::None
     }
 }
 
@@ -270,11 +305,13 @@ impl QemReport {
     ///
     /// ```
     /// use gng3d_qem::{QemParams, Target};
-    /// let ico = mesh::procedural::icosphere(0); // 12 vertices, closed: 4 at best (a tetrahedron)
+    /// // 12 vertices, closed: 4 at best (a tetrahedron)
+    /// let ico = mesh::Model::from(mesh::procedural::icosphere(0));
     /// let target = Target::Vertices(3);
     /// let (out, report) = gng3d_qem::simplify(&ico, &QemParams::with_target(target)).unwrap();
     /// let note = report.shortfall(target).unwrap();
-    /// assert!(note.starts_with(&format!("QEM stopped at {} of 3 vertices", out.vertex_count())));
+    /// let vertices = out.mesh.vertex_count();
+    /// assert!(note.starts_with(&format!("QEM stopped at {vertices} of 3 vertices")));
     /// let params = QemParams::with_target(Target::Vertices(6));
     /// let (_, reached) = gng3d_qem::simplify(&ico, &params).unwrap();
     /// assert_eq!(reached.shortfall(Target::Vertices(6)), None);
@@ -327,7 +364,7 @@ pub enum QemError {
     /// A parameter is out of range.
     #[error("invalid parameter: {0}")]
     InvalidParameter(String),
-    /// The attributes given to [`simplify_with_attributes`] do not fit the mesh.
+    /// The model's attributes do not fit its mesh.
     #[error("the attributes do not fit the mesh: {0}")]
     InvalidAttributes(String),
     /// The run was stopped through [`QemParams::cancel`].
@@ -335,25 +372,21 @@ pub enum QemError {
     Cancelled,
 }
 
-/// Simplify `mesh` by quadric-error pair contraction; returns the simplified mesh (no unreferenced
-/// vertices, no degenerate or duplicate faces) and a report.
-pub fn simplify(mesh: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemReport), QemError> {
-    simplifier::run(mesh, params)
-}
-
-/// [`simplify`] keeping the mesh's normals, texture coordinates, colours and materials
-/// (`attributes`, which must fit `mesh`: [`mesh::attributes::Attributes::validate`]); returns
-/// the simplified mesh, its attributes and the report.
+/// Simplify `model` by quadric-error pair contraction; returns the simplified model (no
+/// unreferenced vertices, no degenerate or duplicate faces; the input's materials and origin,
+/// [`Model::with_mesh`]) and a report. The vertices of [`QemParams::lock`] are never contracted.
 ///
-/// The collapse order and placement are Garland–Heckbert's (the attributes do not enter the
-/// cost). Seams (edges across which a value or the material changes) keep their place: each
-/// seam edge gets a constraint plane as a boundary edge does (weight
-/// [`QemParams::seam_weight`]), a vertex on a seam moves only along it (contracted with a
-/// neighbour along the same seam), a vertex off the seams is contracted with another vertex off
-/// them or into a seam vertex, which then stays where it is (as meshoptimizer lets a manifold
-/// vertex collapse onto a seam), and seam ends, crossings and vertices whose values differ
-/// around them without a seam (a sphere's pole) are not contracted; so every output triangle
-/// lies on one side of every seam. The values travel
+/// With attributes (`model.attributes`, which must fit the mesh:
+/// [`mesh::attributes::Attributes::validate`]) the output keeps the normals, texture
+/// coordinates, colours and materials. The collapse order and placement are then still
+/// Garland–Heckbert's (plus [`QemParams::attribute_weights`], none by default). Seams (edges
+/// across which a value or the material changes) keep their place: each seam edge gets a
+/// constraint plane as a boundary edge does (weight [`QemParams::seam_weight`]), a vertex on a
+/// seam moves only along it (contracted with a neighbour along the same seam), a vertex off the
+/// seams is contracted with another vertex off them or into a seam vertex, which then stays
+/// where it is (as meshoptimizer lets a manifold vertex collapse onto a seam), and seam ends,
+/// crossings and vertices whose values differ around them without a seam (a sphere's pole) are
+/// not contracted; so every output triangle lies on one side of every seam. The values travel
 /// with the contractions, one set per side of a seam: a vertex never contracted keeps each
 /// corner's input values exactly; a merged vertex gets, for texture coordinates and colours,
 /// the area-weighted least-squares fit of the linear functions of the original faces merged
@@ -363,54 +396,68 @@ pub fn simplify(mesh: &TriMesh, params: &QemParams) -> Result<(TriMesh, QemRepor
 /// count.
 ///
 /// ```
-/// use gng3d_qem::{QemParams, Target, simplify_with_attributes};
+/// use gng3d_qem::{QemParams, Target, simplify};
 /// let (sphere, uv) = mesh::procedural::textured_sphere(24, 48); // UV sphere, meridian seam
+/// let model = mesh::Model {
+///     attributes: Some(uv),
+///     ..mesh::Model::from(sphere)
+/// };
 /// let params = QemParams::with_target(Target::Ratio(0.25));
-/// let (coarse, attributes, report) = simplify_with_attributes(&sphere, &uv, &params).unwrap();
-/// attributes.validate(&coarse).unwrap();
-/// assert!(report.faces < sphere.face_count() / 3);
-/// assert!(!attributes.seam_edges(&coarse).is_empty()); // the meridian is still a seam
+/// let (coarse, report) = simplify(&model, &params).unwrap();
+/// let attributes = coarse.attributes.unwrap();
+/// attributes.validate(&coarse.mesh).unwrap();
+/// assert!(report.faces < model.mesh.face_count() / 3);
+/// assert!(!attributes.seam_edges(&coarse.mesh).is_empty()); // the meridian is still a seam
 /// ```
-pub fn simplify_with_attributes(
-    mesh: &TriMesh,
-    attributes: &mesh::attributes::Attributes,
-    params: &QemParams,
-) -> Result<(TriMesh, mesh::attributes::Attributes, QemReport), QemError> {
-    simplifier::run_with_attributes(mesh, attributes, params, None)
-}
-
-/// [`simplify`] or [`simplify_with_attributes`] (when `attributes` is given) with the vertices
-/// flagged in `locked` (one flag per vertex of `mesh`) never contracted: they keep their
-/// positions and stay in the output, as do the faces between locked vertices. Meant for
-/// borders shared with other meshes (tiles, parts of an assembly; [`border_vertices`] gives
-/// a mesh's) and vertices a rig or a gameplay script refers to. Runs the sequential engine.
+///
+/// A lock:
 ///
 /// ```
-/// use gng3d_qem::{QemParams, Target, border_vertices, simplify_locked};
-/// let grid = mesh::procedural::unit_square_grid(20); // open: a square border
-/// let locked = border_vertices(&grid);
-/// let params = QemParams::with_target(Target::Ratio(0.1));
-/// let (coarse, _, _) = simplify_locked(&grid, None, &params, &locked).unwrap();
+/// use gng3d_qem::{Lock, QemParams, Target, border_vertices, simplify};
+/// let grid = mesh::Model::from(mesh::procedural::unit_square_grid(20)); // a square border
+/// let params = QemParams {
+///     lock: Lock::Border,
+///     ..QemParams::with_target(Target::Ratio(0.1))
+/// };
+/// let (coarse, _) = simplify(&grid, &params).unwrap();
 /// // every border vertex is still there, where it was
-/// for (v, _) in locked.iter().enumerate().filter(|&(_, &l)| l) {
-///     assert!(coarse.positions.contains(&grid.positions[v]));
+/// let border = border_vertices(&grid.mesh);
+/// for (v, _) in border.iter().enumerate().filter(|&(_, &l)| l) {
+///     assert!(coarse.mesh.positions.contains(&grid.mesh.positions[v]));
 /// }
 /// ```
-pub fn simplify_locked(
-    mesh: &TriMesh,
-    attributes: Option<&mesh::attributes::Attributes>,
-    params: &QemParams,
-    locked: &[bool],
-) -> Result<(TriMesh, Option<mesh::attributes::Attributes>, QemReport), QemError> {
-    match attributes {
-        Some(a) => simplifier::run_with_attributes(mesh, a, params, Some(locked))
-            .map(|(m, a, r)| (m, Some(a), r)),
-        None => simplifier::run_locked(mesh, params, locked).map(|(m, r)| (m, None, r)),
-    }
+pub fn simplify(model: &Model, params: &QemParams) -> Result<(Model, QemReport), QemError> {
+    let input = &model.mesh;
+    let border;
+    let locked = match &params.lock {
+        Lock::None => None,
+        // A face naming a missing vertex: no mask to make; the run refuses the mesh.
+        Lock::Border if !indices_in_range(input) => None,
+        Lock::Border => {
+            border = border_vertices(input);
+            Some(border.as_slice())
+        }
+        Lock::Vertices(mask) => Some(mask.as_slice()),
+    };
+    let (mesh, attributes, report) = match (&model.attributes, locked) {
+        (Some(a), locked) => simplifier::run_with_attributes(input, a, params, locked)
+            .map(|(m, a, r)| (m, Some(a), r))?,
+        (None, Some(locked)) => {
+            simplifier::run_locked(input, params, locked).map(|(m, r)| (m, None, r))?
+        }
+        (None, None) => simplifier::run(input, params).map(|(m, r)| (m, None, r))?,
+    };
+    Ok((model.with_mesh(mesh, attributes), report))
 }
 
-/// The vertices of `mesh` on a border edge (an edge with one face): the lock mask of
-/// `--lock-border`.
+/// Whether every face of `mesh` names existing vertices.
+fn indices_in_range(mesh: &TriMesh) -> bool {
+    let n = mesh.positions.len();
+    mesh.triangles.iter().flatten().all(|&v| (v as usize) < n)
+}
+
+/// The vertices of `mesh` on a border edge (an edge with one face): the mask of [`Lock::Border`]
+/// (`--lock-border`).
 pub fn border_vertices(mesh: &TriMesh) -> Vec<bool> {
     let table = mesh::topology::EdgeTable::new(mesh);
     let mut border = vec![false; mesh.positions.len()];

@@ -4,8 +4,8 @@
 
 use glam::{DVec3, Vec2};
 use gng3d_qem::{AttributeWeights, QemError, QemParams, StopReason, Target};
-use mesh::TriMesh;
 use mesh::attributes::Attributes;
+use mesh::{Model, TriMesh};
 
 /// The analytic texture of the grid tests: `u = x⁴` (stretched more and more towards x = 1),
 /// `v = y`.
@@ -41,14 +41,18 @@ fn uv_stretch_steers_the_collapse_order() {
     let grid = mesh::procedural::unit_square_grid(40);
     let mut attributes = Attributes::per_vertex(&grid);
     attributes.uv0 = Some(grid.positions.iter().map(|p| warped_uv(p.x, p.y)).collect());
+    let model = Model {
+        attributes: Some(attributes),
+        ..Model::from(grid)
+    };
     let run = |weights: AttributeWeights| {
         let params = QemParams {
             attribute_weights: weights,
             ..QemParams::with_target(Target::Ratio(0.1))
         };
-        let (out, a, report) =
-            gng3d_qem::simplify_with_attributes(&grid, &attributes, &params).unwrap();
+        let (out, report) = gng3d_qem::simplify(&model, &params).unwrap();
         assert!(report.target_reached, "{report:?}");
+        let (out, a) = (out.mesh, out.attributes.unwrap());
         a.validate(&out).unwrap();
         (mean_u_error(&out, &a), out)
     };
@@ -150,7 +154,8 @@ fn a_relative_error_bound_stops_within_a_measured_distance() {
             max_relative_error: Some(e),
             ..QemParams::with_target(Target::Faces(0))
         };
-        let (out, report) = gng3d_qem::simplify(&torus, &params).unwrap();
+        let (out, report) = gng3d_qem::simplify(&Model::from(torus.clone()), &params).unwrap();
+        let out = out.mesh;
         assert_eq!(report.stop_reason, StopReason::MaxError, "{report:?}");
         let reached = report.max_relative_error.unwrap();
         assert!(
@@ -175,7 +180,7 @@ fn a_relative_error_bound_stops_within_a_measured_distance() {
 
 #[test]
 fn a_bound_with_a_target_stops_at_whichever_comes_first() {
-    let torus = mesh::procedural::torus(1.0, 0.35, 48, 24);
+    let torus = Model::from(mesh::procedural::torus(1.0, 0.35, 48, 24));
     let bound = |target, e| {
         let params = QemParams {
             max_relative_error: Some(e),
@@ -193,16 +198,16 @@ fn a_bound_with_a_target_stops_at_whichever_comes_first() {
         (plain.faces, plain.collapses)
     );
     assert_eq!(plain.max_relative_error, None);
-    assert_eq!(plain_mesh.face_count(), plain.faces);
+    assert_eq!(plain_mesh.mesh.face_count(), plain.faces);
     // A tight one stops first.
     let tight = bound(Target::Ratio(0.05), 0.001);
     assert_eq!(tight.stop_reason, StopReason::MaxError);
-    assert!(tight.faces > torus.face_count() / 20);
+    assert!(tight.faces > torus.mesh.face_count() / 20);
 }
 
 #[test]
 fn bad_weights_and_bounds_are_refused() {
-    let grid = mesh::procedural::unit_square_grid(4);
+    let grid = Model::from(mesh::procedural::unit_square_grid(4));
     let mut params = QemParams::with_target(Target::Ratio(0.5));
     params.attribute_weights.uv = -1.0;
     assert!(matches!(params.validate(), Err(QemError::InvalidParameter(m)) if m.contains("uv")));

@@ -3,10 +3,25 @@
 //! seams simplifies exactly as without attributes.
 
 use glam::{DVec3, Vec2, Vec3, Vec4};
-use gng3d_qem::{QemError, QemParams, Target, simplify, simplify_with_attributes};
-use mesh::TriMesh;
+use gng3d_qem::{QemError, QemParams, QemReport, Target, simplify};
 use mesh::attributes::Attributes;
+use mesh::{Model, TriMesh};
 use std::path::Path;
+
+/// [`simplify`] of `mesh` with `attributes`: the output's mesh, its attributes and the report.
+fn simplify_with_attributes(
+    mesh: &TriMesh,
+    attributes: &Attributes,
+    params: &QemParams,
+) -> Result<(TriMesh, Attributes, QemReport), QemError> {
+    let model = Model {
+        attributes: Some(attributes.clone()),
+        ..Model::from(mesh.clone())
+    };
+    let (out, report) = simplify(&model, params)?;
+    let kept = out.attributes.expect("a model with attributes keeps them");
+    Ok((out.mesh, kept, report))
+}
 
 /// The sphere's texture coordinates at a point, from its direction (u = longitude / 2π in
 /// [0, 1), v = 1 at the top pole): independent of any mesh.
@@ -93,13 +108,17 @@ fn sphere_keeps_its_seam_and_its_texture_coordinates() {
 
 #[test]
 fn without_seams_the_geometry_is_exactly_that_of_simplify() {
-    let sphere = mesh::procedural::icosphere(4);
-    let mut attributes = Attributes::per_vertex(&sphere);
-    attributes.colors = Some(vec![Vec4::new(0.2, 0.4, 0.6, 1.0); sphere.vertex_count()]);
+    let sphere = Model::from(mesh::procedural::icosphere(4));
+    let mut attributes = Attributes::per_vertex(&sphere.mesh);
+    attributes.colors = Some(vec![
+        Vec4::new(0.2, 0.4, 0.6, 1.0);
+        sphere.mesh.vertex_count()
+    ]);
     let params = QemParams::with_target(Target::Vertices(400));
-    let (a, attrs, ra) = simplify_with_attributes(&sphere, &attributes, &params).unwrap();
+    let (a, attrs, ra) = simplify_with_attributes(&sphere.mesh, &attributes, &params).unwrap();
     let (b, rb) = simplify(&sphere, &params).unwrap();
-    assert_eq!(a, b);
+    assert!(b.attributes.is_none());
+    assert_eq!(a, b.mesh);
     assert_eq!((ra.collapses, ra.passes), (rb.collapses, rb.passes));
     assert_eq!(attrs.wedge_count(), a.vertex_count());
     assert!(
@@ -115,7 +134,11 @@ fn without_seams_the_geometry_is_exactly_that_of_simplify() {
 fn attributes_that_do_not_fit_are_an_error() {
     let (sphere, mut uv) = mesh::procedural::textured_sphere(4, 8);
     uv.uv0.as_mut().unwrap().pop();
-    let err = simplify_with_attributes(&sphere, &uv, &QemParams::default()).unwrap_err();
+    let model = Model {
+        attributes: Some(uv),
+        ..Model::from(sphere)
+    };
+    let err = simplify(&model, &QemParams::default()).unwrap_err();
     assert!(matches!(err, QemError::InvalidAttributes(_)));
     assert!(err.to_string().contains("uv0"), "{err}");
 }

@@ -1,9 +1,18 @@
-//! Lock masks (`simplify_locked`, `border_vertices`): locked vertices stay where they were, with
-//! and without attributes; an all-false mask changes nothing; a mask of the wrong length is an
-//! error.
+//! Locks (`QemParams::lock`, `border_vertices`): locked vertices stay where they were, with
+//! and without attributes; `Lock::Border` is the mask of `border_vertices`; an all-false mask
+//! changes nothing; a mask of the wrong length is an error.
 
 use glam::Vec3;
-use gng3d_qem::{QemError, QemParams, Target, border_vertices, simplify, simplify_locked};
+use gng3d_qem::{Lock, QemError, QemParams, Target, border_vertices, simplify};
+use mesh::Model;
+
+/// `params` with `lock`.
+fn locking(params: &QemParams, lock: Lock) -> QemParams {
+    QemParams {
+        lock,
+        ..params.clone()
+    }
+}
 
 fn kept(output: &[Vec3], input: &[Vec3], locked: &[bool]) -> usize {
     input
@@ -31,16 +40,20 @@ fn border_vertices_are_the_ends_of_single_face_edges() {
 
 #[test]
 fn locked_border_stays_and_unlocked_runs_remove_border_vertices() {
-    let grid = mesh::procedural::unit_square_grid(20);
-    let border = border_vertices(&grid);
+    let grid = Model::from(mesh::procedural::unit_square_grid(20));
+    let border = border_vertices(&grid.mesh);
     let n_border = border.iter().filter(|&&b| b).count();
     let params = QemParams::with_target(Target::Ratio(0.1));
     let (free, _) = simplify(&grid, &params).unwrap();
-    let (locked, attributes, _) = simplify_locked(&grid, None, &params, &border).unwrap();
-    assert!(attributes.is_none());
-    assert_eq!(kept(&locked.positions, &grid.positions, &border), n_border);
+    let (locked, _) = simplify(&grid, &locking(&params, Lock::Border)).unwrap();
+    assert!(locked.attributes.is_none());
+    let positions = &grid.mesh.positions;
+    assert_eq!(kept(&locked.mesh.positions, positions, &border), n_border);
+    // The same as the border's mask given vertex by vertex.
+    let (masked, _) = simplify(&grid, &locking(&params, Lock::Vertices(border.clone()))).unwrap();
+    assert_eq!(locked.mesh, masked.mesh);
     // Without the locks the flat border's straight runs are contracted.
-    assert!(kept(&free.positions, &grid.positions, &border) < n_border / 2);
+    assert!(kept(&free.mesh.positions, positions, &border) < n_border / 2);
 }
 
 #[test]
@@ -48,27 +61,59 @@ fn any_mask_with_and_without_attributes() {
     let (sphere, uv) = mesh::procedural::textured_sphere(24, 48);
     let mask: Vec<bool> = (0..sphere.positions.len()).map(|v| v % 17 == 3).collect();
     let count = mask.iter().filter(|&&l| l).count();
-    let params = QemParams::with_target(Target::Ratio(0.2));
-    let (plain, _, _) = simplify_locked(&sphere, None, &params, &mask).unwrap();
-    assert_eq!(kept(&plain.positions, &sphere.positions, &mask), count);
-    let (textured, attributes, report) =
-        simplify_locked(&sphere, Some(&uv), &params, &mask).unwrap();
-    attributes.unwrap().validate(&textured).unwrap();
-    assert_eq!(kept(&textured.positions, &sphere.positions, &mask), count);
+    let params = locking(
+        &QemParams::with_target(Target::Ratio(0.2)),
+        Lock::Vertices(mask.clone()),
+    );
+    let plain = Model::from(sphere.clone());
+    let (out, _) = simplify(&plain, &params).unwrap();
+    assert_eq!(kept(&out.mesh.positions, &sphere.positions, &mask), count);
+    let textured = Model {
+        attributes: Some(uv),
+        ..plain
+    };
+    let (out, report) = simplify(&textured, &params).unwrap();
+    out.attributes.unwrap().validate(&out.mesh).unwrap();
+    assert_eq!(kept(&out.mesh.positions, &sphere.positions, &mask), count);
     assert!(report.faces < sphere.face_count() / 2);
 }
 
 #[test]
 fn an_empty_mask_changes_nothing_and_a_short_one_is_an_error() {
-    let sphere = mesh::procedural::icosphere(3);
+    let sphere = Model::from(mesh::procedural::icosphere(3));
     let params = QemParams::with_target(Target::Ratio(0.25));
-    let none = vec![false; sphere.positions.len()];
+    let none = vec![false; sphere.mesh.positions.len()];
     let (free, _) = simplify(&sphere, &params).unwrap();
-    let (locked, _, _) = simplify_locked(&sphere, None, &params, &none).unwrap();
-    assert_eq!(free, locked);
-    let err = simplify_locked(&sphere, None, &params, &none[1..]).unwrap_err();
+    let (locked, _) = simplify(&sphere, &locking(&params, Lock::Vertices(none.clone()))).unwrap();
+    assert_eq!(free.mesh, locked.mesh);
+    let short = Lock::Vertices(none[1..].to_vec());
+    let err = simplify(&sphere, &locking(&params, short)).unwrap_err();
     assert!(
         matches!(err, QemError::InvalidParameter(ref m) if m.contains("lock mask")),
         "{err}"
     );
+}
+
+#[test]
+fn a_border_lock_on_a_face_naming_a_missing_vertex_is_the_index_error() {
+    let mut bad = mesh::procedural::unit_square_grid(4);
+    bad.triangles.push([0, 1, 999]);
+    let params = locking(&QemParams::default(), Lock::Border);
+    assert!(matches!(
+        simplify(&Model::from(bad), &params),
+        Err(QemError::InvalidIndex { index: 999, .. })
+    ));
+}
+
+#[test]
+fn the_lock_is_serialized_only_when_there_is_one() {
+    let plain = serde_json::to_string(&QemParams::default()).unwrap();
+    assert!(!plain.contains("lock"), "{plain}");
+    let border = locking(&QemParams::default(), Lock::Border);
+    let text = serde_json::to_string(&border).unwrap();
+    assert!(text.contains(r#""lock":"border""#), "{text}");
+    let back: QemParams = serde_json::from_str(&text).unwrap();
+    assert_eq!(back, border);
+    let old: QemParams = serde_json::from_str(&plain).unwrap();
+    assert_eq!(old.lock, Lock::None);
 }

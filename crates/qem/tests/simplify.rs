@@ -16,6 +16,11 @@ fn load(name: &str) -> Option<(TriMesh, TriMesh)> {
     Some((raw, prepared))
 }
 
+/// `qem::simplify` of `m` alone (a model without attributes): the output's mesh and the report.
+fn simplify(m: &TriMesh, p: &QemParams) -> Result<(TriMesh, qem::QemReport), QemError> {
+    qem::simplify(&mesh::Model::from(m.clone()), p).map(|(out, report)| (out.mesh, report))
+}
+
 fn params(target: Target) -> QemParams {
     QemParams::with_target(target)
 }
@@ -60,7 +65,7 @@ fn closed_manifolds_keep_closedness_manifoldness_and_genus() {
             "{name} should start closed and manifold"
         );
         for ratio in [0.1, 0.02] {
-            let (out, report) = qem::simplify(&m, &params(Target::Ratio(ratio))).unwrap();
+            let (out, report) = simplify(&m, &params(Target::Ratio(ratio))).unwrap();
             assert_valid(&out);
             let after = analyze(&out);
             assert!(after.closed, "{name} @ {ratio}: not closed");
@@ -87,7 +92,7 @@ fn boundary_loops_are_preserved() {
         let Some((_, m)) = load(name) else { return };
         let before = analyze(&m);
         assert!(before.boundary_loops > 0);
-        let (out, _) = qem::simplify(&m, &params(Target::Ratio(0.1))).unwrap();
+        let (out, _) = simplify(&m, &params(Target::Ratio(0.1))).unwrap();
         assert_valid(&out);
         let after = analyze(&out);
         assert_eq!(after.boundary_loops, before.boundary_loops, "{name}");
@@ -135,12 +140,12 @@ fn boundary_constraint_keeps_the_open_border_in_place() {
         }
         worst
     };
-    let (kept, _) = qem::simplify(&m, &params(Target::Ratio(0.05))).unwrap();
+    let (kept, _) = simplify(&m, &params(Target::Ratio(0.05))).unwrap();
     let free_params = QemParams {
         preserve_boundary: false,
         ..params(Target::Ratio(0.05))
     };
-    let (free, _) = qem::simplify(&m, &free_params).unwrap();
+    let (free, _) = simplify(&m, &free_params).unwrap();
     let (dk, df) = (deviation(&kept), deviation(&free));
     assert!(
         dk < 0.5 * df,
@@ -157,21 +162,21 @@ fn exact_targets_are_hit_down_to_one_percent() {
     let (f, v) = (m.face_count(), m.vertex_count());
     for ratio in [0.5, 0.1, 0.01] {
         let faces = (f as f64 * ratio).round() as usize;
-        let (out, report) = qem::simplify(&m, &params(Target::Faces(faces))).unwrap();
+        let (out, report) = simplify(&m, &params(Target::Faces(faces))).unwrap();
         assert!(report.target_reached);
         assert!(
             out.face_count().abs_diff(faces) <= 2,
             "faces {} vs {faces}",
             out.face_count()
         );
-        let (out, _) = qem::simplify(&m, &params(Target::Ratio(ratio))).unwrap();
+        let (out, _) = simplify(&m, &params(Target::Ratio(ratio))).unwrap();
         assert!(
             out.face_count().abs_diff(faces) <= 2,
             "ratio: faces {} vs {faces}",
             out.face_count()
         );
         let verts = (v as f64 * ratio).round() as usize;
-        let (out, report) = qem::simplify(&m, &params(Target::Vertices(verts))).unwrap();
+        let (out, report) = simplify(&m, &params(Target::Vertices(verts))).unwrap();
         assert!(report.target_reached);
         assert!(
             out.vertex_count().abs_diff(verts) <= 1,
@@ -194,7 +199,7 @@ fn grid(n: u32) -> TriMesh {
 #[test]
 fn flat_plane_collapses_to_a_few_triangles_with_zero_error() {
     let m = grid(40);
-    let (out, report) = qem::simplify(&m, &params(Target::Faces(2))).unwrap();
+    let (out, report) = simplify(&m, &params(Target::Faces(2))).unwrap();
     assert_valid(&out);
     assert!(
         out.face_count() <= 8,
@@ -258,7 +263,7 @@ fn dirty_inputs_never_panic() {
                     preserve_topology,
                     ..params(target)
                 };
-                let (out, report) = qem::simplify(m, &p).unwrap_or_else(|e| panic!("{name}: {e}"));
+                let (out, report) = simplify(m, &p).unwrap_or_else(|e| panic!("{name}: {e}"));
                 assert_valid(&out);
                 assert_eq!(report.faces, out.face_count(), "{name}");
                 if !report.target_reached {
@@ -351,7 +356,7 @@ fn optimal_placement_keeps_sharp_corners_exactly() {
     let cube = grid_cube(8);
     assert!(analyze(&cube).closed);
     assert!(cube.signed_volume() > 0.0);
-    let (out, report) = qem::simplify(&cube, &params(Target::Faces(12))).unwrap();
+    let (out, report) = simplify(&cube, &params(Target::Faces(12))).unwrap();
     assert_valid(&out);
     assert!(out.face_count() <= 16, "{} faces", out.face_count());
     assert!(report.max_error < 1e-9, "max error {}", report.max_error);
@@ -382,13 +387,13 @@ fn optimal_placement_keeps_sharp_corners_exactly() {
 #[test]
 fn max_error_stops_early() {
     let m = mesh::procedural::torus(1.0, 0.3, 48, 24);
-    let (_, unlimited) = qem::simplify(&m, &params(Target::Ratio(0.05))).unwrap();
+    let (_, unlimited) = simplify(&m, &params(Target::Ratio(0.05))).unwrap();
     let limit = unlimited.max_error / 100.0;
     let p = QemParams {
         max_error: Some(limit),
         ..params(Target::Ratio(0.05))
     };
-    let (out, report) = qem::simplify(&m, &p).unwrap();
+    let (out, report) = simplify(&m, &p).unwrap();
     assert_eq!(report.stop_reason, StopReason::MaxError);
     assert!(!report.target_reached);
     assert!(report.max_error <= limit);
@@ -405,13 +410,13 @@ fn pair_threshold_merges_nearby_parts() {
     let mut triangles = a.triangles.clone();
     triangles.extend(a.triangles.iter().map(|t| t.map(|v| v + k)));
     let m = TriMesh::new(positions, triangles);
-    let (_, without) = qem::simplify(&m, &params(Target::Ratio(0.5))).unwrap();
+    let (_, without) = simplify(&m, &params(Target::Ratio(0.5))).unwrap();
     assert_eq!(without.virtual_pairs, 0);
     let p = QemParams {
         pair_threshold: 0.2,
         ..params(Target::Ratio(0.5))
     };
-    let (out, report) = qem::simplify(&m, &p).unwrap();
+    let (out, report) = simplify(&m, &p).unwrap();
     assert!(report.virtual_pairs > 0);
     assert_valid(&out);
     // Brute-force count of close non-edge pairs bounds the reported number.
@@ -428,18 +433,18 @@ fn invalid_inputs_are_typed_errors() {
     let mut bad_index = good.clone();
     bad_index.triangles.push([0, 1, 999]);
     assert!(matches!(
-        qem::simplify(&bad_index, &QemParams::default()),
+        simplify(&bad_index, &QemParams::default()),
         Err(QemError::InvalidIndex { index: 999, .. })
     ));
     let empty = TriMesh::new(vec![Vec3::ZERO; 3], vec![[0, 0, 1]]);
     assert_eq!(
-        qem::simplify(&empty, &QemParams::default()).unwrap_err(),
+        simplify(&empty, &QemParams::default()).unwrap_err(),
         QemError::EmptyMesh
     );
     let mut nan = good.clone();
     nan.positions[3] = Vec3::NAN;
     assert_eq!(
-        qem::simplify(&nan, &QemParams::default()).unwrap_err(),
+        simplify(&nan, &QemParams::default()).unwrap_err(),
         QemError::NonFiniteVertex(3)
     );
     for target in [
@@ -448,7 +453,7 @@ fn invalid_inputs_are_typed_errors() {
         Target::Ratio(f64::NAN),
     ] {
         assert!(matches!(
-            qem::simplify(&good, &params(target)),
+            simplify(&good, &params(target)),
             Err(QemError::InvalidParameter(_))
         ));
     }
@@ -457,7 +462,7 @@ fn invalid_inputs_are_typed_errors() {
         ..QemParams::default()
     };
     assert!(matches!(
-        qem::simplify(&good, &p),
+        simplify(&good, &p),
         Err(QemError::InvalidParameter(_))
     ));
 }
@@ -468,7 +473,7 @@ fn simplify_on(threads: usize, m: &TriMesh, p: &QemParams) -> (TriMesh, qem::Qem
         .num_threads(threads)
         .build()
         .expect("thread pool");
-    let (out, mut report) = pool.install(|| qem::simplify(m, p)).unwrap();
+    let (out, mut report) = pool.install(|| simplify(m, p)).unwrap();
     report.seconds = 0.0;
     (out, report)
 }
@@ -512,7 +517,7 @@ fn high_valence_vertices_keep_a_closed_manifold() {
     let m = bicone(300);
     let before = analyze(&m);
     assert!(before.closed && before.manifold && before.genus == Some(0));
-    let (out, report) = qem::simplify(&m, &params(Target::Faces(60))).unwrap();
+    let (out, report) = simplify(&m, &params(Target::Faces(60))).unwrap();
     assert_valid(&out);
     let after = analyze(&out);
     assert!(after.closed && after.manifold, "{after:?}");
@@ -592,7 +597,7 @@ fn edge_length_weight_keeps_the_vertices_of_a_flat_plane_evenly_spread() {
             edge_length_weight: w,
             ..params(Target::Vertices(96))
         };
-        let (out, _) = qem::simplify(&m, &p).unwrap();
+        let (out, _) = simplify(&m, &p).unwrap();
         assert_valid(&out);
         assert_eq!(out.vertex_count(), 96);
         assert!(
@@ -621,7 +626,7 @@ fn edge_length_weight_keeps_the_vertices_of_a_flat_plane_evenly_spread() {
             edge_length_weight: bad,
             ..QemParams::default()
         };
-        let e = qem::simplify(&m, &p).unwrap_err().to_string();
+        let e = simplify(&m, &p).unwrap_err().to_string();
         assert!(e.contains("edge length weight"), "{e}");
     }
 }
@@ -632,7 +637,7 @@ fn timed(m: &TriMesh, target: Target) -> (f64, TriMesh, qem::QemReport) {
     let mut last = None;
     for _ in 0..3 {
         let started = std::time::Instant::now();
-        let out = qem::simplify(m, &params(target)).unwrap();
+        let out = simplify(m, &params(target)).unwrap();
         best = best.min(started.elapsed().as_secs_f64());
         last = Some(out);
     }
@@ -709,7 +714,7 @@ fn pair_threshold_is_bounded_by_the_diagonal_and_costs_the_same_for_any_value() 
         ..params(Target::Ratio(0.1))
     };
     for t in [1e30, 1.001 * diagonal, f64::MAX] {
-        let e = qem::simplify(&m, &with(t)).unwrap_err().to_string();
+        let e = simplify(&m, &with(t)).unwrap_err().to_string();
         assert!(
             e.contains("pair threshold") && e.contains("above the limit 3.46410"),
             "{e}"
@@ -720,7 +725,7 @@ fn pair_threshold_is_bounded_by_the_diagonal_and_costs_the_same_for_any_value() 
         max_pairs_per_vertex: 65,
         ..with(0.1)
     };
-    let e = qem::simplify(&m, &too_many).unwrap_err().to_string();
+    let e = simplify(&m, &too_many).unwrap_err().to_string();
     assert!(
         e.contains("max pairs per vertex 65 is above the limit 64"),
         "{e}"
@@ -730,7 +735,7 @@ fn pair_threshold_is_bounded_by_the_diagonal_and_costs_the_same_for_any_value() 
         let mut last = None;
         for _ in 0..3 {
             let started = std::time::Instant::now();
-            let out = qem::simplify(&m, &with(t)).unwrap();
+            let out = simplify(&m, &with(t)).unwrap();
             best = best.min(started.elapsed().as_secs_f64());
             last = Some(out);
         }

@@ -44,10 +44,11 @@ pub(crate) fn decimate(
         cancel: cancel.cloned(),
         ..qem::QemParams::with_target(qem::Target::Vertices(target_vertices))
     };
-    let simplify =
-        |mesh: &TriMesh, params: &qem::QemParams| qem::simplify(mesh, params).map(|(m, _)| m);
-    let first = simplify(mesh, &params)?;
-    relaxing(first, &params, target_vertices, |m| m, simplify)
+    let simplify = |model: &mesh::Model, params: &qem::QemParams| {
+        qem::simplify(model, params).map(|(model, _)| model)
+    };
+    let first = simplify(&mesh::Model::from(mesh.clone()), &params)?;
+    relaxing(first, &params, target_vertices, |m| &m.mesh, simplify).map(|m| m.mesh)
 }
 
 /// `out` (QEM's run with `params`), contracted again with the normal check relaxed in the steps
@@ -86,13 +87,13 @@ fn relaxing<T>(
 /// 5 × QEM's) is what a lower weight would raise.
 pub const SEAM_WEIGHT: f64 = 30.0;
 
-/// [`decimate`] of a mesh cut along the original's seams ([`crate::finish::seams::cut`]; `charts`: each
-/// triangle's chart): QEM's attribute path (`qem::simplify_with_attributes`) with the charts as
-/// materials, so every chart border is a seam that QEM keeps (contracted only along itself,
-/// seam ends and crossings kept, constraint planes along it) and every output triangle stays in
-/// one chart. Same parameters and relaxed normal checks as [`decimate`] (the seams' planes
-/// weighted by [`SEAM_WEIGHT`]); when the seams' fixed
-/// vertices leave more than `target_vertices` (tiny targets on a many-chart atlas), plain
+/// [`decimate`] of a mesh cut along the original's seams ([`crate::finish::seams::cut`];
+/// `charts`: each triangle's chart): QEM's attribute path (`qem::simplify` of a model with
+/// attributes) with the charts as materials, so every chart border is a seam that QEM keeps
+/// (contracted only along itself, seam ends and crossings kept, constraint planes along it) and
+/// every output triangle stays in one chart. Same parameters and relaxed normal checks as
+/// [`decimate`] (the seams' planes weighted by [`SEAM_WEIGHT`]); when the seams' fixed vertices
+/// leave more than `target_vertices` (tiny targets on a many-chart atlas), plain
 /// [`decimate`] takes the rest, so the count is met. Returns the mesh and each triangle's chart
 /// (`None` after that fallback).
 pub(crate) fn decimate_along_seams(
@@ -114,15 +115,17 @@ pub(crate) fn decimate_along_seams(
         cancel: cancel.cloned(),
         ..qem::QemParams::with_target(qem::Target::Vertices(target_vertices))
     };
-    let simplify = |(mesh, attributes): &(TriMesh, mesh::attributes::Attributes),
-                    params: &qem::QemParams| {
-        qem::simplify_with_attributes(mesh, attributes, params).map(|(m, a, _)| (m, a))
+    let input = mesh::Model {
+        attributes: Some(attributes),
+        ..mesh::Model::from(mesh.clone())
     };
-    let (first, kept, _) = qem::simplify_with_attributes(mesh, &attributes, &params)?;
-    let first = (first, kept);
-    let (out, attributes) = relaxing(first, &params, target_vertices, |(m, _)| m, simplify)?;
-    if out.vertex_count() > target_vertices {
-        return Ok((decimate(&out, target_vertices, cancel)?, None));
+    let simplify = |model: &mesh::Model, params: &qem::QemParams| {
+        qem::simplify(model, params).map(|(model, _)| model)
+    };
+    let first = simplify(&input, &params)?;
+    let out = relaxing(first, &params, target_vertices, |m| &m.mesh, simplify)?;
+    if out.mesh.vertex_count() > target_vertices {
+        return Ok((decimate(&out.mesh, target_vertices, cancel)?, None));
     }
-    Ok((out, attributes.face_material))
+    Ok((out.mesh, out.attributes.and_then(|a| a.face_material)))
 }

@@ -1,5 +1,5 @@
 //! QEM that keeps normals, texture coordinates, colours and materials
-//! ([`crate::simplify_with_attributes`]).
+//! ([`crate::simplify`] on a model with attributes).
 //!
 //! The collapse order stays Garland–Heckbert's geometric one (plus the optional attribute
 //! term, [`AttributeError`]); what changes is what may be contracted (seams only along

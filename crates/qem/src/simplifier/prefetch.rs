@@ -167,11 +167,11 @@ pub(super) mod tests {
             const { std::cell::Cell::new(None) };
     }
 
-    /// `simplify` with the prefetch stages forced on or off.
+    /// The plain run (`simplify` of a mesh alone) with the prefetch stages forced on or off.
     fn simplified(mesh: &mesh::TriMesh, faces: usize, prefetch: bool) -> mesh::TriMesh {
         FORCE.with(|f| f.set(Some(prefetch)));
         let params = crate::QemParams::with_target(crate::Target::Faces(faces));
-        let out = crate::simplify(mesh, &params).expect("simplify").0;
+        let out = crate::simplifier::run(mesh, &params).expect("simplify").0;
         FORCE.with(|f| f.set(None));
         out
     }
