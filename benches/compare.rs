@@ -23,11 +23,17 @@ fn bench(c: &mut Criterion) {
     group.bench_function("end_to_end", |b| {
         b.iter(|| compare(&mesh, &params).expect("compare"))
     });
+    // Each method as `compare` runs it: the job's run of its request.
+    let model = gng3d::mesh::Model::from(mesh.clone());
+    let qem = gng3d::job::Request {
+        method: gng3d::job::Method::Qem,
+        ..params.request.clone()
+    };
     group.bench_function("qem_only", |b| {
-        b.iter(|| gng3d::qem::simplify(&mesh, &params.qem).expect("qem"))
+        b.iter(|| gng3d::job::run(&model, &qem, &mut ()).expect("qem"))
     });
     group.bench_function("gng_only", |b| {
-        b.iter(|| gng3d::gng3d_core::simplify(&mesh, &params.gng).expect("gng"))
+        b.iter(|| gng3d::job::run(&model, &params.request, &mut ()).expect("gng"))
     });
     group.finish();
 }

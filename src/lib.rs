@@ -27,6 +27,7 @@
 pub use gng3d_core;
 pub use mesh;
 pub use metrics;
+pub use job;
 pub use qem;
 
 pub mod experiment;
