@@ -25,9 +25,9 @@
 //! ```
 
 pub use gng3d_core;
+pub use job;
 pub use mesh;
 pub use metrics;
-pub use job;
 pub use qem;
 
 pub mod experiment;

@@ -618,15 +618,18 @@ fn the_survey_measures_the_meshes_simplify_writes_for_an_input_with_seams() {
         e_sur(&plain)
     );
     // GNG3D-Q's triangles follow the seam as `simplify` makes them: the job's mesh.
-    let vertices = ((sphere.vertex_count() as f64 * 0.25).round() as usize)
-        .clamp(4, sphere.vertex_count());
+    let vertices =
+        ((sphere.vertex_count() as f64 * 0.25).round() as usize).clamp(4, sphere.vertex_count());
     let request = gng3d::job::Request::new(gng3d::job::Target::Vertices(vertices))
         .with_method(gng3d::job::Method::Gng);
     let model = gng3d::mesh::Model {
         attributes: Some(uv),
         ..gng3d::mesh::Model::from(sphere)
     };
-    let gngq = gng3d::job::run(&model, &request, &mut ()).unwrap().model.mesh;
+    let gngq = gng3d::job::run(&model, &request, &mut ())
+        .unwrap()
+        .model
+        .mesh;
     assert!(
         (row.gngq.e_sur_signed - (area - gngq.area())).abs() < 1e-9 * area,
         "survey GNG3D-Q is not the job's"

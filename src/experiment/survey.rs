@@ -138,7 +138,13 @@ pub fn survey_mesh_with_attributes(
     }
     let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
     let deviation = |mesh: &TriMesh, kept: &Option<Attributes>| {
-        super::deviation(original, attributes, mesh, kept.as_ref(), &params.attributes)
+        super::deviation(
+            original,
+            attributes,
+            mesh,
+            kept.as_ref(),
+            &params.attributes,
+        )
     };
     let topo = mesh::topology::analyze(original);
     let model = super::model(original, attributes);
@@ -162,10 +168,8 @@ pub fn survey_mesh_with_attributes(
         };
         let (gng_mesh, gng_kept, gng_seconds) = timed(&paper)?;
         // QEM gets exactly GNG3D's output vertex count (reconstruction may drop a few nodes).
-        let (qem_mesh, qem_kept, qem_seconds) = timed(&super::qem_request(
-            &paper,
-            gng_mesh.vertex_count().max(4),
-        ))?;
+        let (qem_mesh, qem_kept, qem_seconds) =
+            timed(&super::qem_request(&paper, gng_mesh.vertex_count().max(4)))?;
         // GNG3D-Q with the defaults a user of `simplify --method gng` gets.
         let gngq = Request {
             seed: params.seed,
