@@ -16,7 +16,6 @@ fn bench(c: &mut Criterion) {
     let Some(mesh) = gargoyle() else { return };
     let target = mesh.vertex_count() / 2;
     let params = CompareParams::new(target);
-    let model = gng3d::mesh::Model::from(mesh.clone());
     let mut group = c.benchmark_group("compare_gargoyle10k");
     group
         .sample_size(10)
@@ -24,11 +23,17 @@ fn bench(c: &mut Criterion) {
     group.bench_function("end_to_end", |b| {
         b.iter(|| compare(&mesh, &params).expect("compare"))
     });
+    // Each method as `compare` runs it: the job's run of its request.
+    let model = gng3d::mesh::Model::from(mesh.clone());
+    let qem = gng3d::job::Request {
+        method: gng3d::job::Method::Qem,
+        ..params.request.clone()
+    };
     group.bench_function("qem_only", |b| {
-        b.iter(|| gng3d::qem::simplify(&model, &params.qem).expect("qem"))
+        b.iter(|| gng3d::job::run(&model, &qem, &mut ()).expect("qem"))
     });
     group.bench_function("gng_only", |b| {
-        b.iter(|| gng3d::gng3d_core::simplify(&mesh.clone().into(), &params.gng).expect("gng"))
+        b.iter(|| gng3d::job::run(&model, &params.request, &mut ()).expect("gng"))
     });
     group.finish();
 }

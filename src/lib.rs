@@ -26,6 +26,7 @@
 //! ```
 
 pub use gng3d_core;
+pub use job;
 pub use mesh;
 pub use metrics;
 pub use qem;

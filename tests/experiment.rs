@@ -128,10 +128,10 @@ fn compare_hits_target_and_reports_both_methods() {
 
 #[test]
 fn compare_errors_are_said_once() {
-    // An option error from the shared GngOptions, not a panic and not a doubled message.
+    // An option error from the job's one check, not a panic and not a doubled message.
     let sphere = procedural::icosphere(2);
     let mut params = CompareParams::new(40);
-    params.gng.time_limit_seconds = Some(0.0);
+    params.request.time_limit = Some(0.0);
     let e = compare(&sphere, &params).unwrap_err();
     let chain = anyhow_like(&e);
     assert_eq!(chain.matches("time limit").count(), 1, "{chain}");
@@ -492,9 +492,9 @@ fn thin_parts_stay_attached_at_low_vertex_counts() {
 
 #[test]
 fn compare_oversamples_gngq_and_not_the_papers_placement_set_afterwards() {
-    // CompareParams::new leaves the oversampling to the placement (`oversample: None`), so a
-    // caller who switches to the paper's reconstruction after `new` gets the paper's method,
-    // not 1.5 × N nodes decimated by QEM.
+    // CompareParams::new leaves the oversampling to the placement (the job's variant), so a
+    // caller who switches to the paper's placement after `new` gets the paper's method, not
+    // 1.5 × N nodes decimated by QEM.
     let sphere = procedural::icosphere(3); // 642 vertices
     let mut params = CompareParams::new(120);
     params.metrics.hausdorff = HausdorffParams::with_samples(5_000);
@@ -504,7 +504,8 @@ fn compare_oversamples_gngq_and_not_the_papers_placement_set_afterwards() {
         "{}",
         q.gng_variant
     );
-    params.gng.reconstruction = gng3d::gng3d_core::ReconstructionParams::paper();
+    params.request.gng.placement = Some(gng3d::gng3d_core::Placement::Node);
+    params.request.gng.flips = Some(false);
     let paper = compare(&sphere, &params).unwrap().report;
     assert!(
         !paper.gng_variant.contains("decimated"),
@@ -621,22 +622,21 @@ fn the_survey_measures_the_meshes_simplify_writes_for_an_input_with_seams() {
         e_sur(&kept),
         e_sur(&plain)
     );
-    // GNG3D-Q's triangles follow the seam as `simplify` makes them: the same mesh as the
-    // library's attribute path with the survey's options.
-    let gqp = gng3d::gng3d_core::GngOptions {
-        target: gng3d::gng3d_core::GngTarget::Vertices(
-            ((sphere.vertex_count() as f64 * 0.25).round() as usize)
-                .clamp(4, sphere.vertex_count()),
-        ),
-        ..params.gngq.clone()
-    };
+    // GNG3D-Q's triangles follow the seam as `simplify` makes them: the job's mesh.
+    let vertices =
+        ((sphere.vertex_count() as f64 * 0.25).round() as usize).clamp(4, sphere.vertex_count());
+    let request = gng3d::job::Request::new(gng3d::job::Target::Vertices(vertices))
+        .with_method(gng3d::job::Method::Gng);
     let model = gng3d::mesh::Model {
-        attributes: Some(uv.clone()),
-        ..sphere.clone().into()
+        attributes: Some(uv),
+        ..gng3d::mesh::Model::from(sphere)
     };
-    let gngq = gng3d::gng3d_core::simplify(&model, &gqp).unwrap();
+    let gngq = gng3d::job::run(&model, &request, &mut ())
+        .unwrap()
+        .model
+        .mesh;
     assert!(
-        (row.gngq.e_sur_signed - (area - gngq.mesh.area())).abs() < 1e-9 * area,
-        "survey GNG3D-Q is not the attribute path's"
+        (row.gngq.e_sur_signed - (area - gngq.area())).abs() < 1e-9 * area,
+        "survey GNG3D-Q is not the job's"
     );
 }

@@ -1,23 +1,22 @@
 //! QEM and GNG3D simplified to the same vertex count, with every metric for both.
 
 use super::ExperimentError;
-use gng3d_core::{GngOptions, GngTarget};
+use gng3d_core::GngOptions;
+use job::{Method, Request, Target};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
 use metrics::{AttributeParams, MetricsParams, MetricsReport};
-use qem::{QemParams, Target};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// Parameters of [`compare`].
 #[derive(Debug, Clone)]
 pub struct CompareParams {
-    /// Vertex count both methods aim for.
-    pub target_vertices: usize,
-    /// GNG3D options (the target is overwritten with `target_vertices`).
-    pub gng: GngOptions,
-    /// QEM parameters (`target` is overwritten).
-    pub qem: QemParams,
+    /// GNG3D's run as the job takes it: the method ([`Method::Gng`], or [`Method::Paper`] for
+    /// the published GNG3D), the target (a vertex count or a share of the vertices), the seed,
+    /// the time limit and the variant. QEM runs to the same vertex count with the same seed and
+    /// threads (`gng3d compare` maps its flags onto it as `gng3d simplify` does).
+    pub request: Request,
     /// Metric settings (surface sampling).
     pub metrics: MetricsParams,
     /// Attribute-deviation settings, used when [`compare_with_attributes`] is given attributes.
@@ -25,17 +24,22 @@ pub struct CompareParams {
 }
 
 impl CompareParams {
-    /// Defaults for both methods at `target_vertices`; the oversampling follows the placement
-    /// (`oversample: None`: [`GngOptions::default_oversample`] of the placement, 1.5 for
-    /// GNG3D-Q, off for the paper's placement, as `gng3d simplify --method gng`).
+    /// Defaults for both methods at `target_vertices` (GNG3D-Q as `gng3d simplify --method
+    /// gng` runs it).
     pub fn new(target_vertices: usize) -> CompareParams {
+        CompareParams::with_target(Target::Vertices(target_vertices))
+    }
+
+    /// Defaults for both methods at `target`: a vertex count, or a share of the input's
+    /// vertices ([`Target::Ratio`], the same count for both methods).
+    pub fn with_target(target: Target) -> CompareParams {
+        CompareParams::for_request(Request::new(target).with_method(Method::Gng))
+    }
+
+    /// GNG3D's run `request` against QEM, measured with the default settings.
+    pub fn for_request(request: Request) -> CompareParams {
         CompareParams {
-            target_vertices,
-            gng: GngOptions {
-                oversample: None,
-                ..GngOptions::for_target(GngTarget::Vertices(target_vertices))
-            },
-            qem: QemParams::with_target(Target::Vertices(target_vertices)),
+            request,
             metrics: MetricsParams::default(),
             attributes: AttributeParams::default(),
         }
@@ -64,7 +68,7 @@ pub struct CompareReport {
     pub original_vertices: usize,
     /// Faces of the original.
     pub original_faces: usize,
-    /// Requested vertex count.
+    /// Requested vertex count (a share of the vertices resolved on the original).
     pub target_vertices: usize,
     /// QEM's run.
     pub qem: MethodRun,
@@ -152,7 +156,7 @@ pub struct Comparison {
     pub gng_attributes: Option<Attributes>,
 }
 
-/// Simplify `original` (expected welded) with both methods to `params.target_vertices` and
+/// Simplify `original` (expected welded) with both methods to `params.request`'s target and
 /// measure both. The methods run one after the other so their timings do not interfere.
 pub fn compare(original: &TriMesh, params: &CompareParams) -> Result<Comparison, ExperimentError> {
     compare_with_progress(original, params, |_| {})
@@ -199,35 +203,44 @@ pub fn compare_with_attributes(
     params: &CompareParams,
     mut on_stage: impl FnMut(CompareStage),
 ) -> Result<Comparison, ExperimentError> {
-    let n = params.target_vertices;
+    let request = &params.request;
+    if !request.method.is_gng() {
+        return Err(ExperimentError::BadTarget(format!(
+            "compare runs GNG3D against QEM: the request's method must be 'gng' or 'paper', got '{}'",
+            request.method
+        )));
+    }
+    // Every option is checked before either method runs.
+    request.validate()?;
+    let options = request.gng_options()?;
+    let n = options.target.vertex_count(original)?;
     if n < 4 || n > original.vertex_count() {
         return Err(ExperimentError::BadTarget(format!(
             "target of {n} vertices is outside 4..={} (the mesh's vertex count)",
             original.vertex_count()
         )));
     }
-    // Every option is checked before either method runs.
-    let gp = GngOptions {
-        target: GngTarget::Vertices(n),
-        ..params.gng.clone()
-    };
-    gp.resolve(original)?;
+    options.resolve(original)?;
     params.metrics.hausdorff.validate()?;
     if attributes.is_some() {
         params.attributes.validate()?;
     }
-    let mut qp = params.qem.clone();
-    qp.target = Target::Vertices(n);
+    let model = super::model(original, attributes);
     on_stage(CompareStage::Qem);
     let t = Instant::now();
-    let (qem_mesh, qem_attributes) = super::qem_as_simplify(original, attributes, &qp)?;
+    let (qem_mesh, qem_attributes) = super::run(&model, &super::qem_request(request, n))?;
     let qem_seconds = t.elapsed().as_secs_f64();
 
     on_stage(CompareStage::Gng);
     let t = Instant::now();
-    let (gng, gng_attributes) = super::gng_as_simplify(original, attributes, &gp)?;
+    // GNG3D to exactly the count QEM got (a share resolved once).
+    let gng_request = Request {
+        target: Target::Vertices(n),
+        ..request.clone()
+    };
+    let (gng_mesh, gng_attributes) = super::run(&model, &gng_request)?;
     let gng_seconds = t.elapsed().as_secs_f64();
-    for (method, mesh) in [("QEM", &qem_mesh), ("GNG3D", &gng.mesh)] {
+    for (method, mesh) in [("QEM", &qem_mesh), ("GNG3D", &gng_mesh)] {
         if mesh.face_count() == 0 {
             return Err(ExperimentError::EmptyOutput {
                 method,
@@ -239,20 +252,12 @@ pub fn compare_with_attributes(
     on_stage(CompareStage::Metrics);
     let measure = |mesh: &TriMesh, kept: Option<&Attributes>| {
         let mut report = metrics::evaluate(original, mesh, &params.metrics)?;
-        if let (Some(a), Some(b)) = (attributes, kept) {
-            report.attributes = Some(metrics::attribute_deviation(
-                original,
-                a,
-                mesh,
-                b,
-                &params.attributes,
-            )?);
-        }
+        report.attributes = super::deviation(original, attributes, mesh, kept, &params.attributes)?;
         Ok::<_, metrics::MetricsError>(report)
     };
     let (qem_metrics, gng_metrics) = rayon::join(
         || measure(&qem_mesh, qem_attributes.as_ref()),
-        || measure(&gng.mesh, gng_attributes.as_ref()),
+        || measure(&gng_mesh, gng_attributes.as_ref()),
     );
     let run = |method: &str, mesh: &TriMesh, seconds: f64, metrics: MetricsReport| MethodRun {
         method: method.into(),
@@ -267,14 +272,14 @@ pub fn compare_with_attributes(
             original_faces: original.face_count(),
             target_vertices: n,
             qem: run("qem", &qem_mesh, qem_seconds, qem_metrics?),
-            gng: run("gng", &gng.mesh, gng_seconds, gng_metrics?),
-            gng_variant: variant_label(&params.gng),
-            gng_placement: params.gng.reconstruction.placement,
-            gng_flips: params.gng.reconstruction.flip_edges,
-            gng_refit: params.gng.reconstruction.refits(),
+            gng: run("gng", &gng_mesh, gng_seconds, gng_metrics?),
+            gng_variant: variant_label(&options),
+            gng_placement: options.reconstruction.placement,
+            gng_flips: options.reconstruction.flip_edges,
+            gng_refit: options.reconstruction.refits(),
         },
         qem_mesh,
-        gng_mesh: gng.mesh,
+        gng_mesh,
         qem_attributes,
         gng_attributes,
     })

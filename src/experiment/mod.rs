@@ -1,13 +1,17 @@
 //! The paper's experiment as a library: [`compare`] runs QEM and GNG3D to the same vertex
-//! count and measures both; [`reproduce`] follows the paper's checkpoint protocol.
+//! count and measures both; [`reproduce`] follows the paper's checkpoint protocol; [`survey`]
+//! runs GNG3D, GNG3D-Q and QEM over meshes and ratios. Every simplification is the job's one
+//! run (`job::run`, as `gng3d simplify` runs it), except the protocol's checkpoints, which
+//! reconstruct the network as it trains.
 
 pub mod compare;
 pub mod reproduce;
 pub mod survey;
 
-use mesh::TriMesh;
+use job::{GngVariant, Method, Request, Target};
 use mesh::attributes::Attributes;
-use metrics::{Evaluator, HausdorffParams, MetricsParams};
+use mesh::{Model, TriMesh};
+use metrics::{AttributeDeviation, AttributeParams, Evaluator, HausdorffParams, MetricsParams};
 use serde::{Deserialize, Serialize};
 
 /// Why an experiment could not run.
@@ -15,9 +19,9 @@ use serde::{Deserialize, Serialize};
 pub enum ExperimentError {
     // The wrapped errors are sources (printed after the prefix by `{:#}` / error chains), so the
     // messages do not repeat them.
-    /// QEM failed.
-    #[error("QEM")]
-    Qem(#[from] qem::QemError),
+    /// The job (a QEM or GNG3D run) refused its request or failed.
+    #[error(transparent)]
+    Job(#[from] job::JobError),
     /// GNG3D failed.
     #[error("GNG3D")]
     Gng(#[from] gng3d_core::GngError),
@@ -112,36 +116,53 @@ impl PaperEvaluator {
     }
 }
 
-/// QEM as `gng3d simplify --method qem` runs it: keeping `attributes` through its contractions
-/// when there are some (`qem::simplify` of a model with attributes, whose seams also shape the
-/// geometry), positions only otherwise. The one policy of `compare` and the survey (and the
-/// viewer's).
-pub(crate) fn qem_as_simplify(
+/// The attribute deviation of `mesh` (with the attributes a run `kept`) against `original`
+/// with `attributes`, measured with `params`: `None` unless both sides have attributes and the
+/// original's have values to compare (materials alone have none).
+pub(crate) fn deviation(
     original: &TriMesh,
     attributes: Option<&Attributes>,
-    params: &qem::QemParams,
-) -> Result<(TriMesh, Option<Attributes>), ExperimentError> {
-    let model = mesh::Model {
-        attributes: attributes.cloned(),
-        ..mesh::Model::from(original.clone())
-    };
-    let (out, _) = qem::simplify(&model, params)?;
-    Ok((out.mesh, out.attributes))
+    mesh: &TriMesh,
+    kept: Option<&Attributes>,
+    params: &AttributeParams,
+) -> Result<Option<AttributeDeviation>, metrics::MetricsError> {
+    match (attributes.filter(|a| a.has_values()), kept) {
+        (Some(a), Some(b)) => Ok(Some(metrics::attribute_deviation(
+            original, a, mesh, b, params,
+        )?)),
+        _ => Ok(None),
+    }
 }
 
-/// GNG3D as `gng3d simplify --method gng` runs it: with `attributes`, triangles that follow
-/// their seams and values from the original (`gng3d_core::simplify` of a model with attributes);
-/// positions only otherwise.
-pub(crate) fn gng_as_simplify(
-    original: &TriMesh,
-    attributes: Option<&Attributes>,
-    options: &gng3d_core::GngOptions,
-) -> Result<(gng3d_core::GngResult, Option<Attributes>), ExperimentError> {
-    let model = mesh::Model {
+/// The model a run takes: `original` with `attributes` (cloned once per experiment).
+pub(crate) fn model(original: &TriMesh, attributes: Option<&Attributes>) -> Model {
+    Model {
         attributes: attributes.cloned(),
-        ..original.clone().into()
-    };
-    let mut result = gng3d_core::simplify(&model, options)?;
-    let kept = result.attributes.take();
-    Ok((result, kept))
+        ..Model::from(original.clone())
+    }
+}
+
+/// `request` run on `model` as `gng3d simplify` runs it: the job's one run (`job::run`), so
+/// QEM keeps the attributes through its contractions (its seams also shape the geometry) and
+/// GNG3D's triangles follow their seams and take the original's values. The one run of
+/// `compare`, `reproduce` and the survey. The output mesh and its attributes (when the model
+/// has some).
+pub(crate) fn run(
+    model: &Model,
+    request: &Request,
+) -> Result<(TriMesh, Option<Attributes>), ExperimentError> {
+    let outcome = job::run(model, request, &mut ())?;
+    Ok((outcome.model.mesh, outcome.model.attributes))
+}
+
+/// QEM to `vertices` vertices with `request`'s seed, threads and QEM options (its GNG3D
+/// variant and time limit left out): the QEM side of every comparison.
+pub(crate) fn qem_request(request: &Request, vertices: usize) -> Request {
+    Request {
+        method: Method::Qem,
+        target: Target::Vertices(vertices),
+        time_limit: None,
+        gng: GngVariant::default(),
+        ..request.clone()
+    }
 }

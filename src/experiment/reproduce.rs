@@ -11,11 +11,11 @@
 //! straddles a seam shows in the figures.
 
 use super::{ExperimentError, PaperEvaluator, PaperRow};
-use gng3d_core::{GngOptions, GngTarget, Trainer};
+use gng3d_core::{GngOptions, Trainer};
+use job::{GngVariant, Method, Request, Target};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
 use metrics::{AttributeDeviation, AttributeParams, HausdorffParams};
-use qem::{QemParams, Target};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -47,11 +47,12 @@ pub struct ReproduceParams {
     pub epochs: u64,
     /// Target vertex count as a fraction of the original vertex count (the paper: 0.5).
     pub target_ratio: f64,
-    /// GNG3D options; the target and the signal budget are set from the fields above and the
-    /// time limit is ignored (the protocol counts signals).
-    pub gng: GngOptions,
-    /// QEM parameters; the target is set per checkpoint.
-    pub qem: QemParams,
+    /// GNG3D's random seed (the job's [`job::DEFAULT_SEED`] by default).
+    pub seed: u64,
+    /// The variant of the paper's GNG3D ([`Method::Paper`]) that trains, as the job maps it;
+    /// the target and the signal budget are set from the fields above (the protocol counts
+    /// signals, so there is no time limit). QEM runs with the job's defaults.
+    pub gng: GngVariant,
     /// Surface sampling of the Hausdorff distance at every checkpoint.
     pub hausdorff: HausdorffParams,
     /// Attribute-deviation settings, used by [`reproduce_with_attributes`] for an original
@@ -64,12 +65,9 @@ impl Default for ReproduceParams {
         ReproduceParams {
             epochs: 30,
             target_ratio: 0.5,
-            // The paper's method (node placement, no flips); GNG3D-Q is the CLI default.
-            gng: GngOptions {
-                reconstruction: gng3d_core::ReconstructionParams::paper(),
-                ..GngOptions::default()
-            },
-            qem: QemParams::default(),
+            seed: job::DEFAULT_SEED,
+            // The paper's method as published (node placement, no flips).
+            gng: GngVariant::default(),
             hausdorff: HausdorffParams::with_samples(100_000),
             attributes: AttributeParams::default(),
         }
@@ -212,24 +210,21 @@ pub fn reproduce_with_attributes(
             })?;
     }
     // The attribute deviation of an output with attributes `kept` (None without attributes).
-    let deviation = |mesh: &TriMesh, kept: Option<&Attributes>| match (attributes, kept) {
-        (Some(a), Some(b)) => Ok(Some(metrics::attribute_deviation(
-            original,
-            a,
-            mesh,
-            b,
-            &params.attributes,
-        )?)),
-        _ => Ok::<_, ExperimentError>(None),
+    let deviation = |mesh: &TriMesh, kept: Option<&Attributes>| {
+        super::deviation(original, attributes, mesh, kept, &params.attributes)
     };
     let target = ((n as f64 * params.target_ratio).round() as usize).max(4);
     let per_epoch = n as u64;
+    let request = Request {
+        seed: params.seed,
+        gng: params.gng,
+        ..Request::new(Target::Vertices(target)).with_method(Method::Paper)
+    };
+    request.validate()?;
     let options = GngOptions {
-        target: GngTarget::Vertices(target),
         max_signals: Some(per_epoch * params.epochs),
         epochs: None,
-        time_limit_seconds: None,
-        ..params.gng.clone()
+        ..request.gng_options()?
     };
     let mut trainer = Trainer::new(&original.clone().into(), options.resolve(original)?)?;
 
@@ -260,10 +255,9 @@ pub fn reproduce_with_attributes(
     let eval_start = Instant::now();
     let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
     type Measured = (PaperRow, Option<AttributeDeviation>);
+    let model = super::model(original, attributes);
     let qem_at = |vertices: usize| -> Result<Measured, ExperimentError> {
-        let mut qp = params.qem.clone();
-        qp.target = Target::Vertices(vertices.max(4));
-        let (mesh, kept) = super::qem_as_simplify(original, attributes, &qp)?;
+        let (mesh, kept) = super::run(&model, &super::qem_request(&request, vertices.max(4)))?;
         Ok((evaluator.evaluate(&mesh)?, deviation(&mesh, kept.as_ref())?))
     };
     let evaluations = snapshots.len() as u64;
@@ -271,7 +265,7 @@ pub fn reproduce_with_attributes(
     let gng_rows: Vec<(u64, usize, Measured)> = snapshots
         .par_iter()
         .map(|snap| {
-            let rec = snap.reconstruct(original, &params.gng.reconstruction);
+            let rec = snap.reconstruct(original, &options.reconstruction);
             let row = evaluator.evaluate(&rec.mesh)?;
             let kept =
                 attributes.map(|a| mesh::transfer::transfer_attributes(original, a, &rec.mesh));

@@ -7,21 +7,19 @@
 //! variants hold the exact count on closed manifolds, so the two QEM runs usually coincide in
 //! count, but each comparison is at equal vertex count by construction); measure all four.
 //!
-//! An original with attributes (normals, texture coordinates, colours:
-//! [`survey_mesh_with_attributes`]) goes through every method as `gng3d simplify` runs it, so
-//! the figures are those of the files a user gets: QEM keeps the attributes through its
-//! contractions (`qem::simplify` of a model with attributes; its seams shape the geometry), both
-//! GNG3D variants' triangles follow the seams and take the original's values
-//! (`gng3d_core::simplify` of a model with attributes). Each output's attribute deviation
+//! Every method is the job's one run (`job::run`), as `gng3d simplify --method paper|gng|qem`
+//! runs it, so the figures are those of the files a user gets. An original with attributes
+//! (normals, texture coordinates, colours: [`survey_mesh_with_attributes`]) keeps them: QEM
+//! through its contractions (its seams shape the geometry), both GNG3D variants' triangles
+//! follow the seams and take the original's values. Each output's attribute deviation
 //! ([`metrics::attribute_deviation`]) is in [`SurveyRow::attributes`]. `gng3d compare` and the
 //! viewer follow the same policy.
 
 use super::{ExperimentError, PaperEvaluator, PaperRow};
-use gng3d_core::{GngOptions, GngTarget};
+use job::{GngVariant, Method, Request, Target};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
 use metrics::{AttributeDeviation, AttributeParams, HausdorffParams};
-use qem::{QemParams, Target};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -32,12 +30,8 @@ pub struct SurveyParams {
     pub ratios: Vec<f64>,
     /// GNG3D training length in epochs of |V| signals.
     pub epochs: u64,
-    /// GNG3D options (target and signal budget are set per run).
-    pub gng: GngOptions,
-    /// GNG3D-Q options (the target is set per run; the budget is the library default).
-    pub gngq: GngOptions,
-    /// QEM parameters (target set per run).
-    pub qem: QemParams,
+    /// The random seed of both GNG3D runs (the job's [`job::DEFAULT_SEED`] by default).
+    pub seed: u64,
     /// Surface sampling of the Hausdorff distance.
     pub hausdorff: HausdorffParams,
     /// Attribute-deviation settings, used for originals with attributes.
@@ -49,17 +43,7 @@ impl Default for SurveyParams {
         SurveyParams {
             ratios: vec![0.1, 0.25, 0.5],
             epochs: 30,
-            // The paper's method (node placement, no flips); GNG3D-Q is the CLI default.
-            gng: GngOptions {
-                reconstruction: gng3d_core::ReconstructionParams::paper(),
-                ..GngOptions::default()
-            },
-            // Oversampling from the placement: 1.5 for GNG3D-Q.
-            gngq: GngOptions {
-                oversample: None,
-                ..GngOptions::default()
-            },
-            qem: QemParams::default(),
+            seed: job::DEFAULT_SEED,
             hausdorff: HausdorffParams::with_samples(200_000),
             attributes: AttributeParams::default(),
         }
@@ -153,58 +137,60 @@ pub fn survey_mesh_with_attributes(
         params.attributes.validate()?;
     }
     let evaluator = PaperEvaluator::new(original, params.hausdorff)?;
-    let deviation = |mesh: &TriMesh, kept: &Option<Attributes>| match (attributes, kept) {
-        (Some(a), Some(b)) => Ok(Some(metrics::attribute_deviation(
+    let deviation = |mesh: &TriMesh, kept: &Option<Attributes>| {
+        super::deviation(
             original,
-            a,
+            attributes,
             mesh,
-            b,
+            kept.as_ref(),
             &params.attributes,
-        )?)),
-        _ => Ok::<_, ExperimentError>(None),
+        )
     };
     let topo = mesh::topology::analyze(original);
+    let model = super::model(original, attributes);
+    // Wall-clock seconds of the job's run of `request`, with its mesh and attributes.
+    let timed = |request: &Request| {
+        let t = Instant::now();
+        let (mesh, kept) = super::run(&model, request)?;
+        Ok::<_, ExperimentError>((mesh, kept, t.elapsed().as_secs_f64()))
+    };
     let mut rows = Vec::new();
     for &ratio in &params.ratios {
         let target = ((n as f64 * ratio).round() as usize).clamp(4, n);
-        let gp = GngOptions {
-            target: GngTarget::Vertices(target),
-            max_signals: Some(params.epochs.max(1) * n as u64),
-            epochs: None,
-            ..params.gng.clone()
+        // The paper's GNG3D with the protocol's budget.
+        let paper = Request {
+            seed: params.seed,
+            gng: GngVariant {
+                epochs: Some(params.epochs as f64),
+                ..GngVariant::default()
+            },
+            ..Request::new(Target::Vertices(target)).with_method(Method::Paper)
         };
-        let t = Instant::now();
-        let (gng, gng_kept) = super::gng_as_simplify(original, attributes, &gp)?;
-        let gng_seconds = t.elapsed().as_secs_f64();
+        let (gng_mesh, gng_kept, gng_seconds) = timed(&paper)?;
         // QEM gets exactly GNG3D's output vertex count (reconstruction may drop a few nodes).
-        let mut qp = params.qem.clone();
-        qp.target = Target::Vertices(gng.mesh.vertex_count().max(4));
-        let t = Instant::now();
-        let (qem_mesh, qem_kept) = super::qem_as_simplify(original, attributes, &qp)?;
-        let qem_seconds = t.elapsed().as_secs_f64();
+        let (qem_mesh, qem_kept, qem_seconds) =
+            timed(&super::qem_request(&paper, gng_mesh.vertex_count().max(4)))?;
         // GNG3D-Q with the defaults a user of `simplify --method gng` gets.
-        let gqp = GngOptions {
-            target: GngTarget::Vertices(target),
-            ..params.gngq.clone()
+        let gngq = Request {
+            seed: params.seed,
+            ..Request::new(Target::Vertices(target)).with_method(Method::Gng)
         };
-        let t = Instant::now();
-        let (gngq, gngq_kept) = super::gng_as_simplify(original, attributes, &gqp)?;
-        let gngq_seconds = t.elapsed().as_secs_f64();
+        let (gngq_mesh, gngq_kept, gngq_seconds) = timed(&gngq)?;
         let qem_deviation = deviation(&qem_mesh, &qem_kept)?;
         let qem_at_gngq_attributes;
-        let qem_at_gngq = if gngq.mesh.vertex_count() == gng.mesh.vertex_count() {
+        let qem_at_gngq = if gngq_mesh.vertex_count() == gng_mesh.vertex_count() {
             qem_at_gngq_attributes = qem_deviation.clone();
             evaluator.evaluate(&qem_mesh)?
         } else {
-            qp.target = Target::Vertices(gngq.mesh.vertex_count().max(4));
-            let (mesh, kept) = super::qem_as_simplify(original, attributes, &qp)?;
+            let qem = super::qem_request(&gngq, gngq_mesh.vertex_count().max(4));
+            let (mesh, kept) = super::run(&model, &qem)?;
             qem_at_gngq_attributes = deviation(&mesh, &kept)?;
             evaluator.evaluate(&mesh)?
         };
         let deviations = match (
-            deviation(&gng.mesh, &gng_kept)?,
+            deviation(&gng_mesh, &gng_kept)?,
             qem_deviation,
-            deviation(&gngq.mesh, &gngq_kept)?,
+            deviation(&gngq_mesh, &gngq_kept)?,
             qem_at_gngq_attributes,
         ) {
             (Some(gng), Some(qem), Some(gngq), Some(qem_at_gngq)) => Some(SurveyAttributes {
@@ -215,22 +201,22 @@ pub fn survey_mesh_with_attributes(
             }),
             _ => None,
         };
-        let gqt = mesh::topology::analyze(&gngq.mesh);
-        let gt = mesh::topology::analyze(&gng.mesh);
+        let gqt = mesh::topology::analyze(&gngq_mesh);
+        let gt = mesh::topology::analyze(&gng_mesh);
         let qt = mesh::topology::analyze(&qem_mesh);
         rows.push(SurveyRow {
             mesh: name.to_string(),
             ratio,
             original_vertices: n,
             original_genus: topo.genus,
-            gng: evaluator.evaluate(&gng.mesh)?,
+            gng: evaluator.evaluate(&gng_mesh)?,
             qem: evaluator.evaluate(&qem_mesh)?,
             gng_closed_manifold: gt.closed && gt.manifold,
             gng_genus: gt.genus,
             qem_genus: qt.genus,
             gng_seconds,
             qem_seconds,
-            gngq: evaluator.evaluate(&gngq.mesh)?,
+            gngq: evaluator.evaluate(&gngq_mesh)?,
             qem_at_gngq,
             gngq_closed_manifold: gqt.closed && gqt.manifold,
             gngq_genus: gqt.genus,

@@ -4,6 +4,7 @@ use super::attributes::{AttributeColumn, attribute_columns_of};
 use super::eng;
 use super::plot::{Chart, Series};
 use super::table::Table;
+use crate::experiment::PaperRow;
 use crate::experiment::reproduce::ReproduceReport;
 use std::path::{Path, PathBuf};
 
@@ -20,6 +21,29 @@ pub fn attribute_columns(report: &ReproduceReport) -> Vec<AttributeColumn> {
     )
 }
 
+/// The 17 columns of [`checkpoint_table`] for a positions-only report: the paper's Table 1
+/// (iteration, vertices, faces, E_avg, E_max, E_sur) and Hausdorff for GNG3D, then QEM at the
+/// same vertex count and at the target.
+pub const CHECKPOINT_COLUMNS: [&str; 17] = [
+    "iteration",
+    "vertices",
+    "faces",
+    "E_avg",
+    "E_max",
+    "E_sur",
+    "Hausdorff",
+    "QEM= vertices",
+    "QEM= faces",
+    "QEM= E_avg",
+    "QEM= E_max",
+    "QEM= E_sur",
+    "QEM= Hausdorff",
+    "QEM@target E_avg",
+    "QEM@target E_max",
+    "QEM@target E_sur",
+    "QEM@target Hausdorff",
+];
+
 /// The paper's Table 1 columns (iteration, vertices, faces, E_avg, E_max, E_sur) for GNG3D,
 /// followed by Hausdorff and the same measures for QEM at the same vertex count and at the
 /// fixed target. For an original with attributes, the attribute-deviation columns
@@ -27,27 +51,7 @@ pub fn attribute_columns(report: &ReproduceReport) -> Vec<AttributeColumn> {
 /// table has the 17 columns alone.
 pub fn checkpoint_table(report: &ReproduceReport) -> Table {
     let columns = attribute_columns(report);
-    let mut headers: Vec<String> = [
-        "iteration",
-        "vertices",
-        "faces",
-        "E_avg",
-        "E_max",
-        "E_sur",
-        "Hausdorff",
-        "QEM= vertices",
-        "QEM= faces",
-        "QEM= E_avg",
-        "QEM= E_max",
-        "QEM= E_sur",
-        "QEM= Hausdorff",
-        "QEM@target E_avg",
-        "QEM@target E_max",
-        "QEM@target E_sur",
-        "QEM@target Hausdorff",
-    ]
-    .map(String::from)
-    .to_vec();
+    let mut headers: Vec<String> = CHECKPOINT_COLUMNS.map(String::from).to_vec();
     for c in &columns {
         headers.push(c.name.clone());
         headers.push(format!("QEM= {}", c.name));
@@ -62,21 +66,11 @@ pub fn checkpoint_table(report: &ReproduceReport) -> Table {
             c.iteration.to_string(),
             g.vertices.to_string(),
             g.faces.to_string(),
-            eng(g.e_avg),
-            eng(g.e_max),
-            eng(g.e_sur_signed),
-            eng(g.hausdorff_max),
-            q.vertices.to_string(),
-            q.faces.to_string(),
-            eng(q.e_avg),
-            eng(q.e_max),
-            eng(q.e_sur_signed),
-            eng(q.hausdorff_max),
-            eng(f.e_avg),
-            eng(f.e_max),
-            eng(f.e_sur_signed),
-            eng(f.hausdorff_max),
         ];
+        row.extend(distance_cells(g));
+        row.extend([q.vertices.to_string(), q.faces.to_string()]);
+        row.extend(distance_cells(q));
+        row.extend(distance_cells(f));
         let a = c.attributes.as_ref();
         for column in &columns {
             row.push(column.cell(a.map(|a| &a.gng)));
@@ -86,6 +80,16 @@ pub fn checkpoint_table(report: &ReproduceReport) -> Table {
         t.push(row);
     }
     t
+}
+
+/// E_avg, E_max, E_sur and Hausdorff of `r`, as the checkpoint table writes them.
+fn distance_cells(r: &PaperRow) -> [String; 4] {
+    [
+        eng(r.e_avg),
+        eng(r.e_max),
+        eng(r.e_sur_signed),
+        eng(r.hausdorff_max),
+    ]
 }
 
 /// The attribute deviation at each checkpoint for the terminal (`None` for an original without
@@ -365,7 +369,6 @@ pub fn write_reproduction(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::experiment::PaperRow;
     use crate::experiment::reproduce::{Checkpoint, CheckpointAttributes, Timings};
 
     /// Worst-case widths: negative E_sur, 7-digit iterations and vertex counts.
@@ -408,12 +411,8 @@ mod tests {
         }
     }
 
-    #[test]
-    fn terminal_table_and_legend_fit_the_width() {
-        let r = report();
-        let text = terminal_table(&r).to_text();
-        let legend = terminal_legend(&r);
-        assert_eq!(text.lines().count(), 2 + r.checkpoints.len());
+    /// Every line of a terminal table and its legend fits [`TERMINAL_WIDTH`].
+    fn assert_fits(text: &str, legend: &str) {
         for line in text.lines().chain(legend.lines()) {
             let width = line.chars().count();
             assert!(
@@ -421,6 +420,15 @@ mod tests {
                 "{width} > {TERMINAL_WIDTH}: {line}"
             );
         }
+    }
+
+    #[test]
+    fn terminal_table_and_legend_fit_the_width() {
+        let r = report();
+        let text = terminal_table(&r).to_text();
+        let legend = terminal_legend(&r);
+        assert_eq!(text.lines().count(), 2 + r.checkpoints.len());
+        assert_fits(&text, &legend);
         // Every column the legend names appears in the header.
         let header = text.lines().next().unwrap();
         for name in ["E_avg GNG", "E_avg QEM", "Haus. GNG", "Haus. QEM"] {
@@ -518,13 +526,7 @@ mod tests {
         let text = terminal_attribute_table(&r).unwrap().to_text();
         let legend = terminal_attribute_legend(&r);
         assert_eq!(text.lines().count(), 2 + r.checkpoints.len());
-        for line in text.lines().chain(legend.lines()) {
-            let width = line.chars().count();
-            assert!(
-                width <= TERMINAL_WIDTH,
-                "{width} > {TERMINAL_WIDTH}: {line}"
-            );
-        }
+        assert_fits(&text, &legend);
         let header = text.lines().next().unwrap();
         let joined = legend.replace('\n', " ");
         for short in ["UV", "UV off", "normal", "RGB"] {

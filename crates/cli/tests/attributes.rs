@@ -2,14 +2,8 @@
 //! reloads with them, `--json` says what was kept, and a format that cannot store them says so.
 
 use std::path::Path;
-use std::process::Command;
-
-fn gng3d(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
+mod common;
+use common::gng3d;
 
 fn json_of(o: &std::process::Output) -> serde_json::Value {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -4,17 +4,8 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn gng3d(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::{gng3d, s, stderr};
 
 /// A failed run: exit code 1 (not a signal), one `error:` line, no panic.
 fn assert_clean_failure(o: &Output, needles: &[&str]) -> String {
@@ -27,10 +18,6 @@ fn assert_clean_failure(o: &Output, needles: &[&str]) -> String {
         assert!(err.contains(n), "missing {n:?} in {err}");
     }
     err
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 struct Fixture {

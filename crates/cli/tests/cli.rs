@@ -1,13 +1,7 @@
 //! End-to-end tests of the `gng3d` binary on real meshes (GNG3D_MESHES).
 
-use std::process::Command;
-
-fn gng3d(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
+mod common;
+use common::gng3d;
 
 /// Runs `gng3d simplify INPUT OUTPUT --method gng --vertices N --json` plus `extra`.
 fn simplify_gng(

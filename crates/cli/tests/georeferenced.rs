@@ -5,7 +5,8 @@
 //! plus the node's translation). Without recentring, f32 moves such vertices by up to 0.25 m.
 
 use std::path::Path;
-use std::process::Command;
+mod common;
+use common::{gng3d, s, succeeded};
 
 const OFFSET: [f64; 3] = [450_000.0, 5_400_000.0, 120.0];
 
@@ -114,17 +115,7 @@ fn georeferenced_models_keep_their_coordinates() {
     let extent = 20.0;
     for ext in ["obj", "ply", "gltf", "glb"] {
         let out = dir.path().join(format!("out.{ext}"));
-        let status = Command::new(env!("CARGO_BIN_EXE_gng3d"))
-            .args([
-                "simplify",
-                scan.to_str().unwrap(),
-                out.to_str().unwrap(),
-                "--ratio",
-                "1",
-            ])
-            .status()
-            .unwrap();
-        assert!(status.success());
+        succeeded(gng3d(&["simplify", s(&scan), s(&out), "--ratio", "1"]));
         let back = read_f64(&out);
         assert_eq!(back.len(), points.len(), "{ext}");
         let mut worst = 0.0f64;
@@ -151,17 +142,7 @@ fn georeferenced_models_keep_their_coordinates() {
     }
     // STL stores f32: written with a warning naming the rounding.
     let out = dir.path().join("out.stl");
-    let result = Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args([
-            "simplify",
-            scan.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--ratio",
-            "1",
-        ])
-        .output()
-        .unwrap();
-    assert!(result.status.success());
+    let result = succeeded(gng3d(&["simplify", s(&scan), s(&out), "--ratio", "1"]));
     let err = String::from_utf8_lossy(&result.stderr);
     assert!(err.contains("STL stores 32-bit coordinates"), "{err}");
 }

@@ -4,14 +4,9 @@
 //! texture named in the error.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn gng3d(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
+use std::process::Output;
+mod common;
+use common::{gng3d, s};
 
 fn ok(o: Output) -> Output {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -20,10 +15,6 @@ fn ok(o: Output) -> Output {
 
 fn assets() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 fn image_error(original: &Path, simplified: &Path, extra: &[&str]) -> serde_json::Value {

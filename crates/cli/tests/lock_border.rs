@@ -1,14 +1,8 @@
 //! `simplify --lock-border`: QEM keeps every border vertex of an open mesh where it was;
 //! GNG3D refuses the flag.
 
-use std::process::Command;
-
-fn gng3d(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
+mod common;
+use common::gng3d;
 
 #[test]
 fn lock_border_keeps_the_border_and_gng_refuses_it() {

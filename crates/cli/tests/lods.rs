@@ -1,14 +1,8 @@
 //! `simplify --lods`: a chain of QEM levels in one run, each from the one before, attributes
 //! kept; the first level is exactly `--ratio`'s output; bad chains are errors.
 
-use std::process::Command;
-
-fn gng3d(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
+mod common;
+use common::gng3d;
 
 #[test]
 fn lods_chain_levels_and_keep_attributes() {

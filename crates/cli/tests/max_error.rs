@@ -2,14 +2,8 @@
 //! a target) and `--attribute-weights`: the reached error in `--json`, bad values refused before
 //! anything is written.
 
-use std::process::Command;
-
-fn gng3d(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
+mod common;
+use common::gng3d;
 
 #[test]
 fn max_error_alone_and_with_a_target() {

@@ -7,26 +7,13 @@
 use glam::Vec3;
 use mesh::TriMesh;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn gng3d(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use std::process::Output;
+mod common;
+use common::{gng3d, s, stderr};
 
 fn json(o: &Output) -> serde_json::Value {
     assert!(o.status.success(), "{}", stderr(o));
     serde_json::from_slice(&o.stdout).unwrap()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 fn save(dir: &Path, name: &str, m: &TriMesh) -> PathBuf {

@@ -1,19 +1,8 @@
 //! Issue 33, QEM rows: the `gng3d` binary on inputs that used to take minutes (a fan around one
 //! hub, an unbounded `--threshold`). Inputs are generated, so these need no shared data.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn gng3d(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::{gng3d, s};
 
 /// `--threshold` above the mesh's bounding-box diagonal is refused with exit 1, naming the limit,
 /// and nothing is written (`1e30` on a 100k-vertex sphere searched all pairs for 38-53 s); the

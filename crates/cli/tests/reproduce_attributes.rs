@@ -4,21 +4,25 @@
 //! checkpoint's deviations, and the terminal a second table; a positions-only input's files and
 //! output are as before (the 17 columns, no key, no paragraph).
 
+use gng3d::report::paper::CHECKPOINT_COLUMNS as PAPER_COLUMNS;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+mod common;
+use common::{gng3d, succeeded};
 
 /// `reproduce input --out out` (2 epochs, 2,000 samples).
 fn reproduce(input: &Path, out: &Path) -> Output {
-    let o = Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .arg("reproduce")
-        .arg(input)
-        .args(["--epochs", "2", "--samples", "2000"])
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    o
+    let (input, out) = (input.to_str().unwrap(), out.to_str().unwrap());
+    succeeded(gng3d(&[
+        "reproduce",
+        input,
+        "--epochs",
+        "2",
+        "--samples",
+        "2000",
+        "--out",
+        out,
+    ]))
 }
 
 /// The CSV's headers and rows (no cell of these tables is quoted).
@@ -31,25 +35,6 @@ fn csv(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     (headers, lines.collect())
 }
 
-const PAPER_COLUMNS: [&str; 17] = [
-    "iteration",
-    "vertices",
-    "faces",
-    "E_avg",
-    "E_max",
-    "E_sur",
-    "Hausdorff",
-    "QEM= vertices",
-    "QEM= faces",
-    "QEM= E_avg",
-    "QEM= E_max",
-    "QEM= E_sur",
-    "QEM= Hausdorff",
-    "QEM@target E_avg",
-    "QEM@target E_max",
-    "QEM@target E_sur",
-    "QEM@target Hausdorff",
-];
 const UV_MEAN: &str = "UV deviation mean (texels of 1024²)";
 const UV_OFF: &str = "UV samples off by > 0.05 UV";
 const NORMALS: &str = "attribute normal deviation mean (degrees)";

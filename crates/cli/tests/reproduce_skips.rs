@@ -2,6 +2,8 @@
 //! without a word).
 
 use std::process::Command;
+mod common;
+use common::csv_cells;
 
 #[test]
 fn max_faces_skips_are_named() {
@@ -108,25 +110,6 @@ fn survey_reports_gng3d_q_and_the_verdict() {
             );
         }
     }
-}
-
-/// The cells of one CSV line (RFC 4180: quoted cells may hold commas and doubled quotes).
-fn csv_cells(line: &str) -> Vec<String> {
-    let mut cells = vec![String::new()];
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                chars.next();
-                cells.last_mut().unwrap().push('"');
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => cells.push(String::new()),
-            _ => cells.last_mut().unwrap().push(c),
-        }
-    }
-    cells
 }
 
 /// Issue 46: a mesh that cleaning reduces to nothing (every face degenerate once duplicate

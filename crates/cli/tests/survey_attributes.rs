@@ -5,18 +5,23 @@
 //! has none of them.
 
 use std::path::Path;
-use std::process::Command;
+mod common;
+use common::{csv_cells, gng3d, succeeded};
 
 /// `reproduce --all meshes --out out` (2 epochs, 2,000 samples): the CSV's headers and rows.
 fn survey(meshes: &Path, out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let o = Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(["reproduce", "--all", meshes.to_str().unwrap()])
-        .args(["--epochs", "2", "--samples", "2000"])
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (meshes, out_arg) = (meshes.to_str().unwrap(), out.to_str().unwrap());
+    succeeded(gng3d(&[
+        "reproduce",
+        "--all",
+        meshes,
+        "--epochs",
+        "2",
+        "--samples",
+        "2000",
+        "--out",
+        out_arg,
+    ]));
     let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let mut lines = text.lines().map(csv_cells);
     let headers = lines.next().unwrap();
@@ -139,23 +144,4 @@ fn survey_measures_attributes_of_inputs_that_have_them() {
     assert!(!md.contains("UV deviation") && !md.contains("Attribute columns"));
     let json = std::fs::read_to_string(plain.join("summary.json")).unwrap();
     assert!(!json.contains("\"attributes\""), "{json}");
-}
-
-/// The cells of one CSV line (RFC 4180: quoted cells may hold commas and doubled quotes).
-fn csv_cells(line: &str) -> Vec<String> {
-    let mut cells = vec![String::new()];
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                chars.next();
-                cells.last_mut().unwrap().push('"');
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => cells.push(String::new()),
-            _ => cells.last_mut().unwrap().push(c),
-        }
-    }
-    cells
 }

@@ -7,18 +7,22 @@ use anyhow::Context;
 use clap::Args;
 use gng3d::experiment::compare::{CompareParams, compare_with_attributes};
 use gng3d::report::compare::comparison_table;
-use gng3d_core::{GngOptions, GngTarget};
 use metrics::Surface;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `gng3d compare`.
 #[derive(Debug, Args)]
+#[group(id = "target", required = true, multiple = false)]
 pub struct CompareArgs {
     /// Input mesh (.obj, .ply, .stl, .gltf, .glb).
     pub input: PathBuf,
     /// Vertex count both methods aim for.
-    #[arg(long)]
-    pub vertices: usize,
+    #[arg(long, group = "target")]
+    pub vertices: Option<usize>,
+    /// Target as a share of the input's vertices, in (0, 1]: the same vertex count for both
+    /// methods, as `simplify --ratio` gives it (rounded to the nearest count).
+    #[arg(long, group = "target")]
+    pub ratio: Option<f64>,
     /// Folder for compare.json, qem.obj and gng.obj (created if missing).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -26,7 +30,7 @@ pub struct CompareArgs {
     #[arg(long)]
     pub samples: Option<usize>,
     /// Random seed for GNG3D and the surface sampler.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = job::DEFAULT_SEED)]
     pub seed: u64,
     /// GNG3D maximum running time in seconds: training and every step after it, from the start
     /// of the algorithm to the returned mesh (loading and saving not counted). Steps are left
@@ -60,26 +64,27 @@ pub struct CompareArgs {
     pub gng: super::GngVariantArgs,
 }
 
-/// The paper's protocol length in epochs (what `--paper` uses unless `--epochs` is given).
-const PAPER_EPOCHS: f64 = 30.0;
+/// The request of `args`: GNG3D-Q (or with `--paper` the published GNG3D) to the target, mapped
+/// as `simplify`'s flags are (`super::target`, `super::gng_request`), and validated with the
+/// same messages.
+fn request(args: &CompareArgs) -> anyhow::Result<job::Request> {
+    let target = super::target(args.vertices, None, args.ratio, None)
+        .ok_or_else(|| anyhow::anyhow!("give a target with --vertices N or --ratio R"))?;
+    let method = if args.paper {
+        job::Method::Paper
+    } else {
+        job::Method::Gng
+    };
+    let request = super::gng_request(method, target, args.seed, args.time_limit, &args.gng);
+    request.validate().map_err(super::job_error)?;
+    Ok(request)
+}
 
 /// Run `gng3d compare`.
 pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     // Options and the output folder are checked before loading or simplifying anything; the
-    // GNG3D options go through the same `GngOptions` as `simplify`, with the same messages.
-    let mut params = CompareParams::new(args.vertices);
-    params.gng = GngOptions {
-        target: GngTarget::Vertices(args.vertices),
-        time_limit_seconds: args.time_limit,
-        seed: args.seed,
-        ..GngOptions::default()
-    };
-    if args.paper {
-        params.gng.reconstruction = gng3d_core::ReconstructionParams::paper();
-        params.gng.epochs = Some(PAPER_EPOCHS);
-    }
-    args.gng.variant().apply(&mut params.gng);
-    params.gng.validate()?;
+    // GNG3D options go through the same `job::Request` as `simplify`, with the same messages.
+    let mut params = CompareParams::for_request(request(&args)?);
     params.metrics.hausdorff.seed = args.seed;
     params.metrics.hausdorff.samples = args.samples;
     params.metrics.hausdorff.validate()?;
@@ -209,7 +214,7 @@ fn load(path: &Path, rendering: bool) -> anyhow::Result<Loaded> {
             path.display()
         );
     }
-    if let Some(attributes) = &input.attributes {
+    if let Some(attributes) = input.attributes.as_ref().filter(|a| a.has_values()) {
         eprintln!(
             "warning: {}: {} measured (attribute deviation) but not written: --out writes \
              positions only (`gng3d simplify` keeps them)",

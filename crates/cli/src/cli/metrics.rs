@@ -107,7 +107,7 @@ pub fn run(args: MetricsArgs) -> anyhow::Result<()> {
     let report = evaluate(&original, &simplified, &params).and_then(|mut report| {
         // The original's attributes against the simplified mesh's (all missing when it has
         // none, so a dropped texture is said, not silently left out).
-        if let Some(a) = &original_attributes {
+        if let Some(a) = original_attributes.as_ref().filter(|a| a.has_values()) {
             progress.set_message("measuring: attribute deviation both ways");
             let none = Attributes::per_vertex(&simplified);
             let b = simplified_attributes.as_ref().unwrap_or(&none);

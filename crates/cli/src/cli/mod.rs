@@ -148,6 +148,42 @@ impl GngVariantArgs {
     }
 }
 
+/// The target of `--vertices N`, `--faces N`, `--ratio R` or `--face-ratio R` (clap lets one
+/// through): the one mapping of the target flags of `simplify` and `compare` (which takes the
+/// first and the third). `None` when none is given.
+pub(crate) fn target(
+    vertices: Option<usize>,
+    faces: Option<usize>,
+    ratio: Option<f64>,
+    face_ratio: Option<f64>,
+) -> Option<job::Target> {
+    match (vertices, faces, ratio, face_ratio) {
+        (Some(n), ..) => Some(job::Target::Vertices(n)),
+        (None, Some(n), ..) => Some(job::Target::Faces(n)),
+        (None, None, Some(r), _) => Some(job::Target::Ratio(r)),
+        (None, None, None, Some(r)) => Some(job::Target::FaceRatio(r)),
+        (None, None, None, None) => None,
+    }
+}
+
+/// The request of `method` to `target` with the flags of a GNG3D run that `simplify` and
+/// `compare` share (`--seed`, `--time-limit`, the variant); the other fields keep the job's
+/// defaults. Not yet validated: the caller sets its own flags first.
+pub(crate) fn gng_request(
+    method: job::Method,
+    target: job::Target,
+    seed: u64,
+    time_limit: Option<f64>,
+    gng: &GngVariantArgs,
+) -> job::Request {
+    job::Request {
+        seed,
+        time_limit,
+        gng: gng.variant(),
+        ..job::Request::new(target).with_method(method)
+    }
+}
+
 /// A job error as the command line shows it: the options named by their flags, the rest with
 /// its causes (the OS's reason behind a file that cannot be read).
 pub(crate) fn job_error(e: job::JobError) -> anyhow::Error {
@@ -210,46 +246,39 @@ pub(crate) fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) -> anyh
 pub(crate) struct Input {
     /// The mesh.
     pub mesh: mesh::TriMesh,
-    /// Its normals, texture coordinates and colours (`None` without any: materials alone do
-    /// not count), fitting `mesh`.
+    /// Its normals, texture coordinates, colours and per-face materials (`None` without any),
+    /// fitting `mesh`: what `job::load` keeps.
     pub attributes: Option<mesh::attributes::Attributes>,
     /// Its materials, as the file gives them.
     pub materials: Option<mesh::attributes::Materials>,
-    /// Whether the file has materials: a library, or per-face material indices (which
-    /// `attributes` keeps only beside other values).
+    /// Whether the file has materials: a library, or per-face material indices.
     pub has_materials: bool,
 }
 
-/// Loads a mesh file with its attributes and materials, the one loader of the commands that
-/// measure meshes (`metrics`, `compare`, `reproduce`): loader warnings on stderr (the errors
-/// name the file), and with `clean` the mesh welded, without degenerate or duplicate faces or
-/// unreferenced vertices (`mesh::clean::prepare`), its attributes following the cleaning.
-pub(crate) fn load_input(path: &std::path::Path, clean: bool) -> anyhow::Result<Input> {
-    // MeshError names the file already; no extra context, so the path is said once.
+/// Loads a mesh file for the commands that measure meshes (`metrics`, `compare`, `reproduce`)
+/// with `job::load`, the loader of `simplify` and its rule (the attributes kept when there are
+/// any), welded and cleaned with `weld` (`mesh::clean::prepare`, the attributes following);
+/// loader warnings on stderr (the errors name the file).
+pub(crate) fn load_input(path: &std::path::Path, weld: bool) -> anyhow::Result<Input> {
     crate::process::working_on(path);
-    let loaded = mesh::io::load(path)?;
+    let request = job::Request {
+        weld,
+        ..job::Request::new(job::Target::Ratio(1.0))
+    };
+    let loaded = job::load(path, &request, &[]).map_err(job_error)?;
     for w in &loaded.warnings {
         eprintln!("warning: {}: {w}", path.display());
     }
-    let has_materials = loaded.materials.is_some()
-        || loaded
+    let model = loaded.model;
+    let has_materials = model.materials.is_some()
+        || model
             .attributes
             .as_ref()
             .is_some_and(|a| a.face_material.is_some());
-    let attributes = loaded
-        .attributes
-        .filter(mesh::attributes::Attributes::has_values);
-    let (mesh, attributes) = if clean {
-        let (mesh, a, _) =
-            mesh::clean::prepare_with_optional_attributes(&loaded.mesh, attributes.as_ref());
-        (mesh, a)
-    } else {
-        (loaded.mesh, attributes)
-    };
     Ok(Input {
-        mesh,
-        attributes,
-        materials: loaded.materials,
+        mesh: model.mesh,
+        attributes: model.attributes,
+        materials: model.materials,
         has_materials,
     })
 }

@@ -126,7 +126,7 @@ fn run_one(args: &ReproduceArgs, input: &Path) -> anyhow::Result<()> {
         attributes: attribute_params(args),
         ..Default::default()
     };
-    params.gng.seed = args.seed;
+    params.seed = args.seed;
     params.hausdorff.seed = args.seed;
     // One bar, re-labelled per stage: evaluation is most of the run, so it counts too.
     let progress = bar(args.epochs, "training GNG3D  ", args.json);
@@ -196,7 +196,7 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
         hausdorff: HausdorffParams::with_samples(args.samples),
         ..Default::default()
     };
-    params.gng.seed = args.seed;
+    params.seed = args.seed;
     params.hausdorff.seed = args.seed;
     params.attributes = attribute_params(args);
     // The output folder exists before the (long) survey starts.
@@ -255,7 +255,7 @@ fn run_all(args: &ReproduceArgs, dir: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// An input of either mode, cleaned (`super::load_input`), with its normals, texture
+/// An input of either mode, cleaned (`super::load_input`, `job::load`), with its normals, texture
 /// coordinates and colours following the cleaning (`None` without any): every method keeps them
 /// and their deviation is measured. Materials are not used (a warning).
 fn load_with_attributes(

@@ -143,13 +143,11 @@ fn request(args: &SimplifyArgs) -> anyhow::Result<Request> {
         }
         lods::check(lods)?;
     }
-    let target = match (args.vertices, args.faces, args.ratio, args.face_ratio) {
-        (Some(n), ..) => Target::Vertices(n),
-        (None, Some(n), ..) => Target::Faces(n),
-        (None, None, Some(r), _) => Target::Ratio(r),
-        (None, None, None, Some(r)) => Target::FaceRatio(r),
+    let given = crate::cli::target(args.vertices, args.faces, args.ratio, args.face_ratio);
+    let target = match given {
+        Some(target) => target,
         // --lods: each level's share is checked as a ratio (the levels are checked apart).
-        (None, None, None, None) => match (&args.lods, args.max_error) {
+        None => match (&args.lods, args.max_error) {
             (Some(lods), _) => Target::Ratio(lods.first().copied().unwrap_or(1.0)),
             (None, Some(_)) if !method.is_gng() => Target::MaxErrorOnly,
             _ if method.is_gng() => bail!("give a target with --vertices N or --ratio R"),
@@ -158,13 +156,11 @@ fn request(args: &SimplifyArgs) -> anyhow::Result<Request> {
             ),
         },
     };
-    let mut request = Request::new(target).with_method(method);
-    request.seed = args.seed;
+    let mut request =
+        crate::cli::gng_request(method, target, args.seed, args.time_limit, &args.gng);
     request.threads = args.threads;
-    request.time_limit = args.time_limit;
     request.attributes = args.attributes.into();
     request.weld = !args.no_weld;
-    request.gng = args.gng.variant();
     request.qem = job::QemOptions {
         threshold: args.threshold,
         lock_border: args.lock_border,
