@@ -27,7 +27,10 @@
 
 use crate::TriMesh;
 use glam::{Vec2, Vec3, Vec4};
+use gltf_assets::GltfAssets;
 use std::path::PathBuf;
+
+pub(crate) mod gltf_assets;
 
 /// Attributes of a mesh's triangle corners, stored per wedge (see the module docs).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -59,7 +62,7 @@ pub struct Materials {
     pub libraries: Vec<PathBuf>,
     /// What a glTF input holds besides geometry (materials, textures, images, samplers),
     /// written back unchanged by a glTF output; `None` for other formats.
-    pub gltf: Option<crate::io::GltfAssets>,
+    pub gltf: Option<GltfAssets>,
 }
 
 impl Attributes {

@@ -26,7 +26,7 @@ mod meshes;
 mod uri;
 mod write;
 
-pub use assets::GltfAssets;
+pub use crate::attributes::gltf_assets::GltfAssets;
 pub(crate) use assets::copy_images;
 pub(in crate::io) use assets::{image_files, read_image_file};
 pub(crate) use buffers::SideBuffer;
