@@ -2,27 +2,25 @@
 //! quadric error metrics, and measure both honestly side by side.
 //!
 //! This facade re-exports the workspace crates so one dependency gives the whole toolkit:
+//! [`job`] (the one run of every front end: load, clean, simplify, carry the attributes, save),
 //! [`mesh`] (mesh type, I/O, topology, sampling), [`gng3d_core`] (GNG3D training and
 //! reconstruction), [`qem`] (quadric error metric simplification) and [`metrics`] (paper errors
 //! and Metro-style surface distance).
 //!
 //! ```
-//! use gng3d::{gng3d_core, mesh, metrics, qem};
-//! // A built-in model; `mesh::io::load(path)?.mesh` reads OBJ, PLY or STL instead.
-//! let original = mesh::clean::prepare(&mesh::procedural::icosphere(4)).0; // 2,562 vertices
-//! let options = gng3d_core::GngOptions::for_target(gng3d_core::GngTarget::Vertices(600));
-//! let gng = gng3d_core::simplify(&original.clone().into(), &options).unwrap(); // GNG3D-Q, as the CLI runs it
-//! let qem_params = qem::QemParams::with_target(qem::Target::Vertices(600));
-//! let (qem_model, _) = qem::simplify(&mesh::Model::from(original.clone()), &qem_params).unwrap();
-//! let qem_mesh = qem_model.mesh;
+//! use gng3d::{job, mesh, metrics};
+//! // A built-in model; `job::load(path, &request, &[])?.model` reads OBJ, PLY, STL or glTF instead.
+//! let model = mesh::Model::from(mesh::procedural::icosphere(4)); // 2,562 vertices
 //! let mut params = metrics::MetricsParams::default();
 //! params.hausdorff.samples = Some(20_000);
-//! let g = metrics::evaluate(&original, &gng.mesh, &params).unwrap();
-//! let q = metrics::evaluate(&original, &qem_mesh, &params).unwrap();
-//! assert_eq!(gng.mesh.vertex_count(), 600); // GNG3D holds the vertex count exactly
-//! assert_eq!(qem_mesh.vertex_count(), 600);
-//! println!("E_avg GNG3D-Q {:.2e} vs QEM {:.2e}", g.e_avg, q.e_avg);
-//! println!("Hausdorff GNG3D-Q {:.2e} vs QEM {:.2e}", g.hausdorff.max, q.hausdorff.max);
+//! for method in [job::Method::Gng, job::Method::Qem] {
+//!     // The run `gng3d simplify --method gng|qem --vertices 600` makes (`job::simplify_file` on files).
+//!     let request = job::Request::new(job::Target::Vertices(600)).with_method(method);
+//!     let outcome = job::run(&model, &request, &mut ()).unwrap();
+//!     assert_eq!(outcome.model.mesh.vertex_count(), 600); // both hold the count here
+//!     let e = metrics::evaluate(&model.mesh, &outcome.model.mesh, &params).unwrap();
+//!     println!("{method}: E_avg {:.2e}, Hausdorff {:.2e}", e.e_avg, e.hausdorff.max);
+//! }
 //! ```
 
 pub use gng3d_core;
