@@ -136,14 +136,17 @@ def test_metrics_options_and_input_are_checked(small_torus):
 
 
 def test_stubs_list_the_keywords_the_binding_parses():
-    """The stubs of simplify and simplify_file name exactly the binding's keywords (gng3d.KEYWORDS,
-    the one table the Rust parser reads), in its order; Trainer's are those less QEM's."""
+    """The stubs' keywords of simplify and simplify_file (their ``Options``) are exactly the
+    binding's (gng3d.KEYWORDS, the one table the Rust parser reads), in its order."""
     import ast
     from pathlib import Path
 
     stubs = ast.parse((Path(gng3d.__file__).parent / "_gng3d.pyi").read_text())
+    classes = {n.name: n for n in stubs.body if isinstance(n, ast.ClassDef)}
+    keywords = [n.target.id for n in classes["Options"].body if isinstance(n, ast.AnnAssign)]
+    assert keywords == list(gng3d.KEYWORDS)
     functions = {n.name: n for n in stubs.body if isinstance(n, ast.FunctionDef)}
     for name in ["simplify", "simplify_file"]:
-        keywords = [a.arg for a in functions[name].args.kwonlyargs]
-        assert keywords == list(gng3d.KEYWORDS), name
+        kwarg = functions[name].args.kwarg
+        assert kwarg is not None and ast.unparse(kwarg.annotation) == "Unpack[Options]", name
     assert gng3d.DEFAULT_METHOD == "qem"

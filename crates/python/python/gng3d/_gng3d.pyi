@@ -1,7 +1,9 @@
 """Type stubs of the native module gng3d._gng3d (re-exported by the gng3d package)."""
 
 import os
-from typing import Any, Callable, Iterator, Literal, Optional, Tuple, Union, final
+from typing import Any, Callable, Iterator, Literal, Optional, Tuple, TypedDict, Union, final
+
+from typing_extensions import Unpack
 
 import numpy as np
 import numpy.typing as npt
@@ -49,59 +51,43 @@ KEYWORDS: list[str]
 MAX_THREADS: int
 """The most ``threads=`` a call may ask for (a larger count is a ValueError)."""
 
+class Options(TypedDict, total=False):
+    """The keywords of :func:`simplify` and :func:`simplify_file` (``gng3d.KEYWORDS``, the
+    binding's one table, in its order; the defaults are the job's, every front end's)."""
+
+    vertices_target: Optional[int]
+    faces_target: Optional[int]
+    ratio: Optional[float]
+    method: _Method
+    time_limit: Optional[float]
+    seed: Optional[int]
+    weld: bool
+    attributes: Literal["keep", "drop"]
+    placement: Optional[Literal["node", "project", "quadric"]]
+    flips: Optional[bool]
+    refit: Optional[bool]
+    relax: Optional[bool]
+    deviation_repair: Optional[bool]
+    epochs: Optional[float]
+    signals: Optional[Literal["vertices", "surface", "curvature"]]
+    oversample: Optional[float]
+    detail_rounds: Optional[int]
+    threshold: Optional[float]
+    lock_border: bool
+    max_error: Optional[float]
+    threads: Optional[int]
+
 def simplify(
     vertices: _ArrayLike,
     faces: _ArrayLike,
-    *,
-    vertices_target: Optional[int] = None,
-    faces_target: Optional[int] = None,
-    ratio: Optional[float] = None,
-    method: _Method = "qem",
-    time_limit: Optional[float] = None,
-    seed: Optional[int] = None,
-    weld: bool = True,
-    attributes: Literal["keep", "drop"] = "keep",
-    placement: Optional[Literal["node", "project", "quadric"]] = None,
-    flips: Optional[bool] = None,
-    refit: Optional[bool] = None,
-    relax: Optional[bool] = None,
-    deviation_repair: Optional[bool] = None,
-    epochs: Optional[float] = None,
-    signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
-    oversample: Optional[float] = None,
-    detail_rounds: Optional[int] = None,
-    threshold: Optional[float] = None,
-    lock_border: bool = False,
-    max_error: Optional[float] = None,
-    threads: Optional[int] = None,
+    **options: Unpack[Options],
 ) -> SimplifyResult:
     """Simplify a mesh; ``ratio`` is a share of the input's vertices for every method."""
 
 def simplify_file(
     input: _PathLike,
     output: _PathLike,
-    *,
-    vertices_target: Optional[int] = None,
-    faces_target: Optional[int] = None,
-    ratio: Optional[float] = None,
-    method: _Method = "qem",
-    time_limit: Optional[float] = None,
-    seed: Optional[int] = None,
-    weld: bool = True,
-    attributes: Literal["keep", "drop"] = "keep",
-    placement: Optional[Literal["node", "project", "quadric"]] = None,
-    flips: Optional[bool] = None,
-    refit: Optional[bool] = None,
-    relax: Optional[bool] = None,
-    deviation_repair: Optional[bool] = None,
-    epochs: Optional[float] = None,
-    signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
-    oversample: Optional[float] = None,
-    detail_rounds: Optional[int] = None,
-    threshold: Optional[float] = None,
-    lock_border: bool = False,
-    max_error: Optional[float] = None,
-    threads: Optional[int] = None,
+    **options: Unpack[Options],
 ) -> SimplifyResult:
     """Simplify ``input`` into ``output`` (written atomically), keeping normals, texture
     coordinates, colours and materials where the output format stores them.
