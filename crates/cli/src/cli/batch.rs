@@ -332,24 +332,19 @@ fn simplify_file(
     row.faces = count(&["faces"]);
     row.input_vertices = count(&["input_vertices"]);
     row.input_faces = count(&["input_faces"]);
-    if args.measure {
-        match run(gng3d_command(exe)
+    let measured = args.measure.then(|| {
+        run(gng3d_command(exe)
             .arg("metrics")
             .arg(input)
             .arg(output)
             .arg("--json"))
-        {
-            Ok((m, _)) => {
-                row.hausdorff_max = m["hausdorff"]["max"].as_f64();
-                row.hausdorff_mean = m["hausdorff"]["mean"].as_f64();
-            }
-            Err(e) => {
-                row.status = Status::Error;
-                row.error = Some(format!("measuring the result: {e}"));
-            }
-        }
-    }
-    row.warnings = warnings.join("; ");
-    row.seconds = Some(start.elapsed().as_secs_f64());
-    row
+        .map(|(m, _)| {
+            (
+                m["hausdorff"]["max"].as_f64(),
+                m["hausdorff"]["mean"].as_f64(),
+            )
+        })
+        .map_err(|e| e.to_string())
+    });
+    row.finish(measured, &warnings, start)
 }

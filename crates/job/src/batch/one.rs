@@ -61,18 +61,12 @@ pub fn run_one(
     (row.input_vertices, row.input_faces) = (count(input_vertices), count(input_faces));
     let (vertices, faces) = done.outcome.summary.counts();
     (row.vertices, row.faces) = (count(vertices), count(faces));
-    if let Some(params) = &settings.measure {
-        match measure(&item.input, &item.output, params) {
-            Ok((max, mean)) => (row.hausdorff_max, row.hausdorff_mean) = (Some(max), Some(mean)),
-            Err(e) => {
-                row.status = Status::Error;
-                row.error = Some(format!("measuring the result: {e}"));
-            }
-        }
-    }
-    row.warnings = warnings.join("; ");
-    row.seconds = Some(start.elapsed().as_secs_f64());
-    row
+    let measured = settings.measure.as_ref().map(|params| {
+        measure(&item.input, &item.output, params)
+            .map(|(max, mean)| (Some(max), Some(mean)))
+            .map_err(|e| e.to_string())
+    });
+    row.finish(measured, &warnings, start)
 }
 
 /// The command line's wording of a failed run: "METHOD on INPUT: what" (options spelt as

@@ -77,6 +77,28 @@ pub struct Row {
 }
 
 impl Row {
+    /// Finish the row of a run that made its output: the Hausdorff figures (max, mean) when it
+    /// was measured (a failed measure makes the row an error), the warnings and the seconds
+    /// since `start`.
+    pub fn finish(
+        mut self,
+        measured: Option<Result<(Option<f64>, Option<f64>), String>>,
+        warnings: &[String],
+        start: std::time::Instant,
+    ) -> Row {
+        match measured {
+            Some(Ok((max, mean))) => (self.hausdorff_max, self.hausdorff_mean) = (max, mean),
+            Some(Err(e)) => {
+                self.status = Status::Error;
+                self.error = Some(format!("measuring the result: {e}"));
+            }
+            None => {}
+        }
+        self.warnings = warnings.join("; ");
+        self.seconds = Some(start.elapsed().as_secs_f64());
+        self
+    }
+
     /// A row of `item` with `status` and nothing measured yet.
     pub fn new(item: &Item, method: &str, status: Status) -> Row {
         Row {
