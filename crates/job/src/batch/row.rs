@@ -76,13 +76,16 @@ pub struct Row {
     pub hausdorff_mean: Option<f64>,
 }
 
+/// A measure of a run's output: its Hausdorff distance (max, mean), or why it failed.
+pub type Measured = Result<(Option<f64>, Option<f64>), String>;
+
 impl Row {
     /// Finish the row of a run that made its output: the Hausdorff figures (max, mean) when it
     /// was measured (a failed measure makes the row an error), the warnings and the seconds
     /// since `start`.
     pub fn finish(
         mut self,
-        measured: Option<Result<(Option<f64>, Option<f64>), String>>,
+        measured: Option<Measured>,
         warnings: &[String],
         start: std::time::Instant,
     ) -> Row {
