@@ -293,24 +293,6 @@ pub(crate) fn attributes_in_words(attributes: &mesh::attributes::Attributes) -> 
         .collect()
 }
 
-/// Checks an output mesh path before any work: a known extension (.obj, .ply, .stl, .gltf,
-/// .glb), not a folder, and a folder that exists and takes new files
-/// (`mesh::io::check_writable`), so a long run never fails at the very end on a typo.
-pub(crate) fn check_output_mesh_path(path: &std::path::Path) -> anyhow::Result<mesh::io::Format> {
-    let format = mesh::io::Format::from_path(path).ok_or_else(|| {
-        anyhow::anyhow!(
-            "{}: unknown output format (expected .obj, .ply, .stl, .gltf or .glb)",
-            path.display()
-        )
-    })?;
-    if path.is_dir() {
-        anyhow::bail!("{}: is a folder, not a mesh file", path.display());
-    }
-    // The folder (after links) exists and takes new files: the one check, the mesh crate's.
-    mesh::io::check_writable(path)?;
-    Ok(format)
-}
-
 /// Creates the output folder `dir` (and its parents) and checks that it takes new files, before
 /// any long work.
 pub(crate) fn prepare_output_folder(dir: &std::path::Path) -> anyhow::Result<()> {
@@ -321,44 +303,18 @@ pub(crate) fn prepare_output_folder(dir: &std::path::Path) -> anyhow::Result<()>
     Ok(())
 }
 
-/// Writes a simplified mesh (positions and triangles) as [`save_output`] does.
+/// Writes a mesh `method` produced (positions and triangles) with the job's one checked save
+/// (`job::save`: a known extension, a folder that takes it, triangles, read back, atomic).
 pub(crate) fn save_checked(
     mesh: &mesh::TriMesh,
     path: &std::path::Path,
     method: &str,
 ) -> anyhow::Result<()> {
-    save_output(mesh, None, None, glam::DVec3::ZERO, path, method).map(|_| ())
-}
-
-/// Writes the mesh `method` produced to `path`, with `attributes` (and the input's
-/// `materials`) when given, through the mesh crate's one checked writer
-/// (`mesh::io::save_with_optional_attributes`): an output
-/// without triangles, or one that does not read back (with what its format stores), is an error
-/// and nothing is written, never an exit-0 output. Atomic; a `.gltf` is written with its
-/// `<stem>.bin`. What the format cannot keep goes to stderr as `warning:` lines and into the
-/// returned report (the `"attributes"` object of `--json`).
-pub(crate) fn save_output(
-    mesh: &mesh::TriMesh,
-    attributes: Option<&mesh::attributes::Attributes>,
-    materials: Option<&mesh::attributes::Materials>,
-    origin: glam::DVec3,
-    path: &std::path::Path,
-    method: &str,
-) -> anyhow::Result<mesh::io::KeptAttributes> {
-    check_output_mesh_path(path)?;
-    if mesh.face_count() == 0 {
-        anyhow::bail!(
-            "{method} produced an empty mesh ({} vertices, no triangles); nothing written to {}",
-            mesh.vertex_count(),
-            path.display()
-        );
-    }
-    let kept = mesh::io::save_with_optional_attributes(mesh, attributes, materials, origin, path)
-        .map_err(|e| anyhow::anyhow!("{method}: {e}"))?;
-    for w in &kept.dropped {
-        eprintln!("warning: {}: {w}", path.display());
-    }
-    Ok(kept)
+    use anyhow::Context;
+    job::save(&mesh::Model::from(mesh.clone()), path)
+        .map_err(job_error)
+        .with_context(|| format!("{method} output"))?;
+    Ok(())
 }
 
 /// Writes `bytes` to `path` atomically (`mesh::io::write_atomic`).
