@@ -61,6 +61,31 @@ mod eng_tests {
     }
 }
 
+/// The files of one report, written into `dir` (created if missing) under the names given:
+/// the table as CSV, the Markdown text, the JSON, then each chart as SVG and PNG. Returns the
+/// paths written, in that order.
+pub(crate) fn write_report<T: serde::Serialize + ?Sized>(
+    dir: &std::path::Path,
+    (csv, table): (&str, &table::Table),
+    (md, text): (&str, &str),
+    (json, value): (&str, &T),
+    charts: Vec<(&'static str, plot::Chart)>,
+) -> Result<Vec<std::path::PathBuf>, ReportError> {
+    std::fs::create_dir_all(dir).map_err(|source| ReportError::Folder {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let (csv, md, json) = (dir.join(csv), dir.join(md), dir.join(json));
+    table.write_csv(&csv)?;
+    mesh::io::write_atomic(&md, text.as_bytes())?;
+    mesh::io::write_atomic(&json, serde_json::to_string_pretty(value)?.as_bytes())?;
+    let mut written = vec![csv, md, json];
+    for (stem, chart) in charts {
+        written.extend(chart.write(&dir.join(stem))?);
+    }
+    Ok(written)
+}
+
 /// Why a report file could not be produced.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {

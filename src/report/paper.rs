@@ -320,16 +320,7 @@ pub fn write_reproduction(
     mesh_name: &str,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, super::ReportError> {
-    std::fs::create_dir_all(dir).map_err(|source| super::ReportError::Folder {
-        path: dir.to_path_buf(),
-        source,
-    })?;
     let table = checkpoint_table(report);
-    let mut written = Vec::new();
-    let csv = dir.join("table.csv");
-    table.write_csv(&csv)?;
-    written.push(csv);
-    let md = dir.join("table.md");
     let text = format!(
         "# GNG3D vs QEM on {mesh_name}\n\n{} vertices, {} faces; GNG3D target {} vertices, \
          {} signals per checkpoint. E_avg/E_max in squared model units, E_sur in squared model \
@@ -355,15 +346,13 @@ pub fn write_reproduction(
              does. \"dropped\": the mesh lost the attribute.\n"
         )
     };
-    mesh::io::write_atomic(&md, text.as_bytes())?;
-    written.push(md);
-    let json = dir.join("report.json");
-    mesh::io::write_atomic(&json, serde_json::to_string_pretty(report)?.as_bytes())?;
-    written.push(json);
-    for (stem, chart) in charts(report, mesh_name) {
-        written.extend(chart.write(&dir.join(stem))?);
-    }
-    Ok(written)
+    super::write_report(
+        dir,
+        ("table.csv", &table),
+        ("table.md", &text),
+        ("report.json", report),
+        charts(report, mesh_name),
+    )
 }
 
 #[cfg(test)]

@@ -527,26 +527,18 @@ pub fn write_survey(
     epochs: u64,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, ReportError> {
-    std::fs::create_dir_all(dir).map_err(|source| ReportError::Folder {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let mut written = Vec::new();
-    let csv = dir.join("summary.csv");
-    summary_table(rows).write_csv(&csv)?;
-    written.push(csv);
-    let md = dir.join("summary.md");
-    mesh::io::write_atomic(&md, summary_markdown(rows, skipped, epochs).as_bytes())?;
-    written.push(md);
-    let json = dir.join("summary.json");
-    mesh::io::write_atomic(&json, serde_json::to_string_pretty(rows)?.as_bytes())?;
-    written.push(json);
-    if !rows.is_empty() {
-        for (stem, chart) in survey_charts(rows) {
-            written.extend(chart.write(&dir.join(stem))?);
-        }
-    }
-    Ok(written)
+    let charts = if rows.is_empty() {
+        Vec::new()
+    } else {
+        survey_charts(rows)
+    };
+    super::write_report(
+        dir,
+        ("summary.csv", &summary_table(rows)),
+        ("summary.md", &summary_markdown(rows, skipped, epochs)),
+        ("summary.json", rows),
+        charts,
+    )
 }
 
 #[cfg(test)]

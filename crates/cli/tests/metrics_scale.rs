@@ -31,21 +31,11 @@ fn scaled(m: &TriMesh, factor: f32) -> TriMesh {
 
 /// A flat `n` × `n` grid of unit squares at height `z`.
 fn grid(n: u32, z: f32) -> TriMesh {
-    let mut positions = Vec::new();
-    for i in 0..=n {
-        for j in 0..=n {
-            positions.push(Vec3::new(i as f32, j as f32, z));
-        }
+    let mut g = mesh::procedural::unit_square_grid(n);
+    for p in &mut g.positions {
+        *p = Vec3::new(p.x * n as f32, p.y * n as f32, z);
     }
-    let at = |i: u32, j: u32| i * (n + 1) + j;
-    let mut triangles = Vec::new();
-    for i in 0..n {
-        for j in 0..n {
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    TriMesh::new(positions, triangles)
+    g
 }
 
 fn num(v: &serde_json::Value, path: &[&str]) -> f64 {

@@ -193,16 +193,21 @@ mod tests {
         )
     }
 
+    /// Three random corners in the unit cube around the origin.
+    fn random_triangle(rng: &mut Pcg64Mcg) -> (DVec3, DVec3, DVec3) {
+        (
+            random_point(rng, 1.0),
+            random_point(rng, 1.0),
+            random_point(rng, 1.0),
+        )
+    }
+
     #[test]
     fn matches_reference_on_random_triangles_in_every_region() {
         let mut rng = Pcg64Mcg::seed_from_u64(11);
         let mut regions = [0usize; 7]; // 3 vertices, 3 edges, interior
         for _ in 0..20_000 {
-            let (a, b, c) = (
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-            );
+            let (a, b, c) = random_triangle(&mut rng);
             // Points near and far, inside and outside of the triangle's prism.
             let p = random_point(&mut rng, 2.0);
             let q = closest_point_triangle(p, a, b, c);
@@ -237,11 +242,7 @@ mod tests {
     fn never_below_a_dense_grid_and_close_to_it() {
         let mut rng = Pcg64Mcg::seed_from_u64(5);
         for _ in 0..300 {
-            let (a, b, c) = (
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-            );
+            let (a, b, c) = random_triangle(&mut rng);
             let p = random_point(&mut rng, 1.5);
             let d = (p - closest_point_triangle(p, a, b, c)).length();
             let g = grid_min(p, a, b, c, 200);
@@ -290,11 +291,7 @@ mod tests {
     fn f64_scoring_matches_closest_point() {
         let mut rng = Pcg64Mcg::seed_from_u64(23);
         for _ in 0..20_000 {
-            let (a, b, c) = (
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-            );
+            let (a, b, c) = random_triangle(&mut rng);
             if is_degenerate(a, b, c) {
                 continue;
             }
@@ -327,11 +324,7 @@ mod tests {
     fn f32_path_agrees_with_f64() {
         let mut rng = Pcg64Mcg::seed_from_u64(17);
         for _ in 0..20_000 {
-            let (a, b, c) = (
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-                random_point(&mut rng, 1.0),
-            );
+            let (a, b, c) = random_triangle(&mut rng);
             if is_degenerate(a, b, c) {
                 continue;
             }

@@ -21,6 +21,7 @@ use crate::closest::{
 };
 use crate::frame::Frame;
 use crate::sliver::{SliverTree, sliver_faces};
+use crate::walk::{self, Node};
 use glam::{DVec3, Vec3, Vec3A};
 use mesh::TriMesh;
 use obvhs::aabb::Aabb as BvhAabb;
@@ -361,79 +362,27 @@ impl SurfaceDistanceIndex {
             }
         }
         if let Some(bvh) = &self.bvh {
-            (best, best_d2) = self.search_boxes(bvh, p, best, best_d2, stack);
+            let nodes = &bvh.nodes;
+            (best, best_d2) = walk::nearest(
+                best,
+                best_d2,
+                stack,
+                |i| Node {
+                    first: nodes[i].first_index as usize,
+                    count: nodes[i].prim_count as usize,
+                },
+                |i| {
+                    let b = nodes[i].aabb();
+                    let d = (b.min - p).max(p - b.max).max(Vec3A::ZERO);
+                    d.length_squared()
+                },
+                |slot| self.triangle_d2(p, slot),
+            );
         }
         if let Some(tree) = &self.slivers {
-            tree.search(p, &mut best, &mut best_d2, stack, |slot| {
-                self.triangle_d2(p, slot)
-            });
+            (best, _) = tree.search(p, best, best_d2, stack, |slot| self.triangle_d2(p, slot));
         }
         best
-    }
-
-    /// The box tree's part of [`Self::nearest_slot`]: the nearest slot closer than `best_d2`,
-    /// else `best`, with its squared distance.
-    #[inline(always)]
-    fn search_boxes(
-        &self,
-        bvh: &Bvh2,
-        p: Vec3A,
-        mut best: u32,
-        mut best_d2: f32,
-        stack: &mut Vec<(u32, f32)>,
-    ) -> (u32, f32) {
-        let nodes = &bvh.nodes;
-        stack.clear();
-        let box_d2 = |i: usize| {
-            let b = nodes[i].aabb();
-            let d = (b.min - p).max(p - b.max).max(Vec3A::ZERO);
-            d.length_squared()
-        };
-        if box_d2(0) >= best_d2 {
-            return (best, best_d2);
-        }
-        let mut current = 0usize;
-        loop {
-            let node = &nodes[current];
-            if node.prim_count > 0 {
-                let first = node.first_index as usize;
-                for slot in first..first + node.prim_count as usize {
-                    let d2 = self.triangle_d2(p, slot);
-                    if d2 < best_d2 {
-                        best_d2 = d2;
-                        best = slot as u32;
-                    }
-                }
-            } else {
-                let left = node.first_index as usize;
-                let right = left + 1;
-                let dl = box_d2(left);
-                let dr = box_d2(right);
-                let (near, dn, far, df) = if dl <= dr {
-                    (left, dl, right, dr)
-                } else {
-                    (right, dr, left, dl)
-                };
-                if dn < best_d2 {
-                    if df < best_d2 {
-                        stack.push((far as u32, df));
-                    }
-                    current = near;
-                    continue;
-                }
-            }
-            // Pop the next subtree that can still hold something closer.
-            loop {
-                match stack.pop() {
-                    None => return (best, best_d2),
-                    Some((node, d2)) if d2 < best_d2 => {
-                        current = node as usize;
-                        break;
-                    }
-                    Some(_) => {}
-                }
-            }
-        }
     }
 }
 

@@ -37,6 +37,7 @@ mod quality;
 mod render;
 mod report;
 mod sliver;
+mod walk;
 
 pub use attributes::{
     AngleDeviation, AttributeDeviation, AttributeErrors, AttributeParams, TIE, UvDeviation,

@@ -23,6 +23,7 @@
 //! centroids along their widest axis, which for a fan cuts the rim's circle into arcs. On the
 //! 100k fan a query visits 16-19 nodes and scores 3 triangles.
 
+use crate::walk;
 use glam::{DMat3, DVec2, DVec3, Vec3, Vec3A, Vec4};
 
 /// A triangle whose bounding box's half area exceeds this many times its own area is a sliver.
@@ -158,67 +159,30 @@ impl SliverTree {
         self.nodes.len()
     }
 
-    /// Lowers `best_d2` / `best` to the nearest slot of the tree closer than `best_d2`
-    /// (`triangle_d2`: the squared distance from the query point `p` to a slot). The same
-    /// nearest-child-first walk as the index's box tree.
+    /// The nearest slot of the tree closer than `best_d2` (else `best`) with its squared
+    /// distance (`triangle_d2`: the squared distance from the query point `p` to a slot): the
+    /// same walk as the index's box tree.
     #[inline(always)]
     pub(crate) fn search(
         &self,
         p: Vec3A,
-        best: &mut u32,
-        best_d2: &mut f32,
+        best: u32,
+        best_d2: f32,
         stack: &mut Vec<(u32, f32)>,
         triangle_d2: impl Fn(usize) -> f32,
-    ) {
+    ) -> (u32, f32) {
         let nodes = &self.nodes;
-        let mut found = *best;
-        let mut found_d2 = *best_d2;
-        stack.clear();
-        if nodes[0].distance2_bound(p) < found_d2 {
-            let mut current = 0usize;
-            'walk: loop {
-                let node = &nodes[current];
-                if node.count > 0 {
-                    let first = node.first as usize;
-                    for slot in first..first + node.count as usize {
-                        let d2 = triangle_d2(slot);
-                        if d2 < found_d2 {
-                            found_d2 = d2;
-                            found = slot as u32;
-                        }
-                    }
-                } else {
-                    let left = node.first as usize;
-                    let right = left + 1;
-                    let dl = nodes[left].distance2_bound(p);
-                    let dr = nodes[right].distance2_bound(p);
-                    let (near, dn, far, df) = if dl <= dr {
-                        (left, dl, right, dr)
-                    } else {
-                        (right, dr, left, dl)
-                    };
-                    if dn < found_d2 {
-                        if df < found_d2 {
-                            stack.push((far as u32, df));
-                        }
-                        current = near;
-                        continue;
-                    }
-                }
-                loop {
-                    match stack.pop() {
-                        None => break 'walk,
-                        Some((node, d2)) if d2 < found_d2 => {
-                            current = node as usize;
-                            break;
-                        }
-                        Some(_) => {}
-                    }
-                }
-            }
-        }
-        *best = found;
-        *best_d2 = found_d2;
+        walk::nearest(
+            best,
+            best_d2,
+            stack,
+            |i| walk::Node {
+                first: nodes[i].first as usize,
+                count: nodes[i].count as usize,
+            },
+            |i| nodes[i].distance2_bound(p),
+            triangle_d2,
+        )
     }
 }
 

@@ -60,21 +60,12 @@ fn uv_sphere(r: f64, center: DVec3, rings: u32, segments: u32) -> TriMesh {
 
 /// An `n` × `n` grid of squares of side `side` in the plane z = `z`, corner at the origin.
 fn plane(n: u32, side: f32, z: f32) -> TriMesh {
-    let mut positions = Vec::new();
-    for i in 0..=n {
-        for j in 0..=n {
-            positions.push(Vec3::new(i as f32 * side, j as f32 * side, z));
-        }
+    let mut g = mesh::procedural::unit_square_grid(n);
+    let width = n as f32 * side;
+    for p in &mut g.positions {
+        *p = Vec3::new(p.x * width, p.y * width, z);
     }
-    let at = |i: u32, j: u32| i * (n + 1) + j;
-    let mut triangles = Vec::new();
-    for i in 0..n {
-        for j in 0..n {
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    TriMesh::new(positions, triangles)
+    g
 }
 
 fn params(samples: usize) -> MetricsParams {
