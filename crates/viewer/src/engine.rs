@@ -483,7 +483,11 @@ pub fn evaluate_reconstruction(
     attributes: Option<&Attributes>,
 ) -> Result<Evaluation> {
     let transferred = match (attributes, original_attributes) {
-        (None, Some(a)) => Some(mesh::transfer::transfer_attributes(original, a, reconstruction)),
+        (None, Some(a)) => Some(mesh::transfer::transfer_attributes(
+            original,
+            a,
+            reconstruction,
+        )),
         _ => None,
     };
     evaluate_with_attributes(
@@ -573,16 +577,61 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
 /// Save `model` with the job's checked writer ([`job::save`], `gng3d simplify`'s: the same
 /// bytes for the same model); the format follows the extension.
 pub fn save_model(model: &mesh::Model, path: &Path) -> Result<()> {
-    job::save(model, path).map(|_| ()).map_err(|e| ViewerError::Save {
-        path: path.to_path_buf(),
-        message: e
-            .to_string()
-            .trim_start_matches(&format!("{}: ", path.display()))
-            .to_string(),
-    })
+    job::save(model, path)
+        .map(|_| ())
+        .map_err(|e| ViewerError::Save {
+            path: path.to_path_buf(),
+            message: e
+                .to_string()
+                .trim_start_matches(&format!("{}: ", path.display()))
+                .to_string(),
+        })
 }
 
 /// The built-in model shown without a file argument.
 pub fn default_model() -> (String, TriMesh) {
     ("blob (procedural)".into(), mesh::procedural::blob())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The viewer's GNG3D run, stepped in uneven batches as the live view steps it, saves the
+    /// bytes `gng3d simplify --method gng --vertices N` writes for the same file: one options
+    /// resolution, one finish, the attributes transferred once (by the job's finish).
+    #[test]
+    fn a_stepped_run_saves_the_clis_bytes() {
+        let input =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/knight_colors.ply");
+        let loaded = load_mesh(&input).unwrap();
+        assert!(loaded.attributes.is_some());
+        let options = crate::ViewerOptions {
+            target: Some(120),
+            ..Default::default()
+        };
+        let params = crate::session::train_params(&options).unwrap();
+        let model = mesh::Model {
+            mesh: loaded.mesh,
+            attributes: loaded.attributes,
+            ..loaded.place
+        };
+        let mut engine = Engine::new(&model, &params).unwrap();
+        let mut n = 1;
+        while !engine.is_finished() {
+            engine.step(n);
+            n = n * 7 % 10_007 + 1;
+        }
+        let outcome = engine.reconstruct(|_| {}).unwrap().outcome.unwrap();
+        let dir = std::env::temp_dir().join(format!("viewer-engine-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (viewer, cli) = (dir.join("viewer.ply"), dir.join("cli.ply"));
+        save_model(&outcome.model, &viewer).unwrap();
+        job::simplify_file(&input, &cli, &request(&params), |_| {}, &mut ()).unwrap();
+        assert_eq!(
+            std::fs::read(&viewer).unwrap(),
+            std::fs::read(&cli).unwrap()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -41,7 +41,12 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
         Some(path) => {
             let loaded = engine::load_mesh(path)?;
             let attributes = loaded.attributes.map(Arc::new);
-            (path.display().to_string(), loaded.mesh, attributes, loaded.place)
+            (
+                path.display().to_string(),
+                loaded.mesh,
+                attributes,
+                loaded.place,
+            )
         }
         None => {
             let (name, mesh) = engine::default_model();

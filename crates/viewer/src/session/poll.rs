@@ -81,7 +81,6 @@ impl Session {
                         for w in &outcome.warnings {
                             self.info(format!("GNG3D warning: {w}"));
                         }
-                        self.info(outcome.line());
                     }
                     self.evaluation_queue.push_back(PendingEvaluation {
                         session: s,
