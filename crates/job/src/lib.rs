@@ -6,7 +6,8 @@
 //!   policy, the GNG3D variant, QEM's options), with the one table of defaults
 //!   ([`DEFAULT_METHOD`], [`DEFAULT_SEED`]) and the one check ([`Request::validate`]).
 //! - [`run`] (or [`Job`], to cancel it from another thread): a [`mesh::Model`] in, an
-//!   [`Outcome`] out (the output model, a [`Summary`], the warnings).
+//!   [`Outcome`] out (the output model, a [`Summary`], the warnings); [`GngRun`], GNG3D's run
+//!   for a front end that steps the training itself (the viewer).
 //! - [`load`], [`save`], [`simplify_file`]: the same on files.
 //! - [`batch`]: many files into one folder, a status row each (`gng3d batch`, Python's
 //!   `gng3d.batch`).
@@ -25,12 +26,14 @@
 pub mod batch;
 mod error;
 mod file;
+mod gng;
 mod request;
 mod run;
 mod summary;
 
 pub use error::{ErrorKind, JobError, Spelling};
 pub use file::{FileOutcome, Loaded, check_output, load, save, simplify_file};
+pub use gng::GngRun;
 pub use request::{
     AttributePolicy, DEFAULT_METHOD, DEFAULT_SEED, GngVariant, MAX_THREADS, Method, Opt,
     QemOptions, Request, Target, parse_placement, parse_signals, placement_name, signals_name,

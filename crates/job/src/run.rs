@@ -3,12 +3,10 @@
 //! attributes) — giving an [`Outcome`].
 
 use crate::summary::{QemSummary, Summary, Warning};
-use crate::{JobError, Method, Request, Target};
+use crate::{GngRun, JobError, Method, Request, Target};
 use gng3d_core::{GngOptions, PlannedStep, Progress, StepRecord, Trainer};
 use mesh::Model;
 use mesh::cancel::Cancel;
-use std::ops::ControlFlow;
-use std::time::Instant;
 
 /// What a front end sees of a run while it goes (progress bars, a viewer's status line). Every
 /// method has a default that does nothing; `()` observes nothing.
@@ -103,11 +101,8 @@ impl Outcome {
 
 /// What a run does, once prepared.
 enum Prepared {
-    /// GNG3D: the trainer made for the input and the options it was resolved from.
-    Gng {
-        trainer: Box<Trainer>,
-        options: Box<GngOptions>,
-    },
+    /// GNG3D: the run made for the input.
+    Gng(Box<GngRun>),
     /// QEM: its parameters and target.
     Qem {
         params: Box<qem::QemParams>,
@@ -116,15 +111,14 @@ enum Prepared {
 }
 
 /// A run prepared on one model: the request validated, GNG3D's options resolved against the
-/// mesh and its trainer built, or QEM's target set. [`Job::cancel`] gives the flag that stops it
-/// from another thread; [`Job::run`] runs it.
+/// mesh and its trainer built ([`GngRun`]), or QEM's target set. [`Job::cancel`] gives the flag
+/// that stops it from another thread; [`Job::run`] runs it.
 pub struct Job<'a> {
     input: &'a Model,
     request: &'a Request,
     prepared: Prepared,
     cancel: Cancel,
     pool: Option<rayon::ThreadPool>,
-    started: Instant,
 }
 
 impl<'a> Job<'a> {
@@ -160,26 +154,16 @@ impl<'a> Job<'a> {
                 },
                 cancel,
                 pool,
-                started: Instant::now(),
             });
         }
-        let options = request.gng_options()?;
-        let params = options.resolve(&input.mesh)?;
-        // The run's clock starts with the trainer (its tables are part of the run).
-        let started = Instant::now();
-        // With attributes, the output's triangles follow their seams.
-        let trainer = Trainer::new(input, params)?;
-        let cancel = trainer.cancel_token();
+        let run = GngRun::new(input, request)?;
+        let cancel = run.trainer().cancel_token();
         Ok(Job {
             input,
             request,
-            prepared: Prepared::Gng {
-                trainer: Box::new(trainer),
-                options: Box::new(options),
-            },
+            prepared: Prepared::Gng(Box::new(run)),
             cancel,
             pool,
-            started,
         })
     }
 
@@ -193,31 +177,15 @@ impl<'a> Job<'a> {
     pub fn run(self, observer: &mut dyn Observer) -> Result<Outcome, JobError> {
         let pool = self.pool.as_ref();
         match self.prepared {
-            Prepared::Gng {
-                mut trainer,
-                options,
-            } => {
-                let budget = trainer.stats().max_signals;
-                trainer.train_to_end(|p| {
-                    observer.training(p, budget);
-                    ControlFlow::Continue(())
-                });
+            Prepared::Gng(mut run) => {
+                run.train(observer);
                 if self.cancel.is_cancelled() {
                     return Err(JobError::Cancelled);
                 }
-                observer.planned(trainer.plan().steps());
-                let result = in_pool(pool, || {
-                    gng3d_core::finish_cancellable(&trainer, &self.cancel, |r| observer.step(r))
-                })?;
-                let seconds = self.started.elapsed().as_secs_f64();
-                Ok(Outcome::of_gng(
-                    self.input,
-                    self.request.method,
-                    &trainer,
-                    &options,
-                    result,
-                    seconds,
-                ))
+                observer.planned(run.trainer().plan().steps());
+                in_pool(pool, || {
+                    run.finish(Some(&self.cancel), |r| observer.step(r))
+                })
             }
             Prepared::Qem { params, target } => {
                 observer.contracting();

@@ -6,6 +6,7 @@ use crate::error::{Result, ViewerError};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
 use std::path::Path;
+use std::sync::Arc;
 
 /// GNG3D parameters as edited in the UI.
 pub type TrainParams = gng3d_core::GngParams;
@@ -104,118 +105,118 @@ impl Method {
     }
 }
 
-/// Default parameters for `target_vertices` nodes.
-pub fn default_params(target_vertices: usize) -> TrainParams {
-    TrainParams::for_target(target_vertices)
-}
-
-/// A running GNG3D training session.
+/// A running GNG3D training session: the job's run ([`job::GngRun`], the CLI's options
+/// resolution, trainer and run after training), stepped here round by round for the live view.
 pub struct Engine {
-    trainer: gng3d_core::Trainer,
+    run: job::GngRun,
     /// The finished network's reconstruction, once built: the network no longer changes, and
     /// a second run of the pipeline would find the run's deadline passed and leave its
     /// optional steps out.
     finished: Option<Reconstruction>,
 }
 
+/// The job's request of the parameters edited in the UI: the method (the paper's GNG3D or
+/// GNG3D-Q), the output count N, the seed, the time limit and the threads, as `gng3d simplify
+/// --method gng --vertices N` asks them.
+pub fn request(params: &TrainParams) -> job::Request {
+    job::Request {
+        method: match Method::of(params) {
+            Method::Paper => job::Method::Paper,
+            _ => job::Method::Gng,
+        },
+        seed: params.seed,
+        time_limit: params.time_limit.map(|t| t.as_secs_f64()),
+        threads: params.threads,
+        ..job::Request::new(job::Target::Vertices(params.target_vertices))
+    }
+}
+
 impl Engine {
-    /// Start training on `mesh` (already cleaned) with `params` as edited in the UI, whose
-    /// `target_vertices` is the output count N. The user-level fields are resolved against the
-    /// mesh by `GngOptions::resolve`, the one rule of the CLI and the library (GNG3D-Q trains an
-    /// oversampled network and decimates it to N); the UI's low-level knobs (α, decay, edge
-    /// age, removal window, search) are then taken as edited.
-    ///
-    /// With `attributes` whose seams the output is to follow, the run is
-    /// `Trainer::new`'s with them, as `gng3d simplify --method gng` runs it.
-    pub fn new(
-        mesh: &TriMesh,
-        attributes: Option<&Attributes>,
-        params: &TrainParams,
-    ) -> Result<Engine> {
-        let options = gng3d_core::GngOptions {
-            target: gng3d_core::GngTarget::Vertices(params.target_vertices),
-            time_limit_seconds: params.time_limit.map(|t| t.as_secs_f64()),
-            seed: params.seed,
-            max_signals: params.max_signals,
-            epochs: params.epochs,
-            lambda: params.lambda,
-            eps_winner: Some(params.eps_winner),
-            eps_neighbour: Some(params.eps_neighbour),
-            signal_source: params.signal_source,
-            reconstruction: params.reconstruction.clone(),
-            oversample: None,
-            detail_rounds: None,
-            threads: params.threads,
-        };
-        let resolved = options
-            .resolve(mesh)
-            .map_err(|e| ViewerError::Gng(e.to_string()))?;
-        let resolved = TrainParams {
-            alpha: params.alpha,
-            error_decay: params.error_decay,
-            max_edge_age: params.max_edge_age,
-            removal_window: params.removal_window,
-            search: params.search,
-            ..resolved
-        };
-        let model = mesh::Model {
-            attributes: attributes.cloned(),
-            ..mesh.clone().into()
-        };
-        gng3d_core::Trainer::new(&model, resolved)
-            .map(|trainer| Engine {
-                trainer,
-                finished: None,
-            })
-            .map_err(|e| ViewerError::Gng(e.to_string()))
+    /// Start training on `model` (already cleaned; with attributes the output's triangles
+    /// follow their seams) with `params` as edited in the UI, whose `target_vertices` is the
+    /// output count N: [`request`]'s run ([`job::GngRun::tuned`]), the UI's budget, λ, learning
+    /// rates, signal source and step switches over the request's options before their one
+    /// resolution against the mesh (GNG3D-Q trains an oversampled network and decimates it to
+    /// N), its low-level knobs (α, decay, edge age, removal window, search) then taken as
+    /// edited.
+    pub fn new(model: &mesh::Model, params: &TrainParams) -> Result<Engine> {
+        job::GngRun::tuned(
+            model,
+            &request(params),
+            |o| {
+                o.max_signals = params.max_signals;
+                o.epochs = params.epochs;
+                o.lambda = params.lambda;
+                o.eps_winner = Some(params.eps_winner);
+                o.eps_neighbour = Some(params.eps_neighbour);
+                o.signal_source = params.signal_source;
+                o.reconstruction = params.reconstruction.clone();
+            },
+            |p| {
+                p.alpha = params.alpha;
+                p.error_decay = params.error_decay;
+                p.max_edge_age = params.max_edge_age;
+                p.removal_window = params.removal_window;
+                p.search = params.search;
+            },
+        )
+        .map(|run| Engine {
+            run,
+            finished: None,
+        })
+        .map_err(|e| ViewerError::Gng(e.to_string()))
+    }
+
+    fn trainer(&self) -> &gng3d_core::Trainer {
+        self.run.trainer()
     }
 
     /// The signal budget this run resolved to (the crate's default when none was given).
     pub fn max_signals(&self) -> u64 {
-        self.trainer.stats().max_signals
+        self.trainer().stats().max_signals
     }
 
     /// Present up to `signals` more training signals; returns how many were presented.
     pub fn step(&mut self, signals: u64) -> u64 {
-        self.trainer.step(signals)
+        self.run.trainer_mut().step(signals)
     }
 
     /// Whether training has reached its budget or limits.
     pub fn is_finished(&self) -> bool {
-        self.trainer.is_finished()
+        self.trainer().is_finished()
     }
 
     /// Signals presented so far.
     pub fn signals(&self) -> u64 {
-        self.trainer.signals()
+        self.trainer().signals()
     }
 
     /// Copy of the network for display.
     pub fn snapshot(&self) -> NetworkSnapshot {
-        self.trainer.snapshot()
+        self.trainer().snapshot()
     }
 
     /// The steps the finished network's reconstruction runs, in order (the run's plan, less
     /// what its time limit left out before it started).
     pub fn plan(&self) -> Vec<PlannedStep> {
-        self.trainer.plan().steps().to_vec()
+        self.trainer().plan().steps().to_vec()
     }
 
     /// The steps the run's parameters plan without a time limit (`Plan::of`): [`Engine::plan`]
     /// is this list less what the time limit left out before the run started.
     pub fn full_plan(&self) -> Vec<PlannedStep> {
-        self.trainer.full_plan().steps().to_vec()
+        self.trainer().full_plan().steps().to_vec()
     }
 
     /// The run's time limit (training and the steps after it), if any.
     pub fn time_limit(&self) -> Option<std::time::Duration> {
-        self.trainer.params().time_limit
+        self.trainer().params().time_limit
     }
 
     /// With a time limit: the wall time from the start of the run at which training stops so
     /// that the steps after it fit (`Trainer::training_limit`).
     pub fn training_limit(&self) -> Option<std::time::Duration> {
-        self.trainer.training_limit()
+        self.trainer().training_limit()
     }
 
     /// The run's time limit and its training limit, when it has a limit.
@@ -226,49 +227,49 @@ impl Engine {
     /// Signals after which the network holds its nodes: λ × the node target (one insertion
     /// every λ signals from a pair of nodes per part), at most the budget.
     pub fn growth_signals(&self) -> u64 {
-        let lambda = self.trainer.stats().lambda.max(1);
-        (lambda.saturating_mul(self.trainer.node_target() as u64)).min(self.max_signals())
+        let lambda = self.trainer().stats().lambda.max(1);
+        (lambda.saturating_mul(self.trainer().node_target() as u64)).min(self.max_signals())
     }
 
     /// Nodes the network holds now, and the nodes it aims for.
     pub fn nodes(&self) -> (usize, usize) {
-        (self.trainer.node_count(), self.trainer.node_target())
+        (self.trainer().node_count(), self.trainer().node_target())
     }
 
     /// Whether the network holds the nodes it aims for (growth is over).
     pub fn holds_target(&self) -> bool {
-        self.trainer.node_count() >= self.trainer.node_target()
+        self.trainer().node_count() >= self.trainer().node_target()
     }
 
     /// Leave a pause of `idle` out of the run's clock (`Trainer::discount`): the time limit
     /// counts the time the run was going, not the time the user had it paused.
     pub fn discount(&mut self, idle: std::time::Duration) {
-        self.trainer.discount(idle);
+        self.run.trainer_mut().discount(idle);
     }
 
     /// End training now (`Trainer::cancel_token`): the network stays as it is and
     /// [`Engine::reconstruct`] runs the finished network's pipeline on it.
     pub fn stop(&mut self) {
-        self.trainer.cancel_token().cancel();
+        self.trainer().cancel_token().cancel();
         // The trainer notices the cancel at the top of its next step.
-        self.trainer.step(1);
+        self.step(1);
     }
 
     /// Wall time since the run started ([`Engine::new`]).
     pub fn run_elapsed(&self) -> std::time::Duration {
-        self.trainer.run_elapsed()
+        self.trainer().run_elapsed()
     }
 
-    /// Build a triangle mesh from the current network with the pipeline the CLI runs
-    /// (`gng3d_core::finish`: decimated to the output count when the network is oversampled);
-    /// `on_step` sees each step of that pipeline as it finishes.
+    /// Build a triangle mesh from the current network. The finished network gets the job's
+    /// run after training ([`job::GngRun::finish`], the CLI's: decimated to the output count
+    /// when the network is oversampled, the attributes taken from the original's surface) and
+    /// with it the job's [`job::Outcome`] (the model `gng3d simplify` saves, its summary and
+    /// warnings); `on_step` sees each step of that pipeline as it finishes.
     /// While training runs, a checkpoint's preview (`Trainer::preview`) skips the detail rounds:
     /// each costs about one more reconstruction, and with three of them the default watched run
     /// of gargoyle-10k at 25 % (12 s asked) was at 68 % of its signals after 20 s; `on_step` is
-    /// not called for it. The finished network gets the full pipeline, and with it the run's
-    /// warnings (why the mesh has another vertex count than the target, what was dropped), as
-    /// the CLI prints them; a preview has none (a network still growing is short of the target
-    /// by design).
+    /// not called for it, and it has no warnings (a network still growing is short of the
+    /// target by design) and no attributes.
     ///
     /// The finished network's reconstruction is built once: later calls return it again
     /// without running the pipeline ([`Engine::has_final`]).
@@ -276,37 +277,27 @@ impl Engine {
         if let Some(done) = &self.finished {
             return Ok(done.clone());
         }
-        let full = self.trainer.is_finished();
-        let result = if full {
-            gng3d_core::finish(&self.trainer, on_step)
-        } else {
-            self.trainer.preview()
+        let gng = |e: &dyn std::fmt::Display| ViewerError::Gng(e.to_string());
+        if !self.is_finished() {
+            let preview = self.trainer().preview().map_err(|e| gng(&e))?;
+            return Ok(Reconstruction {
+                mesh: Arc::new(preview.mesh),
+                outcome: None,
+                cut_for_time: cut_for_time(&preview.report.warnings),
+            });
+        }
+        let outcome = self.run.finish(None, on_step).map_err(|e| gng(&e))?;
+        let cut = match &outcome.summary {
+            job::Summary::Gng(s) => cut_for_time(&s.warnings),
+            _ => false,
         };
-        result
-            .map(|result| {
-                let warnings = &result.report.warnings;
-                let cut_for_time = warnings.iter().any(|w| {
-                    matches!(
-                        w,
-                        gng3d_core::GngWarning::StepSkippedForTime { .. }
-                            | gng3d_core::GngWarning::OversamplingSkippedForTime { .. }
-                            | gng3d_core::GngWarning::TimeLimitBelowMinimum { .. }
-                            | gng3d_core::GngWarning::TimeLimitBeforeTarget { .. }
-                    )
-                });
-                Reconstruction {
-                    mesh: result.mesh,
-                    warnings: warnings.iter().map(|w| w.to_string()).collect(),
-                    cut_for_time,
-                    full,
-                }
-            })
-            .inspect(|reconstruction| {
-                if full {
-                    self.finished = Some(reconstruction.clone());
-                }
-            })
-            .map_err(|e| ViewerError::Gng(e.to_string()))
+        let done = Reconstruction {
+            mesh: Arc::new(outcome.model.mesh.clone()),
+            outcome: Some(Arc::new(outcome)),
+            cut_for_time: cut,
+        };
+        self.finished = Some(done.clone());
+        Ok(done)
     }
 
     /// Whether the finished network's reconstruction is built (the next
@@ -316,45 +307,41 @@ impl Engine {
     }
 }
 
+/// Whether `warnings` say the time limit cut anything (steps, oversampling, training before
+/// the target), or is below the run's minimum.
+fn cut_for_time(warnings: &[gng3d_core::GngWarning]) -> bool {
+    warnings.iter().any(|w| {
+        matches!(
+            w,
+            gng3d_core::GngWarning::StepSkippedForTime { .. }
+                | gng3d_core::GngWarning::OversamplingSkippedForTime { .. }
+                | gng3d_core::GngWarning::TimeLimitBelowMinimum { .. }
+                | gng3d_core::GngWarning::TimeLimitBeforeTarget { .. }
+        )
+    })
+}
+
 /// What [`Engine::reconstruct`] built.
 #[derive(Debug, Clone)]
 pub struct Reconstruction {
     /// The mesh.
-    pub mesh: TriMesh,
-    /// The run's warnings, as the CLI prints them (finished network only).
-    pub warnings: Vec<String>,
+    pub mesh: Arc<TriMesh>,
+    /// The finished network's outcome: the output model (attributes, materials, origin), the
+    /// summary and the warnings, as `gng3d simplify` has them (`None` for a preview).
+    pub outcome: Option<Arc<job::Outcome>>,
     /// Whether the time limit cut anything (steps, oversampling, training before the target),
     /// or is below the run's minimum.
     pub cut_for_time: bool,
-    /// Whether this was the finished network's full pipeline (not a preview).
-    pub full: bool,
 }
 
-/// QEM simplification of `mesh` to `target_vertices` vertices, with the CLI's note when it
-/// stopped above the target ([`qem::QemReport::shortfall`]: holes, small pieces).
-pub fn qem_simplify(mesh: &TriMesh, target_vertices: usize) -> Result<(TriMesh, Option<String>)> {
-    let (out, _, note) = qem_simplify_with_attributes(mesh, None, target_vertices)?;
-    Ok((out, note))
-}
-
-/// [`qem_simplify`] keeping `attributes` (of `mesh`'s corners) through the contractions: the
-/// job every front end runs (`job::run` with QEM to a vertex count), so the viewer's QEM is
-/// `gng3d simplify --method qem`'s.
-pub fn qem_simplify_with_attributes(
-    mesh: &TriMesh,
-    attributes: Option<&Attributes>,
-    target_vertices: usize,
-) -> Result<(TriMesh, Option<Attributes>, Option<String>)> {
-    let model = mesh::Model {
-        attributes: attributes.cloned(),
-        ..mesh::Model::from(mesh.clone())
-    };
+/// QEM simplification of `model` to `target_vertices` vertices: the job every front end runs
+/// (`job::run` with QEM to a vertex count, attributes kept through the contractions), so the
+/// viewer's QEM is `gng3d simplify --method qem`'s; the outcome's warnings hold the CLI's note
+/// when it stopped above the target ([`qem::QemReport::shortfall`]: holes, small pieces).
+pub fn qem_simplify(model: &mesh::Model, target_vertices: usize) -> Result<job::Outcome> {
     let request =
         job::Request::new(job::Target::Vertices(target_vertices)).with_method(job::Method::Qem);
-    let outcome =
-        job::run(&model, &request, &mut ()).map_err(|e| ViewerError::Qem(e.to_string()))?;
-    let note = outcome.warnings.into_iter().next();
-    Ok((outcome.model.mesh, outcome.model.attributes, note))
+    job::run(model, &request, &mut ()).map_err(|e| ViewerError::Qem(e.to_string()))
 }
 
 /// Surface samples per direction for the Hausdorff distance (keeps one evaluation to about a
@@ -485,21 +472,29 @@ pub fn evaluate_with_attributes(
     Ok(evaluation)
 }
 
-/// GNG3D's output with attributes taken from the original surface, as `gng3d simplify
-/// --method gng` does ([`mesh::transfer::transfer_attributes`]), then
-/// [`evaluate_with_attributes`]; without `original_attributes`, [`evaluate`].
+/// A GNG3D reconstruction evaluated: [`evaluate_with_attributes`] with the `attributes` the
+/// run gave it (the finished network's, from [`job::GngRun::finish`]); a checkpoint's preview
+/// has none, and takes them from the original surface here ([`mesh::transfer::transfer_attributes`],
+/// as the finish does), once.
 pub fn evaluate_reconstruction(
     original: &TriMesh,
     original_attributes: Option<&Attributes>,
     reconstruction: &TriMesh,
+    attributes: Option<&Attributes>,
 ) -> Result<Evaluation> {
-    let transferred = original_attributes
-        .map(|a| mesh::transfer::transfer_attributes(original, a, reconstruction));
+    let transferred = match (attributes, original_attributes) {
+        (None, Some(a)) => Some(mesh::transfer::transfer_attributes(
+            original,
+            a,
+            reconstruction,
+        )),
+        _ => None,
+    };
     evaluate_with_attributes(
         original,
         original_attributes,
         reconstruction,
-        transferred.as_ref(),
+        attributes.or(transferred.as_ref()),
     )
 }
 
@@ -519,6 +514,9 @@ pub struct Loaded {
     /// The mesh's normals, texture coordinates and colours, following the cleaning (`None`
     /// when the file has none): kept by QEM, transferred to GNG3D's output, and measured.
     pub attributes: Option<Attributes>,
+    /// The model's materials and origin, without its mesh and attributes: the place the
+    /// outputs are saved in ([`mesh::Model::with_mesh`]), as `gng3d simplify` saves them.
+    pub place: mesh::Model,
 }
 
 /// `e`'s message and its causes ("cannot read file: No such file or directory"), without the
@@ -546,14 +544,16 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
     let o = loaded.model.origin;
     if o != glam::DVec3::ZERO {
-        // The viewer keeps one f32 mesh: a far model is shown and saved recentred, said here.
+        // The viewer keeps one f32 mesh: a far model is shown recentred, said here.
         warnings.push(format!(
-            "the model lies far from its coordinates' origin: shown and saved moved by \
-             ({}, {}, {}) (gng3d simplify keeps the coordinates)",
+            "the model lies far from its coordinates' origin: shown moved by ({}, {}, {}) \
+             (saved in its own coordinates, as gng3d simplify saves it)",
             -o.x, -o.y, -o.z
         ));
     }
-    let mesh = loaded.model.mesh;
+    let mut place = loaded.model;
+    let mesh = std::mem::take(&mut place.mesh);
+    let attributes = place.attributes.take();
     let dropped = loaded.file_vertices.saturating_sub(mesh.vertex_count());
     if dropped > 0 {
         warnings.push(format!(
@@ -569,22 +569,69 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
     Ok(Loaded {
         mesh,
         warnings,
-        attributes: loaded.model.attributes,
+        attributes,
+        place,
     })
 }
 
-/// Save a mesh; the format follows the extension (obj, ply, stl).
-pub fn save_mesh(mesh: &TriMesh, path: &Path) -> Result<()> {
-    mesh::io::save(mesh, path).map_err(|e| ViewerError::Save {
-        path: path.to_path_buf(),
-        message: e
-            .to_string()
-            .trim_start_matches(&format!("{}: ", path.display()))
-            .to_string(),
-    })
+/// Save `model` with the job's checked writer ([`job::save`], `gng3d simplify`'s: the same
+/// bytes for the same model); the format follows the extension.
+pub fn save_model(model: &mesh::Model, path: &Path) -> Result<()> {
+    job::save(model, path)
+        .map(|_| ())
+        .map_err(|e| ViewerError::Save {
+            path: path.to_path_buf(),
+            message: e
+                .to_string()
+                .trim_start_matches(&format!("{}: ", path.display()))
+                .to_string(),
+        })
 }
 
 /// The built-in model shown without a file argument.
 pub fn default_model() -> (String, TriMesh) {
     ("blob (procedural)".into(), mesh::procedural::blob())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The viewer's GNG3D run, stepped in uneven batches as the live view steps it, saves the
+    /// bytes `gng3d simplify --method gng --vertices N` writes for the same file: one options
+    /// resolution, one finish, the attributes transferred once (by the job's finish).
+    #[test]
+    fn a_stepped_run_saves_the_clis_bytes() {
+        let input =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/knight_colors.ply");
+        let loaded = load_mesh(&input).unwrap();
+        assert!(loaded.attributes.is_some());
+        let options = crate::ViewerOptions {
+            target: Some(120),
+            ..Default::default()
+        };
+        let params = crate::session::train_params(&options).unwrap();
+        let model = mesh::Model {
+            mesh: loaded.mesh,
+            attributes: loaded.attributes,
+            ..loaded.place
+        };
+        let mut engine = Engine::new(&model, &params).unwrap();
+        let mut n = 1;
+        while !engine.is_finished() {
+            engine.step(n);
+            n = n * 7 % 10_007 + 1;
+        }
+        let outcome = engine.reconstruct(|_| {}).unwrap().outcome.unwrap();
+        let dir = std::env::temp_dir().join(format!("viewer-engine-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (viewer, cli) = (dir.join("viewer.ply"), dir.join("cli.ply"));
+        save_model(&outcome.model, &viewer).unwrap();
+        job::simplify_file(&input, &cli, &request(&params), |_| {}, &mut ()).unwrap();
+        assert_eq!(
+            std::fs::read(&viewer).unwrap(),
+            std::fs::read(&cli).unwrap()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

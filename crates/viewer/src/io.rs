@@ -196,6 +196,8 @@ pub struct LoadedModel {
     pub warnings: Vec<String>,
     /// The mesh's normals, texture coordinates and colours (`None` without any).
     pub attributes: Option<Arc<mesh::attributes::Attributes>>,
+    /// Its materials and origin ([`engine::Loaded::place`]).
+    pub place: Arc<mesh::Model>,
 }
 
 /// Load and clean `path` on a new thread.
@@ -210,13 +212,9 @@ pub fn spawn_load(path: PathBuf, ctx: Option<egui::Context>) -> Job<Result<Loade
             mesh: Arc::new(loaded.mesh),
             warnings: loaded.warnings,
             attributes: loaded.attributes.map(Arc::new),
+            place: Arc::new(loaded.place),
         })
     })
-}
-
-/// Save `mesh` to `path` (format by extension).
-pub fn export_mesh(mesh: &TriMesh, path: &Path) -> Result<()> {
-    engine::save_mesh(mesh, path)
 }
 
 /// Write an egui screenshot as PNG.

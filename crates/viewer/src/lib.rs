@@ -37,15 +37,20 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     use std::sync::Arc;
     use std::time::{Duration, Instant};
     let mut params = session::train_params(options)?;
-    let (name, mesh, attributes) = match &options.path {
+    let (name, mesh, attributes, place) = match &options.path {
         Some(path) => {
             let loaded = engine::load_mesh(path)?;
             let attributes = loaded.attributes.map(Arc::new);
-            (path.display().to_string(), loaded.mesh, attributes)
+            (
+                path.display().to_string(),
+                loaded.mesh,
+                attributes,
+                loaded.place,
+            )
         }
         None => {
             let (name, mesh) = engine::default_model();
-            (name, mesh, None)
+            (name, mesh, None, mesh::Model::default())
         }
     };
     let vertices = mesh.vertex_count();
@@ -57,6 +62,7 @@ pub fn run_headless(options: &ViewerOptions) -> error::Result<String> {
     trainer.send(worker::Command::Reset(Box::new(worker::TrainingJob {
         mesh: Arc::new(mesh),
         attributes,
+        place: Arc::new(place),
         params,
         checkpoint_every: match options.checkpoint_every {
             Some(0) => None,

@@ -46,15 +46,16 @@ pub struct Message {
     pub is_error: bool,
 }
 
-/// What QEM computed: the mesh, its evaluation, the seconds it took and a note when it stopped
-/// above the target.
-type QemResult = Result<(Arc<TriMesh>, Evaluation, f64, Option<String>)>;
+/// What QEM computed: the job's outcome, its mesh (shown) and its evaluation.
+type QemResult = Result<(Arc<job::Outcome>, Arc<TriMesh>, Evaluation)>;
 
 /// The QEM side.
 #[derive(Default)]
 struct QemState {
     target: usize,
     mesh: Option<Arc<TriMesh>>,
+    /// The outcome the mesh is of (what is saved).
+    outcome: Option<Arc<job::Outcome>>,
     pending: Option<Job<QemResult>>,
     error: Option<String>,
 }
@@ -68,6 +69,8 @@ struct PendingEvaluation {
     signals: u64,
     train_seconds: f64,
     mesh: Arc<TriMesh>,
+    /// The finished network's attributes (a preview has none).
+    attributes: Option<Arc<Attributes>>,
 }
 
 /// The training thread's state as one word, for the viewport label and the status bar alike.
@@ -104,6 +107,8 @@ pub struct Session {
     /// original surface (as `gng3d simplify` does), and Table 1 shows both methods' attribute
     /// deviation.
     attributes: Option<Arc<Attributes>>,
+    /// The original's materials and origin ([`engine::Loaded::place`]): the outputs' place.
+    place: Arc<mesh::Model>,
     loading: Option<(PathBuf, Job<Result<LoadedModel>>)>,
     /// Training parameters for the next reset (edited in the UI).
     pub params: TrainParams,
@@ -120,6 +125,8 @@ pub struct Session {
     /// The run's training and pipeline steps, as they happen.
     pub steps: StepStrip,
     reconstruction: Option<Arc<TriMesh>>,
+    /// The finished network's outcome (`None` while the reconstruction is a preview).
+    gng_outcome: Option<Arc<job::Outcome>>,
     evaluating: Option<(PendingEvaluation, Job<EvaluationResult>)>,
     /// When the last evaluation finished, and the seconds its own work took (without its
     /// cool-down wait).
@@ -149,6 +156,7 @@ impl Session {
             model_name: String::new(),
             original: Arc::new(TriMesh::new(Vec::new(), Vec::new())),
             attributes: None,
+            place: Arc::default(),
             loading: None,
             applied: params.clone(),
             params,
@@ -157,6 +165,7 @@ impl Session {
             history: History::default(),
             steps: StepStrip::default(),
             reconstruction: None,
+            gng_outcome: None,
             evaluating: None,
             last_evaluation: None,
             evaluation_queue: VecDeque::new(),
@@ -188,18 +197,21 @@ impl Session {
 
     /// Replace the model: restart training and QEM on it.
     pub fn set_model(&mut self, name: String, mesh: Arc<TriMesh>) {
-        self.set_model_with_attributes(name, mesh, None);
+        self.set_model_with_attributes(name, mesh, None, Arc::default());
     }
 
-    /// [`Session::set_model`] for a model with `attributes` (of `mesh`'s corners).
+    /// [`Session::set_model`] for a model with `attributes` (of `mesh`'s corners) and its
+    /// materials and origin (`place`, [`engine::Loaded::place`]).
     pub fn set_model_with_attributes(
         &mut self,
         name: String,
         mesh: Arc<TriMesh>,
         attributes: Option<Arc<Attributes>>,
+        place: Arc<mesh::Model>,
     ) {
         self.model_name = name;
         self.attributes = attributes;
+        self.place = place;
         let n = mesh.vertex_count();
         if self.options.target.is_none() {
             self.params.target_vertices = default_target(n);
@@ -326,6 +338,7 @@ impl Session {
         self.history.clear_training();
         self.steps.clear();
         self.reconstruction = None;
+        self.gng_outcome = None;
         self.evaluation_queue.clear();
         self.skipped_evaluations = 0;
         self.evaluating = None;
@@ -337,6 +350,7 @@ impl Session {
         self.trainer.send(Command::Reset(Box::new(TrainingJob {
             mesh: Arc::clone(&self.original),
             attributes: self.attributes.clone(),
+            place: Arc::clone(&self.place),
             params: self.params.clone(),
             checkpoint_every: (self.checkpoint_every > 0).then_some(self.checkpoint_every),
             autoplay: !self.options.paused,
@@ -392,23 +406,27 @@ impl Session {
         let target = self.params.target_vertices;
         let original = Arc::clone(&self.original);
         let attributes = self.attributes.clone();
+        let place = Arc::clone(&self.place);
         self.qem.target = target;
         self.qem.error = None;
         self.qem.pending = Some(Job::spawn_background(
             "qem",
             self.repaint.clone(),
             move || {
-                let started = std::time::Instant::now();
-                let (mesh, kept, note) =
-                    engine::qem_simplify_with_attributes(&original, attributes.as_deref(), target)?;
-                let seconds = started.elapsed().as_secs_f64();
+                let model = mesh::Model {
+                    mesh: (*original).clone(),
+                    attributes: attributes.as_deref().cloned(),
+                    ..(*place).clone()
+                };
+                let outcome = engine::qem_simplify(&model, target)?;
                 let evaluation = engine::evaluate_with_attributes(
                     &original,
                     attributes.as_deref(),
-                    &mesh,
-                    kept.as_ref(),
+                    &outcome.model.mesh,
+                    outcome.model.attributes.as_ref(),
                 )?;
-                Ok((Arc::new(mesh), evaluation, seconds, note))
+                let mesh = Arc::new(outcome.model.mesh.clone());
+                Ok((Arc::new(outcome), mesh, evaluation))
             },
         ));
     }
@@ -441,14 +459,28 @@ impl Session {
 
     /// Save the simplified mesh of `side` to `path` (format by extension); the outcome is also
     /// shown in the message strip.
+    /// The finished run's model is saved as `gng3d simplify` saves it (its attributes,
+    /// materials and origin: the same bytes for the same request); a checkpoint's preview is
+    /// saved as a mesh in the original's place.
     pub fn export(&mut self, side: Side, path: &Path) -> Result<()> {
-        let (mesh, what) = match side {
-            Side::Gng => (self.reconstruction.clone(), "no GNG3D reconstruction"),
-            Side::Qem => (self.qem.mesh.clone(), "no QEM result"),
+        let (mesh, outcome, what) = match side {
+            Side::Gng => (
+                self.reconstruction.as_ref(),
+                self.gng_outcome.as_ref(),
+                "no GNG3D reconstruction",
+            ),
+            Side::Qem => (
+                self.qem.mesh.as_ref(),
+                self.qem.outcome.as_ref(),
+                "no QEM result",
+            ),
         };
-        let result = match mesh {
-            Some(mesh) => io::export_mesh(&mesh, path),
-            None => Err(ViewerError::NothingToExport {
+        let result = match (outcome, mesh) {
+            (Some(outcome), _) => engine::save_model(&outcome.model, path),
+            (None, Some(mesh)) => {
+                engine::save_model(&self.place.with_mesh((**mesh).clone(), None), path)
+            }
+            (None, None) => Err(ViewerError::NothingToExport {
                 path: path.to_path_buf(),
                 what,
             }),

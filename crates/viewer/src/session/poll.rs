@@ -42,7 +42,12 @@ impl Session {
                     self.info(format!("{}: {w}", model.name));
                 }
                 self.info(summary);
-                self.set_model_with_attributes(model.name, model.mesh, model.attributes);
+                self.set_model_with_attributes(
+                    model.name,
+                    model.mesh,
+                    model.attributes,
+                    model.place,
+                );
             }
             Err(e) => {
                 self.error(format!("could not open {e}"));
@@ -70,18 +75,24 @@ impl Session {
                     signals,
                     mesh,
                     train_seconds,
-                    warnings,
+                    outcome,
                 } if s == session => {
-                    for w in warnings {
-                        self.info(format!("GNG3D warning: {w}"));
+                    if let Some(outcome) = &outcome {
+                        for w in &outcome.warnings {
+                            self.info(format!("GNG3D warning: {w}"));
+                        }
                     }
                     self.evaluation_queue.push_back(PendingEvaluation {
                         session: s,
                         signals,
                         train_seconds,
                         mesh: Arc::clone(&mesh),
+                        attributes: outcome
+                            .as_ref()
+                            .and_then(|o| o.model.attributes.clone().map(Arc::new)),
                     });
                     self.reconstruction = Some(mesh);
+                    self.gng_outcome = outcome;
                 }
                 Event::Failed {
                     session: s,
@@ -189,12 +200,17 @@ impl Session {
                 _ => std::time::Duration::ZERO,
             };
             let (original, mesh) = (Arc::clone(&self.original), Arc::clone(&next.mesh));
-            let attributes = self.attributes.clone();
+            let (attributes, output_attributes) =
+                (self.attributes.clone(), next.attributes.clone());
             let job = Job::spawn_background("evaluation", self.repaint.clone(), move || {
                 std::thread::sleep(wait);
                 let started = std::time::Instant::now();
-                let result =
-                    engine::evaluate_reconstruction(&original, attributes.as_deref(), &mesh);
+                let result = engine::evaluate_reconstruction(
+                    &original,
+                    attributes.as_deref(),
+                    &mesh,
+                    output_attributes.as_deref(),
+                );
                 (result, started.elapsed().as_secs_f64())
             });
             self.evaluating = Some((next, job));
@@ -207,15 +223,18 @@ impl Session {
         };
         self.qem.pending = None;
         match result.and_then(|r| r) {
-            Ok((mesh, e, seconds, note)) => {
+            Ok((outcome, mesh, e)) => {
+                let seconds = outcome.summary.seconds();
                 self.history.qem = Some(checkpoint("QEM", 0, &e, seconds));
                 self.qem.mesh = Some(mesh);
-                if let Some(note) = note {
-                    self.info(note);
+                for note in &outcome.warnings {
+                    self.info(note.clone());
                 }
+                self.qem.outcome = Some(outcome);
             }
             Err(e) => {
                 self.qem.mesh = None;
+                self.qem.outcome = None;
                 self.error(e.to_string());
                 self.qem.error = Some(e.to_string());
             }

@@ -1,7 +1,7 @@
 //! The step strip drawn with egui: one compact row of coloured chips under the viewports (build
 //! rounds grouped) with a time bar, and the details window with a table of every step.
 
-use super::state::{total_text, training_text};
+use super::text::{total_text, training_text};
 use super::{
     StepGroup, StepStatus, StepStrip, TrainingClock, changed_text, format_seconds, long_name,
     status_text,

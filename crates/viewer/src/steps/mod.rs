@@ -8,10 +8,12 @@
 //! [`strip_ui`] draws it as one compact row under the viewports (build rounds grouped), and
 //! [`details_window`] as a table of every step.
 //!
-//! `state` holds the strip's state and its texts, `draw` the egui drawing.
+//! `state` holds the strip's state, `text` its texts, `draw` the egui drawing.
 
 mod draw;
 mod state;
+mod text;
 
 pub use draw::*;
 pub use state::*;
+pub use text::*;

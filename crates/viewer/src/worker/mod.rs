@@ -34,6 +34,8 @@ pub struct TrainingJob {
     /// Its normals, texture coordinates and colours, when it has some: the network's triangles
     /// then follow their seams, as `gng3d simplify --method gng` does.
     pub attributes: Option<Arc<mesh::attributes::Attributes>>,
+    /// Its materials and origin: the final mesh's place ([`crate::engine::Loaded::place`]).
+    pub place: Arc<mesh::Model>,
     /// Training parameters.
     pub params: TrainParams,
     /// Reconstruct automatically every this many signals (checkpoints for the table).
@@ -83,8 +85,9 @@ pub enum Event {
         mesh: Arc<TriMesh>,
         /// Training time so far (seconds, pauses excluded).
         train_seconds: f64,
-        /// The run's warnings (finished network only, see `Engine::reconstruct`).
-        warnings: Vec<String>,
+        /// The finished network's outcome: the model `gng3d simplify` saves, the summary and
+        /// the warnings (`None` for a checkpoint's preview, see `Engine::reconstruct`).
+        outcome: Option<Arc<job::Outcome>>,
     },
     /// A run started: the steps its finished network's pipeline will run, and its limits.
     Planned {

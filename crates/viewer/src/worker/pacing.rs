@@ -346,7 +346,7 @@ mod tests {
             time_limit,
             ..crate::session::train_params(&options).unwrap()
         };
-        let mut engine = Engine::new(&mesh, None, &params).unwrap();
+        let mut engine = Engine::new(&mesh.into(), &params).unwrap();
         let pacer = Pacer::of(&engine, watch);
         let (limit, training_limit) = engine.limits().expect("a watched run has a limit");
         let steps_estimate = (limit - training_limit).as_secs_f64();

@@ -123,7 +123,12 @@ pub(super) fn training_loop(commands: &Receiver<Command>, events: &Sender<Event>
                         time_limit,
                         ..session.params.clone()
                     };
-                    match Engine::new(&session.mesh, session.attributes.as_deref(), &params) {
+                    let model = mesh::Model {
+                        mesh: (*session.mesh).clone(),
+                        attributes: session.attributes.as_deref().cloned(),
+                        ..(*session.place).clone()
+                    };
+                    match Engine::new(&model, &params) {
                         Ok(engine) => {
                             let _ = events.send(Event::Planned {
                                 session: t.session,

@@ -222,9 +222,9 @@ pub(super) fn reconstruct(t: &mut Training, events: &Sender<Event>) {
         Ok(r) => Event::Reconstructed {
             session,
             signals,
-            mesh: Arc::new(r.mesh),
+            mesh: r.mesh,
             train_seconds: t.train_time.as_secs_f64(),
-            warnings: r.warnings,
+            outcome: r.outcome,
         },
         Err(error) => Event::Failed {
             session,
