@@ -21,7 +21,10 @@
 //! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
 //!
 //! This module holds the entry points and the checks of the parameters; passes 2–6 are in
-//! [`passes`].
+//! [`passes`]. The modules import downwards only: at the bottom the shared pieces ([`triangle`],
+//! [`vertex`], [`resources`], [`view`], [`seams`], [`candidates`]); above them the attribute
+//! term and values ([`attribute_error`], [`wedges`]), then [`prepare`], [`setup`] and the
+//! [`engine`]; on top the drivers ([`passes`], [`partition`], [`attributes`]).
 
 mod attribute_error;
 mod attributes;

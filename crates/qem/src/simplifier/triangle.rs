@@ -1,6 +1,5 @@
-//! One triangle's helpers, shared by every layer of the simplifier: the dead-face marker,
-//! corner tests and walks on a face's vertex triple, the gradient basis of a linear function
-//! over a triangle and a point's parameter along an edge.
+//! One triangle's helpers, shared by every layer: the dead-face marker, corner tests and walks,
+//! the gradient basis of a linear function over it and a point's parameter along an edge.
 
 use glam::DVec3;
 

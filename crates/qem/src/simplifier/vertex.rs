@@ -1,5 +1,4 @@
-//! The engine's per-vertex record ([`Vertex`]), shared by the set-up that fills it and the
-//! engine that contracts with it.
+//! The per-vertex record ([`Vertex`]) that the set-up fills and the engine contracts with.
 
 use crate::Quadric;
 use glam::DVec3;
