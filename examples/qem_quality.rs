@@ -2,6 +2,12 @@
 //! `cargo run --release --example qem_quality -- ORIGINAL FACES [REFERENCE|""] [SAMPLES]`
 //! (also shows meshoptimizer's result at the same face count).
 
+// meshoptimizer as the QEM crate's examples call it (one configuration for every comparison).
+#[path = "../crates/qem/examples/common/mod.rs"]
+mod common;
+
+use common::{meshopt_adapter, meshopt_simplify};
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let load = |p: &str| mesh::io::load(std::path::Path::new(p)).expect("load").mesh;
@@ -31,17 +37,7 @@ fn main() {
     show("qem", &q);
     // meshoptimizer at the same target, for context (vertices unreferenced by its output dropped).
     let indices: Vec<u32> = original.triangles.iter().flatten().copied().collect();
-    let adapter =
-        meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&original.positions), 12, 0)
-            .expect("adapter");
-    let out = meshopt::simplify(
-        &indices,
-        &adapter,
-        faces * 3,
-        f32::MAX,
-        meshopt::SimplifyOptions::None,
-        None,
-    );
+    let out = meshopt_simplify(&indices, &meshopt_adapter(&original.positions), faces);
     let tris: Vec<[u32; 3]> = out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let mo =
         mesh::clean::remove_unreferenced(&mesh::TriMesh::new(original.positions.clone(), tris));

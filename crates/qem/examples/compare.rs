@@ -3,6 +3,9 @@
 //! alternate call by call and best / median wall times, their ratios and per-thread on-CPU times
 //! are printed.
 
+mod common;
+
+use common::{meshopt_adapter, meshopt_simplify};
 use std::time::Instant;
 
 /// On-CPU seconds of this thread (Linux schedstat), robust against a loaded machine.
@@ -31,8 +34,7 @@ fn main() {
     let target = ((m.face_count() as f64) * ratio).round() as usize;
     let params = gng3d_qem::QemParams::with_target(gng3d_qem::Target::Faces(target));
     let indices: Vec<u32> = m.triangles.iter().flatten().copied().collect();
-    let adapter = meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0)
-        .expect("adapter");
+    let adapter = meshopt_adapter(&m.positions);
     // qem and meshopt alternate, so that both see the same machine load.
     let (mut wall, mut wall_mo) = (Vec::new(), Vec::new());
     let (mut best_cpu, mut best_mo_cpu) = (f64::INFINITY, f64::INFINITY);
@@ -47,14 +49,7 @@ fn main() {
         result = Some(r);
         let t = Instant::now();
         let c = cpu_seconds();
-        let r = meshopt::simplify(
-            &indices,
-            &adapter,
-            target * 3,
-            f32::MAX,
-            meshopt::SimplifyOptions::None,
-            None,
-        );
+        let r = meshopt_simplify(&indices, &adapter, target);
         wall_mo.push(t.elapsed().as_secs_f64());
         best_mo_cpu = best_mo_cpu.min(cpu_seconds() - c);
         mo_faces = r.len() / 3;

@@ -18,6 +18,9 @@
 //! right before the algorithm runs, so `peak - before` is what the algorithm itself added;
 //! `page_faults` counts the minor faults during the call (fresh pages the algorithm touched).
 
+mod common;
+
+use common::{meshopt_adapter, meshopt_simplify};
 use mesh::TriMesh;
 use std::collections::HashMap;
 use std::process::Command;
@@ -95,21 +98,7 @@ fn run(method: &str, path: &str, ratio: f64, subdivisions: usize) {
                 .mesh
                 .face_count()
         }
-        "meshopt" => {
-            let adapter =
-                meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(&m.positions), 12, 0)
-                    .expect("adapter");
-            meshopt::simplify(
-                &indices,
-                &adapter,
-                target * 3,
-                f32::MAX,
-                meshopt::SimplifyOptions::None,
-                None,
-            )
-            .len()
-                / 3
-        }
+        "meshopt" => meshopt_simplify(&indices, &meshopt_adapter(&m.positions), target).len() / 3,
         other => {
             eprintln!("unknown method {other:?} (qem | meshopt)");
             std::process::exit(2)

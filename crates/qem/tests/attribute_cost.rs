@@ -70,39 +70,6 @@ fn uv_stretch_steers_the_collapse_order() {
     );
 }
 
-/// Distance from `p` to triangle `abc` (closest point by Ericson's region tests).
-fn point_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return p.distance(a);
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return p.distance(b);
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return p.distance(a + ab * (d1 / (d1 - d3)));
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return p.distance(c);
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return p.distance(a + ac * (d2 / (d2 - d6)));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
-        return p.distance(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
-    }
-    let den = 1.0 / (va + vb + vc);
-    p.distance(a + ab * (vb * den) + ac * (vc * den))
-}
-
 /// Points of `m`: its vertices and the centroid and edge midpoints of every face.
 fn points(m: &TriMesh) -> Vec<DVec3> {
     let mut out: Vec<DVec3> = m.positions.iter().map(|p| p.as_dvec3()).collect();
@@ -129,7 +96,7 @@ fn one_sided(from: &TriMesh, to: &TriMesh) -> f64 {
         .into_iter()
         .map(|p| {
             tris.iter()
-                .map(|&[a, b, c]| point_triangle(p, a, b, c))
+                .map(|&[a, b, c]| mesh::geometry::closest_point_triangle(p, a, b, c).distance(p))
                 .fold(f64::INFINITY, f64::min)
         })
         .fold(0.0, f64::max)

@@ -167,14 +167,20 @@ fn uv_at_closest(mesh: &TriMesh, a: &Attributes, p: Vec3) -> Vec<Vec2> {
         .collect()
 }
 
-#[test]
-fn spot_keeps_its_texture_coordinates_where_they_were() {
-    let Some(dir) = mesh::fixtures::shared_meshes_dir("spot.obj") else {
-        return;
-    };
+/// The shared spot.obj with its texture coordinates, cleaned (`None` without the shared meshes).
+fn prepared_spot() -> Option<(TriMesh, Attributes)> {
+    let dir = mesh::fixtures::shared_meshes_dir("spot.obj")?;
     let loaded = mesh::io::load(&dir.join("spot.obj")).unwrap();
     let (mesh, attributes, _) =
         mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
+    Some((mesh, attributes))
+}
+
+#[test]
+fn spot_keeps_its_texture_coordinates_where_they_were() {
+    let Some((mesh, attributes)) = prepared_spot() else {
+        return;
+    };
     let params = QemParams::with_target(Target::Ratio(0.25));
     let (out, kept, _) = simplify_with_attributes(&mesh, &attributes, &params).unwrap();
     kept.validate(&out).unwrap();
@@ -233,12 +239,9 @@ fn uv_flipped(mesh: &TriMesh, a: &Attributes, out: &TriMesh, kept: &Attributes) 
 
 #[test]
 fn spot_folds_no_more_texture_than_meshoptimizer() {
-    let Some(dir) = mesh::fixtures::shared_meshes_dir("spot.obj") else {
+    let Some((mesh, attributes)) = prepared_spot() else {
         return;
     };
-    let loaded = mesh::io::load(&dir.join("spot.obj")).unwrap();
-    let (mesh, attributes, _) =
-        mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
     // meshoptimizer's simplifyWithAttributes flips 3, 2 and 6 triangles here
     // (docs/results/attributes_vs_meshopt.py); before the untangling step ours flipped 2, 7, 9,
     // now 1, 1, 0 (the one at 10 %: a thin triangle none of whose corners can unfold it alone).

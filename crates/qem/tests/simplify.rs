@@ -154,6 +154,11 @@ fn boundary_constraint_keeps_the_open_border_in_place() {
     assert!(dk < 0.004 * m.bbox_diagonal(), "border moved by {dk}");
 }
 
+/// `got` is within `tolerance` of `want` (`what` names the count in the message).
+fn assert_near(what: &str, got: usize, want: usize, tolerance: usize) {
+    assert!(got.abs_diff(want) <= tolerance, "{what} {got} vs {want}");
+}
+
 #[test]
 fn exact_targets_are_hit_down_to_one_percent() {
     let Some((_, m)) = load("rocker-arm.obj") else {
@@ -164,25 +169,13 @@ fn exact_targets_are_hit_down_to_one_percent() {
         let faces = (f as f64 * ratio).round() as usize;
         let (out, report) = simplify(&m, &params(Target::Faces(faces))).unwrap();
         assert!(report.target_reached);
-        assert!(
-            out.face_count().abs_diff(faces) <= 2,
-            "faces {} vs {faces}",
-            out.face_count()
-        );
+        assert_near("faces", out.face_count(), faces, 2);
         let (out, _) = simplify(&m, &params(Target::Ratio(ratio))).unwrap();
-        assert!(
-            out.face_count().abs_diff(faces) <= 2,
-            "ratio: faces {} vs {faces}",
-            out.face_count()
-        );
+        assert_near("ratio: faces", out.face_count(), faces, 2);
         let verts = (v as f64 * ratio).round() as usize;
         let (out, report) = simplify(&m, &params(Target::Vertices(verts))).unwrap();
         assert!(report.target_reached);
-        assert!(
-            out.vertex_count().abs_diff(verts) <= 1,
-            "verts {} vs {verts}",
-            out.vertex_count()
-        );
+        assert_near("verts", out.vertex_count(), verts, 1);
         assert_valid(&out);
     }
 }

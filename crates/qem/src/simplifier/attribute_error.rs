@@ -61,7 +61,7 @@ impl AttributeError {
         vertex: [u32; 3],
         side: [u8; 3],
     ) {
-        let Some((area, t1, t2)) = super::wedges::gradient_basis(pos) else {
+        let Some((area, t1, t2)) = super::triangle::gradient_basis(pos) else {
             return;
         };
         let c = self.channels;

@@ -21,7 +21,10 @@
 //! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
 //!
 //! This module holds the entry points and the checks of the parameters; passes 2–6 are in
-//! [`passes`].
+//! [`passes`]. The modules import downwards only: at the bottom the shared pieces ([`triangle`],
+//! [`vertex`], [`resources`], [`view`], [`seams`], [`candidates`]); above them the attribute
+//! term and values ([`attribute_error`], [`wedges`]), then [`prepare`], [`setup`] and the
+//! [`engine`]; on top the drivers ([`passes`], [`partition`], [`attributes`]).
 
 mod attribute_error;
 mod attributes;
@@ -29,10 +32,13 @@ mod candidates;
 mod engine;
 mod partition;
 mod passes;
-mod prefetch;
 mod prepare;
+mod resources;
 mod seams;
 mod setup;
+mod triangle;
+mod vertex;
+mod view;
 mod wedges;
 
 use crate::{QemError, QemParams, QemReport, StopReason, Target};
@@ -40,37 +46,12 @@ use mesh::TriMesh;
 use passes::simplify_prepared;
 use std::time::Instant;
 
-/// Work lists shorter than this are processed on the calling thread only.
-const PARALLEL_MIN: usize = 32_768;
-/// Items per parallel task.
-const PARALLEL_CHUNK: usize = 8_192;
-
 /// [`QemError::Cancelled`] when the run's [`QemParams::cancel`] flag is set.
 fn check_cancel(params: &QemParams) -> Result<(), QemError> {
     match &params.cancel {
         Some(c) if c.is_cancelled() => Err(QemError::Cancelled),
         _ => Ok(()),
     }
-}
-
-thread_local! {
-    /// Set while this thread simplifies one part of a partitioned run: the parts already occupy
-    /// the pool, and nested splitting would only add memory (per-chunk buffers, more arenas).
-    static SEQUENTIAL: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-/// Whether `len` work items (at least `min`) are worth splitting over the rayon pool; with one
-/// thread (`RAYON_NUM_THREADS=1`) everything runs on the calling thread.
-fn parallel(len: usize, min: usize) -> bool {
-    len >= min && rayon::current_num_threads() > 1 && !SEQUENTIAL.with(|s| s.get())
-}
-
-/// Run `f` with [`parallel`] off on this thread.
-fn sequential<R>(f: impl FnOnce() -> R) -> R {
-    let before = SEQUENTIAL.with(|s| s.replace(true));
-    let out = f();
-    SEQUENTIAL.with(|s| s.set(before));
-    out
 }
 
 /// Run the whole simplification.

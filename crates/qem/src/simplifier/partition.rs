@@ -9,9 +9,10 @@
 //! with more threads it depends on the number of parts (`threads`, at most [`MAX_PARTS`]). What
 //! it costs in Hausdorff distance is measured in docs/notes/qem.md.
 
+use super::Run;
 use super::passes::simplify_prepared;
 use super::prepare::{self, Prepared};
-use super::{Run, sequential};
+use super::resources::{release_freed_memory, sequential};
 use crate::{QemError, QemParams, Target};
 use glam::DVec3;
 use mesh::TriMesh;
@@ -200,20 +201,6 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Result<
     }
     last.passes += results.iter().map(|(r, _)| r.passes).max().unwrap_or(0);
     Ok(last)
-}
-
-/// Hand the heap memory freed so far (the whole mesh's preparation, ~64 B a face) back to the
-/// system. glibc keeps freed memory for reuse by the arena that freed it, but the parts run on
-/// pool threads with arenas of their own, so without this the process holds both: on igea-1m at
-/// 10 % on two threads the peak RSS was 280 MiB with it kept and 216 MiB with it released
-/// (one thread: 200). Elsewhere a no-op. Also called by the passes when the candidate list gives
-/// back its emptied capacity (`Schedule::next_list`).
-pub(super) fn release_freed_memory() {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: `malloc_trim` only returns free pages to the system; no live allocation is touched.
-    unsafe {
-        libc::malloc_trim(0);
-    }
 }
 
 /// Cut the vertex range `0..n` into `plan.parts` equal blocks; a face belongs to the block of its

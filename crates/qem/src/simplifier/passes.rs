@@ -6,9 +6,10 @@
 
 use super::candidates::{Cand, GENERATIONS, is_live, key_cost, merge_live, sort_key};
 use super::engine::Engine;
-use super::prefetch::{self, prefetch_ptr};
+use super::engine::prefetch::{self, prefetch_ptr};
+use super::resources::release_freed_memory;
 use super::seams::Seams;
-use super::{Run, attribute_error, attributes, check_cancel, partition, prepare, setup, wedges};
+use super::{Run, attribute_error, check_cancel, prepare, setup, wedges};
 use crate::radix::{sort_by_u32_key, sort_by_u32_key_in_parts};
 use crate::{QemError, QemParams, StopReason, Target, pairs};
 use mesh::TriMesh;
@@ -95,7 +96,7 @@ pub(super) fn simplify_prepared_with<T>(
         setup::vertex_setup(&pos, &faces, &refs, &face_start, params, locked, seams);
     if let Some(run) = &attribute_run {
         let edges = &run.edges;
-        attributes::seam_planes(&mut vx, &pos, &faces, &refs, &face_start, edges, params);
+        setup::seam_planes(&mut vx, &pos, &faces, &refs, &face_start, edges, params);
     }
     let area = params
         .max_relative_error
@@ -506,7 +507,7 @@ impl Schedule {
                 .released
                 .saturating_add(spare * std::mem::size_of::<Cand>());
             if self.released >= TRIM_MIN_BYTES {
-                partition::release_freed_memory();
+                release_freed_memory();
                 self.released = 0;
             }
         }

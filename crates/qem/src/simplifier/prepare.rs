@@ -3,7 +3,7 @@
 //! by their smallest new index and build the vertex → face lists. Inputs are often in scan order;
 //! after this, neighbouring vertices and faces sit close in memory for every later pass.
 
-use super::engine::DEAD;
+use super::triangle::DEAD;
 use crate::QemError;
 use crate::radix::sort_by_u32_key;
 use glam::{DVec3, Vec3};

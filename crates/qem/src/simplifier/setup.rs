@@ -3,9 +3,9 @@
 //! independent task (parallel for large meshes; the result does not depend on the thread count).
 
 use super::candidates::Cand;
-use super::engine::Vertex;
+use super::resources::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use super::seams::Seams;
-use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
+use super::vertex::Vertex;
 use crate::{QemParams, Quadric};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -229,6 +229,41 @@ impl<'a> Planes<'a> {
             return plane(f);
         }
         self.ring[f & (w - 1)]
+    }
+}
+
+/// Seam constraint planes: for each seam edge `[u, v]` (prepared numbering), the plane through
+/// the edge perpendicular to its two faces' mean normal, weighted by
+/// `params.seam_weight × |edge|²` (as a boundary edge's by `boundary_weight`), added to both
+/// ends' quadrics.
+pub(super) fn seam_planes(
+    vx: &mut [Vertex],
+    pos: &[DVec3],
+    faces: &[[u32; 3]],
+    refs: &[u32],
+    face_start: &[u32],
+    edges: &[[u32; 2]],
+    params: &QemParams,
+) {
+    for &[u, v] in edges {
+        let (u, v) = (u as usize, v as usize);
+        let end = face_start.get(u + 1).map_or(refs.len(), |&e| e as usize);
+        let mut normal = DVec3::ZERO;
+        for &f in &refs[face_start[u] as usize..end] {
+            let t = faces[f as usize];
+            if t.contains(&(v as u32)) {
+                let [p0, p1, p2] = t.map(|w| pos[w as usize]);
+                normal += (p1 - p0).cross(p2 - p0).normalize_or_zero();
+            }
+        }
+        let edge = pos[v] - pos[u];
+        let m = edge.cross(normal).normalize_or_zero();
+        if m != DVec3::ZERO {
+            let w = params.seam_weight * edge.length_squared();
+            let q = Quadric::from_plane(m, -m.dot(pos[u]), w);
+            vx[u].q += q;
+            vx[v].q += q;
+        }
     }
 }
 

@@ -29,8 +29,9 @@ mod untangle;
 pub(super) use output::output;
 pub(super) use sides::{fan_sides, mark_side1};
 
-use super::attributes::View;
 use super::seams::Seams;
+use super::triangle::gradient_basis;
+use super::view::View;
 use glam::DVec3;
 use mesh::attributes::Attributes;
 
@@ -272,9 +273,9 @@ impl WedgeValues {
     pub(super) fn prefetch(&self, v: usize) {
         let lines = |start: *const u8, bytes: usize| {
             for offset in (0..bytes).step_by(64) {
-                super::prefetch::prefetch_ptr(start.wrapping_add(offset));
+                super::engine::prefetch::prefetch_ptr(start.wrapping_add(offset));
             }
-            super::prefetch::prefetch_ptr(start.wrapping_add(bytes - 1));
+            super::engine::prefetch::prefetch_ptr(start.wrapping_add(bytes - 1));
         };
         let (s, len) = (self.input.layout.stride, self.input.layout.fit_len());
         if (v + 1) * s <= self.lerp.len() {
@@ -373,31 +374,5 @@ fn rows_mut<T>(rows: &mut [T], to: usize, from: usize, width: usize) -> (&mut [T
     } else {
         let (low, high) = rows.split_at_mut(to * width);
         (&mut high[..width], &low[from * width..(from + 1) * width])
-    }
-}
-
-/// For a triangle at `pos`, its area and the two vectors `t1`, `t2` in its plane such that the
-/// linear function with values `s0`, `s1`, `s2` at its corners has the gradient
-/// `(s1 − s0) t1 + (s2 − s0) t2` (`g·e1 = s1 − s0`, `g·e2 = s2 − s0`, `g` in the plane);
-/// `None` for a degenerate triangle. The one gradient of the attribute error's sums and of the
-/// carried values' fit.
-pub(super) fn gradient_basis(pos: [DVec3; 3]) -> Option<(f64, DVec3, DVec3)> {
-    let (e1, e2) = (pos[1] - pos[0], pos[2] - pos[0]);
-    let n = e1.cross(e2);
-    let n2 = n.length_squared();
-    // With g in the plane: g = ((s1 − s0) (e2 × n) + (s2 − s0) (n × e1)) / |n|².
-    (n2 > 0.0 && n2.is_finite()).then(|| (0.5 * n2.sqrt(), e2.cross(n) / n2, n.cross(e1) / n2))
-}
-
-/// Where `p` projects onto the segment `pa`–`pb`, as a parameter in [0, 1] (½ for a point
-/// segment): the interpolation parameter of a contraction.
-#[inline]
-pub(super) fn segment_parameter(pa: DVec3, pb: DVec3, p: DVec3) -> f32 {
-    let d = pb - pa;
-    let len2 = d.length_squared();
-    if len2 > 0.0 {
-        ((p - pa).dot(d) / len2).clamp(0.0, 1.0) as f32
-    } else {
-        0.5
     }
 }

@@ -4,8 +4,9 @@
 
 use super::sides::mark_side1;
 use super::untangle::{untangle_uv, uv_area};
-use crate::simplifier::engine::{DEAD, Engine};
+use crate::simplifier::engine::Engine;
 use crate::simplifier::prepare::Frame;
+use crate::simplifier::triangle::DEAD;
 use glam::{Vec2, Vec3, Vec4};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;

@@ -2,7 +2,7 @@
 //! that does not cross the seam ([`fan_sides`]), and the corners on side 1 ([`mark_side1`]),
 //! the one rule of the input's corners and the output's.
 
-use crate::simplifier::engine::corner_after;
+use crate::simplifier::triangle::corner_after;
 
 /// The sides of the faces `fan` around seam vertex `v` with seam neighbours `n0`, `n1`
 /// (`faces(f)` gives face `f`'s corners): `reached[i]` is true for side 0, the faces reached from

@@ -8,51 +8,16 @@
 //! and the values, which travel with the contractions ([`wedges`]).
 
 use super::attribute_error::AttributeError;
-use super::engine::Vertex;
 use super::passes::AttributeRun;
 use super::seams::Seams;
+use super::view::View;
 use super::wedges::{self, InputValues, WedgeValues};
 use super::{Run, prepare};
-use crate::{QemError, QemParams, QemReport, Quadric};
+use crate::{QemError, QemParams, QemReport};
 use glam::DVec3;
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
 use std::time::Instant;
-
-/// Seam constraint planes: for each seam edge `[u, v]` (prepared numbering), the plane through
-/// the edge perpendicular to its two faces' mean normal, weighted by
-/// `params.seam_weight × |edge|²` (as a boundary edge's by `boundary_weight`), added to both
-/// ends' quadrics.
-pub(super) fn seam_planes(
-    vx: &mut [Vertex],
-    pos: &[DVec3],
-    faces: &[[u32; 3]],
-    refs: &[u32],
-    face_start: &[u32],
-    edges: &[[u32; 2]],
-    params: &QemParams,
-) {
-    for &[u, v] in edges {
-        let (u, v) = (u as usize, v as usize);
-        let end = face_start.get(u + 1).map_or(refs.len(), |&e| e as usize);
-        let mut normal = DVec3::ZERO;
-        for &f in &refs[face_start[u] as usize..end] {
-            let t = faces[f as usize];
-            if t.contains(&(v as u32)) {
-                let [p0, p1, p2] = t.map(|w| pos[w as usize]);
-                normal += (p1 - p0).cross(p2 - p0).normalize_or_zero();
-            }
-        }
-        let edge = pos[v] - pos[u];
-        let m = edge.cross(normal).normalize_or_zero();
-        if m != DVec3::ZERO {
-            let w = params.seam_weight * edge.length_squared();
-            let q = Quadric::from_plane(m, -m.dot(pos[u]), w);
-            vx[u].q += q;
-            vx[v].q += q;
-        }
-    }
-}
 
 /// The whole run with attributes.
 pub(crate) fn run(
@@ -140,40 +105,6 @@ pub(crate) fn run(
     let report = super::report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;
     Ok((mesh, out, report))
-}
-
-/// The prepared mesh of an attribute run as its attribute steps read it: faces (prepared
-/// numbering), vertex → face lists, and each face's input face for its wedges (same corner
-/// order).
-pub(super) struct View<'a> {
-    pub(super) faces: &'a [[u32; 3]],
-    refs: &'a [u32],
-    face_start: &'a [u32],
-    pub(super) origin: &'a [u32],
-    /// Each prepared face's input wedges, gathered once in prepared order for the steps that
-    /// read them face by face (the seam search: 1.07 → 0.95 ms on the fandisk atlas); the
-    /// carried values keep them as the engine faces' wedges ([`WedgeValues::new`]).
-    pub(super) corners: Vec<[u32; 3]>,
-    pub(super) attributes: &'a Attributes,
-}
-
-impl View<'_> {
-    /// The faces around prepared vertex `v`.
-    fn fan(&self, v: usize) -> &[u32] {
-        &self.refs[self.face_start[v] as usize..self.face_start[v + 1] as usize]
-    }
-
-    /// The input wedge of corner `k` of prepared face `f`.
-    #[inline]
-    pub(super) fn wedge(&self, f: usize, k: usize) -> u32 {
-        self.corners[f][k]
-    }
-
-    /// The material of prepared face `f`.
-    fn material(&self, f: u32) -> Option<u32> {
-        let m = self.attributes.face_material.as_ref()?;
-        Some(m[self.origin[f as usize] as usize])
-    }
 }
 
 /// The seams of a prepared mesh ([`find_seams`]).

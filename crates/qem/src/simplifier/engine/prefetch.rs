@@ -4,26 +4,27 @@
 //! vertex a few steps ahead; the distances were tuned on igea and armadillo (docs/notes/qem.md,
 //! round 3: the staged pipeline took the pass walk from 145 to ~56 ms on igea 10 %).
 
-use super::engine::Engine;
+use super::Engine;
+use crate::simplifier::triangle::corner_after;
 
 /// How many list entries ahead the pass loop prefetches the ends' contraction generations
 /// (`Engine::contracted`).
-pub(super) const CONTRACTED: usize = 32;
+pub(in crate::simplifier) const CONTRACTED: usize = 32;
 /// How many live candidates (or survivors, in the pair generation) ahead the vertex records of
 /// the endpoints are prefetched.
-pub(super) const RECORDS: usize = 16;
+pub(in crate::simplifier) const RECORDS: usize = 16;
 /// How many live candidates (survivors) ahead the face lists are prefetched.
-pub(super) const LISTS: usize = 8;
+pub(in crate::simplifier) const LISTS: usize = 8;
 /// How many live candidates (survivors) ahead the faces are prefetched.
-pub(super) const FACES: usize = 4;
+pub(in crate::simplifier) const FACES: usize = 4;
 /// How many live candidates (survivors) ahead the records around the endpoints are prefetched.
-pub(super) const RING: usize = 2;
+pub(in crate::simplifier) const RING: usize = 2;
 /// The walks over a face list (`prefetch_faces_of`, `prefetch_ring_of`) stop after this many
 /// entries. Ordinary lists are far shorter (valence 6, a few more entries for dead faces not yet
 /// compacted); a hub's list is as long as its fan (issue 33: a flat fan of 110,000 triangles
 /// took 23 s at 10 %, 84 % of it in these walks, repeated for every queued candidate on the hub,
 /// i.e. quadratic), and the lines of a list that long would not stay in cache until its turn.
-pub(super) const LIST_WALK: usize = 32;
+pub(in crate::simplifier) const LIST_WALK: usize = 32;
 
 /// Meshes with fewer vertices than this are walked without the prefetch stages: their vertex
 /// records (128 B each: 1 MiB at this count, this VM's L2), faces and face lists stay in cache,
@@ -33,10 +34,10 @@ pub(super) const LIST_WALK: usize = 32;
 /// at 10 % and 1 % took 5-11 % less time (ratio to meshoptimizer 1.47 → 1.34, 1.67 → 1.51, 1.48
 /// → 1.35 at 10 %); at 10,000 vertices (gargoyle-10k, rocker-arm) the stages already pay (ratio
 /// 1.20 with them, 1.30 without) and at 36k (stanford-bunny) they halve the time.
-pub(super) const MIN_VERTICES: usize = 8_192;
+pub(in crate::simplifier) const MIN_VERTICES: usize = 8_192;
 
 /// Whether a mesh of `vertices` vertices is walked with the prefetch stages ([`MIN_VERTICES`]).
-pub(super) fn worth_it(vertices: usize) -> bool {
+pub(in crate::simplifier) fn worth_it(vertices: usize) -> bool {
     #[cfg(test)]
     if let Some(forced) = tests::FORCE.with(std::cell::Cell::get) {
         return forced;
@@ -46,7 +47,7 @@ pub(super) fn worth_it(vertices: usize) -> bool {
 
 /// Hint the CPU to load the cache line at `p` (a hint only: any address is fine).
 #[inline(always)]
-pub(super) fn prefetch_ptr<T>(p: *const T) {
+pub(in crate::simplifier) fn prefetch_ptr<T>(p: *const T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: prefetching is only a hint; it never faults, whatever the address.
     unsafe {
@@ -60,7 +61,7 @@ pub(super) fn prefetch_ptr<T>(p: *const T) {
 impl Engine {
     /// Hint the CPU to load both cache lines of vertex record `i` (a no-op out of range).
     #[inline]
-    pub(super) fn prefetch_record(&self, i: usize) {
+    pub(in crate::simplifier) fn prefetch_record(&self, i: usize) {
         if i < self.vx.len() {
             let d = self.vx.as_ptr().wrapping_add(i).cast::<u8>();
             prefetch_ptr(d);
@@ -70,7 +71,7 @@ impl Engine {
 
     /// Hint the CPU to load the face list of `i` (its record should be cached).
     #[inline]
-    pub(super) fn prefetch_list(&self, i: usize) {
+    pub(in crate::simplifier) fn prefetch_list(&self, i: usize) {
         if let Some(info) = self.vx.get(i) {
             let s = info.start as usize;
             prefetch_ptr(self.refs.as_ptr().wrapping_add(s));
@@ -80,7 +81,7 @@ impl Engine {
 
     /// Hint the CPU to load the faces of `i` (its list should be cached; the first [`LIST_WALK`]).
     #[inline]
-    pub(super) fn prefetch_faces_of(&self, i: usize) {
+    pub(in crate::simplifier) fn prefetch_faces_of(&self, i: usize) {
         if i < self.vx.len() {
             for &f in self.refs[self.list(i)].iter().take(LIST_WALK) {
                 prefetch_ptr(self.faces.as_ptr().wrapping_add(f as usize));
@@ -93,10 +94,10 @@ impl Engine {
     /// the first line only (position, mark and valence: what the topology and flip checks read),
     /// or the whole record when `whole` (the pair generation also reads the quadric).
     #[inline]
-    pub(super) fn prefetch_ring_of(&self, i: usize, whole: bool) {
+    pub(in crate::simplifier) fn prefetch_ring_of(&self, i: usize, whole: bool) {
         if i < self.vx.len() {
             for &f in self.refs[self.list(i)].iter().take(LIST_WALK) {
-                let w = super::engine::corner_after(&self.faces[f as usize], i as u32) as usize;
+                let w = corner_after(&self.faces[f as usize], i as u32) as usize;
                 if whole {
                     self.prefetch_record(w);
                 } else {
@@ -109,7 +110,7 @@ impl Engine {
     /// First prefetch stage of a candidate walk (cost order, i.e. at random): the records of
     /// `a` and `b`.
     #[inline]
-    pub(super) fn prefetch(&self, a: usize, b: usize) {
+    pub(in crate::simplifier) fn prefetch(&self, a: usize, b: usize) {
         self.prefetch_record(a);
         self.prefetch_record(b);
     }
@@ -117,7 +118,7 @@ impl Engine {
     /// Second prefetch stage: the face lists of `a` and `b`, and their carried values in an
     /// attribute run.
     #[inline]
-    pub(super) fn prefetch_lists(&self, a: usize, b: usize) {
+    pub(in crate::simplifier) fn prefetch_lists(&self, a: usize, b: usize) {
         self.prefetch_list(a);
         self.prefetch_list(b);
         if let Some(values) = &self.values {
@@ -128,14 +129,14 @@ impl Engine {
 
     /// Third prefetch stage: the faces of `a` and `b`.
     #[inline]
-    pub(super) fn prefetch_faces(&self, a: usize, b: usize) {
+    pub(in crate::simplifier) fn prefetch_faces(&self, a: usize, b: usize) {
         self.prefetch_faces_of(a);
         self.prefetch_faces_of(b);
     }
 
     /// Fourth prefetch stage: the positions of the vertices around `a` and `b`.
     #[inline]
-    pub(super) fn prefetch_ring(&self, a: usize, b: usize) {
+    pub(in crate::simplifier) fn prefetch_ring(&self, a: usize, b: usize) {
         self.prefetch_ring_of(a, false);
         self.prefetch_ring_of(b, false);
     }
@@ -143,7 +144,7 @@ impl Engine {
     /// Prefetch, in stages, the records, face lists, faces and neighbour records for the pair
     /// generation of the survivors a few places after `i`.
     #[inline]
-    pub(super) fn prefetch_survivors(&self, survivors: &[u32], i: usize) {
+    pub(in crate::simplifier) fn prefetch_survivors(&self, survivors: &[u32], i: usize) {
         if let Some(&ahead) = survivors.get(i + RECORDS) {
             self.prefetch_record(ahead as usize);
         }
@@ -160,7 +161,7 @@ impl Engine {
 }
 
 #[cfg(test)]
-pub(super) mod tests {
+pub(in crate::simplifier) mod tests {
     thread_local! {
         /// Overrides [`super::worth_it`] on this thread (tests only).
         pub(in super::super) static FORCE: std::cell::Cell<Option<bool>> =

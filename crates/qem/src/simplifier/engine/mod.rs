@@ -3,53 +3,21 @@
 //! pair costing and placement, the topology / normal checks and the collapse itself. What to
 //! contract, and when, is decided by the pass loop ([`super::passes`]).
 
+pub(super) mod prefetch;
+
 use super::attribute_error::AttributeError;
 use super::candidates::{Cand, key_of};
-use super::prefetch;
 use super::prepare::Frame;
+use super::resources::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use super::seams::Seams;
-use super::wedges::{WedgeValues, segment_parameter};
-use super::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
+use super::triangle::{DEAD, contains, segment_parameter};
+use super::vertex::Vertex;
+use super::wedges::WedgeValues;
 use crate::pairs::VirtualPairs;
 use crate::{QemParams, Quadric};
 use glam::DVec3;
 use mesh::TriMesh;
 use rayon::prelude::*;
-
-/// Marks a dead face (in its first slot).
-pub(super) const DEAD: u32 = u32::MAX;
-
-/// Everything per vertex, in two cache lines: the first holds what the checks read for the
-/// neighbours of a pair (position, scratch mark, valence), the second the rest of the quadric and
-/// the face-list bookkeeping; a record never straddles more lines than it needs (one record
-/// instead of three arrays: pass walk 70 → 58 ms on igea 10 %, docs/notes/qem.md round 3).
-#[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(64))]
-pub(super) struct Vertex {
-    /// Position in the normalised frame.
-    pub(super) p: DVec3,
-    /// Scratch mark (compared with `Engine::tick`).
-    pub(super) mark: u32,
-    /// Live faces around the vertex.
-    pub(super) valence: u32,
-    /// Quadric (face planes plus boundary planes) in the normalised frame.
-    pub(super) q: Quadric,
-    /// Start of the face list in `refs`.
-    pub(super) start: u32,
-    /// Length of the face list (may include dead faces).
-    pub(super) len: u32,
-    /// Pass in which the vertex was last touched by a contraction.
-    pub(super) touched: u32,
-    /// Not merged into another vertex.
-    pub(super) alive: bool,
-    /// On a boundary edge (or a non-manifold edge).
-    pub(super) boundary: bool,
-    /// Never contracted (shared with another part of a partitioned run).
-    pub(super) locked: bool,
-}
-
-// Two whole cache lines per vertex.
-const _: () = assert!(std::mem::size_of::<Vertex>() == 128);
 
 /// Mutable simplification state.
 pub(super) struct Engine {
@@ -102,25 +70,6 @@ pub(super) struct Engine {
     /// Summed face area of each vertex's quadric (normalised frame), with
     /// `QemParams::max_relative_error` only.
     pub(super) area: Option<Vec<f64>>,
-}
-
-/// Whether face `t` has corner `v`. Non-short-circuit: which corner matches is data, and as a
-/// chain of branches it mispredicted 0.7 M times in 20 runs of fandisk at 10 % (cachegrind).
-#[inline]
-fn contains(t: &[u32; 3], v: u32) -> bool {
-    (t[0] == v) | (t[1] == v) | (t[2] == v)
-}
-
-/// The corner that follows `u` in face `t` (around a closed fan of `u`, every neighbour once;
-/// `t[0]` when `u` is not a corner). Without branches: as an `if` chain it was the simplifier's
-/// most mispredicted line (2.2 M of 12.4 M mispredictions in 20 runs of fandisk at 10 %,
-/// cachegrind). With `contains` above: 12.4 → 10.6 M mispredictions for 4 % more instructions,
-/// 4-12 % less time on the small meshes (fandisk, spot, gargoyle-10k at 10 %).
-#[inline]
-pub(super) fn corner_after(t: &[u32; 3], u: u32) -> u32 {
-    let not0 = t[0] != u;
-    let k = usize::from(not0) + usize::from(not0 & (t[1] != u));
-    t[[1, 2, 0][k]]
 }
 
 /// The length `refs` may grow to from `len` before it is compacted verbatim: the room for the
