@@ -12,7 +12,7 @@ use std::time::Duration;
 /// survey-style harness gives 1.83 / 1.82 / 1.81× QEM's mean distance at 150 / 250 / 400.
 /// Not capped at the paper's 30 epochs: at 50 % of the vertices that cap left 60 signals per
 /// node, and 150 instead took GNG3D-Q on four meshes from 2.92× to 2.53× QEM's mean distance
-/// and from 35.0° to 37.5° median smallest angle (docs/notes/gng.md, 2026-12-02).
+/// and from 35.0° to 37.5° median smallest angle (docs/notes/gng.md, "Uncapped budget, shape flips").
 ///
 /// Per *output* vertex: an oversampled run ([`GngParams::network_vertices`]) spreads the same budget
 /// over its larger network (100 per node at the default 1.5×). Against 150 per network node,

@@ -18,7 +18,7 @@ pub fn sort_by_u32_key<T: Copy, F: Fn(&T) -> u32>(items: &mut Vec<T>, tmp: &mut 
 /// length): each part is sorted on its own and merged from the back into the sorted parts before
 /// it, so the result is the same stable order. Costs about `(parts + 1) / 2` more moves of the
 /// whole list than one sort; saves `(parts - 1) / parts` of its scratch (the candidate list's
-/// whole-list sorts: docs/notes/qem.md, 2026-12-05).
+/// whole-list sorts: docs/notes/qem.md, "Memory, traced over the passes").
 pub fn sort_by_u32_key_in_parts<T: Copy, F: Fn(&T) -> u32>(items: &mut [T], parts: usize, key: F) {
     let n = items.len();
     let part = n.div_ceil(parts.max(1));

@@ -92,7 +92,7 @@ pub(super) fn is_live(c: &Cand, contracted: &[u16]) -> bool {
 /// Two sequential steps in one buffer: the live rest moves to the front, then the two sorted runs
 /// merge from the back (the write position never overtakes the carried entry it reads). Until
 /// 2026-12-03 the merge wrote into a second buffer the size of the list, kept for the whole run:
-/// 12 bytes per candidate, ~19 MB of the peak on igea-1m (docs/notes/qem.md, round 7).
+/// 12 bytes per candidate, ~19 MB of the peak on igea-1m (docs/notes/qem.md, "Engine design").
 pub(super) fn merge_live(
     list: &mut Vec<Cand>,
     consumed: usize,

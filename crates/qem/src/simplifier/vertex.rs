@@ -6,7 +6,7 @@ use glam::DVec3;
 /// Everything per vertex, in two cache lines: the first holds what the checks read for the
 /// neighbours of a pair (position, scratch mark, valence), the second the rest of the quadric and
 /// the face-list bookkeeping; a record never straddles more lines than it needs (one record
-/// instead of three arrays: pass walk 70 → 58 ms on igea 10 %, docs/notes/qem.md round 3).
+/// instead of three arrays: pass walk 70 → 58 ms on igea 10 %, docs/notes/qem.md, "Engine design").
 #[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(64))]
 pub(super) struct Vertex {

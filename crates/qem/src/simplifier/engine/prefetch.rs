@@ -2,7 +2,7 @@
 //! generation between passes): they read vertex records, face lists, faces and neighbour records
 //! at random, a chain of dependent cache misses. Each helper hints one link of that chain for a
 //! vertex a few steps ahead; the distances were tuned on igea and armadillo (docs/notes/qem.md,
-//! round 3: the staged pipeline took the pass walk from 145 to ~56 ms on igea 10 %).
+//! "Prefetch pipeline": the staged pipeline took the pass walk from 145 to ~56 ms on igea 10 %).
 
 use super::Engine;
 use crate::simplifier::triangle::corner_after;
