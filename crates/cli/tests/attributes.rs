@@ -3,12 +3,7 @@
 
 use std::path::Path;
 mod common;
-use common::gng3d;
-
-fn json_of(o: &std::process::Output) -> serde_json::Value {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    serde_json::from_slice(&o.stdout).unwrap()
-}
+use common::{gng3d, json_of};
 
 fn simplify(input: &Path, output: &Path, method: &str, vertices: &str) -> std::process::Output {
     gng3d(&[

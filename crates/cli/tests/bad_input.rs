@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 mod common;
-use common::{gng3d, s, stderr};
+use common::{gng3d, json_of, s, stderr};
 
 /// A failed run: exit code 1 (not a signal), one `error:` line, no panic.
 fn assert_clean_failure(o: &Output, needles: &[&str]) -> String {
@@ -49,11 +49,6 @@ impl Fixture {
     fn coarse(&self) -> PathBuf {
         self.mesh("coarse.obj", &mesh::procedural::icosphere(1))
     }
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    assert!(o.status.success(), "{}", stderr(o));
-    serde_json::from_slice(&o.stdout).unwrap()
 }
 
 #[test]
@@ -227,14 +222,14 @@ fn obj_with_bom_and_non_utf8_comment_load_in_the_cli() {
     let mut bom = b"\xEF\xBB\xBF".to_vec();
     bom.extend_from_slice(text.as_bytes());
     let p = f.bytes("bom.obj", &bom);
-    let v = json(&gng3d(&["info", s(&p), "--json"]));
+    let v = json_of(&gng3d(&["info", s(&p), "--json"]));
     assert_eq!(v["vertices"], 4);
     assert_eq!(v["faces"], 4);
     assert_eq!(v["closed"], true);
     let mut latin1 = b"# r\xE9sum\xE9 \xFF\n".to_vec();
     latin1.extend_from_slice(text.as_bytes());
     let p = f.bytes("latin1.obj", &latin1);
-    let v = json(&gng3d(&["info", s(&p), "--json"]));
+    let v = json_of(&gng3d(&["info", s(&p), "--json"]));
     assert_eq!(v["faces"], 4);
 }
 
@@ -265,7 +260,7 @@ fn ascii_stl(first: &str) -> String {
 fn stl_bare_solid_is_ascii_and_binary_sizes_are_checked() {
     let f = Fixture::new();
     let p = f.bytes("a.stl", ascii_stl("solid").as_bytes());
-    let v = json(&gng3d(&["info", s(&p), "--json"]));
+    let v = json_of(&gng3d(&["info", s(&p), "--json"]));
     assert_eq!(v["faces"], 2);
     // Binary: header says 2, file holds 4 records.
     let quad = mesh::TriMesh::new(
@@ -283,7 +278,7 @@ fn stl_bare_solid_is_ascii_and_binary_sizes_are_checked() {
     bytes[80..84].copy_from_slice(&2u32.to_le_bytes());
     let p = f.bytes("two.stl", &bytes);
     let o = gng3d(&["info", s(&p), "--json"]);
-    let v = json(&o);
+    let v = json_of(&o);
     assert_eq!(v["faces"], 2);
     let warnings = v["warnings"].to_string();
     assert!(warnings.contains("says 2 triangles"), "{warnings}");
@@ -304,7 +299,7 @@ fn coordinates_near_f32_max_give_a_diagonal_and_no_silent_zero_distance() {
         *p *= 3e38;
     }
     let far = f.mesh("far.ply", &m);
-    let v = json(&gng3d(&["info", s(&far), "--json"]));
+    let v = json_of(&gng3d(&["info", s(&far), "--json"]));
     let diag = v["bbox_diagonal"].as_f64().expect("a number, not null");
     assert!(
         (diag - 2.0 * 3e38 * 3f64.sqrt()).abs() < 0.05 * diag,
@@ -402,7 +397,7 @@ fn simplify_never_writes_an_empty_mesh_with_exit_zero() {
             let err = stderr(&o);
             assert!(!err.contains("panicked"), "{input:?} {method}: {err}");
             if o.status.success() {
-                let info = json(&gng3d(&["info", s(&out), "--json"]));
+                let info = json_of(&gng3d(&["info", s(&out), "--json"]));
                 assert!(info["faces"].as_u64().unwrap() > 0, "{input:?} {method}");
                 assert!(
                     info["vertices"].as_u64().unwrap() >= 3,

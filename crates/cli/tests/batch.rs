@@ -1,15 +1,10 @@
 //! `gng3d batch`: the rows, the stats table, resuming, sharding and option errors, on
 //! procedural meshes written to a temporary folder (no shared meshes needed).
 
+mod common;
+use common::gng3d;
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn gng3d(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gng3d"))
-        .args(args)
-        .output()
-        .expect("run gng3d")
-}
 
 fn rows(o: &Output) -> Vec<serde_json::Value> {
     String::from_utf8_lossy(&o.stdout)
@@ -26,16 +21,7 @@ fn row<'a>(rows: &'a [serde_json::Value], name: &str) -> &'a serde_json::Value {
 
 /// A folder with two good meshes and a broken one.
 fn inputs(dir: &Path) {
-    gng3d::mesh::io::save(
-        &gng3d::mesh::procedural::icosphere(3),
-        &dir.join("sphere.ply"),
-    )
-    .unwrap();
-    gng3d::mesh::io::save(
-        &gng3d::mesh::procedural::torus(1.0, 0.3, 24, 12),
-        &dir.join("torus.obj"),
-    )
-    .unwrap();
+    good_inputs(dir);
     std::fs::write(
         dir.join("broken.ply"),
         "ply\nformat ascii 1.0\nelement vertex 3\n",

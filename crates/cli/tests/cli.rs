@@ -1,7 +1,7 @@
 //! End-to-end tests of the `gng3d` binary on real meshes (GNG3D_MESHES).
 
 mod common;
-use common::gng3d;
+use common::{gng3d, json_of};
 
 /// Runs `gng3d simplify INPUT OUTPUT --method gng --vertices N --json` plus `extra`.
 fn simplify_gng(
@@ -23,12 +23,6 @@ fn simplify_gng(
     ];
     a.extend_from_slice(extra);
     gng3d(&a)
-}
-
-/// The JSON a run printed on stdout; fails the test with its stderr if the run failed.
-fn json_of(o: &std::process::Output) -> serde_json::Value {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    serde_json::from_slice(&o.stdout).unwrap()
 }
 
 #[test]

@@ -9,12 +9,7 @@ use mesh::TriMesh;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 mod common;
-use common::{gng3d, s, stderr};
-
-fn json(o: &Output) -> serde_json::Value {
-    assert!(o.status.success(), "{}", stderr(o));
-    serde_json::from_slice(&o.stdout).unwrap()
-}
+use common::{gng3d, json_of, s, stderr};
 
 fn save(dir: &Path, name: &str, m: &TriMesh) -> PathBuf {
     let p = dir.join(name);
@@ -52,7 +47,7 @@ fn metrics_of_a_sphere_against_itself_vanish_at_every_scale() {
     for factor in [1e-25f32, 1e-10, 1.0, 1e10, 1e15] {
         let m = scaled(&unit, factor);
         let p = save(dir.path(), &format!("sphere-{factor:e}.ply"), &m);
-        let v = json(&gng3d(&[
+        let v = json_of(&gng3d(&[
             "metrics",
             s(&p),
             s(&p),
@@ -91,7 +86,7 @@ fn a_known_offset_comes_out_in_the_models_units_at_every_scale() {
         let offset = (0.01 * diag) as f32;
         let a = save(dir.path(), "a.ply", &scaled(&grid(8, 0.0), factor));
         let b = save(dir.path(), "b.ply", &scaled(&grid(8, offset), factor));
-        let v = json(&gng3d(&[
+        let v = json_of(&gng3d(&[
             "metrics",
             s(&a),
             s(&b),
@@ -124,7 +119,7 @@ fn meshes_too_far_apart_are_refused_naming_the_file_and_huge_ones_are_measured()
     let a = save(dir.path(), "unit.ply", &unit);
     // 3e38, near f32::MAX: a pair at that scale is measured (it was refused beyond 1e18)...
     let huge = save(dir.path(), "huge.ply", &scaled(&unit, 3e38));
-    let v = json(&gng3d(&[
+    let v = json_of(&gng3d(&[
         "metrics",
         s(&huge),
         s(&huge),
@@ -161,7 +156,7 @@ fn meshlab_mode_samples_unreferenced_vertices() {
     let run = |extra: &[&str]| {
         let mut args = vec!["metrics", s(&o), s(&t), "--samples", "5000", "--json"];
         args.extend_from_slice(extra);
-        json(&gng3d(&args))
+        json_of(&gng3d(&args))
     };
     let v = run(&["--meshlab"]);
     let forward = &v["hausdorff"]["forward"];

@@ -1,6 +1,7 @@
 //! Vertex count, topology and time of GNG3D on mesh files at given ratios:
 //! `cargo run --release -p gng3d-core --example counts -- RATIOS FILE...` (RATIOS comma
-//! separated, e.g. `0.1,0.25,0.5`). Env: GNG_SPN (signals per node), GNG_EPOCHS, GNG_TIME.
+//! separated, e.g. `0.1,0.25,0.5`). Env: GNG_SPN (signals per node), GNG_EPOCHS, GNG_TIME,
+//! GNG_SEED.
 
 use gng3d_core::{GngOptions, GngTarget, simplify};
 use std::path::Path;
@@ -31,6 +32,9 @@ fn main() {
             }
             params.epochs = env("GNG_EPOCHS");
             params.time_limit_seconds = env("GNG_TIME");
+            if let Some(seed) = env("GNG_SEED") {
+                params.seed = seed as u64;
+            }
             let name = Path::new(file).file_name().unwrap().to_string_lossy();
             match simplify(&m.clone().into(), &params) {
                 Ok(r) => {

@@ -293,20 +293,25 @@ def test_ctrl_c_stops_a_long_trainer_mesh():
     assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
 
 
-def test_ctrl_c_stops_long_metrics():
+@pytest.mark.parametrize(
+    "meshes, call",
+    [
+        # Metro's sampling, 4M samples.
+        ((800, 400, 80, 40), "gng3d.metrics(v0, f0, v1, f1, samples=4_000_000)"),
+        # The image-space error at 2048².
+        (
+            (1200, 600, 60, 30),
+            "gng3d.metrics(v0, f0, v1, f1, samples=1000, image_error=True, image_size=2048)",
+        ),
+    ],
+    ids=["sampling", "image_error"],
+)
+def test_ctrl_c_stops_long_metrics(meshes, call):
+    a, b, c, d = meshes
     waited = interrupts_itself(
-        setup="v0, f0 = torus(800, 400)\nv1, f1 = torus(80, 40)",
+        setup=f"v0, f0 = torus({a}, {b})\nv1, f1 = torus({c}, {d})",
         warm="gng3d.metrics(v0, f0, v1, f1, samples=1000)",
-        call="gng3d.metrics(v0, f0, v1, f1, samples=4_000_000)",
-    )
-    assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
-
-
-def test_ctrl_c_stops_a_long_image_error():
-    waited = interrupts_itself(
-        setup="v0, f0 = torus(1200, 600)\nv1, f1 = torus(60, 30)",
-        warm="gng3d.metrics(v0, f0, v1, f1, samples=1000)",
-        call="gng3d.metrics(v0, f0, v1, f1, samples=1000, image_error=True, image_size=2048)",
+        call=call,
     )
     assert waited < 1.0, f"{waited:.2f} s from SIGINT to KeyboardInterrupt"
 

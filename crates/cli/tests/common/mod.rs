@@ -23,6 +23,12 @@ pub fn succeeded(o: Output) -> Output {
     o
 }
 
+/// The JSON a run printed on stdout; fails the test with its stderr if the run failed.
+pub fn json_of(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", stderr(o));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 /// What the run wrote on stderr.
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
