@@ -83,6 +83,11 @@ pub struct CompareReport {
     pub gng_flips: bool,
     /// Whether GNG3D's surface refit ran (quadric placement with the refit on).
     pub gng_refit: bool,
+    /// What differs from the request: a method that stopped short of the target (QEM's
+    /// shortfall moves GNG3D to QEM's count, so both are measured at the same count), or
+    /// counts that still differ (the verdicts then compare unequal counts).
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 /// `options`' variant in words: "GNG3D (paper: ...)" for node placement without flips,
@@ -228,18 +233,37 @@ pub fn compare_with_attributes(
     let model = super::model(original, attributes);
     on_stage(CompareStage::Qem);
     let t = Instant::now();
-    let (qem_mesh, qem_attributes) = super::run(&model, &super::qem_request(request, n))?;
+    let (qem_mesh, qem_attributes, mut warnings) =
+        super::run(&model, &super::qem_request(request, n))?;
     let qem_seconds = t.elapsed().as_secs_f64();
 
     on_stage(CompareStage::Gng);
     let t = Instant::now();
-    // GNG3D to exactly the count QEM got (a share resolved once).
+    // GNG3D to the count QEM got (a share resolved once): the target, or where QEM stopped
+    // short of it, so that every verdict compares equal counts.
+    let reached = qem_mesh.vertex_count();
+    let gng_vertices = if reached != n && (4..=original.vertex_count()).contains(&reached) {
+        warnings.push(format!(
+            "GNG3D runs to QEM's {reached} vertices (not {n}) so both are compared at the same count"
+        ));
+        reached
+    } else {
+        n
+    };
     let gng_request = Request {
-        target: Target::Vertices(n),
+        target: Target::Vertices(gng_vertices),
         ..request.clone()
     };
-    let (gng_mesh, gng_attributes) = super::run(&model, &gng_request)?;
+    let (gng_mesh, gng_attributes, gng_warnings) = super::run(&model, &gng_request)?;
     let gng_seconds = t.elapsed().as_secs_f64();
+    warnings.extend(gng_warnings);
+    if gng_mesh.vertex_count() != qem_mesh.vertex_count() {
+        warnings.push(format!(
+            "QEM has {} vertices and GNG3D {}: the 'better' column compares unequal counts",
+            qem_mesh.vertex_count(),
+            gng_mesh.vertex_count()
+        ));
+    }
     for (method, mesh) in [("QEM", &qem_mesh), ("GNG3D", &gng_mesh)] {
         if mesh.face_count() == 0 {
             return Err(ExperimentError::EmptyOutput {
@@ -277,6 +301,7 @@ pub fn compare_with_attributes(
             gng_placement: options.reconstruction.placement,
             gng_flips: options.reconstruction.flip_edges,
             gng_refit: options.reconstruction.refits(),
+            warnings,
         },
         qem_mesh,
         gng_mesh,

@@ -146,13 +146,17 @@ pub(crate) fn model(original: &TriMesh, attributes: Option<&Attributes>) -> Mode
 /// QEM keeps the attributes through its contractions (its seams also shape the geometry) and
 /// GNG3D's triangles follow their seams and take the original's values. The one run of
 /// `compare`, `reproduce` and the survey. The output mesh and its attributes (when the model
-/// has some).
+/// has some), and the run's warnings (a target not reached, ...).
 pub(crate) fn run(
     model: &Model,
     request: &Request,
-) -> Result<(TriMesh, Option<Attributes>), ExperimentError> {
+) -> Result<(TriMesh, Option<Attributes>, Vec<String>), ExperimentError> {
     let outcome = job::run(model, request, &mut ())?;
-    Ok((outcome.model.mesh, outcome.model.attributes))
+    Ok((
+        outcome.model.mesh,
+        outcome.model.attributes,
+        outcome.warnings,
+    ))
 }
 
 /// QEM to `vertices` vertices with `request`'s seed, threads and QEM options (its GNG3D

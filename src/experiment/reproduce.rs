@@ -257,7 +257,7 @@ pub fn reproduce_with_attributes(
     type Measured = (PaperRow, Option<AttributeDeviation>);
     let model = super::model(original, attributes);
     let qem_at = |vertices: usize| -> Result<Measured, ExperimentError> {
-        let (mesh, kept) = super::run(&model, &super::qem_request(&request, vertices.max(4)))?;
+        let (mesh, kept, _) = super::run(&model, &super::qem_request(&request, vertices.max(4)))?;
         Ok((evaluator.evaluate(&mesh)?, deviation(&mesh, kept.as_ref())?))
     };
     let evaluations = snapshots.len() as u64;

@@ -151,7 +151,7 @@ pub fn survey_mesh_with_attributes(
     // Wall-clock seconds of the job's run of `request`, with its mesh and attributes.
     let timed = |request: &Request| {
         let t = Instant::now();
-        let (mesh, kept) = super::run(&model, request)?;
+        let (mesh, kept, _) = super::run(&model, request)?;
         Ok::<_, ExperimentError>((mesh, kept, t.elapsed().as_secs_f64()))
     };
     let mut rows = Vec::new();
@@ -183,7 +183,7 @@ pub fn survey_mesh_with_attributes(
             evaluator.evaluate(&qem_mesh)?
         } else {
             let qem = super::qem_request(&gngq, gngq_mesh.vertex_count().max(4));
-            let (mesh, kept) = super::run(&model, &qem)?;
+            let (mesh, kept, _) = super::run(&model, &qem)?;
             qem_at_gngq_attributes = deviation(&mesh, &kept)?;
             evaluator.evaluate(&mesh)?
         };

@@ -126,6 +126,9 @@ pub struct Verdict {
     pub losses: usize,
     /// Runs with equal values.
     pub ties: usize,
+    /// Runs left out because the variant and QEM ended at different vertex counts (a method
+    /// stopped short of its target): no verdict between unequal counts.
+    pub unequal: usize,
     /// Median over the runs of the variant's value divided by QEM's (runs where QEM's is 0 left
     /// out; `None` when none is left).
     pub median_ratio: Option<f64>,
@@ -137,10 +140,16 @@ pub fn verdict(metric: &Metric, variant: Variant, rows: &[SurveyRow]) -> Verdict
         wins: 0,
         losses: 0,
         ties: 0,
+        unequal: 0,
         median_ratio: None,
     };
     let mut ratios = Vec::new();
     for r in rows {
+        let (g, q) = variant.rows(r);
+        if g.vertices != q.vertices {
+            v.unequal += 1;
+            continue;
+        }
         match better(metric, variant, r) {
             "QEM" => v.losses += 1,
             "tie" => v.ties += 1,
@@ -203,7 +212,8 @@ pub fn verdict_table(rows: &[SurveyRow], short: bool) -> Table {
             } else {
                 String::new()
             };
-            row.push(format!("{} of {n}{ties}", v.wins));
+            let equal = n - v.unequal;
+            row.push(format!("{} of {equal}{ties}", v.wins));
             row.push(ratio(v.median_ratio));
         }
         t.push(row);
@@ -336,7 +346,7 @@ pub fn runs_table(rows: &[SurveyRow]) -> Table {
     let mut headers: Vec<String> = [
         "mesh",
         "ratio",
-        "vertices",
+        "vertices GNG3D (paper) / GNG3D-Q / QEM",
         "mean distance GNG3D (paper) / GNG3D-Q / QEM",
         "Hausdorff max GNG3D (paper) / GNG3D-Q / QEM",
         "GNG3D-Q / QEM mean",
@@ -368,7 +378,10 @@ pub fn runs_table(rows: &[SurveyRow]) -> Table {
         let mut row = vec![
             r.mesh.clone(),
             format!("{:.2}", r.ratio),
-            r.gngq.vertices.to_string(),
+            format!(
+                "{} / {} / {}",
+                r.gng.vertices, r.gngq.vertices, r.qem_at_gngq.vertices
+            ),
             three(mean, r),
             three(hausdorff, r),
             over(mean, r),
@@ -407,9 +420,24 @@ fn totals(rows: &[SurveyRow]) -> String {
                 rows.iter().map(|r| r.gngq_seconds).sum::<f64>(),
             ),
         };
+        let unequal = rows
+            .iter()
+            .filter(|r| {
+                let (g, q) = variant.rows(r);
+                g.vertices != q.vertices
+            })
+            .count();
+        let unequal = if unequal > 0 {
+            format!(
+                ", QEM stopped at another vertex count in {unequal} of {n} (left out of the \
+                 verdict)"
+            )
+        } else {
+            String::new()
+        };
         out.push_str(&format!(
             "{}: output closed and manifold in {closed} of {n} runs, vertex count on target in \
-             {exact} of {n}, {seconds:.2} s in all (QEM {qem_seconds:.2} s).\n",
+             {exact} of {n}{unequal}, {seconds:.2} s in all (QEM {qem_seconds:.2} s).\n",
             variant.name()
         ));
     }

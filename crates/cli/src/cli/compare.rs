@@ -152,6 +152,9 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     });
     progress.finish_and_clear();
     let result = result.with_context(|| format!("comparing on {}", args.input.display()))?;
+    for warning in &result.report.warnings {
+        eprintln!("warning: {}: {warning}", args.input.display());
+    }
     if let Some(dir) = &args.out {
         super::save_checked(&result.qem_mesh, &dir.join("qem.obj"), "QEM")?;
         super::save_checked(&result.gng_mesh, &dir.join("gng.obj"), "GNG3D")?;
@@ -164,12 +167,18 @@ pub fn run(args: CompareArgs) -> anyhow::Result<()> {
     if args.json {
         super::print_json(&result.report)
     } else {
+        let report = &result.report;
+        let reached = if report.qem.vertices == report.target_vertices {
+            String::new()
+        } else {
+            format!(" asked, QEM reached {}", report.qem.vertices)
+        };
         outln!(
-            "{}: {} vertices, {} faces -> {} vertices",
+            "{}: {} vertices, {} faces -> {} vertices{reached}",
             args.input.display(),
-            result.report.original_vertices,
-            result.report.original_faces,
-            result.report.target_vertices
+            report.original_vertices,
+            report.original_faces,
+            report.target_vertices
         );
         outln!("GNG3D column: {}", result.report.gng_variant);
         out!("{}", comparison_table(&result.report).to_text());
