@@ -28,28 +28,12 @@ pub const SIGNAL_SOURCES: [(SignalSourceKind, &str); 3] = [
     (SignalSourceKind::Curvature, "curvature-weighted surface"),
 ];
 
-/// Label of a signal source.
-pub fn signal_source_label(source: SignalSourceKind) -> &'static str {
-    SIGNAL_SOURCES
-        .iter()
-        .find(|(s, _)| *s == source)
-        .map_or("?", |(_, l)| l)
-}
-
 /// Every vertex placement of the reconstruction, in menu order, with its label.
 pub const PLACEMENTS: [(gng3d_core::Placement, &str); 3] = [
     (gng3d_core::Placement::Node, "node position (paper)"),
     (gng3d_core::Placement::Project, "projected to surface"),
     (gng3d_core::Placement::Quadric, "quadric (GNG3D-Q)"),
 ];
-
-/// Label of a vertex placement.
-pub fn placement_label(placement: gng3d_core::Placement) -> &'static str {
-    PLACEMENTS
-        .iter()
-        .find(|(p, _)| *p == placement)
-        .map_or("?", |(_, l)| l)
-}
 
 /// Which method a run's parameters train: the paper's GNG3D, GNG3D-Q (the library's default),
 /// or neither (steps switched one by one in the panel).

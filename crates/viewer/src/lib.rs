@@ -14,6 +14,7 @@ pub mod engine;
 pub mod error;
 pub mod io;
 pub mod jobs;
+pub mod layout;
 pub mod panels;
 pub mod plots;
 pub mod render;

@@ -2,9 +2,9 @@
 //! step with the [`Session`] by pointer identity, and the draw lists of
 //! each side (GNG3D on the left, QEM on the right) rendered into their offscreen targets.
 
-use crate::app::Display;
 use crate::camera::OrbitCamera;
 use crate::engine::NetworkSnapshot;
+use crate::layout::Display;
 use crate::render::{CopyMode, DrawItem, GpuMesh, GpuNetwork, SceneRenderer, ViewTarget};
 use crate::session::Session;
 use egui_wgpu::RenderState;
@@ -15,6 +15,25 @@ use std::sync::Arc;
 struct Uploaded {
     source: Arc<TriMesh>,
     mesh: GpuMesh,
+}
+
+/// A lit surface of `color`, with its edges drawn over it in wireframe mode.
+fn surface<'a>(
+    mesh: &'a GpuMesh,
+    color: [f32; 3],
+    display: &Display,
+) -> impl Iterator<Item = DrawItem<'a>> {
+    let shading = display.shading;
+    let wire = display.wireframe.then_some(DrawItem::Wireframe {
+        mesh,
+        color: [0.02, 0.02, 0.03, 0.55],
+    });
+    std::iter::once(DrawItem::Surface {
+        mesh,
+        color,
+        shading,
+    })
+    .chain(wire)
 }
 
 /// Upload `source` into `slot` unless the slot already holds exactly that mesh.
@@ -116,21 +135,12 @@ impl Scene {
         for (target, size) in self.targets.iter_mut().zip(sizes) {
             self.renderer.resize_target(device, target, size);
         }
-        let shading = display.shading;
-        let wire = [0.02, 0.02, 0.03, 0.55];
         let overlay = [0.45, 0.45, 0.50, 0.28];
         let mut left: Vec<DrawItem<'_>> = Vec::new();
         let gng_mesh = self.gng_mesh.as_ref().map(|u| &u.mesh);
         let gng_mesh_shown = display.show_gng_mesh && gng_mesh.is_some();
         if let (true, Some(mesh)) = (display.show_gng_mesh, gng_mesh) {
-            left.push(DrawItem::Surface {
-                mesh,
-                color: [0.85, 0.42, 0.16],
-                shading,
-            });
-            if display.wireframe {
-                left.push(DrawItem::Wireframe { mesh, color: wire });
-            }
+            left.extend(surface(mesh, [0.85, 0.42, 0.16], display));
         }
         if display.show_network && !(gng_mesh_shown && session.live().finished) {
             left.push(DrawItem::Network {
@@ -142,32 +152,23 @@ impl Scene {
         }
         let mut right: Vec<DrawItem<'_>> = Vec::new();
         if let Some(mesh) = self.qem_mesh.as_ref().map(|u| &u.mesh) {
-            right.push(DrawItem::Surface {
-                mesh,
-                color: [0.20, 0.45, 0.85],
-                shading,
-            });
-            if display.wireframe {
-                right.push(DrawItem::Wireframe { mesh, color: wire });
-            }
+            right.extend(surface(mesh, [0.20, 0.45, 0.85], display));
         }
         if let Some(original) = self.original.as_ref().map(|u| &u.mesh) {
             if display.show_original {
-                left.push(DrawItem::Overlay {
-                    mesh: original,
-                    color: overlay,
-                });
-                right.push(DrawItem::Overlay {
-                    mesh: original,
-                    color: overlay,
-                });
+                for side in [&mut left, &mut right] {
+                    side.push(DrawItem::Overlay {
+                        mesh: original,
+                        color: overlay,
+                    });
+                }
             } else if self.qem_mesh.is_none() {
                 // The original stands in on the right while QEM computes (or failed): the
                 // label says which.
                 right.push(DrawItem::Surface {
                     mesh: original,
                     color: [0.5, 0.5, 0.55],
-                    shading,
+                    shading: display.shading,
                 });
             }
         }

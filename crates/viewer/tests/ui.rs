@@ -22,6 +22,15 @@ fn fast(target: usize) -> ViewerOptions {
     }
 }
 
+/// [`fast`] with effectively unlimited training, so that Play/Pause and the plots have a run
+/// to act on.
+fn endless(target: usize) -> ViewerOptions {
+    ViewerOptions {
+        max_signals: Some(gng3d_core::tuning::MAX_SIGNALS),
+        ..fast(target)
+    }
+}
+
 /// A harness around the app with a wgpu render state shared by the app and the snapshot
 /// renderer; `None` (skip) when no wgpu adapter exists, except under CI where that fails. The
 /// parameter panel is open unless `options` say otherwise (a window of [`SIZE`] starts without
@@ -94,6 +103,66 @@ fn trained_harness(target: usize) -> Option<Harness<'static, ViewerApp>> {
         |a| a.session.has_qem_mesh() && a.session.live().snapshot.positions.len() >= target,
     );
     Some(h)
+}
+
+/// Step frames until QEM, the final mesh and the evaluation of both are in.
+fn step_until_evaluated(harness: &mut Harness<'static, ViewerApp>) {
+    step_until(
+        harness,
+        Duration::from_secs(90),
+        "QEM, the final mesh and its evaluation",
+        |a| {
+            a.session.has_qem_mesh()
+                && a.session.live().finished
+                && a.session.evaluations_pending() == 0
+                && !a.session.history.reconstructions.is_empty()
+                && a.session.history.qem.is_some()
+        },
+    );
+}
+
+/// A textured sphere (texture coordinates and normals) saved as `globe.obj` in a new temporary
+/// directory (kept while the returned guard lives).
+fn textured_globe() -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("globe.obj");
+    let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
+    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    (dir, path)
+}
+
+/// Table 1 of `app` in a window of `size` is whole: `rows` rows of three cells (header
+/// included), every cell inside the table's area and the window, and values wider than
+/// `min_width` in the GNG3D and QEM columns of `value_rows`.
+fn assert_table_whole(
+    app: &ViewerApp,
+    size: egui::Vec2,
+    rows: usize,
+    value_rows: std::ops::Range<usize>,
+    min_width: f32,
+) {
+    let (w, h) = (size.x, size.y);
+    let layout = app.table_layout.clone().expect("Table 1 is shown");
+    assert_eq!(layout.cells.len(), 3 * rows, "{w}x{h}: cells");
+    let window = egui::Rect::from_min_size(egui::Pos2::ZERO, size);
+    for (i, cell) in layout.cells.iter().enumerate() {
+        let inside = |r: egui::Rect| r.expand(0.5).contains_rect(*cell);
+        assert!(
+            inside(layout.clip) && inside(window),
+            "{w}x{h}: cell {i} (row {}, column {}) at {cell:?} outside {:?}",
+            i / 3,
+            i % 3,
+            layout.clip
+        );
+    }
+    for row in value_rows {
+        for column in [1, 2] {
+            assert!(
+                layout.cells[3 * row + column].width() > min_width,
+                "{w}x{h}: empty cell {row},{column}"
+            );
+        }
+    }
 }
 
 /// Pixels in `rect` (points = pixels here) below the label strip that differ by more than a few
@@ -193,9 +262,7 @@ fn unchanged_viewports_are_reused_and_a_camera_move_redraws_them() {
     assert_eq!(settled, 3, "the viewports never stopped redrawing");
     let before = h.state().stats.viewport_redraws;
     let image_before = h.render().expect("render");
-    for _ in 0..3 {
-        h.step();
-    }
+    h.run_steps(3);
     assert_eq!(
         h.state().stats.viewport_redraws,
         before,
@@ -234,12 +301,9 @@ fn unchanged_viewports_are_reused_and_a_camera_move_redraws_them() {
 
 #[test]
 fn controls_change_state() {
-    let Some(mut h) = harness(fast(200)) else {
+    let Some(mut h) = harness(endless(200)) else {
         return;
     };
-    // Effectively unlimited training so Play/Pause have something to act on.
-    h.state_mut().session.params.max_signals = Some(gng3d_core::tuning::MAX_SIGNALS);
-    h.state_mut().session.reset_training();
     step_until(&mut h, Duration::from_secs(30), "training to run", |a| {
         a.session.live().running && a.session.live().snapshot.signals > 0
     });
@@ -309,11 +373,9 @@ fn controls_change_state() {
 
 #[test]
 fn plot_gains_points_as_training_runs() {
-    let Some(mut h) = harness(fast(400)) else {
+    let Some(mut h) = harness(endless(400)) else {
         return;
     };
-    h.state_mut().session.params.max_signals = Some(gng3d_core::tuning::MAX_SIGNALS);
-    h.state_mut().session.reset_training();
     step_until(&mut h, Duration::from_secs(30), "first error points", |a| {
         a.session.history.errors.len() >= 2
     });
@@ -351,17 +413,7 @@ fn bad_files_show_an_error_and_exports_round_trip() {
     let Some(mut h) = harness(fast(250)) else {
         return;
     };
-    step_until(
-        &mut h,
-        Duration::from_secs(60),
-        "QEM and a reconstruction",
-        |a| {
-            a.session.has_qem_mesh()
-                && a.session.live().finished
-                && !a.session.history.reconstructions.is_empty()
-                && a.session.evaluations_pending() == 0
-        },
-    );
+    step_until_evaluated(&mut h);
     let dir = tempfile::tempdir().unwrap();
     let faces_before = h.state().session.original().face_count();
 
@@ -444,9 +496,7 @@ fn small_windows_keep_the_viewports_dominant() {
         step_until(&mut h, Duration::from_secs(60), "QEM and a network", |a| {
             a.session.has_qem_mesh() && a.session.live().finished
         });
-        for _ in 0..5 {
-            h.step();
-        }
+        h.run_steps(5);
         save_snapshot(&mut h, &format!("layout_{}x{}.png", size.x, size.y));
         let image = h.render().expect("render");
         let app = h.state();
@@ -496,46 +546,13 @@ fn table1_fits_without_scrolling_at_every_window_size() {
         let Some(mut harness) = harness_sized(fast(300), size) else {
             return;
         };
-        step_until(
-            &mut harness,
-            Duration::from_secs(90),
-            "QEM, the final mesh and its evaluation",
-            |a| {
-                a.session.has_qem_mesh()
-                    && a.session.live().finished
-                    && a.session.evaluations_pending() == 0
-                    && !a.session.history.reconstructions.is_empty()
-                    && a.session.history.qem.is_some()
-            },
-        );
-        for _ in 0..3 {
-            harness.step();
-        }
+        step_until_evaluated(&mut harness);
+        harness.run_steps(3);
         save_snapshot(&mut harness, &format!("table1_{w}x{h}.png"));
         let app = harness.state();
-        let layout = app.table_layout.clone().expect("Table 1 is shown");
+        // Values in every row (not "–": the cells are real text widths).
         let rows = viewer::plots::TABLE_ROWS.len() + 1;
-        assert_eq!(layout.cells.len(), 3 * rows, "{w}x{h}: cells");
-        let window = egui::Rect::from_min_size(egui::Pos2::ZERO, size);
-        for (i, cell) in layout.cells.iter().enumerate() {
-            let inside = |r: egui::Rect| r.expand(0.5).contains_rect(*cell);
-            assert!(
-                inside(layout.clip) && inside(window),
-                "{w}x{h}: cell {i} (row {}, column {}) at {cell:?} outside {:?}",
-                i / 3,
-                i % 3,
-                layout.clip
-            );
-        }
-        // Values in the GNG3D and QEM columns (not "–"): the cells are real text widths.
-        for row in 1..rows {
-            for column in [1, 2] {
-                assert!(
-                    layout.cells[3 * row + column].width() > 8.0,
-                    "{w}x{h}: empty cell {row},{column}"
-                );
-            }
-        }
+        assert_table_whole(app, size, rows, 1..rows, 8.0);
         for label in ["GNG3D E_avg", "QEM |E_sur|", "GNG3D Hausdorff max"] {
             let height = harness.get_by_label(label).rect().height();
             assert!(
@@ -561,16 +578,14 @@ fn one_click_switches_between_the_papers_gng3d_and_gng3d_q() {
     let method = |h: &Harness<'static, ViewerApp>| Method::of(h.state().session.applied_params());
     assert_eq!(method(&h), Method::Q, "GNG3D-Q is the default");
     h.get_by_label("Switch to the paper's GNG3D").click();
-    h.step();
-    h.step();
+    h.run_steps(2);
     assert_eq!(method(&h), Method::Paper);
     assert_eq!(
         h.state().session.applied_params().reconstruction,
         gng3d_core::ReconstructionParams::paper()
     );
     h.get_by_label("Switch to GNG3D-Q").click();
-    h.step();
-    h.step();
+    h.run_steps(2);
     assert_eq!(method(&h), Method::Q);
 }
 
@@ -664,8 +679,7 @@ fn keyboard_shortcuts_and_help_overlay() {
         "P toggles the plots"
     );
     h.key_press(egui::Key::F1);
-    h.step();
-    h.step();
+    h.run_steps(2);
     assert!(h.state().panels.as_ref().unwrap().help);
     h.get_by_label("play / pause training");
     h.get_by_label("orbit (both views share one camera)");
@@ -775,9 +789,7 @@ fn step_strip_shows_the_pipeline_and_its_table() {
     );
     // The table.
     h.get_by_label("GNG3D steps").click();
-    for _ in 0..4 {
-        h.step();
-    }
+    h.run_steps(4);
     assert!(h.state().panels.as_ref().unwrap().step_details);
     save_snapshot(&mut h, "step_table_1024x600.png");
     h.get_by_label("map faces");
@@ -791,10 +803,7 @@ fn step_strip_shows_the_pipeline_and_its_table() {
 /// no such rows (`table1_fits_without_scrolling_at_every_window_size`).
 #[test]
 fn table1_shows_the_attribute_deviation_of_a_textured_input() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("globe.obj");
-    let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
-    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    let (_dir, path) = textured_globe();
     let options = ViewerOptions {
         path: Some(path),
         ..fast(120)
@@ -802,21 +811,8 @@ fn table1_shows_the_attribute_deviation_of_a_textured_input() {
     let Some(mut h) = harness_sized(options, egui::vec2(1920.0, 1080.0)) else {
         return;
     };
-    step_until(
-        &mut h,
-        Duration::from_secs(90),
-        "QEM, the final mesh and its evaluation",
-        |a| {
-            a.session.has_qem_mesh()
-                && a.session.live().finished
-                && a.session.evaluations_pending() == 0
-                && !a.session.history.reconstructions.is_empty()
-                && a.session.history.qem.is_some()
-        },
-    );
-    for _ in 0..3 {
-        h.step();
-    }
+    step_until_evaluated(&mut h);
+    h.run_steps(3);
     save_snapshot(&mut h, "table1_textured.png");
     let app = h.state();
     assert!(
@@ -838,24 +834,8 @@ fn table1_shows_the_attribute_deviation_of_a_textured_input() {
     }
     // Table 1: the nine rows and two attribute rows (UV, normals; no colours), every cell
     // inside the table's area, values in both columns.
-    let layout = app.table_layout.clone().expect("Table 1 is shown");
     let rows = viewer::plots::TABLE_ROWS.len() + 1 + 2;
-    assert_eq!(layout.cells.len(), 3 * rows, "cells");
-    for (i, cell) in layout.cells.iter().enumerate() {
-        assert!(
-            layout.clip.expand(0.5).contains_rect(*cell),
-            "cell {i} at {cell:?} outside {:?}",
-            layout.clip
-        );
-    }
-    for row in rows - 2..rows {
-        for column in [1, 2] {
-            assert!(
-                layout.cells[3 * row + column].width() > 12.0,
-                "empty cell {row},{column}"
-            );
-        }
-    }
+    assert_table_whole(app, egui::vec2(1920.0, 1080.0), rows, rows - 2..rows, 12.0);
     for label in ["UV mean (texels @1024)", "normal dev. mean (°)"] {
         h.get_by_label(label);
     }
@@ -894,9 +874,7 @@ fn parameter_panel_starts_open_only_where_the_plots_keep_their_height() {
             ..fast(120)
         };
         let mut h = harness_sized(options, size)?;
-        for _ in 0..4 {
-            h.step();
-        }
+        h.run_steps(4);
         Some(h)
     };
     let mut failures = Vec::new();
@@ -952,9 +930,7 @@ fn parameter_panel_starts_open_only_where_the_plots_keep_their_height() {
         if !open && w >= 1350.0 {
             // Wide enough: the height closed it. Opened, the plots get less than wanted.
             h.state_mut().panels.as_mut().unwrap().controls = true;
-            for _ in 0..4 {
-                h.step();
-            }
+            h.run_steps(4);
             let opened = h.state().panel_rects.plots_panel.unwrap().height();
             check(
                 opened < PLOTS_WANTED_HEIGHT,
@@ -988,10 +964,7 @@ fn parameter_panel_starts_open_only_where_the_plots_keep_their_height() {
 /// panels a window of that width starts with the viewports keep half of the window.
 #[test]
 fn panels_never_overlap_at_any_window_size() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("globe.obj");
-    let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
-    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    let (_dir, path) = textured_globe();
     // The size of the fault first, with the parameter panel open as it was (it now starts
     // closed at 1400×800: `--controls open` opens it).
     let options = ViewerOptions {
@@ -1034,9 +1007,7 @@ fn panels_never_overlap_at_any_window_size() {
     for (size, controls) in cases {
         h.set_size(size);
         h.state_mut().panels.as_mut().unwrap().controls = controls;
-        for _ in 0..4 {
-            h.step();
-        }
+        h.run_steps(4);
         let name = format!(
             "{}x{} controls {}",
             size.x,

@@ -15,6 +15,43 @@ fn param_row(ui: &mut egui::Ui, label: &str, widget: impl egui::Widget) -> egui:
     response
 }
 
+/// A parameter row choosing `value` among `choices` (value, label) in a drop-down.
+fn choice_row<T: PartialEq + Copy>(
+    ui: &mut egui::Ui,
+    label: &str,
+    value: &mut T,
+    choices: &[(T, &'static str)],
+) {
+    let label_response = ui.label(label);
+    let selected = choices
+        .iter()
+        .find(|(choice, _)| choice == value)
+        .map_or("?", |(_, text)| text);
+    egui::ComboBox::from_id_salt(label)
+        .selected_text(selected)
+        .show_ui(ui, |ui| {
+            for &(choice, text) in choices {
+                ui.selectable_value(value, choice, text);
+            }
+        })
+        .response
+        .labelled_by(label_response.id);
+    ui.end_row();
+}
+
+/// A parameter row of a rate in [0, 1] dragged by `speed`, shown with at most `decimals`
+/// decimals (`None`: as many as the speed suggests).
+fn rate_row<N: egui::emath::Numeric>(
+    ui: &mut egui::Ui,
+    label: &str,
+    value: &mut N,
+    speed: f64,
+    decimals: Option<usize>,
+) {
+    let drag = egui::DragValue::new(value).range(0.0..=1.0).speed(speed);
+    param_row(ui, label, drag.max_decimals_opt(decimals));
+}
+
 impl ViewerApp {
     pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
         ui.heading("Training");
@@ -105,35 +142,21 @@ impl ViewerApp {
                 params.lambda = (!auto).then_some(lambda);
             });
             ui.end_row();
-            param_row(
-                ui,
-                "ε_b (winner)",
-                egui::DragValue::new(&mut params.eps_winner)
-                    .range(0.0..=1.0)
-                    .speed(0.001),
-            );
-            param_row(
+            rate_row(ui, "ε_b (winner)", &mut params.eps_winner, 0.001, None);
+            rate_row(
                 ui,
                 "ε_n (neighbours)",
-                egui::DragValue::new(&mut params.eps_neighbour)
-                    .range(0.0..=1.0)
-                    .speed(0.0001)
-                    .max_decimals(5),
+                &mut params.eps_neighbour,
+                0.0001,
+                Some(5),
             );
-            param_row(
-                ui,
-                "α (insertion)",
-                egui::DragValue::new(&mut params.alpha)
-                    .range(0.0..=1.0)
-                    .speed(0.01),
-            );
-            param_row(
+            rate_row(ui, "α (insertion)", &mut params.alpha, 0.01, None);
+            rate_row(
                 ui,
                 "d (error decay)",
-                egui::DragValue::new(&mut params.error_decay)
-                    .range(0.0..=1.0)
-                    .speed(0.0001)
-                    .max_decimals(5),
+                &mut params.error_decay,
+                0.0001,
+                Some(5),
             );
             param_row(
                 ui,
@@ -147,30 +170,20 @@ impl ViewerApp {
             )
             .on_hover_text("nodes without a win in the last μ·|A| signals are removed (0: off)");
             param_row(ui, "seed", egui::DragValue::new(&mut params.seed));
-            let label = ui.label("signal source");
-            egui::ComboBox::from_id_salt("signal_source")
-                .selected_text(crate::engine::signal_source_label(params.signal_source))
-                .show_ui(ui, |ui| {
-                    for (source, label) in crate::engine::SIGNAL_SOURCES {
-                        ui.selectable_value(&mut params.signal_source, source, label);
-                    }
-                })
-                .response
-                .labelled_by(label.id);
-            ui.end_row();
+            choice_row(
+                ui,
+                "signal source",
+                &mut params.signal_source,
+                &crate::engine::SIGNAL_SOURCES,
+            );
             // Vertex placement of the reconstruction (GNG3D-Q: quadric placement + edge flips).
-            let label = ui.label("vertex placement");
             let rec = &mut params.reconstruction;
-            egui::ComboBox::from_id_salt("placement")
-                .selected_text(crate::engine::placement_label(rec.placement))
-                .show_ui(ui, |ui| {
-                    for (placement, text) in crate::engine::PLACEMENTS {
-                        ui.selectable_value(&mut rec.placement, placement, text);
-                    }
-                })
-                .response
-                .labelled_by(label.id);
-            ui.end_row();
+            choice_row(
+                ui,
+                "vertex placement",
+                &mut rec.placement,
+                &crate::engine::PLACEMENTS,
+            );
             ui.label("edge flips");
             ui.checkbox(&mut rec.flip_edges, "toward the surface (GNG3D-Q)");
             ui.end_row();

@@ -7,8 +7,9 @@
 
 mod controls;
 
-use crate::app::{ControlsStart, PanelRects, Panels, ViewerApp};
+use crate::app::ViewerApp;
 use crate::io::DialogPurpose;
+use crate::layout::{ControlsStart, PanelRects, Panels};
 use crate::plots;
 use crate::render::Shading;
 use egui::{Color32, RichText};
@@ -22,8 +23,6 @@ pub const PLOTS_WANTED_HEIGHT: f32 = 190.0;
 pub const VIEWPORT_AREA_SHARE: f32 = 0.5;
 /// Width at which a plot column stops being readable; narrower windows scroll the row.
 const MIN_COLUMN_WIDTH: f32 = 160.0;
-/// Height of the step strip before its first frame (one row of entries and its time bar).
-pub const STRIP_HEIGHT_GUESS: f32 = 36.0;
 
 /// Tallest plots panel that leaves the viewports [`VIEWPORT_AREA_SHARE`] of the `window`, when
 /// `rest` is the space left after the menu, status and parameter panels:

@@ -4,7 +4,7 @@
 use super::axes::{hovered, log_hover, log_plot, log10};
 use super::{History, envelope, format_count, format_value};
 use egui::{Color32, Stroke};
-use egui_plot::{HLine, Line, LineStyle, PlotPoints, Points};
+use egui_plot::{HLine, Line, LineStyle, PlotPoints, PlotUi, Points};
 /// Colour of E_avg curves.
 const AVG_COLOR: Color32 = Color32::from_rgb(80, 170, 255);
 /// Colour of E_max curves.
@@ -124,16 +124,8 @@ pub fn vertex_error_plot(ui: &mut egui::Ui, history: &History, height: f32, x_ma
             plot.line(Line::new("GNG3D E_avg", avg).color(AVG_COLOR).width(1.5));
             plot.line(Line::new("GNG3D E_max", max).color(MAX_COLOR).width(1.5));
             if let Some(q) = qem {
-                plot.hline(
-                    HLine::new("QEM E_avg", log10(q.e_avg))
-                        .color(AVG_COLOR)
-                        .style(LineStyle::dashed_loose()),
-                );
-                plot.hline(
-                    HLine::new("QEM E_max", log10(q.e_max))
-                        .color(MAX_COLOR)
-                        .style(LineStyle::dashed_loose()),
-                );
+                qem_line(plot, "QEM E_avg", log10(q.e_avg), AVG_COLOR);
+                qem_line(plot, "QEM E_max", log10(q.e_max), MAX_COLOR);
             }
         });
 }
@@ -180,19 +172,7 @@ pub fn surface_error_plot(ui: &mut egui::Ui, history: &History, height: f32, x_m
             ))
         })
         .show(ui, move |plot| {
-            plot.line(Line::new("GNG3D |E_sur|", PlotPoints::from(sur.clone())).color(SUR_COLOR));
-            plot.points(
-                Points::new("GNG3D |E_sur|", PlotPoints::from(sur))
-                    .color(SUR_COLOR)
-                    .radius(3.0),
-            );
-            if let Some(q) = qem {
-                plot.hline(
-                    HLine::new("QEM |E_sur|", log10(q.abs()))
-                        .color(SUR_COLOR)
-                        .style(LineStyle::dashed_loose()),
-                );
-            }
+            checkpoint_series(plot, &SURFACE_LEGEND, sur, qem.map(|q| log10(q.abs())));
         });
 }
 
@@ -212,21 +192,35 @@ pub fn hausdorff_plot(ui: &mut egui::Ui, history: &History, height: f32, x_max: 
     log_plot("hausdorff", height, x_max, values)
         .label_formatter(log_hover("model units"))
         .show(ui, move |plot| {
-            plot.line(
-                Line::new("GNG3D Hausdorff max", PlotPoints::from(hd.clone()))
-                    .color(HAUSDORFF_COLOR),
-            );
-            plot.points(
-                Points::new("GNG3D Hausdorff max", PlotPoints::from(hd))
-                    .color(HAUSDORFF_COLOR)
-                    .radius(3.0),
-            );
-            if let Some(h) = qem {
-                plot.hline(
-                    HLine::new("QEM Hausdorff max", log10(h))
-                        .color(HAUSDORFF_COLOR)
-                        .style(LineStyle::dashed_loose()),
-                );
-            }
+            checkpoint_series(plot, &HAUSDORFF_LEGEND, hd, qem.map(log10));
         });
+}
+
+/// QEM's value `y` as a dashed horizontal line.
+fn qem_line(plot: &mut PlotUi<'_>, name: &'static str, y: f64, color: Color32) {
+    plot.hline(
+        HLine::new(name, y)
+            .color(color)
+            .style(LineStyle::dashed_loose()),
+    );
+}
+
+/// A measure after each checkpoint as a line with markers, and QEM's value (`qem`, on the
+/// plot's y scale) as a dashed horizontal line, named and coloured as in `legend` (GNG3D first).
+fn checkpoint_series(
+    plot: &mut PlotUi<'_>,
+    legend: &[LegendEntry; 2],
+    points: Vec<[f64; 2]>,
+    qem: Option<f64>,
+) {
+    let [(gng, color, _), (qem_name, _, _)] = *legend;
+    plot.line(Line::new(gng, PlotPoints::from(points.clone())).color(color));
+    plot.points(
+        Points::new(gng, PlotPoints::from(points))
+            .color(color)
+            .radius(3.0),
+    );
+    if let Some(y) = qem {
+        qem_line(plot, qem_name, y, color);
+    }
 }

@@ -18,6 +18,7 @@ use glam::Vec3;
 use mesh::TriMesh;
 use std::hash::{Hash, Hasher};
 use std::sync::atomic::{AtomicU64, Ordering};
+use wgpu::BufferUsages;
 use wgpu::util::DeviceExt;
 
 /// Colour format of the offscreen targets: the bytes are shown on screen as they are.
@@ -136,25 +137,15 @@ impl GpuMesh {
         let edge_indices: Vec<u32> = edges.into_iter().flatten().collect();
         GpuMesh {
             id: NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed),
-            vertices: buffer_init(
-                device,
-                "mesh vertices",
-                &vertices,
-                wgpu::BufferUsages::VERTEX,
-            ),
+            vertices: buffer_init(device, "mesh vertices", &vertices, BufferUsages::VERTEX),
             triangles: buffer_init(
                 device,
                 "mesh triangles",
                 &triangle_indices,
-                wgpu::BufferUsages::INDEX,
+                BufferUsages::INDEX,
             ),
             triangle_index_count: triangle_indices.len() as u32,
-            edges: buffer_init(
-                device,
-                "mesh edges",
-                &edge_indices,
-                wgpu::BufferUsages::INDEX,
-            ),
+            edges: buffer_init(device, "mesh edges", &edge_indices, BufferUsages::INDEX),
             edge_index_count: edge_indices.len() as u32,
             vertex_count: mesh.vertex_count(),
             face_count: mesh.face_count(),
@@ -170,7 +161,7 @@ fn buffer_init<T: Pod>(
     device: &wgpu::Device,
     label: &str,
     data: &[T],
-    usage: wgpu::BufferUsages,
+    usage: BufferUsages,
 ) -> wgpu::Buffer {
     let bytes: &[u8] = bytemuck::cast_slice(data);
     if bytes.is_empty() {
@@ -204,9 +195,9 @@ impl GpuNetwork {
     /// An empty network.
     pub fn new(device: &wgpu::Device) -> GpuNetwork {
         GpuNetwork {
-            positions: growable(device, "network nodes", 4096, wgpu::BufferUsages::VERTEX),
+            positions: growable(device, "network nodes", 4096, BufferUsages::VERTEX),
             position_capacity: 4096,
-            edges: growable(device, "network edges", 4096, wgpu::BufferUsages::INDEX),
+            edges: growable(device, "network edges", 4096, BufferUsages::INDEX),
             edge_capacity: 4096,
             node_count: 0,
             edge_index_count: 0,
@@ -222,32 +213,24 @@ impl GpuNetwork {
         positions: &[Vec3],
         edges: &[[u32; 2]],
     ) {
-        let position_bytes: &[u8] = bytemuck::cast_slice(positions);
-        let edge_bytes: &[u8] = bytemuck::cast_slice(edges);
-        if position_bytes.len() as u64 > self.position_capacity {
-            self.position_capacity = (position_bytes.len() as u64).next_power_of_two();
-            self.positions = growable(
-                device,
-                "network nodes",
-                self.position_capacity,
-                wgpu::BufferUsages::VERTEX,
-            );
-        }
-        if edge_bytes.len() as u64 > self.edge_capacity {
-            self.edge_capacity = (edge_bytes.len() as u64).next_power_of_two();
-            self.edges = growable(
-                device,
-                "network edges",
-                self.edge_capacity,
-                wgpu::BufferUsages::INDEX,
-            );
-        }
-        if !position_bytes.is_empty() {
-            queue.write_buffer(&self.positions, 0, position_bytes);
-        }
-        if !edge_bytes.is_empty() {
-            queue.write_buffer(&self.edges, 0, edge_bytes);
-        }
+        write_growing(
+            device,
+            queue,
+            &mut self.positions,
+            &mut self.position_capacity,
+            bytemuck::cast_slice(positions),
+            "network nodes",
+            BufferUsages::VERTEX,
+        );
+        write_growing(
+            device,
+            queue,
+            &mut self.edges,
+            &mut self.edge_capacity,
+            bytemuck::cast_slice(edges),
+            "network edges",
+            BufferUsages::INDEX,
+        );
         self.node_count = positions.len() as u32;
         // Only edges whose endpoints exist are drawn; the worker guarantees that.
         self.edge_index_count = (edges.len() * 2) as u32;
@@ -260,16 +243,32 @@ impl GpuNetwork {
     }
 }
 
-fn growable(
+/// Write `bytes` at the start of a growable `buffer` of `capacity` bytes, first replacing it
+/// with one of the next power of two (`label`, `usage`) when `bytes` do not fit.
+fn write_growing(
     device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffer: &mut wgpu::Buffer,
+    capacity: &mut u64,
+    bytes: &[u8],
     label: &str,
-    size: u64,
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
+    usage: BufferUsages,
+) {
+    if bytes.len() as u64 > *capacity {
+        *capacity = (bytes.len() as u64).next_power_of_two();
+        *buffer = growable(device, label, *capacity, usage);
+    }
+    if !bytes.is_empty() {
+        queue.write_buffer(buffer, 0, bytes);
+    }
+}
+
+/// A buffer of at least `size` bytes that can be written to (`usage` plus `COPY_DST`).
+fn growable(device: &wgpu::Device, label: &str, size: u64, usage: BufferUsages) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size.max(16).next_multiple_of(4),
-        usage: usage | wgpu::BufferUsages::COPY_DST,
+        usage: usage | BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }

@@ -13,28 +13,17 @@ impl SceneRenderer {
         output_format: wgpu::TextureFormat,
         copy_mode: CopyMode,
     ) -> SceneRenderer {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("viewer shader"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
-        });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("viewer draw uniforms"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: true,
-                    min_binding_size: wgpu::BufferSize::new(size_of::<DrawUniform>() as u64),
-                },
-                count: None,
-            }],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("viewer pipeline layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let (module, layout, pipeline_layout) = shader_and_layout(
+            device,
+            "viewer",
+            include_str!("shader.wgsl"),
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: wgpu::BufferSize::new(size_of::<DrawUniform>() as u64),
+            },
+        );
         let surface_vertex = wgpu::VertexBufferLayout {
             array_stride: size_of::<SurfaceVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -174,7 +163,7 @@ impl SceneRenderer {
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewport uniforms"),
             size: UNIFORM_STRIDE * MAX_DRAWS,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -228,6 +217,40 @@ impl SceneRenderer {
     }
 }
 
+/// The WGSL `source` compiled, a bind group layout of one `binding` at 0 seen by `visibility`,
+/// and the pipeline layout of that one group; `name` starts their labels.
+fn shader_and_layout(
+    device: &wgpu::Device,
+    name: &str,
+    source: &str,
+    visibility: wgpu::ShaderStages,
+    binding: wgpu::BindingType,
+) -> (
+    wgpu::ShaderModule,
+    wgpu::BindGroupLayout,
+    wgpu::PipelineLayout,
+) {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(&format!("{name} shader")),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(&format!("{name} layout")),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility,
+            ty: binding,
+            count: None,
+        }],
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&format!("{name} pipeline layout")),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    (module, layout, pipeline_layout)
+}
+
 /// The pipeline that copies a viewport texture into a target of `output_format`, and its layout.
 fn blit_pipeline(
     device: &wgpu::Device,
@@ -236,28 +259,17 @@ fn blit_pipeline(
 ) -> (wgpu::BindGroupLayout, wgpu::RenderPipeline) {
     let decode = f64::from(u8::from(copy_mode == CopyMode::DecodeInShader));
     let constants = [("decode_srgb", decode)];
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("viewport copy shader"),
-        source: wgpu::ShaderSource::Wgsl(include_str!("blit.wgsl").into()),
-    });
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("viewport copy layout"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        }],
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("viewport copy pipeline layout"),
-        bind_group_layouts: &[Some(&layout)],
-        immediate_size: 0,
-    });
+    let (module, layout, pipeline_layout) = shader_and_layout(
+        device,
+        "viewport copy",
+        include_str!("blit.wgsl"),
+        wgpu::ShaderStages::FRAGMENT,
+        wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+    );
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("viewport copy"),
         layout: Some(&pipeline_layout),

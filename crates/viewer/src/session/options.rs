@@ -195,50 +195,19 @@ mod tests {
 
     #[test]
     fn bad_options_are_errors_naming_the_option() {
-        for (options, flag) in [
-            (
-                ViewerOptions {
-                    time_limit: Some(-1.0),
-                    ..Default::default()
-                },
-                "--time-limit",
-            ),
-            (
-                ViewerOptions {
-                    time_limit: Some(f64::NAN),
-                    ..Default::default()
-                },
-                "--time-limit",
-            ),
-            (
-                ViewerOptions {
-                    target: Some(2),
-                    ..Default::default()
-                },
-                "--target",
-            ),
-            (
-                ViewerOptions {
-                    watch_seconds: Some(f64::INFINITY),
-                    ..Default::default()
-                },
-                "--watch",
-            ),
-            (
-                ViewerOptions {
-                    quit_after: Some(-3.0),
-                    ..Default::default()
-                },
-                "--quit-after",
-            ),
-            (
-                ViewerOptions {
-                    max_signals: Some(0),
-                    ..Default::default()
-                },
-                "--max-signals",
-            ),
-        ] {
+        // Each flag with a value it rejects.
+        type Set = fn(&mut ViewerOptions);
+        let cases: [(&str, Set); 6] = [
+            ("--time-limit", |o| o.time_limit = Some(-1.0)),
+            ("--time-limit", |o| o.time_limit = Some(f64::NAN)),
+            ("--target", |o| o.target = Some(2)),
+            ("--watch", |o| o.watch_seconds = Some(f64::INFINITY)),
+            ("--quit-after", |o| o.quit_after = Some(-3.0)),
+            ("--max-signals", |o| o.max_signals = Some(0)),
+        ];
+        for (flag, set) in cases {
+            let mut options = ViewerOptions::default();
+            set(&mut options);
             let err = train_params(&options).unwrap_err();
             assert!(err.to_string().contains(flag), "{err}");
             assert!(Session::new(options, None).is_err());
