@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 mod common;
-use common::{gng3d, json_of, s, stderr};
+use common::{gng3d, json_of, s, stderr, succeeded};
 
 /// A failed run: exit code 1 (not a signal), one `error:` line, no panic.
 fn assert_clean_failure(o: &Output, needles: &[&str]) -> String {
@@ -144,8 +144,7 @@ fn survey_skips_a_mesh_with_under_four_vertices_and_writes_the_summary() {
     // Only the bad mesh: still a summary (empty), still exit 0, with a warning.
     std::fs::remove_file(dir.join("b-sphere.obj")).unwrap();
     let out2 = f.path("survey2");
-    let o = gng3d(&["reproduce", "--all", s(&dir), "--out", s(&out2)]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    succeeded(gng3d(&["reproduce", "--all", s(&dir), "--out", s(&out2)]));
     assert!(out2.join("summary.md").is_file() && out2.join("summary.csv").is_file());
 }
 

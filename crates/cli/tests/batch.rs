@@ -2,7 +2,7 @@
 //! procedural meshes written to a temporary folder (no shared meshes needed).
 
 mod common;
-use common::gng3d;
+use common::{gng3d, succeeded};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -108,7 +108,7 @@ fn shards_split_a_manifest_and_bad_options_stop_before_any_file() {
 
     let mut seen = Vec::new();
     for rank in ["0", "1"] {
-        let run = gng3d(&[
+        let run = succeeded(gng3d(&[
             "batch",
             m,
             "--out",
@@ -121,12 +121,7 @@ fn shards_split_a_manifest_and_bad_options_stop_before_any_file() {
             rank,
             "--world-size",
             "2",
-        ]);
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        ]));
         let got = rows(&run);
         assert_eq!(got.len(), 1);
         assert_eq!(got[0]["vertices"], 60);
@@ -258,12 +253,9 @@ fn an_output_over_an_input_is_refused_before_any_work() {
     assert!(stdout_is_empty(&run));
     assert_eq!(snapshot(&input), before, "the inputs changed");
     // ... but into the same folder in another format, no input is replaced.
-    let run = gng3d(&["batch", m, "--out", i, "--ratio", "0.2", "--format", "stl"]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    succeeded(gng3d(&[
+        "batch", m, "--out", i, "--ratio", "0.2", "--format", "stl",
+    ]));
     assert!(input.join("sphere.stl").exists() && input.join("torus.stl").exists());
     for (name, bytes) in &before {
         assert_eq!(&std::fs::read(input.join(name)).unwrap(), bytes, "{name:?}");
@@ -274,19 +266,14 @@ fn an_output_over_an_input_is_refused_before_any_work() {
     good_inputs(&src);
     let before = snapshot(&src);
     let inner = src.join("out");
-    let run = gng3d(&[
+    let run = succeeded(gng3d(&[
         "batch",
         src.to_str().unwrap(),
         "--out",
         inner.to_str().unwrap(),
         "--ratio",
         "0.2",
-    ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    ]));
     assert_eq!(rows(&run).len(), 2);
     assert_eq!(snapshot(&src), before);
 }

@@ -1,7 +1,7 @@
 //! End-to-end tests of the `gng3d` binary on real meshes (GNG3D_MESHES).
 
 mod common;
-use common::{gng3d, json_of};
+use common::{gng3d, json_of, succeeded};
 
 /// Runs `gng3d simplify INPUT OUTPUT --method gng --vertices N --json` plus `extra`.
 fn simplify_gng(
@@ -71,7 +71,7 @@ fn reproduce_small_run_writes_table() {
     };
     let input = dir.join("decimated-knight.obj");
     let out = tempfile::tempdir().unwrap();
-    let o = gng3d(&[
+    succeeded(gng3d(&[
         "reproduce",
         input.to_str().unwrap(),
         "--epochs",
@@ -80,8 +80,7 @@ fn reproduce_small_run_writes_table() {
         "10000",
         "--out",
         out.path().to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    ]));
     let md = std::fs::read_to_string(out.path().join("table.md")).unwrap();
     assert!(md.contains("| iteration"));
     assert!(out.path().join("figure1_esur.png").exists());
@@ -546,7 +545,7 @@ fn a_scan_with_many_holes_gets_its_target_or_the_reason() {
     // At 2 % the holes need more vertices than the target.
     assert!(stopped >= 1);
     // QEM on the original stops above 40 too, and says so in the same words as the viewer.
-    let o = gng3d(&[
+    let o = succeeded(gng3d(&[
         "simplify",
         input.to_str().unwrap(),
         out.path().join("q.ply").to_str().unwrap(),
@@ -554,8 +553,7 @@ fn a_scan_with_many_holes_gets_its_target_or_the_reason() {
         "qem",
         "--vertices",
         "40",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    ]));
     let qem = json_of(&gng3d(&[
         "info",
         out.path().join("q.ply").to_str().unwrap(),
@@ -613,7 +611,7 @@ fn the_library_default_is_the_cli_default_byte_for_byte() {
     for (input, ratio) in cases {
         let cli = dir.path().join("cli.ply");
         let r = ratio.to_string();
-        let o = gng3d(&[
+        succeeded(gng3d(&[
             "simplify",
             input.to_str().unwrap(),
             cli.to_str().unwrap(),
@@ -621,8 +619,7 @@ fn the_library_default_is_the_cli_default_byte_for_byte() {
             "gng",
             "--ratio",
             &r,
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        ]));
         let loaded = gng3d::mesh::io::load(&input).unwrap().mesh;
         let (prepared, _) = gng3d::mesh::clean::prepare(&loaded);
         let options = GngOptions::for_target(GngTarget::VertexRatio(ratio));

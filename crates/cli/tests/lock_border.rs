@@ -2,7 +2,7 @@
 //! GNG3D refuses the flag.
 
 mod common;
-use common::gng3d;
+use common::{gng3d, succeeded};
 
 #[test]
 fn lock_border_keeps_the_border_and_gng_refuses_it() {
@@ -23,8 +23,7 @@ fn lock_border_keeps_the_border_and_gng_refuses_it() {
         let mut args = vec!["simplify", input.to_str().unwrap(), out.to_str().unwrap()];
         args.extend_from_slice(&["--ratio", "0.2"]);
         args.extend_from_slice(extra);
-        let o = gng3d(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        succeeded(gng3d(&args));
         let output = gng3d::mesh::io::load(&out).unwrap().mesh;
         border
             .iter()

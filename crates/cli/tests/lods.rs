@@ -2,7 +2,7 @@
 //! kept; the first level is exactly `--ratio`'s output; bad chains are errors.
 
 mod common;
-use common::gng3d;
+use common::{gng3d, succeeded};
 
 #[test]
 fn lods_chain_levels_and_keep_attributes() {
@@ -11,15 +11,14 @@ fn lods_chain_levels_and_keep_attributes() {
     let input = dir.path().join("sphere.obj");
     gng3d::mesh::io::save_with_attributes(&sphere, &uv, None, &input).unwrap();
     let (i, out) = (input.to_str().unwrap(), dir.path().join("out.obj"));
-    let o = gng3d(&[
+    let o = succeeded(gng3d(&[
         "simplify",
         i,
         out.to_str().unwrap(),
         "--lods",
         "0.5,0.25,0.1",
         "--json",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    ]));
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let levels = json["levels"].as_array().unwrap();
     assert_eq!(levels.len(), 3);

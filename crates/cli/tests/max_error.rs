@@ -3,7 +3,7 @@
 //! anything is written.
 
 mod common;
-use common::gng3d;
+use common::{gng3d, succeeded};
 
 #[test]
 fn max_error_alone_and_with_a_target() {
@@ -16,8 +16,7 @@ fn max_error_alone_and_with_a_target() {
         let mut args = vec!["simplify", input.to_str().unwrap(), out.to_str().unwrap()];
         args.extend_from_slice(extra);
         args.push("--json");
-        let o = gng3d(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = succeeded(gng3d(&args));
         serde_json::from_slice(&o.stdout).unwrap()
     };
     let mut faces = Vec::new();

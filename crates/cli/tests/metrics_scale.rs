@@ -7,7 +7,6 @@
 use glam::Vec3;
 use mesh::TriMesh;
 use std::path::{Path, PathBuf};
-use std::process::Output;
 mod common;
 use common::{gng3d, json_of, s, stderr};
 
