@@ -5,11 +5,13 @@
 //! partitioned run.
 
 use super::candidates::{Cand, GENERATIONS, is_live, key_cost, merge_live, sort_key};
+use super::checks::check_cancel;
 use super::engine::Engine;
 use super::engine::prefetch::{self, prefetch_ptr};
+use super::outcome::Run;
 use super::resources::release_freed_memory;
 use super::seams::Seams;
-use super::{Run, attribute_error, check_cancel, prepare, setup, wedges};
+use super::{attribute_error, prepare, setup, wedges};
 use crate::radix::{sort_by_u32_key, sort_by_u32_key_in_parts};
 use crate::{QemError, QemParams, StopReason, Target, pairs};
 use mesh::TriMesh;

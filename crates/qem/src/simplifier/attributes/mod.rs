@@ -8,11 +8,13 @@
 //! and the values, which travel with the contractions ([`wedges`]).
 
 use super::attribute_error::AttributeError;
+use super::checks::{check_cancel, check_pair_threshold, validate};
+use super::outcome::{Run, report};
 use super::passes::AttributeRun;
+use super::prepare;
 use super::seams::Seams;
 use super::view::View;
 use super::wedges::{self, InputValues, WedgeValues};
-use super::{Run, prepare};
 use crate::{QemError, QemParams, QemReport};
 use glam::DVec3;
 use mesh::TriMesh;
@@ -27,14 +29,14 @@ pub(crate) fn run(
     user_locked: Option<&[bool]>,
 ) -> Result<(TriMesh, Attributes, QemReport), QemError> {
     let started = Instant::now();
-    super::validate(params)?;
+    validate(params)?;
     attributes
         .validate(input)
         .map_err(QemError::InvalidAttributes)?;
-    super::check_cancel(params)?;
+    check_cancel(params)?;
     let (prepared, index) = prepare::prepare_with_index(input, true)?;
-    super::check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
-    super::check_cancel(params)?;
+    check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
+    check_cancel(params)?;
     let (input_vertices, input_faces) = (prepared.pos.len(), prepared.faces.len());
     let n = prepared.pos.len();
     // Each input vertex's prepared index (`u32::MAX`: unreferenced).
@@ -94,7 +96,7 @@ pub(crate) fn run(
         values,
     };
     let face_origin = index.face;
-    super::check_cancel(params)?;
+    check_cancel(params)?;
     let (run, out) = super::passes::simplify_prepared_with(
         prepared,
         params,
@@ -102,7 +104,7 @@ pub(crate) fn run(
         Some(attribute_run),
         |e, frame| wedges::output(e, frame, attributes, &face_origin),
     )?;
-    let report = super::report(&run, input_vertices, input_faces, started);
+    let report = report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;
     Ok((mesh, out, report))
 }
