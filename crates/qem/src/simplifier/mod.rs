@@ -34,6 +34,7 @@ mod engine;
 mod outcome;
 mod partition;
 mod passes;
+mod prefetch;
 mod prepare;
 mod resources;
 mod seams;

@@ -3,10 +3,11 @@
 //! pair costing and placement, the topology / normal checks and the collapse itself. What to
 //! contract, and when, is decided by the pass loop ([`super::passes`]).
 
-pub(super) mod prefetch;
+mod stages;
 
 use super::attribute_error::AttributeError;
 use super::candidates::{Cand, key_of};
+use super::prefetch;
 use super::prepare::Frame;
 use super::resources::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use super::seams::Seams;
