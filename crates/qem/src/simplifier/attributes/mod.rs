@@ -5,7 +5,7 @@
 //! term, [`AttributeError`]); what changes is what may be contracted (seams only along
 //! themselves, seam ends and crossings locked, [`Seams`]), the constraint planes along the seams
 //! (Garland–Heckbert 1997's boundary planes, which the paper proposes for any discontinuity),
-//! and the values, which travel with the contractions ([`wedges`]).
+//! and the values, which travel with the contractions ([`wedges`](super::wedges)).
 
 use super::attribute_error::AttributeError;
 use super::checks::{check_cancel, check_pair_threshold, validate};
@@ -14,7 +14,9 @@ use super::passes::AttributeRun;
 use super::prepare;
 use super::seams::Seams;
 use super::view::View;
-use super::wedges::{self, InputValues, WedgeValues};
+use super::wedges::output::{Contracted, output};
+use super::wedges::sides::mark_side1;
+use super::wedges::{InputValues, WedgeValues};
 use crate::{QemError, QemParams, QemReport};
 use glam::DVec3;
 use mesh::TriMesh;
@@ -102,7 +104,20 @@ pub(crate) fn run(
         params,
         Some(&locked),
         Some(attribute_run),
-        |e, frame| wedges::output(e, frame, attributes, &face_origin),
+        |e, frame| match (&e.values, &e.seams) {
+            (Some(values), Some(seams)) => {
+                let (vx, faces, refs, live_faces) = (&e.vx, &e.faces, &e.refs, e.live_faces);
+                let e = Contracted {
+                    vx,
+                    faces,
+                    refs,
+                    live_faces,
+                };
+                output(e, values, seams, frame, attributes, &face_origin)
+            }
+            // Not reached: an attribute run's engine always holds its values and seams.
+            _ => (e.output(frame).0, Attributes::default()),
+        },
     )?;
     let report = report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;
@@ -226,7 +241,7 @@ fn find_seams(view: &View, n: usize) -> FoundSeams {
 
 /// The side of every prepared face corner at a seam vertex that may be contracted (two seam
 /// neighbours, not `locked`), `side[3 f + k]` for corner `k` of face `f`: 0 on the left of the
-/// seam walked from `along[0]` through the vertex to `along[1]` ([`wedges::fan_sides`]), 1 on
+/// seam walked from `along[0]` through the vertex to `along[1]` ([`fan_sides`](super::wedges::sides::fan_sides)), 1 on
 /// the other side; 0 everywhere else.
 fn corner_sides(view: &View, seams: &Seams, locked: &[bool]) -> Vec<u8> {
     let tris = view.faces;
@@ -238,7 +253,7 @@ fn corner_sides(view: &View, seams: &Seams, locked: &[bool]) -> Vec<u8> {
         let fan = view.fan(v);
         let faces = |f: u32| tris[f as usize];
         let vn = [v as u32, n0, n1];
-        wedges::mark_side1(fan, faces, vn, &mut reached, &mut stack, |f, k| {
+        mark_side1(fan, faces, vn, &mut reached, &mut stack, |f, k| {
             side[f as usize * 3 + k] = 1;
         });
     }
