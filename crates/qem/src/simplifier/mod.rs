@@ -20,11 +20,21 @@
 //! their exact cost and order for the next pass; pairs of the merged vertices are evaluated
 //! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
 //!
-//! This module holds the entry points and the checks of the parameters; passes 2–6 are in
-//! [`passes`]. The modules import downwards only: at the bottom the shared pieces ([`triangle`],
-//! [`vertex`], [`resources`], [`view`], [`seams`], [`candidates`]); above them the attribute
-//! term and values ([`attribute_error`], [`wedges`]), then [`prepare`], [`setup`] and the
-//! [`engine`]; on top the drivers ([`passes`], [`partition`], [`attributes`]).
+//! This module holds the entry points only; passes 2–6 are in [`passes`]. No file imports from a
+//! layer above its own (a `mod.rs` included: it imports nothing from its submodules but what it
+//! wires, and they import nothing from it), bottom to top:
+//!
+//! 1. the shared pieces, which import no other file of the simplifier: [`triangle`], [`vertex`],
+//!    [`view`], [`seams`], [`candidates`], [`resources`], [`prefetch`] (the hint and its
+//!    distances), [`checks`] (of the parameters and the cancel flag) and [`outcome`] (`Run` and
+//!    the report);
+//! 2. [`prepare`];
+//! 3. the attribute term and values: [`attribute_error`]; [`wedges`] (`sides.rs`, `untangle.rs`,
+//!    then the table in `mod.rs`, then `output.rs`, which takes borrowed pieces of the engine);
+//! 4. [`setup`] and the [`engine`] (`mod.rs`, then its prefetch stages in `stages.rs`);
+//! 5. [`passes`];
+//! 6. the drivers over the passes: [`partition`] and [`attributes`];
+//! 7. this file.
 
 mod attribute_error;
 mod attributes;
