@@ -2,12 +2,10 @@
 //!
 //! 1. [`prepare`]: validate, normalise, Morton renumbering, face sort, vertex → face lists;
 //! 2. [`setup`]: per vertex, quadric, boundary planes and flag, edges;
-//! 3. [`add_virtual_pairs`](passes::add_virtual_pairs): non-edge pairs within `pair_threshold`
-//!    (optional);
+//! 3. `passes::add_virtual_pairs`: non-edge pairs within `pair_threshold` (optional);
 //! 4. initial costing and sort of the candidate list;
-//! 5. the contraction loop: [`Schedule::one_pass`](passes::Schedule::one_pass), then either
-//!    [`Schedule::rebuild`](passes::Schedule::rebuild) after a stall or
-//!    [`Schedule::next_list`](passes::Schedule::next_list) for the next pass;
+//! 5. the contraction loop: `Schedule::one_pass`, then either `Schedule::rebuild` after a stall
+//!    or `Schedule::next_list` for the next pass;
 //! 6. [`Engine::output`](engine::Engine::output): compact into a `TriMesh` (via `mesh::clean`).
 //!
 //! Large meshes on a multi-threaded pool go through [`partition`] instead: passes 2–6 on spatial
@@ -21,20 +19,13 @@
 //! afresh, sorted, and merged in. This keeps memory access sequential (no heap sift misses).
 //!
 //! This module holds the entry points only; passes 2–6 are in [`passes`]. No file imports from a
-//! layer above its own (a `mod.rs` included: it imports nothing from its submodules but what it
-//! wires, and they import nothing from it), bottom to top:
-//!
-//! 1. the shared pieces, which import no other file of the simplifier: [`triangle`], [`vertex`],
-//!    [`view`], [`seams`], [`candidates`], [`resources`], [`prefetch`] (the hint and its
-//!    distances), [`checks`] (of the parameters and the cancel flag) and [`outcome`] (`Run` and
-//!    the report);
-//! 2. [`prepare`];
-//! 3. the attribute term and values: [`attribute_error`]; [`wedges`] (`sides.rs`, `untangle.rs`,
-//!    then the table in `mod.rs`, then `output.rs`, which takes borrowed pieces of the engine);
-//! 4. [`setup`] and the [`engine`] (`mod.rs`, then its prefetch stages in `stages.rs`);
-//! 5. [`passes`];
-//! 6. the drivers over the passes: [`partition`] and [`attributes`];
-//! 7. this file.
+//! layer above its own, a `mod.rs` and its submodules included; bottom to top: (1) the shared
+//! pieces, which import no other file of the simplifier: [`triangle`], [`vertex`], [`view`],
+//! [`seams`], [`candidates`], [`resources`], [`prefetch`], [`checks`], [`outcome`]; (2)
+//! [`prepare`]; (3) the attribute term and values: [`attribute_error`], [`wedges`] (`sides.rs`
+//! and `untangle.rs`, then `mod.rs`, then `output.rs`, which borrows pieces of the engine); (4)
+//! [`setup`] and the [`engine`] (`mod.rs`, then `stages.rs`); (5) [`passes`]; (6) the drivers
+//! over the passes, [`partition`] and [`attributes`]; (7) this file.
 
 mod attribute_error;
 mod attributes;

@@ -15,8 +15,7 @@ use super::prepare;
 use super::seams::Seams;
 use super::view::View;
 use super::wedges::output::{Contracted, output};
-use super::wedges::sides::mark_side1;
-use super::wedges::{InputValues, WedgeValues};
+use super::wedges::{InputValues, WedgeValues, mark_side1};
 use crate::{QemError, QemParams, QemReport};
 use glam::DVec3;
 use mesh::TriMesh;
@@ -241,8 +240,8 @@ fn find_seams(view: &View, n: usize) -> FoundSeams {
 
 /// The side of every prepared face corner at a seam vertex that may be contracted (two seam
 /// neighbours, not `locked`), `side[3 f + k]` for corner `k` of face `f`: 0 on the left of the
-/// seam walked from `along[0]` through the vertex to `along[1]` ([`fan_sides`](super::wedges::sides::fan_sides)), 1 on
-/// the other side; 0 everywhere else.
+/// seam walked from `along[0]` through the vertex to `along[1]`
+/// ([`fan_sides`](super::wedges::fan_sides)), 1 on the other side; 0 everywhere else.
 fn corner_sides(view: &View, seams: &Seams, locked: &[bool]) -> Vec<u8> {
     let tris = view.faces;
     let mut side = vec![0u8; tris.len() * 3];

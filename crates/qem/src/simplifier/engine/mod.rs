@@ -13,8 +13,7 @@ use super::resources::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use super::seams::Seams;
 use super::triangle::{DEAD, contains, segment_parameter};
 use super::vertex::Vertex;
-use super::wedges::WedgeValues;
-use super::wedges::sides::fan_sides;
+use super::wedges::{WedgeValues, fan_sides};
 use crate::pairs::VirtualPairs;
 use crate::{QemParams, Quadric};
 use glam::DVec3;
@@ -481,8 +480,7 @@ impl Engine {
         }
     }
 
-    /// The side of seam vertex `a` ([`fan_sides`]) that its
-    /// neighbour `b`, off the seams, lies on.
+    /// The side of seam vertex `a` ([`fan_sides`]) that its neighbour `b`, off the seams, lies on.
     fn side_of(&self, a: usize, b: usize, seams: &Seams) -> usize {
         let fan: Vec<u32> = self
             .list(a)

@@ -13,7 +13,7 @@
 //! ends, crossings and poles (locked, with more than two sets of values) and the vertices the
 //! target left alone. The output's corners take their vertex's set on the corner's side; the
 //! side of a merged seam vertex's faces is found by the same fan walk as the input's
-//! ([`fan_sides`](sides::fan_sides)).
+//! ([`fan_sides`]).
 //!
 //! Measured against the closest-point transfer it replaces (docs/notes/attributes.md, "Values
 //! from the contractions"): see the note for the texture error and time figures.
@@ -23,8 +23,10 @@
 //! and [`untangle`] undoes the folds they leave in texture space.
 
 pub(super) mod output;
-pub(super) mod sides;
+mod sides;
 mod untangle;
+
+pub(super) use sides::{fan_sides, mark_side1};
 
 use super::prefetch::prefetch_ptr;
 use super::seams::Seams;
