@@ -9,7 +9,8 @@
 //! with more threads it depends on the number of parts (`threads`, at most [`MAX_PARTS`]). What
 //! it costs in Hausdorff distance is measured in docs/notes/qem.md.
 
-use super::Run;
+use super::checks::check_cancel;
+use super::outcome::Run;
 use super::passes::simplify_prepared;
 use super::prepare::{self, Prepared};
 use super::resources::{release_freed_memory, sequential};
@@ -101,12 +102,12 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Result<
     drop((refs, face_start)); // each part builds its own face lists
     // Each part copies its positions here, so that the global ones are gone before the parts
     // run (they used to copy them at their start: 24 B a vertex more at the two-thread peak).
-    super::check_cancel(params)?;
+    check_cancel(params)?;
     let parts = split(&pos, &faces, plan);
     drop((faces, pos));
-    super::check_cancel(params)?;
+    check_cancel(params)?;
     release_freed_memory();
-    super::check_cancel(params)?;
+    check_cancel(params)?;
     let results: Vec<(Run, Vec<u32>)> = parts
         .into_par_iter()
         .map(|part| {
@@ -147,7 +148,7 @@ pub(super) fn run(prepared: Prepared, params: &QemParams, plan: Plan) -> Result<
                 face_start,
                 frame,
             };
-            super::check_cancel(params)?;
+            check_cancel(params)?;
             let (run, kept) = sequential(|| simplify_prepared(sub, &part_params, Some(&locked)))?;
             let kept = kept.iter().map(|&l| globals[l as usize]).collect();
             Ok((run, kept))

@@ -5,11 +5,13 @@
 //! partitioned run.
 
 use super::candidates::{Cand, GENERATIONS, is_live, key_cost, merge_live, sort_key};
+use super::checks::check_cancel;
 use super::engine::Engine;
-use super::engine::prefetch::{self, prefetch_ptr};
+use super::outcome::Run;
+use super::prefetch::{self, prefetch_ptr};
 use super::resources::release_freed_memory;
 use super::seams::Seams;
-use super::{Run, attribute_error, check_cancel, prepare, setup, wedges};
+use super::{attribute_error, prepare, setup, wedges};
 use crate::radix::{sort_by_u32_key, sort_by_u32_key_in_parts};
 use crate::{QemError, QemParams, StopReason, Target, pairs};
 use mesh::TriMesh;
@@ -592,4 +594,36 @@ fn visit(
         return Break(());
     }
     Continue(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::prefetch::FORCE;
+
+    /// `mesh` prepared and simplified to `faces` with the prefetch stages forced on or off.
+    fn simplified(mesh: &mesh::TriMesh, faces: usize, prefetch: bool) -> mesh::TriMesh {
+        FORCE.with(|f| f.set(Some(prefetch)));
+        let params = crate::QemParams::with_target(crate::Target::Faces(faces));
+        let prepared = super::prepare::prepare(mesh).expect("prepare");
+        let out = super::simplify_prepared(prepared, &params, None).expect("simplify");
+        FORCE.with(|f| f.set(None));
+        out.0.mesh
+    }
+
+    #[test]
+    fn the_walk_without_prefetch_contracts_the_same_pairs() {
+        // One mesh below and one above MIN_VERTICES, each simplified both ways, to 10 % and 1 %.
+        for mesh in [
+            mesh::procedural::icosphere(4),
+            mesh::procedural::icosphere(5),
+        ] {
+            for faces in [mesh.face_count() / 10, mesh.face_count() / 100] {
+                let with = simplified(&mesh, faces, true);
+                let without = simplified(&mesh, faces, false);
+                assert!(with.face_count() <= faces && with.face_count() > 0);
+                assert_eq!(with.triangles, without.triangles);
+                assert_eq!(with.positions, without.positions);
+            }
+        }
+    }
 }

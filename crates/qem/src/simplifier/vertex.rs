@@ -32,5 +32,14 @@ pub(super) struct Vertex {
     pub(super) locked: bool,
 }
 
+impl Vertex {
+    /// Where its face list lies in the face lists (`refs`).
+    #[inline]
+    pub(super) fn list(&self) -> std::ops::Range<usize> {
+        let s = self.start as usize;
+        s..s + self.len as usize
+    }
+}
+
 // Two whole cache lines per vertex.
 const _: () = assert!(std::mem::size_of::<Vertex>() == 128);

@@ -13,7 +13,7 @@ pub(super) struct View<'a> {
     pub(super) origin: &'a [u32],
     /// Each prepared face's input wedges, gathered once in prepared order for the steps that
     /// read them face by face (the seam search: 1.07 → 0.95 ms on the fandisk atlas); the
-    /// carried values keep them as the engine faces' wedges ([`WedgeValues::new`]).
+    /// carried values keep them as the engine faces' wedges (`WedgeValues::new`).
     pub(super) corners: Vec<[u32; 3]>,
     pub(super) attributes: &'a Attributes,
 }

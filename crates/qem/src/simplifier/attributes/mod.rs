@@ -5,14 +5,17 @@
 //! term, [`AttributeError`]); what changes is what may be contracted (seams only along
 //! themselves, seam ends and crossings locked, [`Seams`]), the constraint planes along the seams
 //! (Garland–Heckbert 1997's boundary planes, which the paper proposes for any discontinuity),
-//! and the values, which travel with the contractions ([`wedges`]).
+//! and the values, which travel with the contractions ([`wedges`](super::wedges)).
 
 use super::attribute_error::AttributeError;
+use super::checks::{check_cancel, check_pair_threshold, validate};
+use super::outcome::{Run, report};
 use super::passes::AttributeRun;
+use super::prepare;
 use super::seams::Seams;
 use super::view::View;
-use super::wedges::{self, InputValues, WedgeValues};
-use super::{Run, prepare};
+use super::wedges::output::{Contracted, output};
+use super::wedges::{InputValues, WedgeValues, mark_side1};
 use crate::{QemError, QemParams, QemReport};
 use glam::DVec3;
 use mesh::TriMesh;
@@ -27,14 +30,14 @@ pub(crate) fn run(
     user_locked: Option<&[bool]>,
 ) -> Result<(TriMesh, Attributes, QemReport), QemError> {
     let started = Instant::now();
-    super::validate(params)?;
+    validate(params)?;
     attributes
         .validate(input)
         .map_err(QemError::InvalidAttributes)?;
-    super::check_cancel(params)?;
+    check_cancel(params)?;
     let (prepared, index) = prepare::prepare_with_index(input, true)?;
-    super::check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
-    super::check_cancel(params)?;
+    check_pair_threshold(params.pair_threshold, prepared.frame.scale)?;
+    check_cancel(params)?;
     let (input_vertices, input_faces) = (prepared.pos.len(), prepared.faces.len());
     let n = prepared.pos.len();
     // Each input vertex's prepared index (`u32::MAX`: unreferenced).
@@ -94,15 +97,28 @@ pub(crate) fn run(
         values,
     };
     let face_origin = index.face;
-    super::check_cancel(params)?;
+    check_cancel(params)?;
     let (run, out) = super::passes::simplify_prepared_with(
         prepared,
         params,
         Some(&locked),
         Some(attribute_run),
-        |e, frame| wedges::output(e, frame, attributes, &face_origin),
+        |e, frame| match (&e.values, &e.seams) {
+            (Some(values), Some(seams)) => {
+                let (vx, faces, refs, live_faces) = (&e.vx, &e.faces, &e.refs, e.live_faces);
+                let e = Contracted {
+                    vx,
+                    faces,
+                    refs,
+                    live_faces,
+                };
+                output(e, values, seams, frame, attributes, &face_origin)
+            }
+            // Not reached: an attribute run's engine always holds its values and seams.
+            _ => (e.output(frame).0, Attributes::default()),
+        },
     )?;
-    let report = super::report(&run, input_vertices, input_faces, started);
+    let report = report(&run, input_vertices, input_faces, started);
     let Run { mesh, .. } = run;
     Ok((mesh, out, report))
 }
@@ -224,8 +240,8 @@ fn find_seams(view: &View, n: usize) -> FoundSeams {
 
 /// The side of every prepared face corner at a seam vertex that may be contracted (two seam
 /// neighbours, not `locked`), `side[3 f + k]` for corner `k` of face `f`: 0 on the left of the
-/// seam walked from `along[0]` through the vertex to `along[1]` ([`wedges::fan_sides`]), 1 on
-/// the other side; 0 everywhere else.
+/// seam walked from `along[0]` through the vertex to `along[1]`
+/// ([`fan_sides`](super::wedges::fan_sides)), 1 on the other side; 0 everywhere else.
 fn corner_sides(view: &View, seams: &Seams, locked: &[bool]) -> Vec<u8> {
     let tris = view.faces;
     let mut side = vec![0u8; tris.len() * 3];
@@ -236,7 +252,7 @@ fn corner_sides(view: &View, seams: &Seams, locked: &[bool]) -> Vec<u8> {
         let fan = view.fan(v);
         let faces = |f: u32| tris[f as usize];
         let vn = [v as u32, n0, n1];
-        wedges::mark_side1(fan, faces, vn, &mut reached, &mut stack, |f, k| {
+        mark_side1(fan, faces, vn, &mut reached, &mut stack, |f, k| {
             side[f as usize * 3 + k] = 1;
         });
     }

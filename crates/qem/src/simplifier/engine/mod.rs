@@ -3,16 +3,17 @@
 //! pair costing and placement, the topology / normal checks and the collapse itself. What to
 //! contract, and when, is decided by the pass loop ([`super::passes`]).
 
-pub(super) mod prefetch;
+mod stages;
 
 use super::attribute_error::AttributeError;
 use super::candidates::{Cand, key_of};
+use super::prefetch;
 use super::prepare::Frame;
 use super::resources::{PARALLEL_CHUNK, PARALLEL_MIN, parallel};
 use super::seams::Seams;
 use super::triangle::{DEAD, contains, segment_parameter};
 use super::vertex::Vertex;
-use super::wedges::WedgeValues;
+use super::wedges::{WedgeValues, fan_sides};
 use crate::pairs::VirtualPairs;
 use crate::{QemParams, Quadric};
 use glam::DVec3;
@@ -137,8 +138,7 @@ impl Engine {
 
     #[inline]
     pub(super) fn list(&self, v: usize) -> std::ops::Range<usize> {
-        let s = self.vx[v].start as usize;
-        s..s + self.vx[v].len as usize
+        self.vx[v].list()
     }
 
     #[inline]
@@ -480,8 +480,7 @@ impl Engine {
         }
     }
 
-    /// The side of seam vertex `a` ([`wedges::fan_sides`](super::wedges::fan_sides)) that its
-    /// neighbour `b`, off the seams, lies on.
+    /// The side of seam vertex `a` ([`fan_sides`]) that its neighbour `b`, off the seams, lies on.
     fn side_of(&self, a: usize, b: usize, seams: &Seams) -> usize {
         let fan: Vec<u32> = self
             .list(a)
@@ -491,7 +490,7 @@ impl Engine {
         let (mut reached, mut stack) = (Vec::new(), Vec::new());
         let [n0, n1] = seams.along[a];
         let faces = |f: u32| self.faces[f as usize];
-        super::wedges::fan_sides(&fan, faces, [a as u32, n0, n1], &mut reached, &mut stack);
+        fan_sides(&fan, faces, [a as u32, n0, n1], &mut reached, &mut stack);
         let with_b = fan
             .iter()
             .position(|&f| contains(&self.faces[f as usize], b as u32));

@@ -22,13 +22,13 @@
 //! side of each face around a seam vertex, [`output`](output::output) makes the result's wedges
 //! and [`untangle`] undoes the folds they leave in texture space.
 
-mod output;
+pub(super) mod output;
 mod sides;
 mod untangle;
 
-pub(super) use output::output;
 pub(super) use sides::{fan_sides, mark_side1};
 
+use super::prefetch::prefetch_ptr;
 use super::seams::Seams;
 use super::triangle::gradient_basis;
 use super::view::View;
@@ -273,9 +273,9 @@ impl WedgeValues {
     pub(super) fn prefetch(&self, v: usize) {
         let lines = |start: *const u8, bytes: usize| {
             for offset in (0..bytes).step_by(64) {
-                super::engine::prefetch::prefetch_ptr(start.wrapping_add(offset));
+                prefetch_ptr(start.wrapping_add(offset));
             }
-            super::engine::prefetch::prefetch_ptr(start.wrapping_add(bytes - 1));
+            prefetch_ptr(start.wrapping_add(bytes - 1));
         };
         let (s, len) = (self.input.layout.stride, self.input.layout.fit_len());
         if (v + 1) * s <= self.lerp.len() {

@@ -2,29 +2,42 @@
 //! corner with its vertex's carried values on its side (or its own input wedge where the vertex
 //! was never merged), folds in texture space undone, the wedges compacted.
 
+use super::WedgeValues;
 use super::sides::mark_side1;
 use super::untangle::{untangle_uv, uv_area};
-use crate::simplifier::engine::Engine;
 use crate::simplifier::prepare::Frame;
+use crate::simplifier::seams::Seams;
 use crate::simplifier::triangle::DEAD;
+use crate::simplifier::vertex::Vertex;
 use glam::{Vec2, Vec3, Vec4};
 use mesh::TriMesh;
 use mesh::attributes::Attributes;
 
-/// The engine's result as a mesh in model units with its attributes: the live faces less
-/// duplicates (`mesh::clean`), each corner with its vertex's values on its side, or its own
-/// input wedge where the vertex was never merged; materials per face. `face_origin[f]` is the
-/// input face of engine face `f` (same corner order); `attributes` are the input's.
+/// What the output reads of the engine once the contractions are done (borrowed from it).
+pub(in crate::simplifier) struct Contracted<'a> {
+    /// The vertex records.
+    pub(in crate::simplifier) vx: &'a [Vertex],
+    /// The faces ([`DEAD`] in the first slot once removed).
+    pub(in crate::simplifier) faces: &'a [[u32; 3]],
+    /// The face lists that the records point into.
+    pub(in crate::simplifier) refs: &'a [u32],
+    /// Faces not yet removed.
+    pub(in crate::simplifier) live_faces: usize,
+}
+
+/// The engine's result `e`, with its carried `values` and its `seams`, as a mesh in model units
+/// with its attributes: the live faces less duplicates (`mesh::clean`), each corner with its
+/// vertex's values on its side, or its own input wedge where the vertex was never merged;
+/// materials per face. `face_origin[f]` is the input face of engine face `f` (same corner
+/// order); `attributes` are the input's.
 pub(in crate::simplifier) fn output(
-    e: &Engine,
+    e: Contracted,
+    values: &WedgeValues,
+    seams: &Seams,
     frame: &Frame,
     attributes: &Attributes,
     face_origin: &[u32],
 ) -> (TriMesh, Attributes) {
-    let (Some(values), Some(seams)) = (&e.values, &e.seams) else {
-        // Not reached: an attribute run's engine always holds its values and seams.
-        return (e.output(frame).0, Attributes::default());
-    };
     // 1. The live faces and their engine indices, degenerate and duplicate faces dropped.
     let mut face_id = Vec::with_capacity(e.live_faces);
     let mut triangles = Vec::with_capacity(e.live_faces);
@@ -49,8 +62,9 @@ pub(in crate::simplifier) fn output(
         }
         fan.clear();
         fan.extend(
-            e.list(v)
-                .map(|i| e.refs[i])
+            e.refs[e.vx[v].list()]
+                .iter()
+                .copied()
                 .filter(|&f| e.faces[f as usize][0] != DEAD),
         );
         let [n0, n1] = seams.along[v];
