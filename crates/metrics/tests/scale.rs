@@ -294,27 +294,6 @@ fn meshes_too_far_apart_for_the_frame_are_refused_and_a_small_one_inside_a_big_o
     );
 }
 
-/// Distance from `p` to triangle `abc`, by brute force: the projection onto the plane when it
-/// falls inside, else the nearest point of the three edges (written independently of the
-/// crate's region-based routine).
-fn point_triangle_distance(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let segment = |u: DVec3, w: DVec3| {
-        let d = w - u;
-        let t = ((p - u).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-        (p - (u + d * t)).length()
-    };
-    let mut best = segment(a, b).min(segment(b, c)).min(segment(c, a));
-    let n = (b - a).cross(c - a).normalize();
-    let q = p - n * (p - a).dot(n);
-    let inside = [(a, b), (b, c), (c, a)]
-        .iter()
-        .all(|&(u, w)| (w - u).cross(q - u).dot(n) >= 0.0);
-    if inside {
-        best = best.min((p - q).length());
-    }
-    best
-}
-
 #[test]
 fn meshlab_plan_samples_unreferenced_vertices_as_meshlab_does() {
     // A sphere with 40 vertices no face uses, 0.5 to 2 radii off its surface, measured against
@@ -342,7 +321,7 @@ fn meshlab_plan_samples_unreferenced_vertices_as_meshlab_does() {
             (0..coarse.face_count())
                 .map(|f| {
                     let [a, b, c] = coarse.triangle_f64(f);
-                    point_triangle_distance(p.as_dvec3(), a, b, c)
+                    (p.as_dvec3() - metrics::closest_point_triangle(p.as_dvec3(), a, b, c)).length()
                 })
                 .fold(f64::INFINITY, f64::min)
         })
