@@ -15,7 +15,7 @@ fn main() {
                 continue;
             }
         };
-        let (m, _) = mesh::clean::prepare(&loaded.mesh);
+        let m = mesh::clean::prepare(&loaded.mesh.into()).0.mesh;
         let input = mesh::topology::analyze(&m);
         let target = ((m.vertex_count() as f64) * ratio).round() as usize;
         // The network's mesh itself (no oversampling), as the probe has always measured it.

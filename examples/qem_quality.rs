@@ -5,7 +5,7 @@
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let load = |p: &str| mesh::io::load(std::path::Path::new(p)).expect("load").mesh;
-    let original = mesh::clean::prepare(&load(&args[1])).0;
+    let original = mesh::clean::prepare(&load(&args[1]).into()).0.mesh;
     let faces: usize = args[2].parse().expect("faces");
     let samples = args
         .get(4)

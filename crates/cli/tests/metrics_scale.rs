@@ -18,7 +18,7 @@ fn json(o: &Output) -> serde_json::Value {
 
 fn save(dir: &Path, name: &str, m: &TriMesh) -> PathBuf {
     let p = dir.join(name);
-    mesh::io::save(m, &p).unwrap();
+    mesh::io::save(&m.clone().into(), &p).unwrap();
     p
 }
 

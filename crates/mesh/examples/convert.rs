@@ -43,10 +43,12 @@ fn main() -> ExitCode {
             .clone()
             .unwrap_or_else(|| gng3d_mesh::attributes::Attributes::per_vertex(&l.mesh));
         let t = Instant::now();
-        let warnings = gng3d_mesh::io::save_with_attributes(
-            &l.mesh,
-            &attributes,
-            l.materials.as_ref(),
+        let warnings = gng3d_mesh::io::save(
+            &gng3d_mesh::Model::new(
+                l.mesh.clone(),
+                Some(attributes.clone()),
+                l.materials.clone(),
+            ),
             Path::new(output),
         )?
         .dropped;

@@ -173,8 +173,8 @@ fn spot_keeps_its_texture_coordinates_where_they_were() {
         return;
     };
     let loaded = mesh::io::load(&dir.join("spot.obj")).unwrap();
-    let (mesh, attributes, _) =
-        mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
+    let model = mesh::clean::prepare(&loaded.into()).0;
+    let (mesh, attributes) = (model.mesh, model.attributes.unwrap());
     let params = QemParams::with_target(Target::Ratio(0.25));
     let (out, kept, _) = simplify_with_attributes(&mesh, &attributes, &params).unwrap();
     kept.validate(&out).unwrap();
@@ -237,8 +237,8 @@ fn spot_folds_no_more_texture_than_meshoptimizer() {
         return;
     };
     let loaded = mesh::io::load(&dir.join("spot.obj")).unwrap();
-    let (mesh, attributes, _) =
-        mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
+    let model = mesh::clean::prepare(&loaded.into()).0;
+    let (mesh, attributes) = (model.mesh, model.attributes.unwrap());
     // meshoptimizer's simplifyWithAttributes flips 3, 2 and 6 triangles here
     // (docs/results/attributes_vs_meshopt.py); before the untangling step ours flipped 2, 7, 9,
     // now 1, 1, 0 (the one at 10 %: a thin triangle none of whose corners can unfold it alone).
@@ -261,8 +261,8 @@ fn asset(name: &str) -> (TriMesh, Attributes) {
         .join(name);
     let loaded = mesh::io::load(&path).unwrap();
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
-    let (mesh, attributes, _) =
-        mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
+    let model = mesh::clean::prepare(&loaded.into()).0;
+    let (mesh, attributes) = (model.mesh, model.attributes.unwrap());
     (mesh, attributes)
 }
 

@@ -575,13 +575,15 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
 
 /// Save a mesh; the format follows the extension (obj, ply, stl).
 pub fn save_mesh(mesh: &TriMesh, path: &Path) -> Result<()> {
-    mesh::io::save(mesh, path).map_err(|e| ViewerError::Save {
-        path: path.to_path_buf(),
-        message: e
-            .to_string()
-            .trim_start_matches(&format!("{}: ", path.display()))
-            .to_string(),
-    })
+    mesh::io::save(&mesh.clone().into(), path)
+        .map(|_| ())
+        .map_err(|e| ViewerError::Save {
+            path: path.to_path_buf(),
+            message: e
+                .to_string()
+                .trim_start_matches(&format!("{}: ", path.display()))
+                .to_string(),
+        })
 }
 
 /// The built-in model shown without a file argument.

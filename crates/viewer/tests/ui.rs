@@ -421,7 +421,7 @@ fn bad_files_show_an_error_and_exports_round_trip() {
     // A real file opens and replaces the model.
     let good = dir.path().join("sphere.obj");
     let sphere = mesh::procedural::icosphere(2);
-    mesh::io::save(&sphere, &good).unwrap();
+    mesh::io::save(&sphere.clone().into(), &good).unwrap();
     h.state_mut().session.open_path(good);
     step_until(&mut h, Duration::from_secs(20), "the sphere to load", |a| {
         !a.session.is_loading()
@@ -794,7 +794,11 @@ fn table1_shows_the_attribute_deviation_of_a_textured_input() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("globe.obj");
     let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
-    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    mesh::io::save(
+        &mesh::Model::new(sphere.clone(), Some(attributes.clone()), None),
+        &path,
+    )
+    .unwrap();
     let options = ViewerOptions {
         path: Some(path),
         ..fast(120)
@@ -991,7 +995,11 @@ fn panels_never_overlap_at_any_window_size() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("globe.obj");
     let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
-    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    mesh::io::save(
+        &mesh::Model::new(sphere.clone(), Some(attributes.clone()), None),
+        &path,
+    )
+    .unwrap();
     // The size of the fault first, with the parameter panel open as it was (it now starts
     // closed at 1400×800: `--controls open` opens it).
     let options = ViewerOptions {

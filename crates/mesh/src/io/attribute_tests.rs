@@ -39,9 +39,12 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, attributes) = textured_sphere(8, 16);
     let path = dir.path().join("sphere.obj");
-    let warnings = save_with_attributes(&mesh, &attributes, None, &path)
-        .unwrap()
-        .dropped;
+    let warnings = save(
+        &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &path,
+    )
+    .unwrap()
+    .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     let back = load(&path).unwrap();
     assert!(back.warnings.is_empty(), "{:?}", back.warnings);
@@ -54,12 +57,20 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     assert_eq!(a.seam_edges(&back.mesh), attributes.seam_edges(&mesh));
     // Saved again and read again: the same bytes (wedges are numbered by first use).
     let again = dir.path().join("again.obj");
-    save_with_attributes(&back.mesh, &a, None, &again).unwrap();
+    save(
+        &crate::Model::new(back.mesh.clone(), Some(a.clone()), None),
+        &again,
+    )
+    .unwrap();
     let third = dir.path().join("third.obj");
     let reread = load(&again).unwrap();
     let ra = reread.attributes.unwrap();
     assert_values_close(&ra, &attributes, 0.0);
-    save_with_attributes(&reread.mesh, &ra, None, &third).unwrap();
+    save(
+        &crate::Model::new(reread.mesh.clone(), Some(ra.clone()), None),
+        &third,
+    )
+    .unwrap();
     assert!(fs::read(&third).unwrap() == fs::read(&again).unwrap());
 }
 
@@ -79,10 +90,13 @@ fn ply_round_trip_keeps_normals_uvs_and_colours() {
     );
     let path = dir.path().join("sphere.ply");
     assert!(
-        save_with_attributes(&mesh, &attributes, None, &path)
-            .unwrap()
-            .dropped
-            .is_empty()
+        save(
+            &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+            &path
+        )
+        .unwrap()
+        .dropped
+        .is_empty()
     );
     let back = load(&path).unwrap();
     assert!(back.warnings.is_empty(), "{:?}", back.warnings);
@@ -92,7 +106,12 @@ fn ply_round_trip_keeps_normals_uvs_and_colours() {
     assert_eq!(a.names(), vec!["normals", "uv0", "colors"]);
     assert_values_close(&a, &attributes, 1e-5);
     // ... and the weld joins it again: the sphere's vertices, the same seams.
-    let (welded, wa, report) = crate::clean::prepare_with_attributes(&back.mesh, &a);
+    let model = crate::Model {
+        attributes: Some(a),
+        ..back.mesh.into()
+    };
+    let (welded, report) = crate::clean::prepare(&model);
+    let (welded, wa) = (welded.mesh, welded.attributes.unwrap());
     assert_eq!(welded.vertex_count(), mesh.vertex_count());
     assert_eq!(report.faces, mesh.face_count());
     wa.validate(&welded).unwrap();
@@ -128,9 +147,16 @@ fn obj_materials_are_read_written_and_copied() {
 
     let out = tempfile::tempdir().unwrap();
     let to = out.path().join("copy.obj");
-    let warnings = save_with_attributes(&loaded.mesh, &a, Some(&materials), &to)
-        .unwrap()
-        .dropped;
+    let warnings = save(
+        &crate::Model::new(
+            loaded.mesh.clone(),
+            Some(a.clone()),
+            Some(materials.clone()),
+        ),
+        &to,
+    )
+    .unwrap()
+    .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(
         fs::read(out.path().join("box.mtl")).unwrap(),
@@ -147,10 +173,12 @@ fn obj_materials_are_read_written_and_copied() {
     // A library that is gone: the mesh is written, the copy is a warning naming the file.
     fs::remove_file(src.path().join("box.mtl")).unwrap();
     let out2 = tempfile::tempdir().unwrap();
-    let warnings = save_with_attributes(
-        &loaded.mesh,
-        &a,
-        Some(&materials),
+    let warnings = save(
+        &crate::Model::new(
+            loaded.mesh.clone(),
+            Some(a.clone()),
+            Some(materials.clone()),
+        ),
         &out2.path().join("c.obj"),
     )
     .unwrap()
@@ -286,7 +314,11 @@ fn bad_attribute_references_name_the_line() {
     // Attributes that do not fit the mesh are a write error, not a panic.
     let (mesh, mut a) = textured_sphere(3, 4);
     a.corners.pop();
-    let err = save_with_attributes(&mesh, &a, None, &dir.path().join("x.obj")).unwrap_err();
+    let err = save(
+        &crate::Model::new(mesh.clone(), Some(a.clone()), None),
+        &dir.path().join("x.obj"),
+    )
+    .unwrap_err();
     assert!(
         err.to_string()
             .contains("the attributes do not fit the mesh")
@@ -331,7 +363,11 @@ fn ply_without_seams_keeps_the_vertex_numbering() {
     a.normals.as_mut().unwrap().reverse();
     a.validate(&mesh).unwrap();
     let path = dir.path().join("s.ply");
-    save_with_attributes(&mesh, &a, None, &path).unwrap();
+    save(
+        &crate::Model::new(mesh.clone(), Some(a.clone()), None),
+        &path,
+    )
+    .unwrap();
     let back = load(&path).unwrap();
     assert_eq!(back.mesh, mesh);
     assert_eq!(back.vertex_normals.unwrap(), mesh.vertex_normals());
@@ -370,8 +406,11 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
         ("s.stl", vec![]),
     ] {
         let path = dir.path().join(name);
-        let report = save_with_attributes(&mesh, &attributes, None, &path)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let report = save(
+            &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+            &path,
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(report.input, attributes.names(), "{name}");
         assert_eq!(report.kept, kept, "{name}");
         // Each attribute not kept is named in a sentence; nothing else is said.
@@ -403,7 +442,11 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
         ..Attributes::default()
     };
     let path = dir.path().join("empty.obj");
-    let err = save_with_attributes(&empty, &none, None, &path).unwrap_err();
+    let err = save(
+        &crate::Model::new(empty.clone(), Some(none.clone()), None),
+        &path,
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("nothing written"), "{err}");
     assert!(!path.exists());
 }
@@ -418,7 +461,11 @@ fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
         attributes.wedge_count()
     ]);
     let path = dir.path().join("globe.gltf");
-    let report = save_with_attributes(&mesh, &attributes, None, &path).unwrap();
+    let report = save(
+        &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &path,
+    )
+    .unwrap();
     assert_eq!(report.kept, vec!["normals", "uv0", "uv1", "colors"]);
     assert!(report.dropped.is_empty(), "{:?}", report.dropped);
     // Two files and nothing else: the JSON names its buffer file, which holds the data.
@@ -442,7 +489,7 @@ fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
     assert_values_close(&a, &attributes, 1e-5);
     // Positions only through `save`: the same two files, the same check.
     let plain = dir.path().join("plain.gltf");
-    save(&mesh, &plain).unwrap();
+    save(&mesh.clone().into(), &plain).unwrap();
     assert!(dir.path().join("plain.bin").exists());
     assert_eq!(load(&plain).unwrap().mesh, mesh);
 }
@@ -470,8 +517,9 @@ fn positions_only_and_attribute_saves_refuse_the_same_outputs_and_write_nothing(
         ] {
             let dir = tempfile::tempdir().unwrap();
             let path = dir.path().join(name);
-            let plain = save(m, &path).unwrap_err();
-            let with = save_with_attributes(m, a, None, &path).unwrap_err();
+            let plain = save(&m.clone().into(), &path).unwrap_err();
+            let with =
+                save(&crate::Model::new(m.clone(), Some(a.clone()), None), &path).unwrap_err();
             for err in [&plain, &with] {
                 assert!(
                     matches!(err, MeshError::Write { path: p, .. } if *p == path),

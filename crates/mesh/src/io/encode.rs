@@ -70,7 +70,7 @@ fn check_attributes(mesh: &TriMesh, attributes: &Attributes, path: &Path) -> Res
         })
 }
 
-/// The bytes [`save_with_attributes`](super::save_with_attributes) writes for `mesh` with
+/// The bytes [`save`](super::save) writes for `mesh` with
 /// `attributes` in `format`, and what the format cannot keep (as warnings): OBJ keeps normals,
 /// texture coordinates (`uv0`), colours (per vertex) and materials; PLY keeps normals, `uv0` and
 /// colours, one vertex record per wedge (seams as split vertices, which the weld joins again on
@@ -83,7 +83,7 @@ fn check_attributes(mesh: &TriMesh, attributes: &Attributes, path: &Path) -> Res
 /// output of a glTF input names `<path stem>.mtl`, made from the glTF materials by
 /// [`copy_material_files`](super::copy_material_files). What does not cross is a warning. A `.gltf`
 /// from here holds its buffer as a `data:` URI (one self-contained file);
-/// [`save_with_attributes`](super::save_with_attributes) writes it to `<stem>.bin` instead.
+/// [`save`](super::save) writes it to `<stem>.bin` instead.
 /// Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the problem.
 pub fn encode_with_attributes(
     mesh: &TriMesh,
@@ -112,7 +112,7 @@ pub(super) enum GltfBuffer {
     /// [`encode_with_attributes`]).
     DataUri,
     /// `<stem>.bin` next to the `.gltf` (what [`save`](super::save) and
-    /// [`save_with_attributes`](super::save_with_attributes) write).
+    /// [`save`](super::save) write).
     BinFile,
 }
 
