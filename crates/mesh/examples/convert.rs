@@ -18,7 +18,7 @@ fn describe(l: &gng3d_mesh::io::LoadedMesh) -> String {
         l.mesh.vertex_count(),
         l.mesh.face_count(),
         a.map_or(0, |a| a.wedge_count()),
-        a.map_or_else(String::new, |a| a.names().join(", ")),
+        a.map_or_else(String::new, |a| gng3d_mesh::AttributeKind::list(&a.kinds())),
         l.materials.as_ref().map_or(0, |m| m.names.len()),
         l.warnings.len()
     )

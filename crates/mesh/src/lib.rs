@@ -40,5 +40,6 @@ pub mod topology;
 pub mod transfer;
 mod trimesh;
 
+pub use attributes::AttributeKind;
 pub use model::Model;
 pub use trimesh::{Aabb, TriMesh};

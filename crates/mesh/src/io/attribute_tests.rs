@@ -1,6 +1,7 @@
 //! Attributes through the readers and writers: round trips, materials, warnings, errors.
 
 use super::*;
+use crate::AttributeKind as K;
 use crate::attributes::Attributes;
 use crate::procedural::textured_sphere;
 use std::fs;
@@ -51,7 +52,7 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     assert_eq!(back.mesh, mesh);
     let a = back.attributes.expect("attributes read back");
     a.validate(&back.mesh).unwrap();
-    assert_eq!(a.names(), vec!["normals", "uv0"]);
+    assert_eq!(a.kinds(), vec![K::Normals, K::Uv0]);
     assert_eq!(a.wedge_count(), attributes.wedge_count());
     assert_values_close(&a, &attributes, 0.0);
     assert_eq!(a.seam_edges(&back.mesh), attributes.seam_edges(&mesh));
@@ -103,7 +104,7 @@ fn ply_round_trip_keeps_normals_uvs_and_colours() {
     // One vertex record per wedge: the seam is split in the file ...
     assert_eq!(back.mesh.vertex_count(), w);
     let a = back.attributes.unwrap();
-    assert_eq!(a.names(), vec!["normals", "uv0", "colors"]);
+    assert_eq!(a.kinds(), vec![K::Normals, K::Uv0, K::Colors]);
     assert_values_close(&a, &attributes, 1e-5);
     // ... and the weld joins it again: the sphere's vertices, the same seams.
     let model = crate::Model {
@@ -267,7 +268,7 @@ fn obj_vt_and_vn_no_face_uses_are_ignored_with_one_warning_each() {
             .as_ref()
             .is_none_or(|a| a.uv0.is_none() && a.normals.is_none()),
         "{:?}",
-        loaded.attributes.map(|a| a.names())
+        loaded.attributes.map(|a| a.kinds())
     );
 
     // Normals used by every corner, `vt` by none: normals kept, texture coordinates ignored.
@@ -290,7 +291,7 @@ fn obj_vt_and_vn_no_face_uses_are_ignored_with_one_warning_each() {
     let loaded = load(&write(dir.path(), "mat.obj", obj.as_bytes())).unwrap();
     assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
     let a = loaded.attributes.unwrap();
-    assert_eq!(a.names(), vec!["materials"]);
+    assert_eq!(a.kinds(), vec![K::Materials]);
 }
 
 #[test]
@@ -334,7 +335,7 @@ fn spot_loads_with_its_texture_coordinates() {
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let a = loaded.attributes.unwrap();
     a.validate(&loaded.mesh).unwrap();
-    assert_eq!(a.names(), vec!["uv0"]);
+    assert_eq!(a.kinds(), vec![K::Uv0]);
     assert_eq!(loaded.mesh.vertex_count(), 2930);
     assert!(a.wedge_count() >= 3225, "{} wedges", a.wedge_count());
     assert!(!a.seam_edges(&loaded.mesh).is_empty());
@@ -387,7 +388,7 @@ fn non_finite_attribute_values_drop_that_attribute_with_a_warning() {
         }]
     );
     let a = loaded.attributes.unwrap();
-    assert_eq!(a.names(), vec!["normals"]);
+    assert_eq!(a.kinds(), vec![K::Normals]);
     a.validate(&loaded.mesh).unwrap();
 }
 
@@ -397,10 +398,10 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
     let (mesh, mut attributes) = textured_sphere(8, 16);
     // A second UV set, which OBJ does not store.
     attributes.uv1 = attributes.uv0.clone();
-    let all = vec!["normals", "uv0", "uv1"];
+    let all = vec![K::Normals, K::Uv0, K::Uv1];
     for (name, kept) in [
-        ("s.obj", vec!["normals", "uv0"]),
-        ("s.ply", vec!["normals", "uv0"]),
+        ("s.obj", vec![K::Normals, K::Uv0]),
+        ("s.ply", vec![K::Normals, K::Uv0]),
         ("s.glb", all.clone()),
         ("s.gltf", all.clone()),
         ("s.stl", vec![]),
@@ -411,15 +412,15 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
             &path,
         )
         .unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert_eq!(report.input, attributes.names(), "{name}");
+        assert_eq!(report.input, attributes.kinds(), "{name}");
         assert_eq!(report.kept, kept, "{name}");
         // Each attribute not kept is named in a sentence; nothing else is said.
-        for lost in attributes.names().iter().filter(|n| !kept.contains(n)) {
+        for lost in attributes.kinds().iter().filter(|n| !kept.contains(n)) {
             assert!(
                 report
                     .dropped
                     .iter()
-                    .any(|d| d.contains(lost) || d.contains("STL")),
+                    .any(|d| d.contains(lost.name()) || d.contains("STL")),
                 "{name}: {lost} not named in {:?}",
                 report.dropped
             );
@@ -432,7 +433,7 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
         );
         // What was written reads back with exactly what is said to be kept.
         let back = load(&path).unwrap();
-        let names = back.attributes.map(|a| a.names()).unwrap_or_default();
+        let names = back.attributes.map(|a| a.kinds()).unwrap_or_default();
         assert_eq!(names, kept, "{name}");
     }
     // A mesh the writer cannot give faces to is refused and nothing is written.
@@ -466,7 +467,7 @@ fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
         &path,
     )
     .unwrap();
-    assert_eq!(report.kept, vec!["normals", "uv0", "uv1", "colors"]);
+    assert_eq!(report.kept, vec![K::Normals, K::Uv0, K::Uv1, K::Colors]);
     assert!(report.dropped.is_empty(), "{:?}", report.dropped);
     // Two files and nothing else: the JSON names its buffer file, which holds the data.
     let mut files: Vec<String> = fs::read_dir(dir.path())
@@ -485,7 +486,7 @@ fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
     assert!(back.warnings.is_empty(), "{:?}", back.warnings);
     assert_eq!(back.mesh.face_count(), mesh.face_count());
     let a = back.attributes.unwrap();
-    assert_eq!(a.names(), attributes.names());
+    assert_eq!(a.kinds(), attributes.kinds());
     assert_values_close(&a, &attributes, 1e-5);
     // Positions only through `save`: the same two files, the same check.
     let plain = dir.path().join("plain.gltf");

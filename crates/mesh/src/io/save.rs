@@ -6,7 +6,7 @@ use super::encode::{GltfBuffer, encode_parts};
 use super::side_files::{copy_gltf_images, copy_material_files};
 use super::{Format, load_encoded};
 use crate::Model;
-use crate::attributes::Attributes;
+use crate::attributes::{AttributeKind, Attributes};
 use crate::error::MeshError;
 use std::path::Path;
 
@@ -15,21 +15,22 @@ use std::path::Path;
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
 #[non_exhaustive]
 pub struct KeptAttributes {
-    /// Attributes of the input (`normals`, `uv0`, `uv1`, `colors`, `materials`).
-    pub input: Vec<&'static str>,
+    /// Attributes of the input (serialized as `normals`, `uv0`, `uv1`, `colors`, `materials`).
+    pub input: Vec<AttributeKind>,
     /// Attributes written to the output (it reads back with each of them).
-    pub kept: Vec<&'static str>,
+    pub kept: Vec<AttributeKind>,
     /// What was not written or not copied, one sentence each (the caller shows them as warnings).
     pub dropped: Vec<String>,
 }
 
 impl Format {
-    /// Whether this format stores attribute `name` (as [`Attributes::names`] gives it).
-    pub fn stores(self, name: &str) -> bool {
+    /// Whether this format stores attributes of `kind`.
+    pub fn stores(self, kind: AttributeKind) -> bool {
+        use AttributeKind::*;
         match self {
             Format::Stl => false,
-            Format::Obj => name != "uv1",
-            Format::Ply => matches!(name, "normals" | "uv0" | "colors"),
+            Format::Obj => kind != Uv1,
+            Format::Ply => matches!(kind, Normals | Uv0 | Colors),
             Format::Gltf | Format::Glb => true,
         }
     }
@@ -80,8 +81,12 @@ pub fn save(model: &Model, path: &Path) -> Result<KeptAttributes, MeshError> {
         path,
         GltfBuffer::BinFile,
     )?;
-    let input = attributes.map(Attributes::names).unwrap_or_default();
-    let kept: Vec<&'static str> = input.iter().copied().filter(|n| format.stores(n)).collect();
+    let input = attributes.map(Attributes::kinds).unwrap_or_default();
+    let kept: Vec<AttributeKind> = input
+        .iter()
+        .copied()
+        .filter(|&k| format.stores(k))
+        .collect();
     let side = encoded
         .bin
         .as_ref()
@@ -94,7 +99,7 @@ pub fn save(model: &Model, path: &Path) -> Result<KeptAttributes, MeshError> {
     let back = reread
         .attributes
         .as_ref()
-        .map(Attributes::names)
+        .map(Attributes::kinds)
         .unwrap_or_default();
     if reread.mesh.face_count() == 0 || kept.iter().any(|n| !back.contains(n)) {
         return Err(refuse(format!(
@@ -102,7 +107,7 @@ pub fn save(model: &Model, path: &Path) -> Result<KeptAttributes, MeshError> {
             if kept.is_empty() {
                 "its faces".to_string()
             } else {
-                kept.join(", ")
+                AttributeKind::list(&kept)
             }
         )));
     }

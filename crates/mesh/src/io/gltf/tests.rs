@@ -2,6 +2,7 @@
 //! normalized colours, warnings, errors, and (when installed) the Khronos validator.
 
 use super::*;
+use crate::AttributeKind as K;
 use crate::io::{Format, load, load_bytes, save};
 use crate::procedural::textured_sphere;
 use std::fs;
@@ -213,7 +214,7 @@ fn assert_same(mesh: &TriMesh, a: &Attributes, back: &crate::io::LoadedMesh) {
     assert_eq!(back.mesh.vertex_count(), mesh.vertex_count());
     assert_eq!(back.mesh.face_count(), mesh.face_count());
     assert_eq!(b.wedge_count(), a.wedge_count());
-    assert_eq!(b.names(), a.names());
+    assert_eq!(b.kinds(), a.kinds());
     let (got, want) = (corner_bits(&back.mesh, b), corner_bits(mesh, a));
     assert_eq!(got.len(), want.len());
     if let Some(i) = (0..got.len()).find(|&i| got[i] != want[i]) {
@@ -341,7 +342,7 @@ fn hand_built_gltf_with_external_bin_round_trips() {
     assert!(l.warnings.is_empty(), "{:?}", l.warnings);
     assert_eq!((l.mesh.vertex_count(), l.mesh.face_count()), (4, 2));
     let a = l.attributes.as_ref().unwrap();
-    assert_eq!(a.names(), vec!["normals", "uv0"]);
+    assert_eq!(a.kinds(), vec![K::Normals, K::Uv0]);
     assert_eq!(a.uv0.as_ref().unwrap()[2], Vec2::ONE);
     assert_eq!(l.mesh.positions[2], Vec3::new(1.0, 1.0, 0.0));
     let out = dir.path().join("out.glb");
