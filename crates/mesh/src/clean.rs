@@ -118,30 +118,17 @@ pub fn weld_exact_map(mesh: &TriMesh) -> (TriMesh, Vec<u32>) {
         }
         edges.sort_unstable();
         let mut open: Vec<([u32; 2], [u32; 2])> = Vec::new();
-        let mut k = 0;
-        while k < edges.len() {
-            let mut m = k + 1;
-            while m < edges.len() && edges[m].0 == edges[k].0 {
-                m += 1;
-            }
-            if m - k == 1 {
-                let [u, v] = edges[k].0;
+        for run in edges.chunk_by(|x, y| x.0 == y.0) {
+            if let [([u, v], _)] = *run {
                 let (gu, gv) = (group[u as usize], group[v as usize]);
                 let key = if gu <= gv { [gu, gv] } else { [gv, gu] };
                 open.push((key, [u, v]));
             }
-            k = m;
         }
         // Step 4: a position pair with exactly two open edges is a seam: merge their ends.
         open.sort_unstable();
-        let mut k = 0;
-        while k < open.len() {
-            let mut m = k + 1;
-            while m < open.len() && open[m].0 == open[k].0 {
-                m += 1;
-            }
-            if m - k == 2 {
-                let ([a, b], [c, d]) = (open[k].1, open[k + 1].1);
+        for run in open.chunk_by(|x, y| x.0 == y.0) {
+            if let [(_, [a, b]), (_, [c, d])] = *run {
                 let (c, d) = if group[a as usize] == group[c as usize] {
                     (c, d)
                 } else {
@@ -150,7 +137,6 @@ pub fn weld_exact_map(mesh: &TriMesh) -> (TriMesh, Vec<u32>) {
                 sets.union(a, c);
                 sets.union(b, d);
             }
-            k = m;
         }
     }
     // Step 5: the smallest index of each merged set represents it, in the original order.
@@ -232,12 +218,7 @@ pub fn drop_degenerate_and_duplicate_faces_in_place(mesh: &mut TriMesh) -> Dropp
 /// were kept (`None` when all were), so per-face data (attributes) can follow.
 pub fn drop_faces_with_mask(mesh: &mut TriMesh) -> (DroppedFaces, Option<Vec<bool>>) {
     let mut dropped = DroppedFaces::default();
-    let n = mesh
-        .triangles
-        .iter()
-        .flatten()
-        .max()
-        .map_or(0, |&m| m as usize + 1);
+    let n = mesh.index_bound();
     let is_degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
     // group_start[v]..group_start[v + 1]: non-degenerate faces whose smallest vertex is v.
     let mut group_start = vec![0u32; n + 1];
