@@ -19,6 +19,7 @@ extern crate gng3d_mesh as mesh;
 mod fixtures;
 
 use fixtures::fuzz::{Mutation, apply};
+use mesh::AttributeKind as K;
 use mesh::io::{Format, load_bytes};
 use proptest::prelude::*;
 use std::path::Path;
@@ -49,28 +50,10 @@ fn every_seed_loads() {
     }
     // Seeds 18-21 carry attributes: UVs and normals (OBJ, PLY, GLB), colours (PLY).
     for (i, names) in [
-        (
-            18,
-            vec![
-                gng3d_mesh::AttributeKind::Normals,
-                gng3d_mesh::AttributeKind::Uv0,
-            ],
-        ),
-        (
-            19,
-            vec![
-                gng3d_mesh::AttributeKind::Normals,
-                gng3d_mesh::AttributeKind::Uv0,
-            ],
-        ),
-        (
-            20,
-            vec![
-                gng3d_mesh::AttributeKind::Normals,
-                gng3d_mesh::AttributeKind::Uv0,
-            ],
-        ),
-        (21, vec![gng3d_mesh::AttributeKind::Colors]),
+        (18, vec![K::Normals, K::Uv0]),
+        (19, vec![K::Normals, K::Uv0]),
+        (20, vec![K::Normals, K::Uv0]),
+        (21, vec![K::Colors]),
     ] {
         let (format, bytes) = &seeds[i];
         let l = load_bytes(bytes, *format, Path::new("seed")).unwrap();

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::AttributeKind as K;
+use crate::Model;
 use crate::attributes::Attributes;
 use crate::procedural::textured_sphere;
 use std::fs;
@@ -41,7 +42,7 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     let (mesh, attributes) = textured_sphere(8, 16);
     let path = dir.path().join("sphere.obj");
     let warnings = save(
-        &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &Model::new(mesh.clone(), Some(attributes.clone()), None),
         &path,
     )
     .unwrap()
@@ -59,7 +60,7 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     // Saved again and read again: the same bytes (wedges are numbered by first use).
     let again = dir.path().join("again.obj");
     save(
-        &crate::Model::new(back.mesh.clone(), Some(a.clone()), None),
+        &Model::new(back.mesh.clone(), Some(a.clone()), None),
         &again,
     )
     .unwrap();
@@ -68,7 +69,7 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     let ra = reread.attributes.unwrap();
     assert_values_close(&ra, &attributes, 0.0);
     save(
-        &crate::Model::new(reread.mesh.clone(), Some(ra.clone()), None),
+        &Model::new(reread.mesh.clone(), Some(ra.clone()), None),
         &third,
     )
     .unwrap();
@@ -92,7 +93,7 @@ fn ply_round_trip_keeps_normals_uvs_and_colours() {
     let path = dir.path().join("sphere.ply");
     assert!(
         save(
-            &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+            &Model::new(mesh.clone(), Some(attributes.clone()), None),
             &path
         )
         .unwrap()
@@ -149,7 +150,7 @@ fn obj_materials_are_read_written_and_copied() {
     let out = tempfile::tempdir().unwrap();
     let to = out.path().join("copy.obj");
     let warnings = save(
-        &crate::Model::new(
+        &Model::new(
             loaded.mesh.clone(),
             Some(a.clone()),
             Some(materials.clone()),
@@ -175,7 +176,7 @@ fn obj_materials_are_read_written_and_copied() {
     fs::remove_file(src.path().join("box.mtl")).unwrap();
     let out2 = tempfile::tempdir().unwrap();
     let warnings = save(
-        &crate::Model::new(
+        &Model::new(
             loaded.mesh.clone(),
             Some(a.clone()),
             Some(materials.clone()),
@@ -316,7 +317,7 @@ fn bad_attribute_references_name_the_line() {
     let (mesh, mut a) = textured_sphere(3, 4);
     a.corners.pop();
     let err = save(
-        &crate::Model::new(mesh.clone(), Some(a.clone()), None),
+        &Model::new(mesh.clone(), Some(a.clone()), None),
         &dir.path().join("x.obj"),
     )
     .unwrap_err();
@@ -364,11 +365,7 @@ fn ply_without_seams_keeps_the_vertex_numbering() {
     a.normals.as_mut().unwrap().reverse();
     a.validate(&mesh).unwrap();
     let path = dir.path().join("s.ply");
-    save(
-        &crate::Model::new(mesh.clone(), Some(a.clone()), None),
-        &path,
-    )
-    .unwrap();
+    save(&Model::new(mesh.clone(), Some(a.clone()), None), &path).unwrap();
     let back = load(&path).unwrap();
     assert_eq!(back.mesh, mesh);
     assert_eq!(back.vertex_normals.unwrap(), mesh.vertex_normals());
@@ -408,7 +405,7 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
     ] {
         let path = dir.path().join(name);
         let report = save(
-            &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+            &Model::new(mesh.clone(), Some(attributes.clone()), None),
             &path,
         )
         .unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -443,11 +440,7 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
         ..Attributes::default()
     };
     let path = dir.path().join("empty.obj");
-    let err = save(
-        &crate::Model::new(empty.clone(), Some(none.clone()), None),
-        &path,
-    )
-    .unwrap_err();
+    let err = save(&Model::new(empty.clone(), Some(none.clone()), None), &path).unwrap_err();
     assert!(err.to_string().contains("nothing written"), "{err}");
     assert!(!path.exists());
 }
@@ -463,7 +456,7 @@ fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
     ]);
     let path = dir.path().join("globe.gltf");
     let report = save(
-        &crate::Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &Model::new(mesh.clone(), Some(attributes.clone()), None),
         &path,
     )
     .unwrap();
@@ -519,8 +512,7 @@ fn positions_only_and_attribute_saves_refuse_the_same_outputs_and_write_nothing(
             let dir = tempfile::tempdir().unwrap();
             let path = dir.path().join(name);
             let plain = save(&m.clone().into(), &path).unwrap_err();
-            let with =
-                save(&crate::Model::new(m.clone(), Some(a.clone()), None), &path).unwrap_err();
+            let with = save(&Model::new(m.clone(), Some(a.clone()), None), &path).unwrap_err();
             for err in [&plain, &with] {
                 assert!(
                     matches!(err, MeshError::Write { path: p, .. } if *p == path),

@@ -3,6 +3,7 @@
 
 use super::matconv::parse_mtl;
 use super::*;
+use crate::Model;
 use serde_json::json;
 
 fn assets() -> PathBuf {
@@ -21,7 +22,7 @@ fn save_dropped(
     path: &Path,
 ) -> Vec<String> {
     save(
-        &crate::Model::new(mesh.clone(), Some(a.clone()), materials.cloned()),
+        &Model::new(mesh.clone(), Some(a.clone()), materials.cloned()),
         path,
     )
     .unwrap_or_else(|e| panic!("{e}"))
@@ -146,7 +147,7 @@ fn glb_materials_become_an_mtl_with_the_image_next_to_the_obj() {
     let dir = tempfile::tempdir().unwrap();
     let glb = dir.path().join("atlas.glb");
     save(
-        &crate::Model::new(obj.mesh.clone(), Some(a.clone()), obj.materials.clone()),
+        &Model::new(obj.mesh.clone(), Some(a.clone()), obj.materials.clone()),
         &glb,
     )
     .unwrap();
@@ -201,7 +202,7 @@ fn glb_materials_become_an_mtl_with_the_image_next_to_the_obj() {
     // A .gltf naming its image by URI: the image keeps its name and is copied.
     let gltf = dir.path().join("atlas.gltf");
     save(
-        &crate::Model::new(obj.mesh.clone(), Some(a.clone()), obj.materials.clone()),
+        &Model::new(obj.mesh.clone(), Some(a.clone()), obj.materials.clone()),
         &gltf,
     )
     .unwrap();
@@ -311,7 +312,7 @@ fn the_base_color_texture_is_found_in_obj_glb_and_gltf_materials() {
     for name in ["atlas.glb", "atlas.gltf"] {
         let path = dir.path().join(name);
         save(
-            &crate::Model::new(obj.mesh.clone(), Some(a.clone()), Some(materials.clone())),
+            &Model::new(obj.mesh.clone(), Some(a.clone()), Some(materials.clone())),
             &path,
         )
         .unwrap();

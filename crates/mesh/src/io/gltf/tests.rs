@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::AttributeKind as K;
+use crate::Model;
 use crate::io::{Format, load, load_bytes, save};
 use crate::procedural::textured_sphere;
 use std::fs;
@@ -245,7 +246,7 @@ fn textured_glb_and_gltf_round_trip_bit_exact() {
         let mut m = materials.clone();
         m.gltf.as_mut().unwrap().source_dir = src.clone();
         let warnings = save(
-            &crate::Model::new(mesh.clone(), Some(a.clone()), Some(m.clone())),
+            &Model::new(mesh.clone(), Some(a.clone()), Some(m.clone())),
             &path,
         )
         .unwrap()
@@ -274,7 +275,7 @@ fn textured_glb_and_gltf_round_trip_bit_exact() {
         for out_name in ["again.glb", "again.gltf"] {
             let out = out_dir.join(out_name);
             let w = save(
-                &crate::Model::new(
+                &Model::new(
                     back.mesh.clone(),
                     Some(back.attributes.as_ref().unwrap().clone()),
                     back.materials.clone(),
@@ -301,7 +302,7 @@ fn textured_glb_and_gltf_round_trip_bit_exact() {
             // Written again: the same bytes.
             let third = out_dir.join(format!("third-{out_name}"));
             save(
-                &crate::Model::new(
+                &Model::new(
                     again.mesh.clone(),
                     Some(again.attributes.as_ref().unwrap().clone()),
                     again.materials.clone(),
@@ -347,7 +348,7 @@ fn hand_built_gltf_with_external_bin_round_trips() {
     assert_eq!(l.mesh.positions[2], Vec3::new(1.0, 1.0, 0.0));
     let out = dir.path().join("out.glb");
     save(
-        &crate::Model::new(l.mesh.clone(), Some(a.clone()), l.materials.clone()),
+        &Model::new(l.mesh.clone(), Some(a.clone()), l.materials.clone()),
         &out,
     )
     .unwrap();
@@ -639,7 +640,7 @@ fn obj_materials_become_named_gltf_materials() {
     };
     let path = dir.path().join("m.glb");
     let warnings = save(
-        &crate::Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
+        &Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
         &path,
     )
     .unwrap()
@@ -648,7 +649,7 @@ fn obj_materials_become_named_gltf_materials() {
     // With an OBJ material library that cannot be read: a warning naming it, the names kept.
     materials.libraries.push(dir.path().join("m.mtl"));
     let warnings = save(
-        &crate::Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
+        &Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
         &dir.path().join("lib.gltf"),
     )
     .unwrap()
@@ -678,7 +679,7 @@ fn obj_materials_become_named_gltf_materials() {
     // cannot express is one warning.
     let (mesh2, a2, m2) = textured_asset(false);
     let w = save(
-        &crate::Model::new(mesh2.clone(), Some(a2.clone()), Some(m2.clone())),
+        &Model::new(mesh2.clone(), Some(a2.clone()), Some(m2.clone())),
         &dir.path().join("t.obj"),
     )
     .unwrap()
@@ -860,7 +861,7 @@ fn written_files_pass_the_khronos_validator_when_installed() {
         materials.gltf.as_mut().unwrap().source_dir = dir.path().to_path_buf();
         let path = dir.path().join(name);
         save(
-            &crate::Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
+            &Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
             &path,
         )
         .unwrap();
@@ -868,11 +869,7 @@ fn written_files_pass_the_khronos_validator_when_installed() {
     }
     let (mesh, a) = textured_sphere(200, 400);
     let big = dir.path().join("big.glb");
-    save(
-        &crate::Model::new(mesh.clone(), Some(a.clone()), None),
-        &big,
-    )
-    .unwrap();
+    save(&Model::new(mesh.clone(), Some(a.clone()), None), &big).unwrap();
     files.push(big);
     // OBJ materials converted: the fandisk atlas's MTL colour and texture, embedded in a .glb
     // and copied next to a .gltf.
@@ -882,7 +879,7 @@ fn written_files_pass_the_khronos_validator_when_installed() {
     for name in ["atlas.glb", "atlas.gltf"] {
         let path = converted.path().join(name);
         let w = save(
-            &crate::Model::new(
+            &Model::new(
                 obj.mesh.clone(),
                 Some(obj.attributes.as_ref().unwrap().clone()),
                 obj.materials.clone(),
