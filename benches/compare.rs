@@ -9,7 +9,7 @@ use std::time::Duration;
 fn gargoyle() -> Option<TriMesh> {
     let dir = gng3d::mesh::fixtures::shared_meshes_dir("gargoyle-10k.obj")?;
     let loaded = gng3d::mesh::io::load(&dir.join("gargoyle-10k.obj")).expect("gargoyle-10k.obj");
-    Some(gng3d::mesh::clean::prepare(&loaded.mesh).0)
+    Some(gng3d::mesh::clean::prepare(&loaded.mesh.into()).0.mesh)
 }
 
 fn bench(c: &mut Criterion) {

@@ -121,7 +121,7 @@ fn bench(c: &mut Criterion) {
         let tmp = std::env::temp_dir().join(format!("gng3d-bench-{}", std::process::id()));
         std::fs::create_dir_all(&tmp).unwrap();
         let simplified_path = tmp.join("igea-qem.ply");
-        mesh::io::save(&simplified, &simplified_path).expect("save simplified mesh");
+        mesh::io::save(&simplified.clone().into(), &simplified_path).expect("save simplified mesh");
         // Same totals per direction as ours: all vertices + samplenum edges + samplenum faces.
         let per_kind = [
             (SAMPLES - h.forward.vertex_samples) / 2,

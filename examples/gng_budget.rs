@@ -17,7 +17,7 @@ fn main() {
     };
     for file in &args[2..] {
         let loaded = mesh::io::load(Path::new(file)).expect("load");
-        let (m, _) = mesh::clean::prepare(&loaded.mesh);
+        let m = mesh::clean::prepare(&loaded.mesh.into()).0.mesh;
         let target = ((m.vertex_count() as f64) * ratio).round() as usize;
         let name = Path::new(file).file_name().unwrap().to_string_lossy();
         for b in &budgets {

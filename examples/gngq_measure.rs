@@ -99,7 +99,7 @@ fn main() -> anyhow::Result<()> {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for name in &meshes {
         let loaded = mesh::io::load(&dir.join(name))?;
-        let (original, _) = mesh::clean::prepare(&loaded.mesh);
+        let original = mesh::clean::prepare(&loaded.mesh.into()).0.mesh;
         let evaluator = PaperEvaluator::new(&original, HausdorffParams::with_samples(samples))?;
         let area = original.area();
         for &ratio in &ratios {

@@ -11,7 +11,7 @@ use common::{meshopt_adapter, meshopt_simplify};
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let load = |p: &str| mesh::io::load(std::path::Path::new(p)).expect("load").mesh;
-    let original = mesh::clean::prepare(&load(&args[1])).0;
+    let original = mesh::clean::prepare(&load(&args[1]).into()).0.mesh;
     let faces: usize = args[2].parse().expect("faces");
     let samples = args
         .get(4)

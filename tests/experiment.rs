@@ -163,7 +163,7 @@ fn shared(name: &str) -> Option<gng3d::mesh::TriMesh> {
     let raw = gng3d::mesh::io::load(&path)
         .unwrap_or_else(|e| panic!("{e}"))
         .mesh;
-    Some(gng3d::mesh::clean::prepare(&raw).0)
+    Some(gng3d::mesh::clean::prepare(&raw.into()).0.mesh)
 }
 
 #[test]

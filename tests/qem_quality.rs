@@ -8,7 +8,7 @@ use qem::{QemParams, Target};
 fn load(name: &str) -> Option<TriMesh> {
     let path = mesh::fixtures::shared_meshes_dir("README.md")?.join(name);
     let raw = mesh::io::load(&path).unwrap_or_else(|e| panic!("{e}")).mesh;
-    Some(mesh::clean::prepare(&raw).0)
+    Some(mesh::clean::prepare(&raw.into()).0.mesh)
 }
 
 fn params(target: Target) -> QemParams {

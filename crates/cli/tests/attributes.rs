@@ -38,7 +38,7 @@ fn spot_keeps_its_texture_coordinates_through_both_methods() {
         assert!(back.warnings.is_empty(), "{:?}", back.warnings);
         let a = back.attributes.expect("texture coordinates in the output");
         a.validate(&back.mesh).unwrap();
-        assert_eq!(a.names(), vec!["uv0"]);
+        assert_eq!(a.kinds(), vec![mesh::AttributeKind::Uv0]);
         assert_eq!(back.mesh.vertex_count(), 600);
         assert!(
             !a.seam_edges(&back.mesh).is_empty(),

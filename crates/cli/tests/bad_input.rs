@@ -35,7 +35,7 @@ impl Fixture {
     }
     fn mesh(&self, name: &str, m: &mesh::TriMesh) -> PathBuf {
         let p = self.path(name);
-        mesh::io::save(m, &p).unwrap();
+        mesh::io::save(&m.clone().into(), &p).unwrap();
         p
     }
     fn bytes(&self, name: &str, bytes: &[u8]) -> PathBuf {
@@ -90,7 +90,11 @@ fn survey_skips_a_mesh_with_under_four_vertices_and_writes_the_summary() {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
     )
     .unwrap();
-    mesh::io::save(&mesh::procedural::icosphere(1), &dir.join("b-sphere.obj")).unwrap();
+    mesh::io::save(
+        &mesh::procedural::icosphere(1).into(),
+        &dir.join("b-sphere.obj"),
+    )
+    .unwrap();
     let out = f.path("survey");
     let o = gng3d(&[
         "reproduce",
@@ -423,7 +427,7 @@ fn a_failing_stdout_is_an_error_not_a_panic() {
     }
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("sphere.obj");
-    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(3).into(), &input).unwrap();
     let output = dir.path().join("out.ply");
     let runs: Vec<Vec<&str>> = vec![
         vec!["info", s(&input)],
@@ -462,7 +466,7 @@ fn a_failing_stdout_is_an_error_not_a_panic() {
 fn absurd_epochs_and_surface_targets_are_refused_up_front() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("sphere.obj");
-    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(3).into(), &input).unwrap();
     let out = dir.path().join("out.ply");
     let gng = |extra: &[&str]| {
         let mut args = vec!["simplify", s(&input), s(&out), "--method", "gng"];

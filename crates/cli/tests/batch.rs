@@ -185,12 +185,12 @@ fn stdout_is_empty(o: &Output) -> bool {
 fn good_inputs(dir: &Path) {
     std::fs::create_dir_all(dir).unwrap();
     gng3d::mesh::io::save(
-        &gng3d::mesh::procedural::icosphere(3),
+        &gng3d::mesh::procedural::icosphere(3).into(),
         &dir.join("sphere.ply"),
     )
     .unwrap();
     gng3d::mesh::io::save(
-        &gng3d::mesh::procedural::torus(1.0, 0.3, 24, 12),
+        &gng3d::mesh::procedural::torus(1.0, 0.3, 24, 12).into(),
         &dir.join("torus.obj"),
     )
     .unwrap();
@@ -294,7 +294,7 @@ fn side_files_and_names_differing_in_case_collide() {
         let input = tmp.path().join(folder);
         std::fs::create_dir(&input).unwrap();
         for name in names {
-            gng3d::mesh::io::save(&sphere, &input.join(name)).unwrap();
+            gng3d::mesh::io::save(&sphere.clone().into(), &input.join(name)).unwrap();
         }
         let out = tmp.path().join(format!("out-{folder}"));
         let run = gng3d(&[
@@ -325,8 +325,8 @@ fn side_files_and_names_differing_in_case_collide() {
     // writes into the one folder).
     let input = tmp.path().join("mixed");
     std::fs::create_dir(&input).unwrap();
-    gng3d::mesh::io::save(&sphere, &input.join("m.ply")).unwrap();
-    gng3d::mesh::io::save(&sphere, &input.join("m.stl")).unwrap();
+    gng3d::mesh::io::save(&sphere.clone().into(), &input.join("m.ply")).unwrap();
+    gng3d::mesh::io::save(&sphere.clone().into(), &input.join("m.stl")).unwrap();
     let out = tmp.path().join("out-mixed");
     let run = gng3d(&[
         "batch",
@@ -505,7 +505,7 @@ fn killing_a_batch_ends_its_simplify_runs() {
     std::fs::create_dir(&input).unwrap();
     let big = gng3d::mesh::procedural::icosphere(KILL_SUBDIVISIONS);
     for k in 0..4 {
-        gng3d::mesh::io::save(&big, &input.join(format!("m{k}.ply"))).unwrap();
+        gng3d::mesh::io::save(&big.clone().into(), &input.join(format!("m{k}.ply"))).unwrap();
     }
     let mut batch = Command::new(env!("CARGO_BIN_EXE_gng3d"))
         .args([

@@ -124,7 +124,7 @@ fn simplify_gng_json_reports_the_count_and_warnings_and_empty_results_fail() {
     ]);
     m.triangles.push([base, base + 1, base + 2]);
     let input = dir.path().join("outlier.obj");
-    mesh::io::save(&m, &input).unwrap();
+    mesh::io::save(&m.clone().into(), &input).unwrap();
     let out = dir.path().join("out.obj");
     let o = simplify_gng(&input, &out, 200, &[]);
     let v = json_of(&o);
@@ -176,7 +176,7 @@ fn simplify_gng_detail_rounds_reach_a_spike_and_the_flag_is_checked() {
     m.positions[100] *= 1.3;
     let tip = m.positions[100];
     let input = dir.path().join("spike.obj");
-    mesh::io::save(&m, &input).unwrap();
+    mesh::io::save(&m.clone().into(), &input).unwrap();
     let run = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
         let v = json_of(&simplify_gng(&input, &out, 300, extra));
@@ -229,7 +229,7 @@ fn simplify_gng_placement_flips_and_epochs_flags_take_effect_and_are_reported() 
     let dir = tempfile::tempdir().unwrap();
     // The unit icosphere: vertices on the sphere of radius 1, faces just inside it.
     let input = dir.path().join("sphere.obj");
-    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(3).into(), &input).unwrap();
     let run = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
         let v = json_of(&simplify_gng(&input, &out, 160, extra));
@@ -348,7 +348,7 @@ fn simplify_gng_signals_flag_chooses_where_the_nodes_go() {
         }
     }
     let input = dir.path().join("grid.obj");
-    mesh::io::save(&mesh::TriMesh::new(positions, triangles), &input).unwrap();
+    mesh::io::save(&mesh::TriMesh::new(positions, triangles).into(), &input).unwrap();
     let left_share = |signals: &str| {
         let out = dir.path().join(format!("{signals}.obj"));
         // Without oversampling: the network's own allocation (QEM's decimation of a flat grid
@@ -393,7 +393,7 @@ fn gng_variant_flags_are_validated_and_compare_paper_runs_the_paper_method() {
     use gng3d::mesh;
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("sphere.obj");
-    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(3).into(), &input).unwrap();
     let out = dir.path().join("out.obj");
     let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
     let fails = |a: &[&str], needle: &str| {
@@ -601,7 +601,7 @@ fn the_library_default_is_the_cli_default_byte_for_byte() {
     use gng3d::gng3d_core::{GngOptions, GngTarget};
     let dir = tempfile::tempdir().unwrap();
     let sphere = dir.path().join("sphere.obj");
-    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(4), &sphere).unwrap();
+    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(4).into(), &sphere).unwrap();
     let mut cases = vec![(sphere, 0.1)];
     if let Some(shared) = gng3d::mesh::fixtures::shared_meshes_dir("README.md") {
         cases.push((shared.join("cow.obj"), 0.1));
@@ -621,11 +621,11 @@ fn the_library_default_is_the_cli_default_byte_for_byte() {
             &r,
         ]));
         let loaded = gng3d::mesh::io::load(&input).unwrap().mesh;
-        let (prepared, _) = gng3d::mesh::clean::prepare(&loaded);
+        let (prepared, _) = gng3d::mesh::clean::prepare(&loaded.into());
         let options = GngOptions::for_target(GngTarget::VertexRatio(ratio));
-        let result = gng3d::gng3d_core::simplify(&prepared.clone().into(), &options).unwrap();
+        let result = gng3d::gng3d_core::simplify(&prepared, &options).unwrap();
         let lib = dir.path().join("lib.ply");
-        gng3d::mesh::io::save(&result.mesh, &lib).unwrap();
+        gng3d::mesh::io::save(&result.mesh.clone().into(), &lib).unwrap();
         let (a, b) = (std::fs::read(&cli).unwrap(), std::fs::read(&lib).unwrap());
         assert!(
             a == b,
@@ -643,7 +643,7 @@ fn the_library_default_is_the_cli_default_byte_for_byte() {
 fn ratio_is_a_share_of_vertices_for_every_method() {
     let dir = tempfile::tempdir().unwrap();
     let sphere = dir.path().join("sphere.obj");
-    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(3), &sphere).unwrap();
+    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(3).into(), &sphere).unwrap();
     let out = dir.path().join("out.ply");
     let run = |extra: &[&str]| {
         let mut a = vec!["simplify", sphere.to_str().unwrap(), out.to_str().unwrap()];
@@ -685,7 +685,7 @@ fn ratio_is_a_share_of_vertices_for_every_method() {
 fn text_output_uses_engineering_notation_and_units() {
     let dir = tempfile::tempdir().unwrap();
     let sphere = dir.path().join("sphere.obj");
-    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(3), &sphere).unwrap();
+    gng3d::mesh::io::save(&gng3d::mesh::procedural::icosphere(3).into(), &sphere).unwrap();
     let out = dir.path().join("out.ply");
     let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
     let compare = gng3d(&[

@@ -23,7 +23,11 @@ fn compare_names_the_attributes_it_does_not_keep() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, attributes) = gng3d::mesh::procedural::textured_sphere(12, 16);
     let textured = dir.path().join("textured.obj");
-    gng3d::mesh::io::save_with_attributes(&mesh, &attributes, None, &textured).unwrap();
+    gng3d::mesh::io::save(
+        &gng3d::mesh::Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &textured,
+    )
+    .unwrap();
     let (stderr, report) = compare(&textured);
     let line = stderr
         .lines()
@@ -39,7 +43,7 @@ fn compare_names_the_attributes_it_does_not_keep() {
     );
 
     let plain = dir.path().join("plain.obj");
-    gng3d::mesh::io::save(&mesh, &plain).unwrap();
+    gng3d::mesh::io::save(&mesh.clone().into(), &plain).unwrap();
     // Each method's attribute deviation: QEM keeps the seams, GNG3D's transfer smears its
     // triangles that straddle the meridian; both have their UVs and normals measured.
     for method in ["qem", "gng"] {

@@ -42,7 +42,7 @@ fn temporaries(dir: &Path) -> Vec<String> {
 
 fn write_sphere(dir: &Path, subdivisions: u32) -> std::path::PathBuf {
     let path = dir.join("sphere.ply");
-    mesh::io::save(&mesh::procedural::icosphere(subdivisions), &path).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(subdivisions).into(), &path).unwrap();
     path
 }
 

@@ -151,7 +151,7 @@ fn georeferenced_models_keep_their_coordinates() {
 fn models_near_the_origin_are_not_moved() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.obj");
-    mesh::io::save(&mesh::procedural::icosphere(2), &path).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(2).into(), &path).unwrap();
     let loaded = mesh::io::load(&path).unwrap();
     assert_eq!(loaded.origin, glam::DVec3::ZERO);
 }

@@ -55,7 +55,7 @@ fn simplify_help_quotes_the_library_policy_numbers() {
 fn result_lines_speak_words_and_give_the_topology() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("sphere.ply");
-    mesh::io::save(&mesh::procedural::icosphere(3), &input).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(3).into(), &input).unwrap();
     let run = |method: &str| {
         let out = Command::new(env!("CARGO_BIN_EXE_gng3d"))
             .args(["simplify", input.to_str().unwrap()])

@@ -9,7 +9,7 @@ fn lock_border_keeps_the_border_and_gng_refuses_it() {
     let dir = tempfile::tempdir().unwrap();
     let grid = gng3d::mesh::procedural::unit_square_grid(16);
     let input = dir.path().join("grid.ply");
-    gng3d::mesh::io::save(&grid, &input).unwrap();
+    gng3d::mesh::io::save(&grid.clone().into(), &input).unwrap();
     // Independent: the vertices on the square's sides.
     let border: Vec<glam::Vec3> = grid
         .positions

@@ -9,7 +9,11 @@ fn lods_chain_levels_and_keep_attributes() {
     let dir = tempfile::tempdir().unwrap();
     let (sphere, uv) = gng3d::mesh::procedural::textured_sphere(24, 48);
     let input = dir.path().join("sphere.obj");
-    gng3d::mesh::io::save_with_attributes(&sphere, &uv, None, &input).unwrap();
+    gng3d::mesh::io::save(
+        &gng3d::mesh::Model::new(sphere.clone(), Some(uv.clone()), None),
+        &input,
+    )
+    .unwrap();
     let (i, out) = (input.to_str().unwrap(), dir.path().join("out.obj"));
     let o = succeeded(gng3d(&[
         "simplify",
@@ -84,7 +88,11 @@ fn lods_too_small_is_an_error_and_a_short_level_is_a_warning() {
     let dir = tempfile::tempdir().unwrap();
     let (sphere, uv) = gng3d::mesh::procedural::textured_sphere(12, 24);
     let input = dir.path().join("sphere.obj");
-    gng3d::mesh::io::save_with_attributes(&sphere, &uv, None, &input).unwrap();
+    gng3d::mesh::io::save(
+        &gng3d::mesh::Model::new(sphere.clone(), Some(uv.clone()), None),
+        &input,
+    )
+    .unwrap();
     let i = input.to_str().unwrap();
     let available = gng3d::mesh::io::load(&input)
         .unwrap()

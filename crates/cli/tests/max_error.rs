@@ -10,7 +10,7 @@ fn max_error_alone_and_with_a_target() {
     let dir = tempfile::tempdir().unwrap();
     let torus = gng3d::mesh::procedural::torus(1.0, 0.35, 48, 24);
     let input = dir.path().join("torus.ply");
-    gng3d::mesh::io::save(&torus, &input).unwrap();
+    gng3d::mesh::io::save(&torus.clone().into(), &input).unwrap();
     let out = dir.path().join("out.ply");
     let run = |extra: &[&str]| -> serde_json::Value {
         let mut args = vec!["simplify", input.to_str().unwrap(), out.to_str().unwrap()];
@@ -50,7 +50,7 @@ fn max_error_alone_and_with_a_target() {
 fn bad_bounds_and_weights_are_refused_before_writing() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("grid.ply");
-    gng3d::mesh::io::save(&gng3d::mesh::procedural::unit_square_grid(8), &input).unwrap();
+    gng3d::mesh::io::save(&gng3d::mesh::procedural::unit_square_grid(8).into(), &input).unwrap();
     let out = dir.path().join("out.ply");
     for (extra, message) in [
         (vec!["--max-error=-1"], "max relative error -1"),

@@ -32,14 +32,22 @@ fn shifted_texture_coordinates_are_reported_in_uv_units_and_texels() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, attributes) = gng3d::mesh::procedural::textured_sphere(12, 24);
     let original = dir.path().join("original.obj");
-    gng3d::mesh::io::save_with_attributes(&mesh, &attributes, None, &original).unwrap();
+    gng3d::mesh::io::save(
+        &gng3d::mesh::Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &original,
+    )
+    .unwrap();
     let mut shifted = attributes.clone();
     for uv in shifted.uv0.as_mut().unwrap() {
         uv.x += 0.03;
         uv.y -= 0.04;
     }
     let moved = dir.path().join("moved.obj");
-    gng3d::mesh::io::save_with_attributes(&mesh, &shifted, None, &moved).unwrap();
+    gng3d::mesh::io::save(
+        &gng3d::mesh::Model::new(mesh.clone(), Some(shifted.clone()), None),
+        &moved,
+    )
+    .unwrap();
     let r = json(&original, &moved, &["--texture-size", "512"]);
     let a = &r["attributes"];
     assert_eq!(a["compared"], serde_json::json!(["normals", "uv0"]), "{a}");
@@ -79,7 +87,7 @@ fn shifted_texture_coordinates_are_reported_in_uv_units_and_texels() {
 
     // A positions-only simplified mesh: nothing compared, what it lost is named.
     let plain = dir.path().join("plain.obj");
-    gng3d::mesh::io::save(&mesh, &plain).unwrap();
+    gng3d::mesh::io::save(&mesh.clone().into(), &plain).unwrap();
     let r = json(&original, &plain, &[]);
     assert_eq!(r["attributes"]["compared"], serde_json::json!([]));
     assert_eq!(

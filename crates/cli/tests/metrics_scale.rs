@@ -12,7 +12,7 @@ use common::{gng3d, json_of, s, stderr};
 
 fn save(dir: &Path, name: &str, m: &TriMesh) -> PathBuf {
     let p = dir.join(name);
-    mesh::io::save(m, &p).unwrap();
+    mesh::io::save(&m.clone().into(), &p).unwrap();
     p
 }
 

@@ -12,7 +12,7 @@ fn threshold_above_the_diagonal_is_refused_naming_the_limit() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("sphere.obj");
     // 10,242 vertices on the unit sphere: a box of about ±1, diagonal about 3.4641.
-    mesh::io::save(&mesh::procedural::icosphere(5), &input).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(5).into(), &input).unwrap();
     let out = dir.path().join("out.ply");
     let simplify = |threshold: &str| {
         let flag = format!("--threshold={threshold}");

@@ -58,7 +58,11 @@ fn reproduce_has_attribute_columns_only_for_inputs_with_attributes() {
     let dir = tempfile::tempdir().unwrap();
     let (sphere, attributes) = mesh::procedural::textured_sphere(10, 16);
     let globe = dir.path().join("globe.obj");
-    mesh::io::save_with_attributes(&sphere, &attributes, None, &globe).unwrap();
+    mesh::io::save(
+        &mesh::Model::new(sphere.clone(), Some(attributes.clone()), None),
+        &globe,
+    )
+    .unwrap();
     let out = dir.path().join("globe");
     let o = reproduce(&globe, &out);
     let (headers, rows) = csv(&out);
@@ -121,7 +125,7 @@ fn reproduce_has_attribute_columns_only_for_inputs_with_attributes() {
 
     // Positions only: the 17 columns, no key, no paragraph, no second table.
     let ball = dir.path().join("ball.obj");
-    mesh::io::save(&mesh::procedural::icosphere(2), &ball).unwrap();
+    mesh::io::save(&mesh::procedural::icosphere(2).into(), &ball).unwrap();
     let out = dir.path().join("ball");
     let o = reproduce(&ball, &out);
     assert_eq!(csv(&out).0, columns(&[]));

@@ -10,7 +10,11 @@ fn max_faces_skips_are_named() {
     let dir = tempfile::tempdir().unwrap();
     let meshes = dir.path().join("meshes");
     std::fs::create_dir(&meshes).unwrap();
-    mesh::io::save(&mesh::procedural::icosphere(2), &meshes.join("ball.ply")).unwrap();
+    mesh::io::save(
+        &mesh::procedural::icosphere(2).into(),
+        &meshes.join("ball.ply"),
+    )
+    .unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_gng3d"))
         .args([
             "reproduce",
@@ -39,8 +43,16 @@ fn survey_reports_gng3d_q_and_the_verdict() {
     let dir = tempfile::tempdir().unwrap();
     let meshes = dir.path().join("meshes");
     std::fs::create_dir(&meshes).unwrap();
-    mesh::io::save(&mesh::procedural::icosphere(2), &meshes.join("ball.obj")).unwrap();
-    mesh::io::save(&mesh::procedural::icosphere(4), &meshes.join("big.obj")).unwrap();
+    mesh::io::save(
+        &mesh::procedural::icosphere(2).into(),
+        &meshes.join("ball.obj"),
+    )
+    .unwrap();
+    mesh::io::save(
+        &mesh::procedural::icosphere(4).into(),
+        &meshes.join("big.obj"),
+    )
+    .unwrap();
     let out = dir.path().join("survey");
     let o = Command::new(env!("CARGO_BIN_EXE_gng3d"))
         .args(["reproduce", "--all", meshes.to_str().unwrap()])

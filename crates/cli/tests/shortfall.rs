@@ -25,7 +25,7 @@ fn spheres(dir: &Path) -> PathBuf {
     }
     let path = dir.join("spheres.ply");
     let model = gng3d::mesh::TriMesh::new(positions, triangles);
-    gng3d::mesh::io::save(&model, &path).unwrap();
+    gng3d::mesh::io::save(&model.into(), &path).unwrap();
     path
 }
 

@@ -40,8 +40,16 @@ fn survey_measures_attributes_of_inputs_that_have_them() {
     let meshes = dir.path().join("meshes");
     std::fs::create_dir(&meshes).unwrap();
     let (sphere, attributes) = mesh::procedural::textured_sphere(10, 16);
-    mesh::io::save_with_attributes(&sphere, &attributes, None, &meshes.join("globe.obj")).unwrap();
-    mesh::io::save(&mesh::procedural::icosphere(2), &meshes.join("ball.obj")).unwrap();
+    mesh::io::save(
+        &mesh::Model::new(sphere.clone(), Some(attributes.clone()), None),
+        &meshes.join("globe.obj"),
+    )
+    .unwrap();
+    mesh::io::save(
+        &mesh::procedural::icosphere(2).into(),
+        &meshes.join("ball.obj"),
+    )
+    .unwrap();
     let knight = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets/knight_colors.ply");
     std::fs::copy(knight, meshes.join("knight.ply")).unwrap();
     let out = dir.path().join("survey");

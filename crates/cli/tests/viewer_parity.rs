@@ -12,8 +12,8 @@ fn viewer_and_cli_report_identical_numbers_for_the_same_pair() {
     let (simplified, _) = qem::simplify(&mesh::Model::from(original.clone()), &params).unwrap();
     let simplified = simplified.mesh;
     let (a, b) = (dir.path().join("a.ply"), dir.path().join("b.ply"));
-    mesh::io::save(&original, &a).unwrap();
-    mesh::io::save(&simplified, &b).unwrap();
+    mesh::io::save(&original.clone().into(), &a).unwrap();
+    mesh::io::save(&simplified.clone().into(), &b).unwrap();
 
     let out = Command::new(env!("CARGO_BIN_EXE_gng3d"))
         .arg("metrics")

@@ -53,10 +53,8 @@ fn bench(c: &mut Criterion) {
         ),
     ] {
         assert_eq!(input.face_count(), 65_536);
-        let input = mesh::clean::prepare(&input).0;
-        group.bench_function(name, |b| {
-            b.iter(|| simplify(&input.clone().into(), &options).unwrap())
-        });
+        let input = mesh::clean::prepare(&input.into()).0;
+        group.bench_function(name, |b| b.iter(|| simplify(&input, &options).unwrap()));
     }
     group.finish();
 
@@ -73,10 +71,8 @@ fn bench(c: &mut Criterion) {
         ("disjoint_triangles_300000", disjoint_triangles(300_000)),
         ("icosphere_327680_faces", mesh::procedural::icosphere(7)),
     ] {
-        let input = mesh::clean::prepare(&input).0;
-        group.bench_function(name, |b| {
-            b.iter(|| simplify(&input.clone().into(), &options).unwrap())
-        });
+        let input = mesh::clean::prepare(&input.into()).0;
+        group.bench_function(name, |b| b.iter(|| simplify(&input, &options).unwrap()));
     }
     group.finish();
 }

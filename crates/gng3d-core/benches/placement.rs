@@ -17,7 +17,7 @@ fn bench(c: &mut Criterion) {
             return;
         };
         let loaded = mesh::io::load(&dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let original = mesh::clean::prepare(&loaded.mesh).0;
+        let original = mesh::clean::prepare(&loaded.mesh.into()).0.mesh;
         let target = (original.vertex_count() as f64 * ratio).round() as usize;
         let mut params = GngParams::for_target(target);
         params.max_signals = Some(20 * original.vertex_count() as u64);

@@ -15,7 +15,7 @@ use std::time::Duration;
 fn load(name: &str) -> Option<TriMesh> {
     let dir = mesh::fixtures::shared_meshes_dir(name)?;
     let loaded = mesh::io::load(&dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-    Some(mesh::clean::prepare(&loaded.mesh).0)
+    Some(mesh::clean::prepare(&loaded.mesh.into()).0.mesh)
 }
 
 /// A trainer on `mesh` grown to `nodes` nodes, with a budget large enough not to finish.

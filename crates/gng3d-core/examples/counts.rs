@@ -18,7 +18,7 @@ fn main() {
                 continue;
             }
         };
-        let (m, _) = mesh::clean::prepare(&loaded.mesh);
+        let m = mesh::clean::prepare(&loaded.mesh.into()).0.mesh;
         let input = mesh::topology::analyze(&m);
         for &ratio in &ratios {
             let target = ((m.vertex_count() as f64) * ratio).round() as usize;

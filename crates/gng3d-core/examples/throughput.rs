@@ -26,7 +26,8 @@ fn cpu_seconds() -> f64 {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let m = mesh::clean::prepare(&mesh::io::load(Path::new(&args[0])).expect("load").mesh).0;
+    let m = mesh::io::load(Path::new(&args[0])).expect("load").mesh;
+    let m = mesh::clean::prepare(&m.into()).0.mesh;
     let nodes: usize = args[1].parse().expect("nodes");
     let signals: u64 = args[2].parse().expect("signals");
     let mut params = GngParams::for_target(nodes);

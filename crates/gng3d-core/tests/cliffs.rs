@@ -23,8 +23,12 @@ fn fastest(runs: usize, mut f: impl FnMut()) -> f64 {
 /// cylinder took 137 s at 50 %, horse 6 s).
 #[test]
 fn gngq_on_fan_caps_costs_about_an_ordinary_mesh() {
-    let cylinder = mesh::clean::prepare(&mesh::procedural::fan_capped_cylinder(4_096)).0;
-    let torus = mesh::clean::prepare(&mesh::procedural::torus(1.0, 0.3, 128, 64)).0;
+    let cylinder = mesh::clean::prepare(&mesh::procedural::fan_capped_cylinder(4_096).into())
+        .0
+        .mesh;
+    let torus = mesh::clean::prepare(&mesh::procedural::torus(1.0, 0.3, 128, 64).into())
+        .0
+        .mesh;
     assert_eq!(cylinder.face_count(), torus.face_count());
     let options = GngOptions {
         seed: 1,

@@ -325,7 +325,7 @@ fn dirty_real_meshes_give_results() {
         let Some(raw) = shared_mesh(name) else {
             return;
         };
-        let (m, _) = mesh::clean::prepare(&raw);
+        let m = mesh::clean::prepare(&raw.clone().into()).0.mesh;
         let target = (m.vertex_count() as f64 * ratio) as usize;
         let mut params = GngParams::for_target(target);
         params.max_signals = Some(15 * m.vertex_count() as u64);
@@ -742,7 +742,7 @@ fn a_decimation_that_stops_above_the_target_is_reported() {
     holed
         .triangles
         .retain(|t| !t.iter().any(|v| holes.contains(v)));
-    let holed = mesh::clean::prepare(&holed).0;
+    let holed = mesh::clean::prepare(&holed.into()).0.mesh;
     let target = holes.len(); // fewer than the three vertices each hole keeps
     let options = GngOptions {
         seed: 5,

@@ -43,40 +43,30 @@ pub fn check_output(path: &Path) -> Result<Format, JobError> {
 /// Load `path` for `request`: refuse `outputs` (every file the run will write) that would
 /// replace the input or a file it reads (`LoadedMesh::check_outputs`), keep or drop the
 /// attributes by [`Request::attributes`], weld and clean by [`Request::weld`]
-/// (`mesh::clean::prepare_with_optional_attributes`, the attributes following).
+/// (`mesh::clean::prepare`, the attributes following).
 pub fn load(path: &Path, request: &Request, outputs: &[&Path]) -> Result<Loaded, JobError> {
-    let loaded = mesh::io::load(path)?;
+    let mut loaded = mesh::io::load(path)?;
     loaded.check_outputs(outputs)?;
     let (file_vertices, file_faces) = (loaded.mesh.vertex_count(), loaded.mesh.face_count());
-    let (attributes, materials) = match request.attributes {
-        AttributePolicy::Keep => (
-            loaded.attributes.filter(|a| !a.is_empty()),
-            loaded.materials,
-        ),
-        AttributePolicy::Drop => (None, None),
-    };
-    let (mesh, attributes) = if request.weld {
-        let (mesh, attributes, _) =
-            mesh::clean::prepare_with_optional_attributes(&loaded.mesh, attributes.as_ref());
-        (mesh, attributes)
-    } else {
-        (loaded.mesh, attributes)
+    let warnings = std::mem::take(&mut loaded.warnings);
+    let model = match request.attributes {
+        AttributePolicy::Keep => Model::from(loaded),
+        AttributePolicy::Drop => Model::from(loaded).without_attributes(),
     };
     Ok(Loaded {
-        model: Model {
-            mesh,
-            attributes,
-            materials,
-            origin: loaded.origin,
+        model: if request.weld {
+            mesh::clean::prepare(&model).0
+        } else {
+            model
         },
-        warnings: loaded.warnings,
+        warnings,
         file_vertices,
         file_faces,
     })
 }
 
 /// Write `model` to `path` (format by extension) with the mesh crate's one checked writer
-/// (`mesh::io::save_with_optional_attributes`: read back before it replaces anything, atomic,
+/// (`mesh::io::save`: read back before it replaces anything, atomic,
 /// a `.gltf` with its `<stem>.bin`, an OBJ's material files and a glTF's images copied beside
 /// it). A model without triangles is an error and nothing is written. What the format cannot
 /// keep is in the returned report's `dropped`.
@@ -91,13 +81,7 @@ pub fn save(model: &Model, path: &Path) -> Result<KeptAttributes, JobError> {
             ),
         });
     }
-    Ok(mesh::io::save_with_optional_attributes(
-        &model.mesh,
-        model.attributes.as_ref(),
-        model.materials.as_ref(),
-        model.origin,
-        path,
-    )?)
+    Ok(mesh::io::save(model, path)?)
 }
 
 /// A file simplified into another.

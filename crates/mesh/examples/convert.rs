@@ -18,7 +18,7 @@ fn describe(l: &gng3d_mesh::io::LoadedMesh) -> String {
         l.mesh.vertex_count(),
         l.mesh.face_count(),
         a.map_or(0, |a| a.wedge_count()),
-        a.map_or_else(String::new, |a| a.names().join(", ")),
+        a.map_or_else(String::new, |a| gng3d_mesh::AttributeKind::list(&a.kinds())),
         l.materials.as_ref().map_or(0, |m| m.names.len()),
         l.warnings.len()
     )
@@ -43,10 +43,12 @@ fn main() -> ExitCode {
             .clone()
             .unwrap_or_else(|| gng3d_mesh::attributes::Attributes::per_vertex(&l.mesh));
         let t = Instant::now();
-        let warnings = gng3d_mesh::io::save_with_attributes(
-            &l.mesh,
-            &attributes,
-            l.materials.as_ref(),
+        let warnings = gng3d_mesh::io::save(
+            &gng3d_mesh::Model::new(
+                l.mesh.clone(),
+                Some(attributes.clone()),
+                l.materials.clone(),
+            ),
             Path::new(output),
         )?
         .dropped;

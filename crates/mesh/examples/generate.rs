@@ -35,7 +35,7 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    if let Err(e) = gng3d_mesh::io::save(&m, std::path::Path::new(out)) {
+    if let Err(e) = gng3d_mesh::io::save(&m.clone().into(), std::path::Path::new(out)) {
         eprintln!("{out}: {e}");
         return ExitCode::FAILURE;
     }

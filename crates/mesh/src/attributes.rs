@@ -7,7 +7,7 @@
 //! [`TriMesh::positions`] and [`TriMesh::triangles`] while the seams stay seams.
 //!
 //! ```
-//! use gng3d_mesh::attributes::Attributes;
+//! use gng3d_mesh::attributes::{AttributeKind, Attributes};
 //! use glam::{Vec2, Vec3};
 //! // Two triangles sharing the edge 1-2, which is a UV seam: vertices 1 and 2 have two wedges.
 //! let mesh = gng3d_mesh::TriMesh::new(
@@ -22,7 +22,8 @@
 //! };
 //! attributes.validate(&mesh).unwrap();
 //! assert_eq!(attributes.seam_edges(&mesh).len(), 1);
-//! assert_eq!(attributes.names(), vec!["uv0"]);
+//! assert_eq!(attributes.kinds(), vec![AttributeKind::Uv0]);
+//! assert_eq!(AttributeKind::Uv0.to_string(), "uv0");
 //! ```
 
 use crate::TriMesh;
@@ -31,6 +32,50 @@ use gltf_assets::GltfAssets;
 use std::path::PathBuf;
 
 pub(crate) mod gltf_assets;
+
+/// One kind of attribute ([`Attributes::kinds`]). It prints (and serializes) as the name that
+/// reports, `gng3d simplify --json` and Python use: `normals`, `uv0`, `uv1`, `colors`,
+/// `materials`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum AttributeKind {
+    /// Normals ([`Attributes::normals`]), `normals`.
+    Normals,
+    /// First texture coordinates ([`Attributes::uv0`]), `uv0`.
+    Uv0,
+    /// Second texture coordinates ([`Attributes::uv1`]), `uv1`.
+    Uv1,
+    /// Colours ([`Attributes::colors`]), `colors`.
+    Colors,
+    /// Materials of the faces ([`Attributes::face_material`]), `materials`.
+    Materials,
+}
+
+impl AttributeKind {
+    /// The kind's name: `normals`, `uv0`, `uv1`, `colors` or `materials` (what it prints as).
+    pub fn name(self) -> &'static str {
+        match self {
+            AttributeKind::Normals => "normals",
+            AttributeKind::Uv0 => "uv0",
+            AttributeKind::Uv1 => "uv1",
+            AttributeKind::Colors => "colors",
+            AttributeKind::Materials => "materials",
+        }
+    }
+
+    /// `kinds` as messages write them: their names, separated by `, ` (`uv1, materials`).
+    pub fn list(kinds: &[AttributeKind]) -> String {
+        let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
+        names.join(", ")
+    }
+}
+
+impl std::fmt::Display for AttributeKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 /// Attributes of a mesh's triangle corners, stored per wedge (see the module docs).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -83,7 +128,7 @@ impl Attributes {
 
     /// Whether no attribute (normals, texture coordinates, colours, materials) is present.
     pub fn is_empty(&self) -> bool {
-        self.names().is_empty()
+        self.kinds().is_empty()
     }
 
     /// Whether per-corner values are present: normals, texture coordinates or colours
@@ -92,26 +137,19 @@ impl Attributes {
         self.normals.is_some() || self.uv0.is_some() || self.uv1.is_some() || self.colors.is_some()
     }
 
-    /// Names of the attributes present, in a fixed order: `normals`, `uv0`, `uv1`, `colors`,
-    /// `materials` (the names `gng3d simplify --json` reports).
-    pub fn names(&self) -> Vec<&'static str> {
-        let mut out = Vec::new();
-        if self.normals.is_some() {
-            out.push("normals");
-        }
-        if self.uv0.is_some() {
-            out.push("uv0");
-        }
-        if self.uv1.is_some() {
-            out.push("uv1");
-        }
-        if self.colors.is_some() {
-            out.push("colors");
-        }
-        if self.face_material.is_some() {
-            out.push("materials");
-        }
-        out
+    /// The attributes present, in a fixed order: normals, uv0, uv1, colors, materials (as
+    /// `gng3d simplify --json` reports them).
+    pub fn kinds(&self) -> Vec<AttributeKind> {
+        [
+            (self.normals.is_some(), AttributeKind::Normals),
+            (self.uv0.is_some(), AttributeKind::Uv0),
+            (self.uv1.is_some(), AttributeKind::Uv1),
+            (self.colors.is_some(), AttributeKind::Colors),
+            (self.face_material.is_some(), AttributeKind::Materials),
+        ]
+        .into_iter()
+        .filter_map(|(present, kind)| present.then_some(kind))
+        .collect()
     }
 
     /// Checks that the arrays fit `mesh`: one corner triple and material per triangle, wedge

@@ -1,8 +1,7 @@
 //! Cleaning: welding exact duplicate positions, dropping degenerate/duplicate faces and
 //! unreferenced vertices. [`prepare`] does all of it and is what algorithms get by default.
 
-use crate::TriMesh;
-use crate::attributes::Attributes;
+use crate::{Model, TriMesh};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -65,7 +64,7 @@ pub fn weld_exact(mesh: &TriMesh) -> (TriMesh, usize) {
 }
 
 /// [`weld_exact`], returning for each input vertex its index in the welded mesh instead of the
-/// count (so per-vertex data, e.g. [`Attributes`], can follow).
+/// count (so per-vertex data, e.g. [`Attributes`](crate::attributes::Attributes), can follow).
 pub fn weld_exact_map(mesh: &TriMesh) -> (TriMesh, Vec<u32>) {
     let n = mesh.positions.len();
     // Step 1: each vertex's position group (the smallest index at its position).
@@ -119,30 +118,17 @@ pub fn weld_exact_map(mesh: &TriMesh) -> (TriMesh, Vec<u32>) {
         }
         edges.sort_unstable();
         let mut open: Vec<([u32; 2], [u32; 2])> = Vec::new();
-        let mut k = 0;
-        while k < edges.len() {
-            let mut m = k + 1;
-            while m < edges.len() && edges[m].0 == edges[k].0 {
-                m += 1;
-            }
-            if m - k == 1 {
-                let [u, v] = edges[k].0;
+        for run in edges.chunk_by(|x, y| x.0 == y.0) {
+            if let [([u, v], _)] = *run {
                 let (gu, gv) = (group[u as usize], group[v as usize]);
                 let key = if gu <= gv { [gu, gv] } else { [gv, gu] };
                 open.push((key, [u, v]));
             }
-            k = m;
         }
         // Step 4: a position pair with exactly two open edges is a seam: merge their ends.
         open.sort_unstable();
-        let mut k = 0;
-        while k < open.len() {
-            let mut m = k + 1;
-            while m < open.len() && open[m].0 == open[k].0 {
-                m += 1;
-            }
-            if m - k == 2 {
-                let ([a, b], [c, d]) = (open[k].1, open[k + 1].1);
+        for run in open.chunk_by(|x, y| x.0 == y.0) {
+            if let [(_, [a, b]), (_, [c, d])] = *run {
                 let (c, d) = if group[a as usize] == group[c as usize] {
                     (c, d)
                 } else {
@@ -151,7 +137,6 @@ pub fn weld_exact_map(mesh: &TriMesh) -> (TriMesh, Vec<u32>) {
                 sets.union(a, c);
                 sets.union(b, d);
             }
-            k = m;
         }
     }
     // Step 5: the smallest index of each merged set represents it, in the original order.
@@ -233,12 +218,7 @@ pub fn drop_degenerate_and_duplicate_faces_in_place(mesh: &mut TriMesh) -> Dropp
 /// were kept (`None` when all were), so per-face data (attributes) can follow.
 pub fn drop_faces_with_mask(mesh: &mut TriMesh) -> (DroppedFaces, Option<Vec<bool>>) {
     let mut dropped = DroppedFaces::default();
-    let n = mesh
-        .triangles
-        .iter()
-        .flatten()
-        .max()
-        .map_or(0, |&m| m as usize + 1);
+    let n = mesh.index_bound();
     let is_degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
     // group_start[v]..group_start[v + 1]: non-degenerate faces whose smallest vertex is v.
     let mut group_start = vec![0u32; n + 1];
@@ -294,69 +274,37 @@ pub fn drop_faces_with_mask(mesh: &mut TriMesh) -> (DroppedFaces, Option<Vec<boo
     (dropped, None)
 }
 
-/// Weld exact duplicates, drop degenerate and duplicate faces, remove unreferenced vertices.
-pub fn prepare(mesh: &TriMesh) -> (TriMesh, CleanReport) {
-    let (welded, welded_vertices) = weld_exact(mesh);
-    let (faces_clean, dropped) = drop_degenerate_and_duplicate_faces(&welded);
-    let out = remove_unreferenced(&faces_clean);
-    let report = CleanReport {
-        input_vertices: mesh.positions.len(),
-        input_faces: mesh.triangles.len(),
-        welded_vertices,
-        degenerate_faces: dropped.degenerate,
-        duplicate_faces: dropped.duplicate,
-        unreferenced_vertices: faces_clean.positions.len() - out.positions.len(),
-        vertices: out.positions.len(),
-        faces: out.triangles.len(),
-    };
-    (out, report)
-}
-
-/// [`prepare`] of a mesh whose attributes may be absent: with them, [`prepare_with_attributes`]
-/// (they follow the cleaning); without, [`prepare`]. The one branch every loader takes.
-pub fn prepare_with_optional_attributes(
-    mesh: &TriMesh,
-    attributes: Option<&Attributes>,
-) -> (TriMesh, Option<Attributes>, CleanReport) {
-    match attributes {
-        Some(a) => {
-            let (mesh, a, report) = prepare_with_attributes(mesh, a);
-            (mesh, Some(a), report)
-        }
-        None => {
-            let (mesh, report) = prepare(mesh);
-            (mesh, None, report)
-        }
-    }
-}
-
-/// [`prepare`] for a mesh with attributes: the wedges follow the weld and the renumbering,
-/// the corners and materials follow the dropped faces, and wedges no corner uses (or that
-/// repeat another wedge of their vertex) are dropped.
-pub fn prepare_with_attributes(
-    mesh: &TriMesh,
-    attributes: &Attributes,
-) -> (TriMesh, Attributes, CleanReport) {
+/// Weld exact duplicates, drop degenerate and duplicate faces, remove unreferenced vertices:
+/// the cleaned model (materials and origin kept) and what changed. The attributes, when there
+/// are any, follow: the wedges follow the weld and the renumbering, the corners and materials
+/// follow the dropped faces, and wedges no corner uses (or that repeat another wedge of their
+/// vertex) are dropped.
+pub fn prepare(model: &Model) -> (Model, CleanReport) {
+    let mesh = &model.mesh;
     let (mut welded, weld_map) = weld_exact_map(mesh);
     let welded_vertices = mesh.positions.len() - welded.positions.len();
-    let mut attributes = attributes.clone();
-    attributes.remap_vertices(&weld_map);
+    let mut attributes = model.attributes.clone();
+    if let Some(a) = &mut attributes {
+        a.remap_vertices(&weld_map);
+    }
     let (dropped, mask) = drop_faces_with_mask(&mut welded);
-    if let Some(mask) = mask {
-        attributes = attributes.select_faces(&mask);
+    if let (Some(mask), Some(a)) = (mask, &mut attributes) {
+        *a = a.select_faces(&mask);
     }
     let before = welded.positions.len();
     let mut triangles = welded.triangles;
     let kept = compact_vertex_indices(&mut triangles, before);
-    let mut map = vec![u32::MAX; before];
-    for (new, &old) in kept.iter().enumerate() {
-        map[old as usize] = new as u32;
-    }
     let positions: Vec<Vec3> = kept.iter().map(|&i| welded.positions[i as usize]).collect();
     let out = TriMesh::new(positions, triangles);
-    // Wedges of dropped vertices are unused by any corner: compact drops them before remapping.
-    attributes.compact();
-    attributes.remap_vertices(&map);
+    if let Some(a) = &mut attributes {
+        let mut map = vec![u32::MAX; before];
+        for (new, &old) in kept.iter().enumerate() {
+            map[old as usize] = new as u32;
+        }
+        // Wedges of dropped vertices are unused by any corner: compact drops them first.
+        a.compact();
+        a.remap_vertices(&map);
+    }
     let report = CleanReport {
         input_vertices: mesh.positions.len(),
         input_faces: mesh.triangles.len(),
@@ -367,7 +315,7 @@ pub fn prepare_with_attributes(
         vertices: out.positions.len(),
         faces: out.triangles.len(),
     };
-    (out, attributes, report)
+    (model.with_mesh(out, attributes), report)
 }
 
 #[cfg(test)]
@@ -555,7 +503,7 @@ mod tests {
         soup.positions.push(Vec3::splat(5.0));
         let dup = soup.triangles[0];
         soup.triangles.push([dup[2], dup[0], dup[1]]);
-        let (out, r) = prepare(&soup);
+        let (out, r) = prepare(&Model::from(soup));
         assert_eq!(r.input_faces, 81);
         assert_eq!(r.duplicate_faces, 1);
         assert_eq!(r.degenerate_faces, 0);
@@ -563,6 +511,6 @@ mod tests {
         assert_eq!(r.vertices, 42);
         assert_eq!(r.faces, 80);
         assert_eq!(r.welded_vertices, 240 - 42);
-        assert_eq!(out.positions.len(), 42);
+        assert_eq!(out.mesh.positions.len(), 42);
     }
 }

@@ -2,14 +2,14 @@
 //! procedural models. Every algorithm crate takes and returns a [`TriMesh`].
 //!
 //! ```
-//! use gng3d_mesh::{TriMesh, clean, io, procedural, topology};
+//! use gng3d_mesh::{Model, TriMesh, clean, io, procedural, topology};
 //! let sphere = procedural::icosphere(2); // 162 vertices, 320 faces, closed, genus 0
 //! let report = topology::analyze(&sphere);
 //! assert_eq!((report.boundary_edges, report.genus), (0, Some(0)));
 //! // Welding merges exact duplicates (as OBJ/STL exporters write them), cleaning drops
 //! // degenerate faces and unreferenced vertices.
-//! let (welded, cleaning) = clean::prepare(&sphere);
-//! assert_eq!(welded.vertex_count(), 162);
+//! let (welded, cleaning) = clean::prepare(&Model::from(sphere));
+//! assert_eq!(welded.mesh.vertex_count(), 162);
 //! assert_eq!(cleaning.welded_vertices, 0);
 //! // Files: OBJ, PLY and STL, chosen by extension; writes go through a temp file + rename.
 //! let path = std::env::temp_dir().join("mesh-doc-example.ply");
@@ -40,5 +40,6 @@ pub mod topology;
 pub mod transfer;
 mod trimesh;
 
+pub use attributes::AttributeKind;
 pub use model::Model;
 pub use trimesh::{Aabb, TriMesh};

@@ -37,7 +37,34 @@ impl From<TriMesh> for Model {
     }
 }
 
+impl From<crate::io::LoadedMesh> for Model {
+    /// The model a file holds: its mesh, attributes (`None` when the file has none), materials
+    /// and origin, as stored (its warnings and file names aside).
+    fn from(loaded: crate::io::LoadedMesh) -> Model {
+        Model {
+            mesh: loaded.mesh,
+            attributes: loaded.attributes.filter(|a| !a.is_empty()),
+            materials: loaded.materials,
+            origin: loaded.origin,
+        }
+    }
+}
+
 impl Model {
+    /// A model of `mesh` with `attributes` and `materials`, at the origin.
+    pub fn new(
+        mesh: TriMesh,
+        attributes: Option<Attributes>,
+        materials: Option<Materials>,
+    ) -> Model {
+        Model {
+            mesh,
+            attributes,
+            materials,
+            origin: DVec3::ZERO,
+        }
+    }
+
     /// The same model with `mesh` and `attributes` in place of its own (materials and origin
     /// kept): what an algorithm returns for its input.
     pub fn with_mesh(&self, mesh: TriMesh, attributes: Option<Attributes>) -> Model {

@@ -194,12 +194,7 @@ impl EdgeTable {
     /// no allocation per edge. Vertex indices beyond the largest used one cost nothing.
     pub fn new(mesh: &TriMesh) -> EdgeTable {
         let f = mesh.triangles.len();
-        let n = mesh
-            .triangles
-            .iter()
-            .flatten()
-            .max()
-            .map_or(0, |&m| m as usize + 1);
+        let n = mesh.index_bound();
         // bucket_start[v]..bucket_start[v + 1]: half-edges whose smaller endpoint is v.
         let mut bucket_start = vec![0u32; n + 1];
         for t in &mesh.triangles {

@@ -89,6 +89,16 @@ impl TriMesh {
         self.triangles.len()
     }
 
+    /// One past the largest vertex index the triangles use (0 without triangles): the length of
+    /// a per-vertex table that every corner can index, whatever `positions` holds.
+    pub(crate) fn index_bound(&self) -> usize {
+        self.triangles
+            .iter()
+            .flatten()
+            .max()
+            .map_or(0, |&m| m as usize + 1)
+    }
+
     /// The three corner positions of triangle `face`.
     #[inline]
     pub fn triangle(&self, face: usize) -> [Vec3; 3] {

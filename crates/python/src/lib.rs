@@ -165,7 +165,10 @@ fn prepared(
     if !weld {
         return Ok((input, origin));
     }
-    Ok((py.detach(|| mesh::clean::prepare(&input).0), origin))
+    Ok((
+        py.detach(|| mesh::clean::prepare(&input.into()).0.mesh),
+        origin,
+    ))
 }
 
 /// Simplify a triangle mesh with QEM (default), GNG3D-Q or the paper's GNG3D.
@@ -612,7 +615,11 @@ fn save(
     let name = path.to_string_lossy().into_owned();
     let (mesh, warnings, origin) = mesh_from(vertices, faces, &name, None)?;
     warn_about(py, &name, &warnings)?;
-    py.detach(|| mesh::io::save_with_optional_attributes(&mesh, None, None, origin, &path))
+    let model = mesh::Model {
+        origin,
+        ..mesh.into()
+    };
+    py.detach(|| mesh::io::save(&model, &path))
         .map(|_| ())
         .map_err(mesh_error)
 }

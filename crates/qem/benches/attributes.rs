@@ -6,7 +6,7 @@
 //!
 //! meshoptimizer gets what it takes: one vertex per wedge (position and attributes, f32) and the
 //! corners as indices, built before timing; ours gets the model (mesh and `Attributes`), prepared as
-//! the CLI does (`mesh::clean::prepare_with_attributes`). Before the criterion groups it prints
+//! the CLI does (`mesh::clean::prepare`). Before the criterion groups it prints
 //! the best of 15 alternating calls of each and the ratio ours / meshoptimizer's
 //! (`cargo bench -p gng3d-qem --bench attributes`).
 //!
@@ -65,9 +65,11 @@ fn inputs() -> Vec<Input> {
         .chain(large)
         .map(|(name, path, large)| {
             let loaded = mesh::io::load(&path).unwrap_or_else(|e| panic!("{e}"));
-            let attributes = loaded.attributes.expect("the asset has attributes");
-            let (mesh, attributes, _) =
-                mesh::clean::prepare_with_attributes(&loaded.mesh, &attributes);
+            let model = mesh::clean::prepare(&loaded.into()).0;
+            let (mesh, attributes) = (
+                model.mesh,
+                model.attributes.expect("the asset has attributes"),
+            );
             let mut values = Vec::new();
             let mut positions = Vec::new();
             for (w, &v) in attributes.wedge_vertex.iter().enumerate() {

@@ -24,7 +24,7 @@ fn inputs() -> Vec<(&'static str, Model)> {
         .into_iter()
         .map(|name| {
             let loaded = mesh::io::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
-            (name, Model::from(mesh::clean::prepare(&loaded.mesh).0))
+            (name, mesh::clean::prepare(&loaded.mesh.into()).0)
         })
         .collect()
 }

@@ -29,7 +29,7 @@ fn main() {
         .unwrap_or(7);
     let ratio: f64 = args.get(2).map_or(0.1, |s| s.parse().expect("ratio"));
     let loaded = mesh::io::load(path).expect("load");
-    let model = mesh::Model::from(mesh::clean::prepare(&loaded.mesh).0);
+    let model = mesh::clean::prepare(&loaded.mesh.into()).0;
     let m = &model.mesh;
     let target = ((m.face_count() as f64) * ratio).round() as usize;
     let params = gng3d_qem::QemParams::with_target(gng3d_qem::Target::Faces(target));
@@ -87,6 +87,6 @@ fn main() {
         best_cpu / best_mo_cpu
     );
     if let Some(o) = args.get(3) {
-        mesh::io::save(&out, std::path::Path::new(o)).expect("save");
+        mesh::io::save(&out.clone().into(), std::path::Path::new(o)).expect("save");
     }
 }

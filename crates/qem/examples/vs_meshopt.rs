@@ -73,7 +73,7 @@ fn load(path: &str, subdivisions: usize) -> TriMesh {
         eprintln!("{e}");
         std::process::exit(2)
     });
-    let mut m = mesh::clean::prepare(&loaded.mesh).0;
+    let mut m = mesh::clean::prepare(&loaded.mesh.into()).0.mesh;
     for _ in 0..subdivisions {
         m = subdivide(&m);
     }

@@ -171,9 +171,8 @@ fn uv_at_closest(mesh: &TriMesh, a: &Attributes, p: Vec3) -> Vec<Vec2> {
 fn prepared_spot() -> Option<(TriMesh, Attributes)> {
     let dir = mesh::fixtures::shared_meshes_dir("spot.obj")?;
     let loaded = mesh::io::load(&dir.join("spot.obj")).unwrap();
-    let (mesh, attributes, _) =
-        mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
-    Some((mesh, attributes))
+    let model = mesh::clean::prepare(&loaded.into()).0;
+    Some((model.mesh, model.attributes.unwrap()))
 }
 
 #[test]
@@ -184,7 +183,7 @@ fn spot_keeps_its_texture_coordinates_where_they_were() {
     let params = QemParams::with_target(Target::Ratio(0.25));
     let (out, kept, _) = simplify_with_attributes(&mesh, &attributes, &params).unwrap();
     kept.validate(&out).unwrap();
-    assert_eq!(kept.names(), vec!["uv0"]);
+    assert_eq!(kept.kinds(), vec![mesh::AttributeKind::Uv0]);
     assert!(!kept.seam_edges(&out).is_empty());
     // Every output vertex's texture coordinates are one of the original's at the closest point
     // of the original surface (within 2 % of the texture on 95 % of the wedges).
@@ -264,8 +263,8 @@ fn asset(name: &str) -> (TriMesh, Attributes) {
         .join(name);
     let loaded = mesh::io::load(&path).unwrap();
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
-    let (mesh, attributes, _) =
-        mesh::clean::prepare_with_attributes(&loaded.mesh, loaded.attributes.as_ref().unwrap());
+    let model = mesh::clean::prepare(&loaded.into()).0;
+    let (mesh, attributes) = (model.mesh, model.attributes.unwrap());
     (mesh, attributes)
 }
 
@@ -276,7 +275,14 @@ fn an_xatlas_atlas_keeps_its_charts_normals_and_material() {
     let params = QemParams::with_target(Target::Ratio(0.1));
     let (out, kept, report) = simplify_with_attributes(&fandisk, &attributes, &params).unwrap();
     kept.validate(&out).unwrap();
-    assert_eq!(kept.names(), vec!["normals", "uv0", "materials"]);
+    assert_eq!(
+        kept.kinds(),
+        vec![
+            mesh::AttributeKind::Normals,
+            mesh::AttributeKind::Uv0,
+            mesh::AttributeKind::Materials
+        ]
+    );
     assert!(report.faces <= fandisk.face_count() / 5, "{report:?}");
     let seams_out = kept.seam_edges(&out).len();
     assert!(

@@ -12,7 +12,7 @@ use qem::{QemError, QemParams, Quadric, StopReason, Target};
 fn load(name: &str) -> Option<(TriMesh, TriMesh)> {
     let path = mesh::fixtures::shared_meshes_dir("README.md")?.join(name);
     let raw = mesh::io::load(&path).unwrap_or_else(|e| panic!("{e}")).mesh;
-    let prepared = mesh::clean::prepare(&raw).0;
+    let prepared = mesh::clean::prepare(&raw.clone().into()).0.mesh;
     Some((raw, prepared))
 }
 

@@ -127,7 +127,7 @@ fn textured_globe() -> (tempfile::TempDir, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("globe.obj");
     let (sphere, attributes) = mesh::procedural::textured_sphere(16, 24);
-    mesh::io::save_with_attributes(&sphere, &attributes, None, &path).unwrap();
+    mesh::io::save(&mesh::Model::new(sphere, Some(attributes), None), &path).unwrap();
     (dir, path)
 }
 
@@ -473,7 +473,7 @@ fn bad_files_show_an_error_and_exports_round_trip() {
     // A real file opens and replaces the model.
     let good = dir.path().join("sphere.obj");
     let sphere = mesh::procedural::icosphere(2);
-    mesh::io::save(&sphere, &good).unwrap();
+    mesh::io::save(&sphere.clone().into(), &good).unwrap();
     h.state_mut().session.open_path(good);
     step_until(&mut h, Duration::from_secs(20), "the sphere to load", |a| {
         !a.session.is_loading()

@@ -196,7 +196,7 @@ fn check_values(args: &BatchArgs, options: &[String]) -> anyhow::Result<()> {
     let id = std::process::id();
     let probe = args.out.join(format!(".gng3d-batch-probe-{id}.ply"));
     let probe_out = args.out.join(format!(".gng3d-batch-probe-{id}-out.ply"));
-    mesh::io::save(&mesh::procedural::icosphere(2), &probe)?;
+    mesh::io::save(&mesh::procedural::icosphere(2).into(), &probe)?;
     let exe = std::env::current_exe().context("cannot find the gng3d executable")?;
     let run = gng3d_command(&exe)
         .arg("simplify")

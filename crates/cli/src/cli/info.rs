@@ -49,7 +49,7 @@ struct Info {
 struct AttributeInfo {
     /// Attribute names as `simplify --json` lists them (`normals`, `uv0`, `uv1`, `colors`,
     /// `materials`).
-    names: Vec<&'static str>,
+    names: Vec<mesh::AttributeKind>,
     /// Attribute sets (a vertex on a seam has one per side).
     wedges: usize,
     /// Edges across which a value or the material changes.
@@ -87,7 +87,7 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
         manifold: t.manifold,
         has_vertex_normals: loaded.vertex_normals.is_some(),
         attributes: loaded.attributes.as_ref().map(|a| AttributeInfo {
-            names: a.names(),
+            names: a.kinds(),
             wedges: a.wedge_count(),
             seam_edges: a.seam_edges(m).len(),
             charts: a
@@ -145,7 +145,7 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     if let Some(a) = &info.attributes {
         outln!(
             "attributes            {} ({} wedges, {} seam edges, {} charts)",
-            a.names.join(", "),
+            mesh::AttributeKind::list(&a.names),
             a.wedges,
             a.seam_edges,
             a.charts

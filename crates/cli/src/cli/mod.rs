@@ -286,9 +286,9 @@ pub(crate) fn load_input(path: &std::path::Path, weld: bool) -> anyhow::Result<I
 /// The names of `attributes` (materials aside) as the warnings write them.
 pub(crate) fn attributes_in_words(attributes: &mesh::attributes::Attributes) -> Vec<&'static str> {
     attributes
-        .names()
+        .kinds()
         .into_iter()
-        .filter(|&name| name != "materials")
+        .filter(|&kind| kind != mesh::AttributeKind::Materials)
         .map(attribute_in_words)
         .collect()
 }
@@ -384,12 +384,12 @@ mod help {
     }
 }
 
-/// An attribute's name (`Attributes::names`) as the warnings write it.
-pub(crate) fn attribute_in_words(name: &'static str) -> &'static str {
-    match name {
-        "uv0" => "texture coordinates",
-        "uv1" => "second texture coordinates",
-        "colors" => "vertex colours",
-        other => other,
+/// An attribute kind as the warnings write it.
+pub(crate) fn attribute_in_words(kind: mesh::AttributeKind) -> &'static str {
+    match kind {
+        mesh::AttributeKind::Uv0 => "texture coordinates",
+        mesh::AttributeKind::Uv1 => "second texture coordinates",
+        mesh::AttributeKind::Colors => "vertex colours",
+        other => other.name(),
     }
 }

@@ -107,7 +107,7 @@ mod tests {
             input: dir.join("sphere.ply"),
             output: dir.join("out.ply"),
         };
-        mesh::io::save(&mesh::procedural::icosphere(3), &good.input).unwrap();
+        mesh::io::save(&mesh::procedural::icosphere(3).into(), &good.input).unwrap();
         let request = Request::new(Target::Ratio(0.25));
         let row = run_one(&good, &request, &Settings::default(), &describe);
         assert_eq!(row.status, Status::Ok, "{row:?}");

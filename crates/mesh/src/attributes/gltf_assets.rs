@@ -11,7 +11,7 @@ use std::sync::Arc;
 /// `textures`, `images` and `samplers` as they were in the file, and the names in
 /// `extensionsUsed` / `extensionsRequired` that these objects use. Images stored in buffer views
 /// are kept as bytes and embedded again in the output; images named by a relative URI are copied
-/// next to the output ([`crate::io::save_with_attributes`]).
+/// next to the output ([`crate::io::save`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 #[non_exhaustive]
 pub struct GltfAssets {

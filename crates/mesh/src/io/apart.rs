@@ -159,7 +159,7 @@ mod tests {
     fn outputs_that_would_replace_an_input_or_each_other_are_refused() {
         let dir = tempfile::tempdir().unwrap();
         let input = dir.path().join("scene.gltf");
-        super::super::save(&icosphere(1), &input).unwrap();
+        super::super::save(&icosphere(1).into(), &input).unwrap();
         let loaded = super::super::load(&input).unwrap();
         assert_eq!(loaded.input_files().len(), 2, "{:?}", loaded.input_files());
         let err = |outs: &[&Path]| loaded.check_outputs(outs).unwrap_err().to_string();

@@ -1,6 +1,8 @@
 //! Attributes through the readers and writers: round trips, materials, warnings, errors.
 
 use super::*;
+use crate::AttributeKind as K;
+use crate::Model;
 use crate::attributes::Attributes;
 use crate::procedural::textured_sphere;
 use std::fs;
@@ -39,27 +41,38 @@ fn obj_round_trip_keeps_uvs_normals_and_seams() {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, attributes) = textured_sphere(8, 16);
     let path = dir.path().join("sphere.obj");
-    let warnings = save_with_attributes(&mesh, &attributes, None, &path)
-        .unwrap()
-        .dropped;
+    let warnings = save(
+        &Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &path,
+    )
+    .unwrap()
+    .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     let back = load(&path).unwrap();
     assert!(back.warnings.is_empty(), "{:?}", back.warnings);
     assert_eq!(back.mesh, mesh);
     let a = back.attributes.expect("attributes read back");
     a.validate(&back.mesh).unwrap();
-    assert_eq!(a.names(), vec!["normals", "uv0"]);
+    assert_eq!(a.kinds(), vec![K::Normals, K::Uv0]);
     assert_eq!(a.wedge_count(), attributes.wedge_count());
     assert_values_close(&a, &attributes, 0.0);
     assert_eq!(a.seam_edges(&back.mesh), attributes.seam_edges(&mesh));
     // Saved again and read again: the same bytes (wedges are numbered by first use).
     let again = dir.path().join("again.obj");
-    save_with_attributes(&back.mesh, &a, None, &again).unwrap();
+    save(
+        &Model::new(back.mesh.clone(), Some(a.clone()), None),
+        &again,
+    )
+    .unwrap();
     let third = dir.path().join("third.obj");
     let reread = load(&again).unwrap();
     let ra = reread.attributes.unwrap();
     assert_values_close(&ra, &attributes, 0.0);
-    save_with_attributes(&reread.mesh, &ra, None, &third).unwrap();
+    save(
+        &Model::new(reread.mesh.clone(), Some(ra.clone()), None),
+        &third,
+    )
+    .unwrap();
     assert!(fs::read(&third).unwrap() == fs::read(&again).unwrap());
 }
 
@@ -79,20 +92,28 @@ fn ply_round_trip_keeps_normals_uvs_and_colours() {
     );
     let path = dir.path().join("sphere.ply");
     assert!(
-        save_with_attributes(&mesh, &attributes, None, &path)
-            .unwrap()
-            .dropped
-            .is_empty()
+        save(
+            &Model::new(mesh.clone(), Some(attributes.clone()), None),
+            &path
+        )
+        .unwrap()
+        .dropped
+        .is_empty()
     );
     let back = load(&path).unwrap();
     assert!(back.warnings.is_empty(), "{:?}", back.warnings);
     // One vertex record per wedge: the seam is split in the file ...
     assert_eq!(back.mesh.vertex_count(), w);
     let a = back.attributes.unwrap();
-    assert_eq!(a.names(), vec!["normals", "uv0", "colors"]);
+    assert_eq!(a.kinds(), vec![K::Normals, K::Uv0, K::Colors]);
     assert_values_close(&a, &attributes, 1e-5);
     // ... and the weld joins it again: the sphere's vertices, the same seams.
-    let (welded, wa, report) = crate::clean::prepare_with_attributes(&back.mesh, &a);
+    let model = crate::Model {
+        attributes: Some(a),
+        ..back.mesh.into()
+    };
+    let (welded, report) = crate::clean::prepare(&model);
+    let (welded, wa) = (welded.mesh, welded.attributes.unwrap());
     assert_eq!(welded.vertex_count(), mesh.vertex_count());
     assert_eq!(report.faces, mesh.face_count());
     wa.validate(&welded).unwrap();
@@ -128,9 +149,16 @@ fn obj_materials_are_read_written_and_copied() {
 
     let out = tempfile::tempdir().unwrap();
     let to = out.path().join("copy.obj");
-    let warnings = save_with_attributes(&loaded.mesh, &a, Some(&materials), &to)
-        .unwrap()
-        .dropped;
+    let warnings = save(
+        &Model::new(
+            loaded.mesh.clone(),
+            Some(a.clone()),
+            Some(materials.clone()),
+        ),
+        &to,
+    )
+    .unwrap()
+    .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(
         fs::read(out.path().join("box.mtl")).unwrap(),
@@ -147,10 +175,12 @@ fn obj_materials_are_read_written_and_copied() {
     // A library that is gone: the mesh is written, the copy is a warning naming the file.
     fs::remove_file(src.path().join("box.mtl")).unwrap();
     let out2 = tempfile::tempdir().unwrap();
-    let warnings = save_with_attributes(
-        &loaded.mesh,
-        &a,
-        Some(&materials),
+    let warnings = save(
+        &Model::new(
+            loaded.mesh.clone(),
+            Some(a.clone()),
+            Some(materials.clone()),
+        ),
         &out2.path().join("c.obj"),
     )
     .unwrap()
@@ -239,7 +269,7 @@ fn obj_vt_and_vn_no_face_uses_are_ignored_with_one_warning_each() {
             .as_ref()
             .is_none_or(|a| a.uv0.is_none() && a.normals.is_none()),
         "{:?}",
-        loaded.attributes.map(|a| a.names())
+        loaded.attributes.map(|a| a.kinds())
     );
 
     // Normals used by every corner, `vt` by none: normals kept, texture coordinates ignored.
@@ -262,7 +292,7 @@ fn obj_vt_and_vn_no_face_uses_are_ignored_with_one_warning_each() {
     let loaded = load(&write(dir.path(), "mat.obj", obj.as_bytes())).unwrap();
     assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
     let a = loaded.attributes.unwrap();
-    assert_eq!(a.names(), vec!["materials"]);
+    assert_eq!(a.kinds(), vec![K::Materials]);
 }
 
 #[test]
@@ -286,7 +316,11 @@ fn bad_attribute_references_name_the_line() {
     // Attributes that do not fit the mesh are a write error, not a panic.
     let (mesh, mut a) = textured_sphere(3, 4);
     a.corners.pop();
-    let err = save_with_attributes(&mesh, &a, None, &dir.path().join("x.obj")).unwrap_err();
+    let err = save(
+        &Model::new(mesh.clone(), Some(a.clone()), None),
+        &dir.path().join("x.obj"),
+    )
+    .unwrap_err();
     assert!(
         err.to_string()
             .contains("the attributes do not fit the mesh")
@@ -302,7 +336,7 @@ fn spot_loads_with_its_texture_coordinates() {
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let a = loaded.attributes.unwrap();
     a.validate(&loaded.mesh).unwrap();
-    assert_eq!(a.names(), vec!["uv0"]);
+    assert_eq!(a.kinds(), vec![K::Uv0]);
     assert_eq!(loaded.mesh.vertex_count(), 2930);
     assert!(a.wedge_count() >= 3225, "{} wedges", a.wedge_count());
     assert!(!a.seam_edges(&loaded.mesh).is_empty());
@@ -331,7 +365,7 @@ fn ply_without_seams_keeps_the_vertex_numbering() {
     a.normals.as_mut().unwrap().reverse();
     a.validate(&mesh).unwrap();
     let path = dir.path().join("s.ply");
-    save_with_attributes(&mesh, &a, None, &path).unwrap();
+    save(&Model::new(mesh.clone(), Some(a.clone()), None), &path).unwrap();
     let back = load(&path).unwrap();
     assert_eq!(back.mesh, mesh);
     assert_eq!(back.vertex_normals.unwrap(), mesh.vertex_normals());
@@ -351,7 +385,7 @@ fn non_finite_attribute_values_drop_that_attribute_with_a_warning() {
         }]
     );
     let a = loaded.attributes.unwrap();
-    assert_eq!(a.names(), vec!["normals"]);
+    assert_eq!(a.kinds(), vec![K::Normals]);
     a.validate(&loaded.mesh).unwrap();
 }
 
@@ -361,26 +395,29 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
     let (mesh, mut attributes) = textured_sphere(8, 16);
     // A second UV set, which OBJ does not store.
     attributes.uv1 = attributes.uv0.clone();
-    let all = vec!["normals", "uv0", "uv1"];
+    let all = vec![K::Normals, K::Uv0, K::Uv1];
     for (name, kept) in [
-        ("s.obj", vec!["normals", "uv0"]),
-        ("s.ply", vec!["normals", "uv0"]),
+        ("s.obj", vec![K::Normals, K::Uv0]),
+        ("s.ply", vec![K::Normals, K::Uv0]),
         ("s.glb", all.clone()),
         ("s.gltf", all.clone()),
         ("s.stl", vec![]),
     ] {
         let path = dir.path().join(name);
-        let report = save_with_attributes(&mesh, &attributes, None, &path)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert_eq!(report.input, attributes.names(), "{name}");
+        let report = save(
+            &Model::new(mesh.clone(), Some(attributes.clone()), None),
+            &path,
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(report.input, attributes.kinds(), "{name}");
         assert_eq!(report.kept, kept, "{name}");
         // Each attribute not kept is named in a sentence; nothing else is said.
-        for lost in attributes.names().iter().filter(|n| !kept.contains(n)) {
+        for lost in attributes.kinds().iter().filter(|n| !kept.contains(n)) {
             assert!(
                 report
                     .dropped
                     .iter()
-                    .any(|d| d.contains(lost) || d.contains("STL")),
+                    .any(|d| d.contains(lost.name()) || d.contains("STL")),
                 "{name}: {lost} not named in {:?}",
                 report.dropped
             );
@@ -393,7 +430,7 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
         );
         // What was written reads back with exactly what is said to be kept.
         let back = load(&path).unwrap();
-        let names = back.attributes.map(|a| a.names()).unwrap_or_default();
+        let names = back.attributes.map(|a| a.kinds()).unwrap_or_default();
         assert_eq!(names, kept, "{name}");
     }
     // A mesh the writer cannot give faces to is refused and nothing is written.
@@ -403,7 +440,7 @@ fn checked_save_keeps_what_the_format_stores_and_names_the_rest() {
         ..Attributes::default()
     };
     let path = dir.path().join("empty.obj");
-    let err = save_with_attributes(&empty, &none, None, &path).unwrap_err();
+    let err = save(&Model::new(empty.clone(), Some(none.clone()), None), &path).unwrap_err();
     assert!(err.to_string().contains("nothing written"), "{err}");
     assert!(!path.exists());
 }
@@ -418,8 +455,12 @@ fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
         attributes.wedge_count()
     ]);
     let path = dir.path().join("globe.gltf");
-    let report = save_with_attributes(&mesh, &attributes, None, &path).unwrap();
-    assert_eq!(report.kept, vec!["normals", "uv0", "uv1", "colors"]);
+    let report = save(
+        &Model::new(mesh.clone(), Some(attributes.clone()), None),
+        &path,
+    )
+    .unwrap();
+    assert_eq!(report.kept, vec![K::Normals, K::Uv0, K::Uv1, K::Colors]);
     assert!(report.dropped.is_empty(), "{:?}", report.dropped);
     // Two files and nothing else: the JSON names its buffer file, which holds the data.
     let mut files: Vec<String> = fs::read_dir(dir.path())
@@ -438,11 +479,11 @@ fn a_gltf_is_written_as_gltf_and_bin_and_reads_back_with_every_attribute() {
     assert!(back.warnings.is_empty(), "{:?}", back.warnings);
     assert_eq!(back.mesh.face_count(), mesh.face_count());
     let a = back.attributes.unwrap();
-    assert_eq!(a.names(), attributes.names());
+    assert_eq!(a.kinds(), attributes.kinds());
     assert_values_close(&a, &attributes, 1e-5);
     // Positions only through `save`: the same two files, the same check.
     let plain = dir.path().join("plain.gltf");
-    save(&mesh, &plain).unwrap();
+    save(&mesh.clone().into(), &plain).unwrap();
     assert!(dir.path().join("plain.bin").exists());
     assert_eq!(load(&plain).unwrap().mesh, mesh);
 }
@@ -470,8 +511,8 @@ fn positions_only_and_attribute_saves_refuse_the_same_outputs_and_write_nothing(
         ] {
             let dir = tempfile::tempdir().unwrap();
             let path = dir.path().join(name);
-            let plain = save(m, &path).unwrap_err();
-            let with = save_with_attributes(m, a, None, &path).unwrap_err();
+            let plain = save(&m.clone().into(), &path).unwrap_err();
+            let with = save(&Model::new(m.clone(), Some(a.clone()), None), &path).unwrap_err();
             for err in [&plain, &with] {
                 assert!(
                     matches!(err, MeshError::Write { path: p, .. } if *p == path),

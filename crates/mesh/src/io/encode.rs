@@ -4,7 +4,7 @@
 
 use super::{Format, apart, gltf, matconv, obj, ply, stl};
 use crate::TriMesh;
-use crate::attributes::{Attributes, Materials};
+use crate::attributes::{AttributeKind, Attributes, Materials};
 use crate::error::{MeshError, MeshWarning};
 use glam::DVec3;
 use std::path::Path;
@@ -70,7 +70,7 @@ fn check_attributes(mesh: &TriMesh, attributes: &Attributes, path: &Path) -> Res
         })
 }
 
-/// The bytes [`save_with_attributes`](super::save_with_attributes) writes for `mesh` with
+/// The bytes [`save`](super::save) writes for `mesh` with
 /// `attributes` in `format`, and what the format cannot keep (as warnings): OBJ keeps normals,
 /// texture coordinates (`uv0`), colours (per vertex) and materials; PLY keeps normals, `uv0` and
 /// colours, one vertex record per wedge (seams as split vertices, which the weld joins again on
@@ -83,7 +83,7 @@ fn check_attributes(mesh: &TriMesh, attributes: &Attributes, path: &Path) -> Res
 /// output of a glTF input names `<path stem>.mtl`, made from the glTF materials by
 /// [`copy_material_files`](super::copy_material_files). What does not cross is a warning. A `.gltf`
 /// from here holds its buffer as a `data:` URI (one self-contained file);
-/// [`save_with_attributes`](super::save_with_attributes) writes it to `<stem>.bin` instead.
+/// [`save`](super::save) writes it to `<stem>.bin` instead.
 /// Attributes that do not fit `mesh` are a [`MeshError::Write`] naming the problem.
 pub fn encode_with_attributes(
     mesh: &TriMesh,
@@ -112,7 +112,7 @@ pub(super) enum GltfBuffer {
     /// [`encode_with_attributes`]).
     DataUri,
     /// `<stem>.bin` next to the `.gltf` (what [`save`](super::save) and
-    /// [`save_with_attributes`](super::save_with_attributes) write).
+    /// [`save`](super::save) write).
     BinFile,
 }
 
@@ -168,14 +168,24 @@ pub(super) fn encode_parts(
             ),
         });
     };
-    let mut dropped = |names: Vec<&str>, reason: &str| {
-        if !names.is_empty() {
-            warnings.push(MeshWarning::AttributesDropped {
-                attributes: names.join(", "),
-                reason: reason.to_string(),
-            });
-        }
-    };
+    // What the format cannot store is said once, before the format's own warnings.
+    let lost: Vec<AttributeKind> = attributes
+        .kinds()
+        .into_iter()
+        .filter(|&k| !format.stores(k))
+        .collect();
+    if !lost.is_empty() {
+        warnings.push(MeshWarning::AttributesDropped {
+            attributes: AttributeKind::list(&lost),
+            reason: match format {
+                Format::Stl => "STL stores positions only",
+                Format::Obj => "OBJ has one set of texture coordinates",
+                // PLY (glTF stores every kind).
+                _ => "PLY stores one set of texture coordinates and no materials",
+            }
+            .to_string(),
+        });
+    }
     let main = match format {
         Format::Gltf | Format::Glb => {
             return Ok(encode_gltf(
@@ -189,16 +199,10 @@ pub(super) fn encode_parts(
             ));
         }
         Format::Stl => {
-            dropped(attributes.names(), "STL stores positions only");
             warnings.extend(stl_precision(origin));
             encode_stl(mesh, origin, path)?
         }
         Format::Obj => {
-            let mut not = Vec::new();
-            if attributes.uv1.is_some() {
-                not.push("uv1");
-            }
-            dropped(not, "OBJ has one set of texture coordinates");
             let plan = materials
                 .filter(|_| attributes.face_material.is_some())
                 .and_then(|m| matconv::gltf_to_mtl(m, path));
@@ -214,20 +218,7 @@ pub(super) fn encode_parts(
                 &mut warnings,
             )
         }
-        Format::Ply => {
-            let mut not = Vec::new();
-            if attributes.uv1.is_some() {
-                not.push("uv1");
-            }
-            if attributes.face_material.is_some() {
-                not.push("materials");
-            }
-            dropped(
-                not,
-                "PLY stores one set of texture coordinates and no materials",
-            );
-            ply::write_with_attributes(mesh, attributes, origin)
-        }
+        Format::Ply => ply::write_with_attributes(mesh, attributes, origin),
     };
     Ok(Encoded {
         main,

@@ -3,6 +3,7 @@
 
 use super::matconv::parse_mtl;
 use super::*;
+use crate::Model;
 use serde_json::json;
 
 fn assets() -> PathBuf {
@@ -13,16 +14,19 @@ fn checker_png() -> Vec<u8> {
     std::fs::read(assets().join("checker.png")).unwrap()
 }
 
-/// What [`save_with_attributes`] says it dropped or did not copy, one sentence each.
+/// What [`save`] says it dropped or did not copy, one sentence each.
 fn save_dropped(
     mesh: &crate::TriMesh,
     a: &crate::attributes::Attributes,
     materials: Option<&crate::attributes::Materials>,
     path: &Path,
 ) -> Vec<String> {
-    save_with_attributes(mesh, a, materials, path)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .dropped
+    save(
+        &Model::new(mesh.clone(), Some(a.clone()), materials.cloned()),
+        path,
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+    .dropped
 }
 
 /// The carried glTF JSON of a loaded glTF.
@@ -142,7 +146,11 @@ fn glb_materials_become_an_mtl_with_the_image_next_to_the_obj() {
     let a = obj.attributes.as_ref().unwrap();
     let dir = tempfile::tempdir().unwrap();
     let glb = dir.path().join("atlas.glb");
-    save_with_attributes(&obj.mesh, a, obj.materials.as_ref(), &glb).unwrap();
+    save(
+        &Model::new(obj.mesh.clone(), Some(a.clone()), obj.materials.clone()),
+        &glb,
+    )
+    .unwrap();
     let g = load(&glb).unwrap();
     // Into another folder, so that nothing is there before.
     let out = dir.path().join("out");
@@ -193,7 +201,11 @@ fn glb_materials_become_an_mtl_with_the_image_next_to_the_obj() {
 
     // A .gltf naming its image by URI: the image keeps its name and is copied.
     let gltf = dir.path().join("atlas.gltf");
-    save_with_attributes(&obj.mesh, a, obj.materials.as_ref(), &gltf).unwrap();
+    save(
+        &Model::new(obj.mesh.clone(), Some(a.clone()), obj.materials.clone()),
+        &gltf,
+    )
+    .unwrap();
     let g = load(&gltf).unwrap();
     let out2 = dir.path().join("out2");
     std::fs::create_dir(&out2).unwrap();
@@ -299,7 +311,11 @@ fn the_base_color_texture_is_found_in_obj_glb_and_gltf_materials() {
     let dir = tempfile::tempdir().unwrap();
     for name in ["atlas.glb", "atlas.gltf"] {
         let path = dir.path().join(name);
-        save_with_attributes(&obj.mesh, a, Some(materials), &path).unwrap();
+        save(
+            &Model::new(obj.mesh.clone(), Some(a.clone()), Some(materials.clone())),
+            &path,
+        )
+        .unwrap();
         let back = load(&path).unwrap();
         let t = base_color_texture(back.materials.as_ref().unwrap()).unwrap();
         assert_eq!(t.material, "checker");

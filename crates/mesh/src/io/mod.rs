@@ -7,9 +7,7 @@
 //! [`MeshWarning`]s). Malformed input gives a [`MeshError`] naming the file and the line or
 //! element.
 //!
-//! [`save_with_attributes`] is the one mesh writer ([`save`] is it without attributes,
-//! [`save_with_optional_attributes`] either, for an input that may have none): it
-//! encodes, reads the bytes back with the loader and refuses (writing nothing) an output that
+//! [`save`] is the one mesh writer: it encodes a [`Model`](crate::Model), reads the bytes back with the loader and refuses (writing nothing) an output that
 //! does not load, holds no face or lacks an attribute the format stores, then writes each file
 //! to a temporary sibling and renames it, so a failed write never leaves a partial or
 //! unloadable output; [`write_atomic`] does the same for any bytes. A `.gltf` is written with
@@ -39,7 +37,7 @@ pub use contain::{ReferenceScope, reference_scope, set_reference_scope};
 pub use encode::{encode, encode_with_attributes};
 pub use gltf::GltfAssets;
 pub use matconv::{BaseColorTexture, base_color_texture};
-pub use save::{KeptAttributes, save_with_optional_attributes};
+pub use save::{KeptAttributes, save};
 pub use side_files::{copy_gltf_images, copy_material_files};
 use validate::validate;
 
@@ -197,7 +195,7 @@ pub fn load_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<LoadedMes
 }
 
 /// [`load_bytes`], with the buffer file that a `.gltf` names as `side` read from memory (the
-/// check of [`save_with_attributes`] before anything is written).
+/// check of [`save`] before anything is written).
 fn load_encoded(
     bytes: &[u8],
     side: Option<gltf::SideBuffer>,
@@ -260,41 +258,6 @@ fn far_origin_of(points: impl Iterator<Item = DVec3>) -> Option<DVec3> {
     // The spacing of f32 values at `far`: 2^(exponent - 23).
     let half_spacing = (far.log2().floor() - 24.0).exp2();
     (half_spacing > 1e-6 * extent).then_some((lo + hi) * 0.5)
-}
-
-/// Write `mesh` (positions and triangles only) to `path`: OBJ, binary little-endian PLY, binary
-/// STL, glTF (`.gltf` with its buffer in `<stem>.bin` next to it) or GLB, by extension. The
-/// same checked write as [`save_with_attributes`] without attributes: a mesh without
-/// triangles, or bytes that do not load back, are a [`MeshError::Write`] and nothing is
-/// written; each file goes to a temporary sibling that is then renamed over its name.
-pub fn save(mesh: &TriMesh, path: &Path) -> Result<(), MeshError> {
-    save_with_optional_attributes(mesh, None, None, DVec3::ZERO, path).map(|_| ())
-}
-
-/// Write `mesh` with `attributes` to `path` (format by extension), the one checked writer that
-/// the library, `gng3d simplify` and Python's `simplify_file` use (the last two through
-/// [`save_with_optional_attributes`]):
-///
-/// 1. encode ([`encode_with_attributes`]; a `.gltf` with its buffer in `<stem>.bin`);
-/// 2. read the bytes back with [`load_bytes`] (a `.gltf` with its `.bin` from memory) and
-///    refuse with a [`MeshError::Write`] naming `path` and the problem, writing nothing, when
-///    the mesh has no triangle or the bytes do not load, hold no face, or lack an attribute the
-///    format stores ([`Format::stores`]);
-/// 3. write atomically ([`write_atomic`]; a `.gltf`'s `.bin` first);
-/// 4. copy the material libraries and textures of `materials` next to an OBJ
-///    ([`copy_material_files`]) and the images of a glTF input next to a glTF
-///    ([`copy_gltf_images`]), when the faces have materials.
-///
-/// The returned [`KeptAttributes`] names the input's attributes, those written, and, as
-/// sentences, what the format cannot keep and what could not be copied (never silent). [`save`]
-/// is the same write without attributes.
-pub fn save_with_attributes(
-    mesh: &TriMesh,
-    attributes: &Attributes,
-    materials: Option<&Materials>,
-    path: &Path,
-) -> Result<KeptAttributes, MeshError> {
-    save_with_optional_attributes(mesh, Some(attributes), materials, DVec3::ZERO, path)
 }
 
 #[cfg(test)]

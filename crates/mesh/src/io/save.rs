@@ -1,57 +1,64 @@
-//! The checked save ([`save_with_optional_attributes`], behind [`save`](super::save) and
-//! [`save_with_attributes`](super::save_with_attributes)): encode, read the bytes back, refuse an
-//! output that does not load or lacks what the format stores, write atomically, copy the files
-//! the materials name.
+//! The checked save ([`save`]): encode, read the bytes back, refuse an output that does not load
+//! or lacks what the format stores, write atomically, copy the files the materials name.
 
 use super::atomic::write_atomic_all;
 use super::encode::{GltfBuffer, encode_parts};
 use super::side_files::{copy_gltf_images, copy_material_files};
 use super::{Format, load_encoded};
-use crate::TriMesh;
-use crate::attributes::{Attributes, Materials};
+use crate::Model;
+use crate::attributes::{AttributeKind, Attributes};
 use crate::error::MeshError;
-use glam::DVec3;
 use std::path::Path;
 
-/// What writing a mesh with its attributes did with them
-/// ([`save_with_attributes`](super::save_with_attributes)): the `"attributes"` object of
+/// What writing a model did with its attributes ([`save`]): the `"attributes"` object of
 /// `gng3d simplify --json` and of the Python report.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
 #[non_exhaustive]
 pub struct KeptAttributes {
-    /// Attributes of the input (`normals`, `uv0`, `uv1`, `colors`, `materials`).
-    pub input: Vec<&'static str>,
+    /// Attributes of the input (serialized as `normals`, `uv0`, `uv1`, `colors`, `materials`).
+    pub input: Vec<AttributeKind>,
     /// Attributes written to the output (it reads back with each of them).
-    pub kept: Vec<&'static str>,
+    pub kept: Vec<AttributeKind>,
     /// What was not written or not copied, one sentence each (the caller shows them as warnings).
     pub dropped: Vec<String>,
 }
 
 impl Format {
-    /// Whether this format stores attribute `name` (as [`Attributes::names`] gives it).
-    pub fn stores(self, name: &str) -> bool {
+    /// Whether this format stores attributes of `kind`.
+    pub fn stores(self, kind: AttributeKind) -> bool {
+        use AttributeKind::*;
         match self {
             Format::Stl => false,
-            Format::Obj => name != "uv1",
-            Format::Ply => matches!(name, "normals" | "uv0" | "colors"),
+            Format::Obj => kind != Uv1,
+            Format::Ply => matches!(kind, Normals | Uv0 | Colors),
             Format::Gltf | Format::Glb => true,
         }
     }
 }
 
-/// [`save_with_attributes`](super::save_with_attributes) when `attributes` are given,
-/// [`save`](super::save) when not (then the returned [`KeptAttributes`] is empty): the one branch
-/// of the front ends whose input may have no attributes (`gng3d simplify`, Python's
-/// `simplify_file`), as [`crate::clean::prepare_with_optional_attributes`] is for the cleaning.
-/// `origin` is the input's [`LoadedMesh::origin`](super::LoadedMesh::origin), added back to the
-/// positions in f64 (zero: written as they are).
-pub fn save_with_optional_attributes(
-    mesh: &TriMesh,
-    attributes: Option<&Attributes>,
-    materials: Option<&Materials>,
-    origin: DVec3,
-    path: &Path,
-) -> Result<KeptAttributes, MeshError> {
+/// Write `model` to `path` (format by extension: OBJ, binary little-endian PLY, binary STL,
+/// glTF, GLB), the one checked writer of the library and every front end:
+///
+/// 1. encode ([`encode_with_attributes`](super::encode_with_attributes); a `.gltf` with its
+///    buffer in `<stem>.bin`), the positions plus the model's origin in f64;
+/// 2. read the bytes back with [`load_bytes`](super::load_bytes) (a `.gltf` with its `.bin` from
+///    memory) and refuse with a [`MeshError::Write`] naming `path` and the problem, writing
+///    nothing, when the mesh has no triangle or the bytes do not load, hold no face, or lack an
+///    attribute the format stores ([`Format::stores`]);
+/// 3. write atomically ([`write_atomic`](super::write_atomic); a `.gltf`'s `.bin` first);
+/// 4. copy the material libraries and textures of the materials next to an OBJ
+///    ([`copy_material_files`]) and the images of a glTF input next to a glTF
+///    ([`copy_gltf_images`]), when the faces have materials.
+///
+/// The returned [`KeptAttributes`] names the input's attributes, those written, and, as
+/// sentences, what the format cannot keep and what could not be copied (never silent); it is
+/// empty for a model without attributes.
+pub fn save(model: &Model, path: &Path) -> Result<KeptAttributes, MeshError> {
+    let (mesh, attributes, materials) = (
+        &model.mesh,
+        model.attributes.as_ref(),
+        model.materials.as_ref(),
+    );
     let format = Format::from_path(path).ok_or_else(|| MeshError::UnknownFormat {
         path: path.to_path_buf(),
     })?;
@@ -69,13 +76,17 @@ pub fn save_with_optional_attributes(
         mesh,
         attributes,
         materials,
-        origin,
+        model.origin,
         format,
         path,
         GltfBuffer::BinFile,
     )?;
-    let input = attributes.map(Attributes::names).unwrap_or_default();
-    let kept: Vec<&'static str> = input.iter().copied().filter(|n| format.stores(n)).collect();
+    let input = attributes.map(Attributes::kinds).unwrap_or_default();
+    let kept: Vec<AttributeKind> = input
+        .iter()
+        .copied()
+        .filter(|&k| format.stores(k))
+        .collect();
     let side = encoded
         .bin
         .as_ref()
@@ -88,7 +99,7 @@ pub fn save_with_optional_attributes(
     let back = reread
         .attributes
         .as_ref()
-        .map(Attributes::names)
+        .map(Attributes::kinds)
         .unwrap_or_default();
     if reread.mesh.face_count() == 0 || kept.iter().any(|n| !back.contains(n)) {
         return Err(refuse(format!(
@@ -96,7 +107,7 @@ pub fn save_with_optional_attributes(
             if kept.is_empty() {
                 "its faces".to_string()
             } else {
-                kept.join(", ")
+                AttributeKind::list(&kept)
             }
         )));
     }

@@ -11,7 +11,7 @@ use std::path::Path;
 /// their relative paths; files already there are left alone. For a glTF input's materials, writes
 /// the material library made from them (`<output stem>.mtl`, which the OBJ of
 /// [`encode_with_attributes`](super::encode_with_attributes) names) and its texture images next to
-/// `output` instead. [`save_with_attributes`](super::save_with_attributes) calls it for an OBJ
+/// `output` instead. [`save`](super::save) calls it for an OBJ
 /// output; it is public for a caller writing the bytes of
 /// [`encode_with_attributes`](super::encode_with_attributes) itself.
 pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarning> {
@@ -68,7 +68,7 @@ pub fn copy_material_files(materials: &Materials, output: &Path) -> Vec<MeshWarn
 
 /// Copies the images of a glTF input ([`Materials::gltf`]) that it names by relative URIs next to
 /// `output`, keeping their relative paths; files already there are left alone (what
-/// [`save_with_attributes`](super::save_with_attributes) does for a `.gltf` or `.glb`, for a caller
+/// [`save`](super::save) does for a `.gltf` or `.glb`, for a caller
 /// writing the bytes of [`encode_with_attributes`](super::encode_with_attributes) itself).
 ///
 /// For OBJ materials written to a `.gltf`, copies the textures of their material libraries that

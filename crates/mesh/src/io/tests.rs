@@ -29,7 +29,7 @@ fn obj_and_ply_round_trip_exactly() {
     m.positions.push(Vec3::new(1.0 / 3.0, 2.0, 3.0));
     for name in ["m.obj", "m.ply", "M.PLY", "m.Obj"] {
         let p = dir.path().join(name);
-        save(&m, &p).unwrap();
+        save(&m.clone().into(), &p).unwrap();
         let l = load(&p).unwrap();
         assert_same(&l.mesh, &m);
         assert!(l.warnings.is_empty());
@@ -41,7 +41,7 @@ fn stl_round_trip_keeps_every_triangle() {
     let dir = tmp();
     let m = icosphere(2);
     let p = dir.path().join("m.stl");
-    save(&m, &p).unwrap();
+    save(&m.clone().into(), &p).unwrap();
     let l = load(&p).unwrap();
     // STL is unindexed: compare triangle by triangle, then the welded vertex count.
     assert_eq!(l.mesh.face_count(), m.face_count());
@@ -55,18 +55,18 @@ fn stl_round_trip_keeps_every_triangle() {
 fn save_leaves_no_temp_files_and_reports_bad_directory() {
     let dir = tmp();
     let m = icosphere(0);
-    save(&m, &dir.path().join("a.ply")).unwrap();
+    save(&m.clone().into(), &dir.path().join("a.ply")).unwrap();
     let names: Vec<_> = fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
     assert_eq!(names, vec![std::ffi::OsString::from("a.ply")]);
-    let err = save(&m, &dir.path().join("missing/a.ply")).unwrap_err();
+    let err = save(&m.clone().into(), &dir.path().join("missing/a.ply")).unwrap_err();
     assert!(matches!(err, MeshError::Write { .. }), "{err}");
-    let err = save(&m, &dir.path().join("a.off")).unwrap_err();
+    let err = save(&m.clone().into(), &dir.path().join("a.off")).unwrap_err();
     assert!(matches!(err, MeshError::UnknownFormat { .. }), "{err}");
     let bad = TriMesh::new(vec![Vec3::ZERO], vec![[0, 0, 5]]);
-    let err = save(&bad, &dir.path().join("b.obj")).unwrap_err();
+    let err = save(&bad.clone().into(), &dir.path().join("b.obj")).unwrap_err();
     assert!(
         matches!(err, MeshError::IndexOutOfRange { index: 5, .. }),
         "{err}"
@@ -523,7 +523,7 @@ fn binary_stl_count_mismatch() {
     let dir = tmp();
     let m = icosphere(0); // 20 faces
     let p = dir.path().join("m.stl");
-    save(&m, &p).unwrap();
+    save(&m.clone().into(), &p).unwrap();
     let good = fs::read(&p).unwrap();
     assert_eq!(good.len(), 84 + 50 * 20);
     // Header says 2, file holds 20 records: 2 faces and a warning.
@@ -579,10 +579,10 @@ fn atomic_writes_follow_links_take_long_names_and_clean_stale_temporaries() {
     let m = icosphere(1);
     // Through a link.
     let real = dir.path().join("real.obj");
-    save(&icosphere(0), &real).unwrap();
+    save(&icosphere(0).into(), &real).unwrap();
     let link = dir.path().join("link.obj");
     std::os::unix::fs::symlink("real.obj", &link).unwrap();
-    save(&m, &link).unwrap();
+    save(&m.clone().into(), &link).unwrap();
     assert!(
         std::fs::symlink_metadata(&link)
             .unwrap()
@@ -592,7 +592,7 @@ fn atomic_writes_follow_links_take_long_names_and_clean_stale_temporaries() {
     assert_eq!(load(&real).unwrap().mesh.triangles, m.triangles);
     // A 250-byte name.
     let long = dir.path().join(format!("{}.obj", "n".repeat(246)));
-    save(&m, &long).unwrap();
+    save(&m.clone().into(), &long).unwrap();
     assert_eq!(load(&long).unwrap().mesh.triangles, m.triangles);
     // A stale temporary of a dead process (no pid is this large) goes; one of this process,
     // still running, stays.
@@ -602,7 +602,7 @@ fn atomic_writes_follow_links_take_long_names_and_clean_stale_temporaries() {
         .join(format!(".gng3d.{}.999999.tmp", std::process::id()));
     std::fs::write(&stale, b"partial").unwrap();
     std::fs::write(&live, b"partial").unwrap();
-    save(&m, &dir.path().join("next.obj")).unwrap();
+    save(&m.clone().into(), &dir.path().join("next.obj")).unwrap();
     assert!(!stale.exists(), "stale temporary left");
     assert!(live.exists(), "a running process's temporary removed");
 }
@@ -620,7 +620,7 @@ fn writes_in_progress_are_registered_until_they_end() {
     }
     assert!(!super::unfinished_writes().contains(&temp));
     let out = dir.path().join("m.obj");
-    save(&icosphere(1), &out).unwrap();
+    save(&icosphere(1).into(), &out).unwrap();
     assert!(
         super::unfinished_writes()
             .iter()

@@ -2,7 +2,9 @@
 //! normalized colours, warnings, errors, and (when installed) the Khronos validator.
 
 use super::*;
-use crate::io::{Format, load, load_bytes, save, save_with_attributes};
+use crate::AttributeKind as K;
+use crate::Model;
+use crate::io::{Format, load, load_bytes, save};
 use crate::procedural::textured_sphere;
 use std::fs;
 
@@ -213,7 +215,7 @@ fn assert_same(mesh: &TriMesh, a: &Attributes, back: &crate::io::LoadedMesh) {
     assert_eq!(back.mesh.vertex_count(), mesh.vertex_count());
     assert_eq!(back.mesh.face_count(), mesh.face_count());
     assert_eq!(b.wedge_count(), a.wedge_count());
-    assert_eq!(b.names(), a.names());
+    assert_eq!(b.kinds(), a.kinds());
     let (got, want) = (corner_bits(&back.mesh, b), corner_bits(mesh, a));
     assert_eq!(got.len(), want.len());
     if let Some(i) = (0..got.len()).find(|&i| got[i] != want[i]) {
@@ -243,9 +245,12 @@ fn textured_glb_and_gltf_round_trip_bit_exact() {
         let path = src.join(name);
         let mut m = materials.clone();
         m.gltf.as_mut().unwrap().source_dir = src.clone();
-        let warnings = save_with_attributes(&mesh, &a, Some(&m), &path)
-            .unwrap()
-            .dropped;
+        let warnings = save(
+            &Model::new(mesh.clone(), Some(a.clone()), Some(m.clone())),
+            &path,
+        )
+        .unwrap()
+        .dropped;
         assert!(warnings.is_empty(), "{warnings:?}");
         if name.ends_with(".gltf") {
             let stem = name.trim_end_matches(".gltf");
@@ -269,10 +274,12 @@ fn textured_glb_and_gltf_round_trip_bit_exact() {
         fs::create_dir_all(&out_dir).unwrap();
         for out_name in ["again.glb", "again.gltf"] {
             let out = out_dir.join(out_name);
-            let w = save_with_attributes(
-                &back.mesh,
-                back.attributes.as_ref().unwrap(),
-                back.materials.as_ref(),
+            let w = save(
+                &Model::new(
+                    back.mesh.clone(),
+                    Some(back.attributes.as_ref().unwrap().clone()),
+                    back.materials.clone(),
+                ),
                 &out,
             )
             .unwrap()
@@ -294,10 +301,12 @@ fn textured_glb_and_gltf_round_trip_bit_exact() {
             }
             // Written again: the same bytes.
             let third = out_dir.join(format!("third-{out_name}"));
-            save_with_attributes(
-                &again.mesh,
-                again.attributes.as_ref().unwrap(),
-                again.materials.as_ref(),
+            save(
+                &Model::new(
+                    again.mesh.clone(),
+                    Some(again.attributes.as_ref().unwrap().clone()),
+                    again.materials.clone(),
+                ),
                 &third,
             )
             .unwrap();
@@ -334,11 +343,15 @@ fn hand_built_gltf_with_external_bin_round_trips() {
     assert!(l.warnings.is_empty(), "{:?}", l.warnings);
     assert_eq!((l.mesh.vertex_count(), l.mesh.face_count()), (4, 2));
     let a = l.attributes.as_ref().unwrap();
-    assert_eq!(a.names(), vec!["normals", "uv0"]);
+    assert_eq!(a.kinds(), vec![K::Normals, K::Uv0]);
     assert_eq!(a.uv0.as_ref().unwrap()[2], Vec2::ONE);
     assert_eq!(l.mesh.positions[2], Vec3::new(1.0, 1.0, 0.0));
     let out = dir.path().join("out.glb");
-    save_with_attributes(&l.mesh, a, l.materials.as_ref(), &out).unwrap();
+    save(
+        &Model::new(l.mesh.clone(), Some(a.clone()), l.materials.clone()),
+        &out,
+    )
+    .unwrap();
     assert_same(&l.mesh, a, &load(&out).unwrap());
     // A data: URI buffer reads the same.
     let inline = b.document(
@@ -626,15 +639,21 @@ fn obj_materials_become_named_gltf_materials() {
         ..Materials::default()
     };
     let path = dir.path().join("m.glb");
-    let warnings = save_with_attributes(&mesh, &a, Some(&materials), &path)
-        .unwrap()
-        .dropped;
+    let warnings = save(
+        &Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
+        &path,
+    )
+    .unwrap()
+    .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     // With an OBJ material library that cannot be read: a warning naming it, the names kept.
     materials.libraries.push(dir.path().join("m.mtl"));
-    let warnings = save_with_attributes(&mesh, &a, Some(&materials), &dir.path().join("lib.gltf"))
-        .unwrap()
-        .dropped;
+    let warnings = save(
+        &Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
+        &dir.path().join("lib.gltf"),
+    )
+    .unwrap()
+    .dropped;
     let library = dir.path().join("m.mtl");
     assert!(
         matches!(&warnings[..], [w]
@@ -659,9 +678,12 @@ fn obj_materials_become_named_gltf_materials() {
     // glTF materials written to OBJ: named in usemtl, a library made from them; what the MTL
     // cannot express is one warning.
     let (mesh2, a2, m2) = textured_asset(false);
-    let w = save_with_attributes(&mesh2, &a2, Some(&m2), &dir.path().join("t.obj"))
-        .unwrap()
-        .dropped;
+    let w = save(
+        &Model::new(mesh2.clone(), Some(a2.clone()), Some(m2.clone())),
+        &dir.path().join("t.obj"),
+    )
+    .unwrap()
+    .dropped;
     assert_eq!(
         w,
         [
@@ -688,7 +710,7 @@ fn obj_materials_become_named_gltf_materials() {
     assert_eq!(back.materials.unwrap().names, m2.names);
     // Positions only through `save`: a .gltf with its .bin.
     let path = dir.path().join("plain.gltf");
-    save(&mesh, &path).unwrap();
+    save(&mesh.clone().into(), &path).unwrap();
     assert!(dir.path().join("plain.bin").exists());
     let l = load(&path).unwrap();
     assert_eq!(l.mesh.face_count(), mesh.face_count());
@@ -838,12 +860,16 @@ fn written_files_pass_the_khronos_validator_when_installed() {
         fs::write(dir.path().join("checker.png"), CHECKER_PNG).unwrap();
         materials.gltf.as_mut().unwrap().source_dir = dir.path().to_path_buf();
         let path = dir.path().join(name);
-        save_with_attributes(&mesh, &a, Some(&materials), &path).unwrap();
+        save(
+            &Model::new(mesh.clone(), Some(a.clone()), Some(materials.clone())),
+            &path,
+        )
+        .unwrap();
         files.push(path);
     }
     let (mesh, a) = textured_sphere(200, 400);
     let big = dir.path().join("big.glb");
-    save_with_attributes(&mesh, &a, None, &big).unwrap();
+    save(&Model::new(mesh.clone(), Some(a.clone()), None), &big).unwrap();
     files.push(big);
     // OBJ materials converted: the fandisk atlas's MTL colour and texture, embedded in a .glb
     // and copied next to a .gltf.
@@ -852,10 +878,12 @@ fn written_files_pass_the_khronos_validator_when_installed() {
     let converted = tempfile::tempdir().unwrap();
     for name in ["atlas.glb", "atlas.gltf"] {
         let path = converted.path().join(name);
-        let w = save_with_attributes(
-            &obj.mesh,
-            obj.attributes.as_ref().unwrap(),
-            obj.materials.as_ref(),
+        let w = save(
+            &Model::new(
+                obj.mesh.clone(),
+                Some(obj.attributes.as_ref().unwrap().clone()),
+                obj.materials.clone(),
+            ),
             &path,
         )
         .unwrap()
