@@ -191,7 +191,12 @@ fn materials_and_their_files_follow_the_output() {
         std::fs::read(out.path().join("tex.png")).unwrap(),
         b"png bytes"
     );
-    assert!(out.path().join("grid.mtl").is_file());
+    // The library is the input's, under the output's name.
+    assert_eq!(
+        std::fs::read(out.path().join("small.mtl")).unwrap(),
+        std::fs::read(src.path().join("grid.mtl")).unwrap()
+    );
+    assert!(!out.path().join("grid.mtl").exists());
     let back = mesh::io::load(&path).unwrap();
     assert_eq!(back.materials.unwrap().names, vec!["left", "right"]);
     let a = back.attributes.unwrap();

@@ -199,6 +199,14 @@ pub enum MeshWarning {
         /// Why it was refused.
         reason: String,
     },
+    /// A file the input names (a texture) was copied beside the output under another name,
+    /// because a different file of its name was already there; the output names the copy.
+    SideFileRenamed {
+        /// The name the input gives it.
+        wanted: String,
+        /// The name it was written under.
+        written: String,
+    },
 }
 
 impl fmt::Display for MeshWarning {
@@ -254,6 +262,11 @@ impl fmt::Display for MeshWarning {
             MeshWarning::ReferenceRefused { reference, reason } => {
                 write!(f, "{reference} not read or written: {reason}")
             }
+            MeshWarning::SideFileRenamed { wanted, written } => write!(
+                f,
+                "a different file named {wanted} is already beside the output; the input's is \
+                 written as {written} and the output names that"
+            ),
         }
     }
 }

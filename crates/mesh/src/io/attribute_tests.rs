@@ -160,9 +160,15 @@ fn obj_materials_are_read_written_and_copied() {
     .unwrap()
     .dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
+    // The library is written under the output's name, which the output names.
     assert_eq!(
-        fs::read(out.path().join("box.mtl")).unwrap(),
+        fs::read(out.path().join("copy.mtl")).unwrap(),
         fs::read(src.path().join("box.mtl")).unwrap()
+    );
+    assert!(
+        fs::read_to_string(&to)
+            .unwrap()
+            .contains("mtllib copy.mtl\n")
     );
     assert_eq!(
         fs::read(out.path().join("tex/wood.png")).unwrap(),
@@ -171,6 +177,52 @@ fn obj_materials_are_read_written_and_copied() {
     let back = load(&to).unwrap();
     assert_eq!(back.materials.unwrap().names, vec!["wood", "red"]);
     assert_eq!(back.attributes.unwrap().face_material, Some(vec![0, 1]));
+
+    // Someone else's box.mtl and tex/wood.png already in the output's folder: neither is
+    // named nor replaced; the texture is copied under a new name that the library names.
+    let crowded = tempfile::tempdir().unwrap();
+    fs::create_dir(crowded.path().join("tex")).unwrap();
+    fs::write(crowded.path().join("box.mtl"), "newmtl other\nKd 0 1 0\n").unwrap();
+    fs::write(crowded.path().join("tex/wood.png"), b"someone else's").unwrap();
+    let to = crowded.path().join("result.obj");
+    let dropped = save(
+        &Model::new(
+            loaded.mesh.clone(),
+            Some(a.clone()),
+            Some(materials.clone()),
+        ),
+        &to,
+    )
+    .unwrap()
+    .dropped;
+    assert_eq!(dropped.len(), 1, "{dropped:?}");
+    assert!(
+        dropped[0].contains("written as tex/result-wood.png"),
+        "{dropped:?}"
+    );
+    assert_eq!(
+        fs::read(crowded.path().join("tex/result-wood.png")).unwrap(),
+        b"not really a png"
+    );
+    assert_eq!(
+        fs::read(crowded.path().join("tex/wood.png")).unwrap(),
+        b"someone else's"
+    );
+    assert_eq!(
+        fs::read_to_string(crowded.path().join("box.mtl")).unwrap(),
+        "newmtl other\nKd 0 1 0\n"
+    );
+    assert!(
+        fs::read_to_string(&to)
+            .unwrap()
+            .contains("mtllib result.mtl\n")
+    );
+    assert_eq!(
+        fs::read_to_string(crowded.path().join("result.mtl")).unwrap(),
+        "newmtl wood\nKd 1 1 1\nmap_Kd -bm 1 tex/result-wood.png\nnewmtl red\nKd 1 0 0\n"
+    );
+    let back = load(&to).unwrap();
+    assert_eq!(back.materials.unwrap().names, vec!["wood", "red"]);
 
     // A library that is gone: the mesh is written, the copy is a warning naming the file.
     fs::remove_file(src.path().join("box.mtl")).unwrap();

@@ -282,29 +282,52 @@ pub(crate) fn side_file(out_dir: &Path, name: &Path) -> Result<PathBuf, Refused>
     Ok(target)
 }
 
-/// What [`write_beside`] does when the side file exists.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Existing {
-    /// Leave it alone (a texture copied by an earlier run).
-    Keep,
-    /// Replace it (a file generated for this output: its material library, its images).
-    Replace,
+/// Writes `bytes` as the side file `name` of an output in `out_dir` ([`side_file`]'s rule),
+/// atomically, replacing a file of that name: for a file whose name the tool chose for this
+/// output (its material library, the images it embeds). A file copied from the input goes
+/// through [`copy_beside`].
+pub(crate) fn write_beside(out_dir: &Path, name: &Path, bytes: &[u8]) -> Result<(), Refused> {
+    let target = side_file(out_dir, name)?;
+    super::write_atomic(&target, bytes)
+        .map_err(|e| Refused::Io(std::io::Error::other(e.to_string())))
 }
 
-/// Writes `bytes` as the side file `name` of an output in `out_dir` ([`side_file`]'s rule),
-/// atomically; with [`Existing::Keep`] an existing file is left as it is.
-pub(crate) fn write_beside(
+/// Copies `bytes` (a file the input names, e.g. a texture) beside an output in `out_dir` under
+/// `name`, or, when a file of that name is already there with other bytes, under a new name in
+/// the same folder, `<stem>-<file name>` (then `<stem>-2-<file name>`, ...): an output never
+/// points at someone else's file, and a file already there is never replaced. A file with the
+/// same bytes is left as it is (an earlier run's copy). Returns the name the output must use.
+pub(crate) fn copy_beside(
     out_dir: &Path,
     name: &Path,
     bytes: &[u8],
-    existing: Existing,
-) -> Result<(), Refused> {
-    let target = side_file(out_dir, name)?;
-    if existing == Existing::Keep && std::fs::symlink_metadata(&target).is_ok() {
-        return Ok(());
+    stem: &str,
+) -> Result<PathBuf, Refused> {
+    let file = name.file_name().ok_or(Refused::BadName)?.to_string_lossy();
+    for k in 0..100u32 {
+        let candidate = match k {
+            0 => name.to_path_buf(),
+            1 => name.with_file_name(format!("{stem}-{file}")),
+            _ => name.with_file_name(format!("{stem}-{k}-{file}")),
+        };
+        let target = side_file(out_dir, &candidate)?;
+        match std::fs::symlink_metadata(&target) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                super::write_atomic(&target, bytes)
+                    .map_err(|e| Refused::Io(std::io::Error::other(e.to_string())))?;
+                return Ok(candidate);
+            }
+            Err(e) => return Err(Refused::Io(e)),
+            Ok(m) if m.is_file() && std::fs::read(&target).is_ok_and(|b| b == bytes) => {
+                return Ok(candidate);
+            }
+            Ok(_) => {}
+        }
     }
-    super::write_atomic(&target, bytes)
-        .map_err(|e| Refused::Io(std::io::Error::other(e.to_string())))
+    Err(Refused::Io(std::io::Error::other(format!(
+        "100 files named like {} with other contents are already beside the output",
+        name.display()
+    ))))
 }
 
 /// The file extension for an image of media type `mime`, from a fixed list (`bin` for anything

@@ -209,10 +209,15 @@ pub(super) fn encode_parts(
             if let Some(p) = &plan {
                 warnings.extend(p.warnings.iter().cloned());
             }
+            let libraries = materials
+                .filter(|_| plan.is_none())
+                .map(|m| super::side_files::library_names(m, path))
+                .unwrap_or_default();
             obj::write_with_attributes(
                 mesh,
                 attributes,
                 materials,
+                &libraries,
                 plan.as_ref().map(|p| (p.library.as_str(), p.flip_v)),
                 origin,
                 &mut warnings,

@@ -539,6 +539,8 @@ fn position(out: &mut String, p: Vec3, origin: DVec3) {
 /// when there are colours: the first wedge's of each vertex, a warning when its wedges differ),
 /// one `vt` and one `vn` per wedge, `usemtl` where the material changes, `f v/vt/vn` corners.
 ///
+/// `libraries`: the names of the material libraries written beside the output
+/// ([`side_files::library_names`](super::side_files::library_names)).
 /// `converted`: the file name of a material library made from glTF materials, and whether
 /// texture coordinates are written as `(u, 1 − v)` (a glTF texture crossed over: glTF's `v`
 /// runs down from the image's top edge, OBJ's up from its bottom edge).
@@ -546,6 +548,7 @@ pub(crate) fn write_with_attributes(
     mesh: &TriMesh,
     attributes: &Attributes,
     materials: Option<&Materials>,
+    libraries: &[String],
     converted: Option<(&str, bool)>,
     origin: DVec3,
     warnings: &mut Vec<MeshWarning>,
@@ -554,13 +557,9 @@ pub(crate) fn write_with_attributes(
     let mut out =
         String::with_capacity(mesh.positions.len() * 30 + wedges * 50 + mesh.triangles.len() * 40);
     out.push_str("# written by gng3d\n");
-    if attributes.face_material.is_some()
-        && let Some(m) = materials
-    {
-        for library in &m.libraries {
-            if let Some(name) = library.file_name() {
-                let _ = writeln!(out, "mtllib {}", name.to_string_lossy());
-            }
+    if attributes.face_material.is_some() && materials.is_some() {
+        for name in libraries {
+            let _ = writeln!(out, "mtllib {name}");
         }
         if let Some((library, _)) = converted {
             let _ = writeln!(out, "mtllib {library}");

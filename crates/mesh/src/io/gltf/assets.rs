@@ -171,7 +171,7 @@ pub(in crate::io) fn image_files(assets: &GltfAssets) -> Vec<PathBuf> {
 /// `output`, keeping their relative paths ([`crate::io::contain`]'s rule on both sides); files
 /// already there are left alone.
 pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning> {
-    use crate::io::contain::{Existing, folder_of, write_beside};
+    use crate::io::contain::{folder_of, side_file, write_beside};
     let out_dir = folder_of(output);
     let mut warnings = Vec::new();
     for (i, image) in assets.array("images").iter().enumerate() {
@@ -189,8 +189,28 @@ pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning
             }
             continue;
         };
-        let result = read_image_file(assets, i, uri)
-            .and_then(|(_, bytes)| write_beside(out_dir, &relative, &bytes, Existing::Keep));
+        // A file of that name already beside the output is used only when it holds the same
+        // bytes: the output's JSON names the image by the input's URI, so a different file
+        // there is reported, never silently taken for the input's (nor replaced).
+        let result = read_image_file(assets, i, uri).and_then(|(_, bytes)| {
+            let target = side_file(out_dir, &relative)?;
+            match std::fs::read(&target) {
+                Ok(there) if there == bytes => Ok(()),
+                Ok(_) => {
+                    warnings.push(MeshWarning::ReferenceRefused {
+                        reference: format!("glTF image {i} ({uri})"),
+                        reason: format!(
+                            "a different file named {} is already beside {}: the output names \
+                             that file, not the input's image (write to another folder)",
+                            relative.display(),
+                            output.display()
+                        ),
+                    });
+                    Ok(())
+                }
+                Err(_) => write_beside(out_dir, &relative, &bytes),
+            }
+        });
         if let Err(reason) = result {
             warnings.push(MeshWarning::ReferenceRefused {
                 reference: format!("glTF image {i} ({uri})"),

@@ -232,12 +232,14 @@ fn image_file(
     None
 }
 
-/// Writes the library of `plan` next to `output` (replacing an earlier one) and its image files
-/// (copied ones left alone when a file of that name is there; embedded ones written); returns
-/// what could not be written.
+/// Writes the image files of `plan` next to `output` (embedded ones under the names the plan
+/// gave them; copied ones as [`contain::copy_beside`] does: under a new name, which the library
+/// then names, when a different file of theirs is there) and then the library (replacing an
+/// earlier run's); returns what could not be written and what was renamed.
 pub(crate) fn write_mtl(plan: &ToMtl, output: &Path) -> Vec<MeshWarning> {
-    use contain::{Existing, write_beside};
+    use contain::write_beside;
     let out_dir = contain::folder_of(output);
+    let stem = crate::io::side_files::output_stem(output);
     let mut warnings = Vec::new();
     let mut refused = |name: &Path, e: contain::Refused| {
         warnings.push(MeshWarning::ReferenceRefused {
@@ -245,19 +247,31 @@ pub(crate) fn write_mtl(plan: &ToMtl, output: &Path) -> Vec<MeshWarning> {
             reason: e.to_string(),
         });
     };
-    let library = Path::new(&plan.library);
-    if let Err(e) = write_beside(out_dir, library, plan.text.as_bytes(), Existing::Replace) {
-        refused(library, e);
-    }
+    let mut text = plan.text.clone();
+    let mut renamed = Vec::new();
     for (name, source) in &plan.files {
         let result = match source {
             ImageSource::Copy(from) => contain::read_limited(from, contain::IMAGE_LIMIT)
-                .and_then(|bytes| write_beside(out_dir, name, &bytes, Existing::Keep)),
-            ImageSource::Bytes(bytes) => write_beside(out_dir, name, bytes, Existing::Replace),
+                .and_then(|bytes| contain::copy_beside(out_dir, name, &bytes, &stem)),
+            ImageSource::Bytes(bytes) => write_beside(out_dir, name, bytes).map(|()| name.clone()),
         };
-        if let Err(e) = result {
-            refused(name, e);
+        match result {
+            Ok(written) if &written != name => {
+                let (from, to) = (name.to_string_lossy(), written.to_string_lossy());
+                text = crate::io::side_files::rename_texture(&text, &from, &to);
+                renamed.push(MeshWarning::SideFileRenamed {
+                    wanted: from.into_owned(),
+                    written: to.into_owned(),
+                });
+            }
+            Ok(_) => {}
+            Err(e) => refused(name, e),
         }
     }
+    let library = Path::new(&plan.library);
+    if let Err(e) = write_beside(out_dir, library, text.as_bytes()) {
+        refused(library, e);
+    }
+    warnings.extend(renamed);
     warnings
 }
