@@ -147,18 +147,15 @@ fn obj_materials_are_read_written_and_copied() {
     assert_eq!(a.face_material, Some(vec![0, 1]));
     assert_eq!(a.seam_edges(&loaded.mesh), vec![[0, 2]]);
 
+    let model = Model::new(
+        loaded.mesh.clone(),
+        Some(a.clone()),
+        Some(materials.clone()),
+    );
+    let save_to = |to: &std::path::Path| save(&model, to);
     let out = tempfile::tempdir().unwrap();
     let to = out.path().join("copy.obj");
-    let warnings = save(
-        &Model::new(
-            loaded.mesh.clone(),
-            Some(a.clone()),
-            Some(materials.clone()),
-        ),
-        &to,
-    )
-    .unwrap()
-    .dropped;
+    let warnings = save_to(&to).unwrap().dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     // The library is written under the output's name, which the output names.
     assert_eq!(
@@ -185,16 +182,7 @@ fn obj_materials_are_read_written_and_copied() {
     fs::write(crowded.path().join("box.mtl"), "newmtl other\nKd 0 1 0\n").unwrap();
     fs::write(crowded.path().join("tex/wood.png"), b"someone else's").unwrap();
     let to = crowded.path().join("result.obj");
-    let dropped = save(
-        &Model::new(
-            loaded.mesh.clone(),
-            Some(a.clone()),
-            Some(materials.clone()),
-        ),
-        &to,
-    )
-    .unwrap()
-    .dropped;
+    let dropped = save_to(&to).unwrap().dropped;
     assert_eq!(dropped.len(), 1, "{dropped:?}");
     assert!(
         dropped[0].contains("written as tex/result-wood.png"),
@@ -227,16 +215,7 @@ fn obj_materials_are_read_written_and_copied() {
     // A library that is gone: the mesh is written, the copy is a warning naming the file.
     fs::remove_file(src.path().join("box.mtl")).unwrap();
     let out2 = tempfile::tempdir().unwrap();
-    let warnings = save(
-        &Model::new(
-            loaded.mesh.clone(),
-            Some(a.clone()),
-            Some(materials.clone()),
-        ),
-        &out2.path().join("c.obj"),
-    )
-    .unwrap()
-    .dropped;
+    let warnings = save_to(&out2.path().join("c.obj")).unwrap().dropped;
     let gone = src.path().join("box.mtl");
     assert!(
         matches!(&warnings[..], [w] if w.starts_with(&format!("material library {} not read", gone.display()))),
