@@ -251,18 +251,10 @@ fn obj_index_errors_say_the_index_as_written_and_the_line() {
     }
 }
 
-fn ascii_stl(first: &str) -> String {
-    format!(
-        "{first}\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
-         endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\n\
-         vertex 0 1 0\nendloop\nendfacet\nendsolid\n"
-    )
-}
-
 #[test]
 fn stl_bare_solid_is_ascii_and_binary_sizes_are_checked() {
     let f = Fixture::new();
-    let p = f.bytes("a.stl", ascii_stl("solid").as_bytes());
+    let p = f.bytes("a.stl", mesh::fixtures::ascii_stl("solid").as_bytes());
     let v = json_of(&gng3d(&["info", s(&p), "--json"]));
     assert_eq!(v["faces"], 2);
     // Binary: header says 2, file holds 4 records.

@@ -4,7 +4,7 @@
 //! validation says SKIPPED when node or the module is missing; CI installs both).
 
 use mesh::attributes::Attributes;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 fn simplify(input: &Path, output: &Path, method: &str) -> serde_json::Value {
@@ -23,41 +23,6 @@ fn simplify(input: &Path, output: &Path, method: &str) -> serde_json::Value {
         .expect("run gng3d");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     serde_json::from_slice(&o.stdout).unwrap()
-}
-
-/// The validator's report of each file, or `None` (with a SKIPPED line) when it cannot run.
-fn validate(files: &[PathBuf]) -> Option<Vec<serde_json::Value>> {
-    let script =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../mesh/tests/support/validate_gltf.cjs");
-    let out = match Command::new("node").arg(&script).args(files).output() {
-        Ok(out) => out,
-        Err(e) => {
-            mesh::fixtures::skip(&format!("glTF validator not run: node not found ({e})"));
-            return None;
-        }
-    };
-    if out.status.code() == Some(3) {
-        mesh::fixtures::skip(&format!(
-            "glTF validator not run: {} (GLTF_VALIDATOR_MODULE, docs/testing.md)",
-            String::from_utf8_lossy(&out.stderr)
-                .lines()
-                .next()
-                .unwrap_or("")
-                .trim()
-        ));
-        return None;
-    }
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
-    Some(
-        text.lines()
-            .map(|l| serde_json::from_str(l).unwrap())
-            .collect(),
-    )
 }
 
 #[test]
@@ -116,7 +81,7 @@ fn gltf_with_normals_and_uvs_survives_both_simplifiers_and_validates() {
             outputs.push(output);
         }
     }
-    let Some(reports) = validate(&outputs) else {
+    let Some(reports) = mesh::fixtures::validate_gltf(&outputs) else {
         return;
     };
     assert_eq!(reports.len(), outputs.len());

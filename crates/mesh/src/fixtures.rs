@@ -575,6 +575,51 @@ pub fn attribute_values_near<T: Copy + std::iter::Sum + std::ops::Mul<f32, Outpu
         .collect()
 }
 
+/// The Khronos glTF-Validator's report (one JSON object: `errors`, `warnings`, ...) of each of
+/// `files`, run with `node` through `crates/mesh/tests/support/validate_gltf.cjs` (the npm module
+/// `gltf-validator`, found through GLTF_VALIDATOR_MODULE, docs/testing.md); `None` after a
+/// [`skip`] line when node or the module is missing. The glTF tests of mesh and the CLI's.
+pub fn validate_gltf(files: &[PathBuf]) -> Option<Vec<serde_json::Value>> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/support/validate_gltf.cjs");
+    let out = match std::process::Command::new("node")
+        .arg(&script)
+        .args(files)
+        .output()
+    {
+        Ok(out) => out,
+        Err(e) => {
+            skip(&format!("glTF validator not run: node not found ({e})"));
+            return None;
+        }
+    };
+    if out.status.code() == Some(3) {
+        let why = String::from_utf8_lossy(&out.stderr);
+        let why = why.lines().next().unwrap_or("").trim();
+        skip(&format!(
+            "glTF validator not run: {why} (GLTF_VALIDATOR_MODULE, docs/testing.md)"
+        ));
+        return None;
+    }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    Some(
+        text.lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect(),
+    )
+}
+
+/// A two-triangle ASCII STL whose first line is `first` (`solid`, `solid name`, ...): the STL
+/// loader's tests and the CLI's.
+pub fn ascii_stl(first: &str) -> String {
+    format!(
+        "{first}\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
+         endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\n\
+         vertex 0 1 0\nendloop\nendfacet\nendsolid\n"
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -497,20 +497,17 @@ fn obj_non_utf8_comment_is_ignored() {
     assert!(e.to_string().contains("line 2"), "{e}");
 }
 
-fn ascii_stl(first_line: &str) -> String {
-    format!(
-        "{first_line}\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
-         endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\n\
-         vertex 0 1 0\nendloop\nendfacet\nendsolid\n"
-    )
-}
-
 /// Issue 12: an ASCII STL whose first line is just `solid` is read as ASCII.
 #[test]
 fn ascii_stl_with_bare_solid_line() {
     let dir = tmp();
     for first in ["solid", "solid\r", "  solid  ", "solid name"] {
-        let l = load(&write(dir.path(), "a.stl", ascii_stl(first).as_bytes())).unwrap();
+        let l = load(&write(
+            dir.path(),
+            "a.stl",
+            crate::fixtures::ascii_stl(first).as_bytes(),
+        ))
+        .unwrap();
         assert_eq!(l.mesh.triangles.len(), 2, "{first:?}");
         assert_eq!(l.mesh.positions.len(), 4, "{first:?}");
         assert!(l.warnings.is_empty());
