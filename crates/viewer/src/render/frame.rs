@@ -62,15 +62,28 @@ impl SceneRenderer {
             let main = slots.len();
             let mut extra = None;
             match item {
-                DrawItem::Surface { color, shading, .. } => slots.push(uniform(
+                DrawItem::Surface {
+                    color,
+                    shading,
+                    texture,
+                    ..
+                } => slots.push(uniform(
                     [color[0], color[1], color[2], 1.0],
-                    [f32::from(*shading == Shading::Smooth), 0.0, 0.0, 0.0],
+                    [
+                        f32::from(*shading == Shading::Smooth),
+                        0.0,
+                        0.0,
+                        f32::from(texture.is_some()),
+                    ],
                 )),
                 DrawItem::Wireframe { color, .. } => {
                     slots.push(uniform(*color, [0.0, 2e-4, 0.0, 0.0]));
                 }
-                DrawItem::Overlay { color, .. } => {
-                    slots.push(uniform(*color, [1.0, 0.0, 0.0, 0.0]));
+                DrawItem::Overlay { color, texture, .. } => {
+                    slots.push(uniform(
+                        *color,
+                        [1.0, 0.0, 0.0, f32::from(texture.is_some())],
+                    ));
                 }
                 DrawItem::Network {
                     node_color,
@@ -159,16 +172,21 @@ impl SceneRenderer {
             .iter()
             .filter(|i| !overlay(i))
             .chain(indices.iter().filter(|i| overlay(i)));
+        // Every pipeline's layout has the texture's group: untextured draws bind the blank one.
+        pass.set_bind_group(1, &self.blank.bind_group, &[]);
         for &i in order {
             let item = &items[i];
             let (main_slot, edge_slot) = slot_of[i];
             let offset = (main_slot as u64 * UNIFORM_STRIDE) as u32;
             pass.set_bind_group(0, &target.bind_group, &[offset]);
             match item {
-                DrawItem::Surface { mesh, .. } | DrawItem::Overlay { mesh, .. } => {
+                DrawItem::Surface { mesh, texture, .. }
+                | DrawItem::Overlay { mesh, texture, .. } => {
                     if mesh.triangle_index_count == 0 {
                         continue;
                     }
+                    let texture = texture.unwrap_or(&self.blank);
+                    pass.set_bind_group(1, &texture.bind_group, &[]);
                     let pipeline = if matches!(item, DrawItem::Overlay { .. }) {
                         &self.overlay
                     } else {
@@ -300,16 +318,22 @@ fn fingerprint<'i, 'a: 'i>(
                 mesh,
                 color,
                 shading,
+                texture,
             } => {
                 (0u8, mesh.id, *shading == Shading::Smooth).hash(&mut h);
+                texture.map(|t| t.id).hash(&mut h);
                 floats(&mut h, color);
             }
             DrawItem::Wireframe { mesh, color } => {
                 (1u8, mesh.id).hash(&mut h);
                 floats(&mut h, color);
             }
-            DrawItem::Overlay { mesh, color } => {
-                (2u8, mesh.id).hash(&mut h);
+            DrawItem::Overlay {
+                mesh,
+                color,
+                texture,
+            } => {
+                (2u8, mesh.id, texture.map(|t| t.id)).hash(&mut h);
                 floats(&mut h, color);
             }
             DrawItem::Network {

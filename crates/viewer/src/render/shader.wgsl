@@ -1,5 +1,6 @@
-// Viewer shaders: lit surfaces (flat via screen-space derivatives or smooth via vertex normals),
-// unlit lines (GNG edges, wireframe) and round screen-space points (GNG nodes).
+// Viewer shaders: lit surfaces (flat via screen-space derivatives or smooth via vertex normals;
+// coloured by the draw's colour or the base-colour texture), unlit lines (GNG edges, wireframe)
+// and round screen-space points (GNG nodes).
 
 struct Draw {
     view_proj: mat4x4<f32>,
@@ -9,33 +10,52 @@ struct Draw {
     light: vec4<f32>,
     // RGB as shown on screen (the target stores bytes unconverted), alpha (premultiplied on output)
     color: vec4<f32>,
-    // x: 0 flat / 1 smooth shading, y: depth pull towards the camera (NDC), z: point diameter (px)
+    // x: 0 flat / 1 smooth shading, y: depth pull towards the camera (NDC), z: point diameter (px),
+    // w: 1 when a surface takes its colour from the base-colour texture
     params: vec4<f32>,
     // xy: target size in pixels
     viewport: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> u: Draw;
+// The base-colour texture (sRGB: sampled and filtered in linear light), a blank one when unused.
+@group(1) @binding(0) var base_map: texture_2d<f32>;
+@group(1) @binding(1) var base_sampler: sampler;
 
 struct SurfaceOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
 };
 
+// Linear light back to the sRGB values shown on screen (the target stores them unconverted).
+fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
+    let low = c * 12.92;
+    let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(high, low, c <= vec3<f32>(0.0031308));
+}
+
 @vertex
-fn vs_surface(@location(0) pos: vec3<f32>, @location(1) normal: vec3<f32>) -> SurfaceOut {
+fn vs_surface(
+    @location(0) pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+) -> SurfaceOut {
     var o: SurfaceOut;
     var clip = u.view_proj * vec4<f32>(pos, 1.0);
     clip.z = clip.z - u.params.y * clip.w;
     o.clip = clip;
     o.world = pos;
     o.normal = normal;
+    o.uv = uv;
     return o;
 }
 
 @fragment
 fn fs_surface(i: SurfaceOut) -> @location(0) vec4<f32> {
+    // Sampled by every surface (uniform control flow), used by the textured ones.
+    let texel = srgb_encode(textureSample(base_map, base_sampler, i.uv).rgb);
     let face = cross(dpdx(i.world), dpdy(i.world));
     var n = normalize(face);
     if (u.params.x > 0.5 && dot(i.normal, i.normal) > 1e-12) {
@@ -50,7 +70,8 @@ fn fs_surface(i: SurfaceOut) -> @location(0) vec4<f32> {
     let fill = max(dot(n, v), 0.0);
     let h = normalize(l + v);
     let specular = pow(max(dot(n, h), 0.0), 48.0) * 0.2;
-    let rgb = u.color.rgb * (0.10 + 0.65 * diffuse + 0.30 * fill) + vec3<f32>(specular);
+    let base = select(u.color.rgb, texel, u.params.w > 0.5);
+    let rgb = base * (0.10 + 0.65 * diffuse + 0.30 * fill) + vec3<f32>(specular);
     return vec4<f32>(rgb * u.color.a, u.color.a);
 }
 
