@@ -62,28 +62,15 @@ impl SceneRenderer {
             let main = slots.len();
             let mut extra = None;
             match item {
-                DrawItem::Surface {
-                    color,
-                    shading,
-                    texture,
-                    ..
-                } => slots.push(uniform(
+                DrawItem::Surface { color, shading, .. } => slots.push(uniform(
                     [color[0], color[1], color[2], 1.0],
-                    [
-                        f32::from(*shading == Shading::Smooth),
-                        0.0,
-                        0.0,
-                        f32::from(texture.is_some()),
-                    ],
+                    [f32::from(*shading == Shading::Smooth), 0.0, 0.0, 0.0],
                 )),
                 DrawItem::Wireframe { color, .. } => {
                     slots.push(uniform(*color, [0.0, 2e-4, 0.0, 0.0]));
                 }
-                DrawItem::Overlay { color, texture, .. } => {
-                    slots.push(uniform(
-                        *color,
-                        [1.0, 0.0, 0.0, f32::from(texture.is_some())],
-                    ));
+                DrawItem::Overlay { color, .. } => {
+                    slots.push(uniform(*color, [1.0, 0.0, 0.0, 0.0]));
                 }
                 DrawItem::Network {
                     node_color,
@@ -185,13 +172,15 @@ impl SceneRenderer {
                     if mesh.triangle_index_count == 0 {
                         continue;
                     }
+                    let overlay = matches!(item, DrawItem::Overlay { .. });
+                    let pipeline = match (overlay, texture) {
+                        (false, None) => &self.surface,
+                        (true, None) => &self.overlay,
+                        (false, Some(_)) => &self.surface_textured,
+                        (true, Some(_)) => &self.overlay_textured,
+                    };
                     let texture = texture.unwrap_or(&self.blank);
                     pass.set_bind_group(1, &texture.bind_group, &[]);
-                    let pipeline = if matches!(item, DrawItem::Overlay { .. }) {
-                        &self.overlay
-                    } else {
-                        &self.surface
-                    };
                     pass.set_pipeline(pipeline);
                     pass.set_vertex_buffer(0, mesh.vertices.slice(..));
                     pass.set_index_buffer(mesh.triangles.slice(..), wgpu::IndexFormat::Uint32);

@@ -420,6 +420,9 @@ pub struct SceneRenderer {
     copy_mode: CopyMode,
     surface: wgpu::RenderPipeline,
     overlay: wgpu::RenderPipeline,
+    /// `surface` and `overlay` coloured by the base-colour texture.
+    surface_textured: wgpu::RenderPipeline,
+    overlay_textured: wgpu::RenderPipeline,
     mesh_lines: wgpu::RenderPipeline,
     network_lines: wgpu::RenderPipeline,
     points: wgpu::RenderPipeline,

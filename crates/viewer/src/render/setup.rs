@@ -1,4 +1,4 @@
-//! Pipeline setup: the scene's five pipelines and the copy pipeline compiled from the WGSL
+//! Pipeline setup: the scene's seven pipelines and the copy pipeline compiled from the WGSL
 //! shaders beside this file, and the offscreen targets (colour, layer, depth, uniforms) they
 //! draw into. The scene's pipelines share one layout: the per-draw uniforms (group 0) and the
 //! base-colour texture (group 1, see `texture`).
@@ -114,6 +114,24 @@ impl SceneRenderer {
                 "overlay",
                 "vs_surface",
                 "fs_surface",
+                surface_vertex.clone(),
+                tri,
+                false,
+                premultiplied,
+            ),
+            surface_textured: make(
+                "textured surface",
+                "vs_surface",
+                "fs_surface_textured",
+                surface_vertex.clone(),
+                tri,
+                true,
+                None,
+            ),
+            overlay_textured: make(
+                "textured overlay",
+                "vs_surface",
+                "fs_surface_textured",
                 surface_vertex,
                 tri,
                 false,

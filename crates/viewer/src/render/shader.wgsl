@@ -10,15 +10,14 @@ struct Draw {
     light: vec4<f32>,
     // RGB as shown on screen (the target stores bytes unconverted), alpha (premultiplied on output)
     color: vec4<f32>,
-    // x: 0 flat / 1 smooth shading, y: depth pull towards the camera (NDC), z: point diameter (px),
-    // w: 1 when a surface takes its colour from the base-colour texture
+    // x: 0 flat / 1 smooth shading, y: depth pull towards the camera (NDC), z: point diameter (px)
     params: vec4<f32>,
     // xy: target size in pixels
     viewport: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> u: Draw;
-// The base-colour texture (sRGB: sampled and filtered in linear light), a blank one when unused.
+// The base-colour texture of fs_surface_textured (sRGB: sampled and filtered in linear light).
 @group(1) @binding(0) var base_map: texture_2d<f32>;
 @group(1) @binding(1) var base_sampler: sampler;
 
@@ -52,10 +51,21 @@ fn vs_surface(
     return o;
 }
 
+// A surface of the draw's colour.
 @fragment
 fn fs_surface(i: SurfaceOut) -> @location(0) vec4<f32> {
-    // Sampled by every surface (uniform control flow), used by the textured ones.
-    let texel = srgb_encode(textureSample(base_map, base_sampler, i.uv).rgb);
+    return lit(i, u.color.rgb);
+}
+
+// A surface of the base-colour texture (the draw's alpha).
+@fragment
+fn fs_surface_textured(i: SurfaceOut) -> @location(0) vec4<f32> {
+    return lit(i, srgb_encode(textureSample(base_map, base_sampler, i.uv).rgb));
+}
+
+// `base` (as shown on screen) lit by the key light and a fill light from the camera, with the
+// draw's alpha premultiplied.
+fn lit(i: SurfaceOut, base: vec3<f32>) -> vec4<f32> {
     let face = cross(dpdx(i.world), dpdy(i.world));
     var n = normalize(face);
     if (u.params.x > 0.5 && dot(i.normal, i.normal) > 1e-12) {
@@ -70,7 +80,6 @@ fn fs_surface(i: SurfaceOut) -> @location(0) vec4<f32> {
     let fill = max(dot(n, v), 0.0);
     let h = normalize(l + v);
     let specular = pow(max(dot(n, h), 0.0), 48.0) * 0.2;
-    let base = select(u.color.rgb, texel, u.params.w > 0.5);
     let rgb = base * (0.10 + 0.65 * diffuse + 0.30 * fill) + vec3<f32>(specular);
     return vec4<f32>(rgb * u.color.a, u.color.a);
 }
