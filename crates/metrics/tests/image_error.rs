@@ -247,6 +247,28 @@ fn texture_rows_are_the_right_way_up() {
 }
 
 #[test]
+fn a_materials_texture_loads_with_its_bytes_and_size() {
+    // The OBJ atlas's checker.png (64 × 64 RGB) through the one loader: the bytes it gives a
+    // GPU upload are the image's own; an unreadable image is an error naming it.
+    let assets = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/assets");
+    let loaded = mesh::io::load(&assets.join("fandisk_atlas.obj")).unwrap();
+    let found = mesh::io::base_color_texture(loaded.materials.as_ref().unwrap()).unwrap();
+    let texture = Texture::load(&found).unwrap();
+    assert_eq!(texture.size(), [64, 64]);
+    assert!(!texture.v_down());
+    let png = image::open(assets.join("checker.png")).unwrap().to_rgba8();
+    assert_eq!(texture.rgba8(), png.into_raw());
+    let missing = mesh::io::BaseColorTexture {
+        bytes: Err("gone".into()),
+        ..found
+    };
+    match Texture::load(&missing) {
+        Err(e @ MetricsError::Texture { .. }) => assert!(e.to_string().contains("checker.png")),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
 fn bad_parameters_and_textures_are_typed_errors() {
     for (p, name) in [
         (

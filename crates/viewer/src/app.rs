@@ -98,6 +98,12 @@ impl ViewerApp {
         Some(self.scene.as_ref()?.color_texture(side as usize))
     }
 
+    /// The size in texels of the model's base-colour texture as uploaded for the viewports
+    /// (`None` without one or without a renderer; for tests).
+    pub fn model_texture_size(&self) -> Option<[u32; 2]> {
+        self.scene.as_ref()?.texture_size()
+    }
+
     /// Frame the camera on the whole model.
     pub fn reset_camera(&mut self) {
         self.camera = OrbitCamera::framing(&self.session.original().referenced_bounding_box());

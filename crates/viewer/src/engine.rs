@@ -501,6 +501,29 @@ pub struct Loaded {
     /// The model's materials and origin, without its mesh and attributes: the place the
     /// outputs are saved in ([`mesh::Model::with_mesh`]), as `gng3d simplify` saves them.
     pub place: mesh::Model,
+    /// The base-colour texture of its materials, decoded, when it has texture coordinates to
+    /// map it by (see [`base_color`]).
+    pub texture: Option<metrics::Texture>,
+}
+
+/// The decoded base-colour texture of `place`'s materials when `attributes` have UV0
+/// ([`metrics::Texture::load`], the CLI's loader of `--image-error`); one that cannot be read
+/// or decoded is a note in `warnings`, and the model is shown without it.
+fn base_color(
+    place: &mesh::Model,
+    attributes: Option<&Attributes>,
+    warnings: &mut Vec<String>,
+) -> Option<metrics::Texture> {
+    attributes?.uv0.as_ref()?;
+    let found = mesh::io::base_color_texture(place.materials.as_ref()?)?;
+    metrics::Texture::load(&found)
+        .map_err(|e| {
+            warnings.push(format!(
+                "the texture of material {}: {e}; shown without it",
+                found.material
+            ))
+        })
+        .ok()
 }
 
 /// `e`'s message and its causes ("cannot read file: No such file or directory"), without the
@@ -550,11 +573,13 @@ pub fn load_mesh(path: &Path) -> Result<Loaded> {
             message: "the mesh has no usable faces".into(),
         });
     }
+    let texture = base_color(&place, attributes.as_ref(), &mut warnings);
     Ok(Loaded {
         mesh,
         warnings,
         attributes,
         place,
+        texture,
     })
 }
 

@@ -198,6 +198,8 @@ pub struct LoadedModel {
     pub attributes: Option<Arc<mesh::attributes::Attributes>>,
     /// Its materials and origin ([`engine::Loaded::place`]).
     pub place: Arc<mesh::Model>,
+    /// Its base-colour texture, decoded ([`engine::Loaded::texture`]).
+    pub texture: Option<Arc<metrics::Texture>>,
 }
 
 /// Load and clean `path` on a new thread.
@@ -213,6 +215,7 @@ pub fn spawn_load(path: PathBuf, ctx: Option<egui::Context>) -> Job<Result<Loade
             warnings: loaded.warnings,
             attributes: loaded.attributes.map(Arc::new),
             place: Arc::new(loaded.place),
+            texture: loaded.texture.map(Arc::new),
         })
     })
 }

@@ -17,6 +17,9 @@ pub struct Display {
     pub wireframe: bool,
     /// Draw the original mesh translucently over both views.
     pub show_original: bool,
+    /// Draw the model's base-colour texture on the meshes with texture coordinates (when it
+    /// has one).
+    pub texture: bool,
     /// Draw the live network (nodes and edges) in the left view.
     pub show_network: bool,
     /// Draw the GNG3D reconstruction in the left view when there is one.
@@ -34,6 +37,7 @@ impl Default for Display {
             shading: Shading::Smooth,
             wireframe: false,
             show_original: false,
+            texture: true,
             show_network: true,
             show_gng_mesh: true,
             point_px: 4.0,

@@ -9,7 +9,9 @@ use std::path::PathBuf;
 #[command(name = "viewer", version, about)]
 struct Args {
     /// Mesh to open (OBJ, PLY, STL, glTF or GLB); without it a built-in procedural model is
-    /// shown.
+    /// shown. A model with texture coordinates and a base-colour texture (OBJ map_Kd, glTF
+    /// baseColorTexture, PNG) is drawn with it on the original and both outputs (Display's
+    /// "texture" switch, T).
     mesh: Option<PathBuf>,
     /// Vertex target for GNG3D and QEM.
     #[arg(long)]

@@ -1,25 +1,43 @@
-//! What the two viewports show: the GPU copies of the meshes and of the live network, kept in
-//! step with the [`Session`] by pointer identity, and the draw lists of
-//! each side (GNG3D on the left, QEM on the right) rendered into their offscreen targets.
+//! What the two viewports show: the GPU copies of the meshes, of the model's base-colour texture
+//! and of the live network, kept in step with the [`Session`] by pointer identity, and the draw
+//! lists of each side (GNG3D on the left, QEM on the right) rendered into their offscreen
+//! targets. A mesh with texture coordinates is drawn with the texture when the model has one
+//! and the display's toggle is on.
 
 use crate::camera::OrbitCamera;
 use crate::engine::NetworkSnapshot;
 use crate::layout::Display;
-use crate::render::{CopyMode, DrawItem, GpuMesh, GpuNetwork, SceneRenderer, ViewTarget};
+use crate::render::{
+    CopyMode, DrawItem, GpuMesh, GpuNetwork, GpuTexture, SceneRenderer, Uvs, ViewTarget,
+};
 use crate::session::Session;
 use egui_wgpu::RenderState;
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use std::sync::Arc;
 
-/// A GPU mesh and the CPU mesh it was uploaded from (to notice when the session replaced it).
+/// A GPU mesh and the CPU mesh it was uploaded from (to notice when the session replaced it),
+/// and whether texture coordinates were asked for.
 struct Uploaded {
     source: Arc<TriMesh>,
+    with_uvs: bool,
     mesh: GpuMesh,
 }
 
-/// A lit surface of `color`, with its edges drawn over it in wireframe mode.
+impl Uploaded {
+    /// The GPU mesh and the texture to draw on it: `texture` when the mesh has texture
+    /// coordinates.
+    fn with<'a>(
+        &'a self,
+        texture: Option<&'a GpuTexture>,
+    ) -> (&'a GpuMesh, Option<&'a GpuTexture>) {
+        (&self.mesh, texture.filter(|_| self.mesh.has_uvs))
+    }
+}
+
+/// A lit surface of `color` (or `texture`), with its edges drawn over it in wireframe mode.
 fn surface<'a>(
-    mesh: &'a GpuMesh,
+    (mesh, texture): (&'a GpuMesh, Option<&'a GpuTexture>),
     color: [f32; 3],
     display: &Display,
 ) -> impl Iterator<Item = DrawItem<'a>> {
@@ -32,19 +50,34 @@ fn surface<'a>(
         mesh,
         color,
         shading,
+        texture,
     })
     .chain(wire)
 }
 
-/// Upload `source` into `slot` unless the slot already holds exactly that mesh.
-fn sync(device: &wgpu::Device, slot: &mut Option<Uploaded>, source: Option<&Arc<TriMesh>>) {
+/// Upload `source` into `slot` unless the slot already holds exactly that mesh; with
+/// `attributes` when the model has a texture (`v_down` its convention) to draw with them.
+fn sync(
+    device: &wgpu::Device,
+    slot: &mut Option<Uploaded>,
+    source: Option<&Arc<TriMesh>>,
+    attributes: Option<&Attributes>,
+    v_down: Option<bool>,
+) {
+    let uvs = v_down
+        .zip(attributes)
+        .map(|(v_down, attributes)| Uvs { attributes, v_down });
     match source {
         None => *slot = None,
-        Some(s) if slot.as_ref().is_some_and(|u| Arc::ptr_eq(&u.source, s)) => {}
+        Some(s)
+            if slot
+                .as_ref()
+                .is_some_and(|u| Arc::ptr_eq(&u.source, s) && u.with_uvs == uvs.is_some()) => {}
         Some(s) => {
             *slot = Some(Uploaded {
                 source: Arc::clone(s),
-                mesh: GpuMesh::new(device, s),
+                with_uvs: uvs.is_some(),
+                mesh: GpuMesh::new(device, s, uvs),
             })
         }
     }
@@ -58,6 +91,8 @@ pub struct Scene {
     original: Option<Uploaded>,
     gng_mesh: Option<Uploaded>,
     qem_mesh: Option<Uploaded>,
+    /// The model's base-colour texture and its upload.
+    texture: Option<(Arc<metrics::Texture>, GpuTexture)>,
     network: GpuNetwork,
     network_source: Option<Arc<NetworkSnapshot>>,
     /// How the viewports are copied into egui's target (chosen from the adapter).
@@ -73,7 +108,12 @@ impl Scene {
             &render_state.adapter.get_downlevel_capabilities(),
         );
         let device = &render_state.device;
-        let renderer = SceneRenderer::new(device, render_state.target_format, copy_mode);
+        let renderer = SceneRenderer::new(
+            device,
+            &render_state.queue,
+            render_state.target_format,
+            copy_mode,
+        );
         let targets = [
             renderer.create_target(device, [64, 64]),
             renderer.create_target(device, [64, 64]),
@@ -85,6 +125,7 @@ impl Scene {
             original: None,
             gng_mesh: None,
             qem_mesh: None,
+            texture: None,
             network,
             network_source: None,
             copy_mode,
@@ -100,6 +141,12 @@ impl Scene {
     /// The offscreen colour texture of viewport `index` (0: GNG3D, 1: QEM), for tests.
     pub fn color_texture(&self, index: usize) -> &wgpu::Texture {
         self.targets[index].color_texture()
+    }
+
+    /// The size in texels of the base-colour texture uploaded for the model (`None` without
+    /// one), for tests.
+    pub fn texture_size(&self) -> Option<[u32; 2]> {
+        self.texture.as_ref().map(|(_, t)| t.size)
     }
 
     /// A paint callback copying viewport `index` into egui's pass at `rect`.
@@ -118,9 +165,41 @@ impl Scene {
     ) -> [bool; 2] {
         let device = &self.render_state.device;
         let queue = &self.render_state.queue;
-        sync(device, &mut self.original, Some(session.original()));
-        sync(device, &mut self.gng_mesh, session.reconstruction());
-        sync(device, &mut self.qem_mesh, session.qem_mesh());
+        match (session.texture(), &self.texture) {
+            (None, _) => self.texture = None,
+            (Some(t), Some((source, _))) if Arc::ptr_eq(t, source) => {}
+            (Some(t), _) => {
+                let gpu = self.renderer.upload_texture(device, queue, t);
+                self.texture = Some((Arc::clone(t), gpu));
+            }
+        }
+        let v_down = self.texture.as_ref().map(|(t, _)| t.v_down());
+        sync(
+            device,
+            &mut self.original,
+            Some(session.original()),
+            session.attributes().map(|a| &**a),
+            v_down,
+        );
+        sync(
+            device,
+            &mut self.gng_mesh,
+            session.reconstruction(),
+            session.reconstruction_attributes(),
+            v_down,
+        );
+        sync(
+            device,
+            &mut self.qem_mesh,
+            session.qem_mesh(),
+            session.qem_attributes(),
+            v_down,
+        );
+        let texture = self
+            .texture
+            .as_ref()
+            .filter(|_| display.texture)
+            .map(|(_, t)| t);
         // Upload the network when the worker published a new snapshot.
         let snapshot = &session.live().snapshot;
         if self
@@ -137,7 +216,7 @@ impl Scene {
         }
         let overlay = [0.45, 0.45, 0.50, 0.28];
         let mut left: Vec<DrawItem<'_>> = Vec::new();
-        let gng_mesh = self.gng_mesh.as_ref().map(|u| &u.mesh);
+        let gng_mesh = self.gng_mesh.as_ref().map(|u| u.with(texture));
         let gng_mesh_shown = display.show_gng_mesh && gng_mesh.is_some();
         if let (true, Some(mesh)) = (display.show_gng_mesh, gng_mesh) {
             left.extend(surface(mesh, [0.85, 0.42, 0.16], display));
@@ -151,15 +230,16 @@ impl Scene {
             });
         }
         let mut right: Vec<DrawItem<'_>> = Vec::new();
-        if let Some(mesh) = self.qem_mesh.as_ref().map(|u| &u.mesh) {
+        if let Some(mesh) = self.qem_mesh.as_ref().map(|u| u.with(texture)) {
             right.extend(surface(mesh, [0.20, 0.45, 0.85], display));
         }
-        if let Some(original) = self.original.as_ref().map(|u| &u.mesh) {
+        if let Some((original, texture)) = self.original.as_ref().map(|u| u.with(texture)) {
             if display.show_original {
                 for side in [&mut left, &mut right] {
                     side.push(DrawItem::Overlay {
                         mesh: original,
                         color: overlay,
+                        texture,
                     });
                 }
             } else if self.qem_mesh.is_none() {
@@ -169,6 +249,7 @@ impl Scene {
                     mesh: original,
                     color: [0.5, 0.5, 0.55],
                     shading: display.shading,
+                    texture,
                 });
             }
         }

@@ -26,6 +26,8 @@ pub enum Action {
     Flat,
     /// Toggle the original overlay.
     Original,
+    /// Toggle the base-colour texture.
+    Texture,
     /// Frame the model again.
     ResetCamera,
     /// Show / hide the parameter panel.
@@ -39,7 +41,7 @@ pub enum Action {
 }
 
 /// Every shortcut with its key and description, in help order.
-pub const SHORTCUTS: [(KeyboardShortcut, Action, &str); 14] = [
+pub const SHORTCUTS: [(KeyboardShortcut, Action, &str); 15] = [
     (
         plain(Key::Space),
         Action::PlayPause,
@@ -61,6 +63,7 @@ pub const SHORTCUTS: [(KeyboardShortcut, Action, &str); 14] = [
     (plain(Key::W), Action::Wireframe, "wireframe on / off"),
     (plain(Key::F), Action::Flat, "flat / smooth shading"),
     (plain(Key::O), Action::Original, "original overlay on / off"),
+    (plain(Key::T), Action::Texture, "texture on / off"),
     (plain(Key::Home), Action::ResetCamera, "reset the camera"),
     (plain(Key::C), Action::Controls, "parameter panel on / off"),
     (plain(Key::P), Action::Plots, "plots and table on / off"),
@@ -128,6 +131,7 @@ impl ViewerApp {
                 }
             }
             Action::Original => self.display.show_original ^= true,
+            Action::Texture => self.display.texture ^= true,
             Action::ResetCamera => self.reset_camera(),
             Action::Controls => self.panels_or_default().controls ^= true,
             Action::Plots => self.panels_or_default().plots ^= true,

@@ -1,7 +1,7 @@
 //! egui_kittest harness tests with the wgpu renderer (lavapipe in CI, no X server needed): the
 //! viewports render the model, controls change state, the plots fill while training runs.
 
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::{Harness, wgpu::WgpuTestRenderer};
 use std::time::{Duration, Instant};
 use viewer::render::Shading;
@@ -1086,4 +1086,89 @@ fn panels_never_overlap_at_any_window_size() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Pixels of `rect` in `image` coloured like the atlas's checker's yellow squares (red and
+/// green alike and high, blue low): neither the GNG3D orange nor the QEM blue.
+fn count_yellow(image: &image::RgbaImage, rect: egui::Rect) -> usize {
+    let (x0, y0) = (rect.min.x as u32, rect.min.y as u32 + 30);
+    let (x1, y1) = (rect.max.x as u32, rect.max.y as u32);
+    (y0..y1.min(image.height()))
+        .flat_map(|y| (x0..x1.min(image.width())).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let [r, g, b, _] = image.get_pixel(x, y).0;
+            r > 150 && g > 150 && b < 80 && r.abs_diff(g) < 40
+        })
+        .count()
+}
+
+#[test]
+fn a_textured_model_is_drawn_with_its_texture_on_both_sides() {
+    // fandisk_atlas.obj: UVs and an .mtl naming checker.png (64 × 64, blue and yellow).
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/assets/fandisk_atlas.obj");
+    let options = ViewerOptions {
+        path: Some(path),
+        ..fast(300)
+    };
+    let Some(mut h) = harness(options) else {
+        return;
+    };
+    step_until(
+        &mut h,
+        Duration::from_secs(90),
+        "QEM and the final mesh",
+        |a| {
+            a.session.has_qem_mesh()
+                && a.session.live().finished
+                && a.session.qem_attributes().is_some()
+                && a.session.reconstruction_attributes().is_some()
+        },
+    );
+    h.run_steps(2);
+    save_snapshot(&mut h, "textured_model.png");
+    assert_eq!(h.state().model_texture_size(), Some([64, 64]));
+    let image = h.render().expect("render");
+    let [Some(left), Some(right)] = h.state().viewport_rects else {
+        panic!("viewports were not laid out");
+    };
+    for (side, rect) in [("GNG3D", left), ("QEM", right)] {
+        let yellow = count_yellow(&image, rect);
+        assert!(yellow > 2000, "{side}: {yellow} checker pixels");
+    }
+    // The original's overlay is textured too (over both sides).
+    h.state_mut().display.show_original = true;
+    h.run_steps(2);
+    save_snapshot(&mut h, "textured_overlay.png");
+    let image = h.render().expect("render");
+    for (side, rect) in [("GNG3D", left), ("QEM", right)] {
+        let yellow = count_yellow(&image, rect);
+        assert!(
+            yellow > 1000,
+            "{side} under the overlay: {yellow} checker pixels"
+        );
+    }
+    h.state_mut().display.show_original = false;
+    // The toggle draws both sides in their own colours again.
+    h.get_by_label("texture").click();
+    h.run_steps(2);
+    assert!(!h.state().display.texture);
+    let image = h.render().expect("render");
+    for (side, rect) in [("GNG3D", left), ("QEM", right)] {
+        assert_eq!(count_yellow(&image, rect), 0, "{side} untextured");
+    }
+}
+
+#[test]
+fn a_model_without_texture_coordinates_has_no_texture() {
+    // The built-in blob: no attributes, no materials; the toggle is greyed out.
+    let Some(mut h) = harness(fast(200)) else {
+        return;
+    };
+    step_until(&mut h, Duration::from_secs(60), "QEM", |a| {
+        a.session.has_qem_mesh()
+    });
+    assert!(h.state().session.texture().is_none());
+    assert_eq!(h.state().model_texture_size(), None);
+    assert!(h.get_by_label("texture").accesskit_node().is_disabled());
 }

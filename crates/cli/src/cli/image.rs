@@ -96,16 +96,13 @@ impl ImageErrorArgs {
 }
 
 /// The base-colour texture of the first material of `materials` that has one, decoded
-/// (`None` without one); a texture that cannot be read or decoded is an error naming its file.
+/// ([`Texture::load`]; `None` without one); a texture that cannot be read or decoded is an
+/// error naming its file and material.
 pub fn texture(materials: Option<&Materials>) -> anyhow::Result<Option<Texture>> {
     let Some(found) = materials.and_then(mesh::io::base_color_texture) else {
         return Ok(None);
     };
-    let bytes = found.bytes.map_err(|e| metrics::MetricsError::Texture {
-        file: found.source.clone(),
-        problem: format!("cannot read it ({e})"),
-    })?;
-    let texture = Texture::decode(&bytes, &found.source, found.v_down)
+    let texture = Texture::load(&found)
         .with_context(|| format!("the texture of material {}", found.material))?;
     Ok(Some(texture))
 }

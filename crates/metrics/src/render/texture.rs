@@ -4,6 +4,7 @@
 use crate::MetricsError;
 use glam::Vec2;
 use mesh::attributes::Attributes;
+use mesh::io::BaseColorTexture;
 use serde::{Deserialize, Serialize};
 
 /// A decoded base-colour texture: RGB texels (0-1, as the image stores them; alpha is not
@@ -61,9 +62,39 @@ impl Texture {
         Texture::from_rgb(rgb.width(), rgb.height(), texels, v_down, source)
     }
 
+    /// Reads and decodes a material's base-colour texture as [`mesh::io::base_color_texture`]
+    /// found it: the one loader of every front end (the CLI's image-space error, the viewer's
+    /// display). An image that could not be read or decoded is an error naming its file.
+    pub fn load(found: &BaseColorTexture) -> Result<Texture, MetricsError> {
+        let bytes = found.bytes.as_ref().map_err(|e| MetricsError::Texture {
+            file: found.source.clone(),
+            problem: format!("cannot read it ({e})"),
+        })?;
+        Texture::decode(bytes, &found.source, found.v_down)
+    }
+
     /// Where the texture came from.
     pub fn source(&self) -> &str {
         &self.source
+    }
+
+    /// Width and height in texels.
+    pub fn size(&self) -> [u32; 2] {
+        [self.width, self.height]
+    }
+
+    /// Whether texture coordinate v = 0 is the top row (glTF) rather than the bottom row (OBJ).
+    pub fn v_down(&self) -> bool {
+        self.v_down
+    }
+
+    /// The texels as 8-bit RGBA rows from the top (alpha 255), the bytes the image stored.
+    pub fn rgba8(&self) -> Vec<u8> {
+        let byte = |c: f32| (c * 255.0).round().clamp(0.0, 255.0) as u8;
+        self.texels
+            .iter()
+            .flat_map(|t| [byte(t[0]), byte(t[1]), byte(t[2]), 255])
+            .collect()
     }
 
     /// Bilinear sample at `uv`, wrapping (glTF's default sampler, and what OBJ viewers do).

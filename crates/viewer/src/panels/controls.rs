@@ -219,6 +219,7 @@ impl ViewerApp {
         });
         ui.checkbox(&mut self.display.wireframe, "wireframe");
         ui.checkbox(&mut self.display.show_original, "original overlay");
+        self.texture_toggle(ui, "texture");
         ui.checkbox(&mut self.display.show_network, "GNG network");
         ui.checkbox(&mut self.display.show_gng_mesh, "GNG3D reconstruction");
         ui.add(egui::Slider::new(&mut self.display.point_px, 1.0..=12.0).text("node size (px)"));
@@ -230,6 +231,21 @@ impl ViewerApp {
                 .small()
                 .weak(),
         );
+    }
+
+    /// The texture switch labelled `label`: greyed out when the model has no base-colour
+    /// texture (or no texture coordinates to map one by).
+    pub(super) fn texture_toggle(&mut self, ui: &mut egui::Ui, label: &str) {
+        let available = self.session.texture().is_some();
+        ui.add_enabled(
+            available,
+            egui::Checkbox::new(&mut self.display.texture, label),
+        )
+        .on_hover_text(
+            "draw the model's base-colour texture (OBJ map_Kd, glTF baseColorTexture) on the \
+             original and on both outputs, which keep its texture coordinates",
+        )
+        .on_disabled_hover_text("the model has no base-colour texture with texture coordinates");
     }
 
     /// Speed (watch … as fast as possible) and checkpoint interval: both apply at once.

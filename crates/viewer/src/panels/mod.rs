@@ -245,6 +245,7 @@ impl ViewerApp {
                 );
                 ui.checkbox(&mut self.display.wireframe, "Wireframe  (W)");
                 ui.checkbox(&mut self.display.show_original, "Original overlay  (O)");
+                self.texture_toggle(ui, "Texture  (T)");
                 let panels = self.panels_mut();
                 ui.checkbox(&mut panels.controls, "Parameter panel  (C)");
                 ui.checkbox(&mut panels.plots, "Plots and table  (P)");

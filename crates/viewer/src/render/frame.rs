@@ -159,21 +159,28 @@ impl SceneRenderer {
             .iter()
             .filter(|i| !overlay(i))
             .chain(indices.iter().filter(|i| overlay(i)));
+        // Every pipeline's layout has the texture's group: untextured draws bind the blank one.
+        pass.set_bind_group(1, &self.blank.bind_group, &[]);
         for &i in order {
             let item = &items[i];
             let (main_slot, edge_slot) = slot_of[i];
             let offset = (main_slot as u64 * UNIFORM_STRIDE) as u32;
             pass.set_bind_group(0, &target.bind_group, &[offset]);
             match item {
-                DrawItem::Surface { mesh, .. } | DrawItem::Overlay { mesh, .. } => {
+                DrawItem::Surface { mesh, texture, .. }
+                | DrawItem::Overlay { mesh, texture, .. } => {
                     if mesh.triangle_index_count == 0 {
                         continue;
                     }
-                    let pipeline = if matches!(item, DrawItem::Overlay { .. }) {
-                        &self.overlay
-                    } else {
-                        &self.surface
+                    let overlay = matches!(item, DrawItem::Overlay { .. });
+                    let pipeline = match (overlay, texture) {
+                        (false, None) => &self.surface,
+                        (true, None) => &self.overlay,
+                        (false, Some(_)) => &self.surface_textured,
+                        (true, Some(_)) => &self.overlay_textured,
                     };
+                    let texture = texture.unwrap_or(&self.blank);
+                    pass.set_bind_group(1, &texture.bind_group, &[]);
                     pass.set_pipeline(pipeline);
                     pass.set_vertex_buffer(0, mesh.vertices.slice(..));
                     pass.set_index_buffer(mesh.triangles.slice(..), wgpu::IndexFormat::Uint32);
@@ -300,16 +307,22 @@ fn fingerprint<'i, 'a: 'i>(
                 mesh,
                 color,
                 shading,
+                texture,
             } => {
                 (0u8, mesh.id, *shading == Shading::Smooth).hash(&mut h);
+                texture.map(|t| t.id).hash(&mut h);
                 floats(&mut h, color);
             }
             DrawItem::Wireframe { mesh, color } => {
                 (1u8, mesh.id).hash(&mut h);
                 floats(&mut h, color);
             }
-            DrawItem::Overlay { mesh, color } => {
-                (2u8, mesh.id).hash(&mut h);
+            DrawItem::Overlay {
+                mesh,
+                color,
+                texture,
+            } => {
+                (2u8, mesh.id, texture.map(|t| t.id)).hash(&mut h);
                 floats(&mut h, color);
             }
             DrawItem::Network {

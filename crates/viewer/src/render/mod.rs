@@ -5,21 +5,26 @@
 //! fraction of egui's own textured-quad shader.
 //!
 //! This file holds the formats, the GPU copies and the types the viewports share; `setup`
-//! builds the pipelines and targets, `frame` records each frame's drawing, and the WGSL
-//! shaders sit beside them (`shader.wgsl` for the scene, `blit.wgsl` for the copy).
+//! builds the pipelines and targets, `frame` records each frame's drawing, `texture` uploads a
+//! model's base-colour texture, and the WGSL shaders sit beside them (`shader.wgsl` for the
+//! scene, `blit.wgsl` for the copy).
 
 mod frame;
 mod setup;
+mod texture;
 
 pub use crate::camera::OrbitCamera;
 use bytemuck::{Pod, Zeroable};
 pub use frame::*;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use mesh::TriMesh;
+use mesh::attributes::Attributes;
 use std::hash::{Hash, Hasher};
 use std::sync::atomic::{AtomicU64, Ordering};
 use wgpu::BufferUsages;
 use wgpu::util::DeviceExt;
+
+pub use texture::GpuTexture;
 
 /// Colour format of the offscreen targets: the bytes are shown on screen as they are.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -94,16 +99,28 @@ struct DrawUniform {
     viewport: [f32; 4],
 }
 
-/// Vertex of a surface: position and smooth normal.
+/// Vertex of a surface: position, smooth normal and texture coordinates (zero without any; v
+/// pointing down the image, as the GPU samples it).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct SurfaceVertex {
     position: [f32; 3],
     normal: [f32; 3],
+    uv: [f32; 2],
 }
 
-/// A triangle mesh uploaded to the GPU: vertices with smooth normals, triangle indices and the
-/// unique edges for wireframe.
+/// Texture coordinates to draw a mesh with: its attributes' UV0 and the image's convention
+/// ([`metrics::Texture::v_down`]).
+#[derive(Clone, Copy)]
+pub struct Uvs<'a> {
+    /// The mesh's attributes (used when they have UV0).
+    pub attributes: &'a Attributes,
+    /// Whether v = 0 is the image's top row (glTF) rather than its bottom row (OBJ).
+    pub v_down: bool,
+}
+
+/// A triangle mesh uploaded to the GPU: vertices with smooth normals (and texture coordinates
+/// when it has them), triangle indices and the unique edges for wireframe.
 pub struct GpuMesh {
     /// Unique per upload (part of a viewport's content fingerprint).
     id: u64,
@@ -112,6 +129,8 @@ pub struct GpuMesh {
     triangle_index_count: u32,
     edges: wgpu::Buffer,
     edge_index_count: u32,
+    /// Whether the vertices carry texture coordinates (a texture can be drawn on it).
+    pub has_uvs: bool,
     /// Vertex count of the source mesh.
     pub vertex_count: usize,
     /// Face count of the source mesh.
@@ -119,22 +138,57 @@ pub struct GpuMesh {
 }
 
 impl GpuMesh {
-    /// Upload `mesh` (vertex normals are computed here).
-    pub fn new(device: &wgpu::Device, mesh: &TriMesh) -> GpuMesh {
+    /// Upload `mesh` (vertex normals are computed here). With `uvs` whose attributes have UV0
+    /// (and fit the mesh) one GPU vertex is drawn per wedge, so the texture coordinates split
+    /// at their seams while positions and normals stay the vertex's: the same surface, shaded
+    /// the same.
+    pub fn new(device: &wgpu::Device, mesh: &TriMesh, uvs: Option<Uvs<'_>>) -> GpuMesh {
         let normals = mesh.vertex_normals();
-        let vertices: Vec<SurfaceVertex> = mesh
-            .positions
-            .iter()
-            .zip(&normals)
-            .map(|(p, n)| SurfaceVertex {
-                position: p.to_array(),
-                normal: n.to_array(),
-            })
-            .collect();
-        let triangle_indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        let vertex = |v: usize, uv: Vec2| SurfaceVertex {
+            position: mesh.positions[v].to_array(),
+            normal: normals[v].to_array(),
+            uv: uv.to_array(),
+        };
         // Wireframe: the unique edges from the mesh crate's one edge builder.
         let edges = mesh::topology::EdgeTable::new(mesh).edges;
-        let edge_indices: Vec<u32> = edges.into_iter().flatten().collect();
+        let wedges = uvs.and_then(|u| {
+            let uv0 = u.attributes.uv0.as_ref()?;
+            u.attributes.validate(mesh).ok()?;
+            let v_down = u.v_down;
+            let flip = move |t: Vec2| if v_down { t } else { Vec2::new(t.x, 1.0 - t.y) };
+            Some((u.attributes, uv0, flip))
+        });
+        let (vertices, triangle_indices, edge_indices): (Vec<_>, Vec<u32>, Vec<u32>) = match wedges
+        {
+            Some((attributes, uv0, flip)) => {
+                // Each position vertex's first wedge carries its edges.
+                let mut wedge_of = vec![0u32; mesh.vertex_count()];
+                for (w, &v) in attributes.wedge_vertex.iter().enumerate().rev() {
+                    wedge_of[v as usize] = w as u32;
+                }
+                (
+                    attributes
+                        .wedge_vertex
+                        .iter()
+                        .zip(uv0)
+                        .map(|(&v, &t)| vertex(v as usize, flip(t)))
+                        .collect(),
+                    attributes.corners.iter().flatten().copied().collect(),
+                    edges
+                        .iter()
+                        .flatten()
+                        .map(|&v| wedge_of[v as usize])
+                        .collect(),
+                )
+            }
+            None => (
+                (0..mesh.vertex_count())
+                    .map(|v| vertex(v, Vec2::ZERO))
+                    .collect(),
+                mesh.triangles.iter().flatten().copied().collect(),
+                edges.into_iter().flatten().collect(),
+            ),
+        };
         GpuMesh {
             id: NEXT_UPLOAD_ID.fetch_add(1, Ordering::Relaxed),
             vertices: buffer_init(device, "mesh vertices", &vertices, BufferUsages::VERTEX),
@@ -147,6 +201,7 @@ impl GpuMesh {
             triangle_index_count: triangle_indices.len() as u32,
             edges: buffer_init(device, "mesh edges", &edge_indices, BufferUsages::INDEX),
             edge_index_count: edge_indices.len() as u32,
+            has_uvs: wedges.is_some(),
             vertex_count: mesh.vertex_count(),
             face_count: mesh.face_count(),
         }
@@ -292,6 +347,8 @@ pub enum DrawItem<'a> {
         color: [f32; 3],
         /// Flat or smooth.
         shading: Shading,
+        /// The base-colour texture drawn instead of `color` (the mesh has texture coordinates).
+        texture: Option<&'a GpuTexture>,
     },
     /// The mesh's edges as lines.
     Wireframe {
@@ -306,6 +363,9 @@ pub enum DrawItem<'a> {
         mesh: &'a GpuMesh,
         /// RGB colour and opacity.
         color: [f32; 4],
+        /// The base-colour texture drawn instead of the colour's RGB (the mesh has texture
+        /// coordinates).
+        texture: Option<&'a GpuTexture>,
     },
     /// GNG nodes as round points and GNG edges as lines.
     Network {
@@ -350,12 +410,19 @@ impl ViewTarget {
 /// Pipelines shared by all viewports.
 pub struct SceneRenderer {
     layout: wgpu::BindGroupLayout,
+    /// Layout of the base-colour texture's group (1).
+    texture_layout: wgpu::BindGroupLayout,
+    /// Bound as group 1 for untextured draws.
+    blank: GpuTexture,
     blit_layout: wgpu::BindGroupLayout,
     blit: wgpu::RenderPipeline,
     /// How the copy pipeline reads the colour textures (matches the output's encoding).
     copy_mode: CopyMode,
     surface: wgpu::RenderPipeline,
     overlay: wgpu::RenderPipeline,
+    /// `surface` and `overlay` coloured by the base-colour texture.
+    surface_textured: wgpu::RenderPipeline,
+    overlay_textured: wgpu::RenderPipeline,
     mesh_lines: wgpu::RenderPipeline,
     network_lines: wgpu::RenderPipeline,
     points: wgpu::RenderPipeline,

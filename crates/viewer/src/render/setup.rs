@@ -1,18 +1,22 @@
-//! Pipeline setup: the scene's five pipelines and the copy pipeline compiled from the WGSL
+//! Pipeline setup: the scene's seven pipelines and the copy pipeline compiled from the WGSL
 //! shaders beside this file, and the offscreen targets (colour, layer, depth, uniforms) they
-//! draw into.
+//! draw into. The scene's pipelines share one layout: the per-draw uniforms (group 0) and the
+//! base-colour texture (group 1, see `texture`).
 
 use super::*;
 
 impl SceneRenderer {
     /// Compile the shaders and build the pipelines; `output_format` is the format of egui's
     /// render target (`RenderState::target_format`), into which the viewports are copied, and
-    /// `copy_mode` how (see [`CopyMode::choose`]).
+    /// `copy_mode` how (see [`CopyMode::choose`]); `queue` uploads the blank texture of
+    /// untextured draws.
     pub fn new(
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         output_format: wgpu::TextureFormat,
         copy_mode: CopyMode,
     ) -> SceneRenderer {
+        let texture_layout = texture::layout(device);
         let (module, layout, pipeline_layout) = shader_and_layout(
             device,
             "viewer",
@@ -23,11 +27,12 @@ impl SceneRenderer {
                 has_dynamic_offset: true,
                 min_binding_size: wgpu::BufferSize::new(size_of::<DrawUniform>() as u64),
             },
+            &[&texture_layout],
         );
         let surface_vertex = wgpu::VertexBufferLayout {
             array_stride: size_of::<SurfaceVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2],
         };
         let surface_position_only = wgpu::VertexBufferLayout {
             array_stride: size_of::<SurfaceVertex>() as u64,
@@ -91,6 +96,8 @@ impl SceneRenderer {
         let lines = wgpu::PrimitiveTopology::LineList;
         let (blit_layout, blit) = blit_pipeline(device, output_format, copy_mode);
         SceneRenderer {
+            blank: GpuTexture::blank(device, queue, &texture_layout),
+            texture_layout,
             blit_layout,
             blit,
             copy_mode,
@@ -107,6 +114,24 @@ impl SceneRenderer {
                 "overlay",
                 "vs_surface",
                 "fs_surface",
+                surface_vertex.clone(),
+                tri,
+                false,
+                premultiplied,
+            ),
+            surface_textured: make(
+                "textured surface",
+                "vs_surface",
+                "fs_surface_textured",
+                surface_vertex.clone(),
+                tri,
+                true,
+                None,
+            ),
+            overlay_textured: make(
+                "textured overlay",
+                "vs_surface",
+                "fs_surface_textured",
                 surface_vertex,
                 tri,
                 false,
@@ -218,13 +243,15 @@ impl SceneRenderer {
 }
 
 /// The WGSL `source` compiled, a bind group layout of one `binding` at 0 seen by `visibility`,
-/// and the pipeline layout of that one group; `name` starts their labels.
+/// and the pipeline layout of that group followed by the `later` groups; `name` starts their
+/// labels.
 fn shader_and_layout(
     device: &wgpu::Device,
     name: &str,
     source: &str,
     visibility: wgpu::ShaderStages,
     binding: wgpu::BindingType,
+    later: &[&wgpu::BindGroupLayout],
 ) -> (
     wgpu::ShaderModule,
     wgpu::BindGroupLayout,
@@ -245,7 +272,9 @@ fn shader_and_layout(
     });
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(&format!("{name} pipeline layout")),
-        bind_group_layouts: &[Some(&layout)],
+        bind_group_layouts: &std::iter::once(Some(&layout))
+            .chain(later.iter().map(|l| Some(*l)))
+            .collect::<Vec<_>>(),
         immediate_size: 0,
     });
     (module, layout, pipeline_layout)
@@ -269,6 +298,7 @@ fn blit_pipeline(
             view_dimension: wgpu::TextureViewDimension::D2,
             multisampled: false,
         },
+        &[],
     );
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("viewport copy"),

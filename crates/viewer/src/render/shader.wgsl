@@ -1,5 +1,6 @@
-// Viewer shaders: lit surfaces (flat via screen-space derivatives or smooth via vertex normals),
-// unlit lines (GNG edges, wireframe) and round screen-space points (GNG nodes).
+// Viewer shaders: lit surfaces (flat via screen-space derivatives or smooth via vertex normals;
+// coloured by the draw's colour or the base-colour texture), unlit lines (GNG edges, wireframe)
+// and round screen-space points (GNG nodes).
 
 struct Draw {
     view_proj: mat4x4<f32>,
@@ -16,26 +17,55 @@ struct Draw {
 };
 
 @group(0) @binding(0) var<uniform> u: Draw;
+// The base-colour texture of fs_surface_textured (sRGB: sampled and filtered in linear light).
+@group(1) @binding(0) var base_map: texture_2d<f32>;
+@group(1) @binding(1) var base_sampler: sampler;
 
 struct SurfaceOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
 };
 
+// Linear light back to the sRGB values shown on screen (the target stores them unconverted).
+fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
+    let low = c * 12.92;
+    let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(high, low, c <= vec3<f32>(0.0031308));
+}
+
 @vertex
-fn vs_surface(@location(0) pos: vec3<f32>, @location(1) normal: vec3<f32>) -> SurfaceOut {
+fn vs_surface(
+    @location(0) pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+) -> SurfaceOut {
     var o: SurfaceOut;
     var clip = u.view_proj * vec4<f32>(pos, 1.0);
     clip.z = clip.z - u.params.y * clip.w;
     o.clip = clip;
     o.world = pos;
     o.normal = normal;
+    o.uv = uv;
     return o;
 }
 
+// A surface of the draw's colour.
 @fragment
 fn fs_surface(i: SurfaceOut) -> @location(0) vec4<f32> {
+    return lit(i, u.color.rgb);
+}
+
+// A surface of the base-colour texture (the draw's alpha).
+@fragment
+fn fs_surface_textured(i: SurfaceOut) -> @location(0) vec4<f32> {
+    return lit(i, srgb_encode(textureSample(base_map, base_sampler, i.uv).rgb));
+}
+
+// `base` (as shown on screen) lit by the key light and a fill light from the camera, with the
+// draw's alpha premultiplied.
+fn lit(i: SurfaceOut, base: vec3<f32>) -> vec4<f32> {
     let face = cross(dpdx(i.world), dpdy(i.world));
     var n = normalize(face);
     if (u.params.x > 0.5 && dot(i.normal, i.normal) > 1e-12) {
@@ -50,7 +80,7 @@ fn fs_surface(i: SurfaceOut) -> @location(0) vec4<f32> {
     let fill = max(dot(n, v), 0.0);
     let h = normalize(l + v);
     let specular = pow(max(dot(n, h), 0.0), 48.0) * 0.2;
-    let rgb = u.color.rgb * (0.10 + 0.65 * diffuse + 0.30 * fill) + vec3<f32>(specular);
+    let rgb = base * (0.10 + 0.65 * diffuse + 0.30 * fill) + vec3<f32>(specular);
     return vec4<f32>(rgb * u.color.a, u.color.a);
 }
 

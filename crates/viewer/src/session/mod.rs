@@ -109,6 +109,8 @@ pub struct Session {
     attributes: Option<Arc<Attributes>>,
     /// The original's materials and origin ([`engine::Loaded::place`]): the outputs' place.
     place: Arc<mesh::Model>,
+    /// The base-colour texture of its materials, decoded ([`engine::Loaded::texture`]).
+    texture: Option<Arc<metrics::Texture>>,
     loading: Option<(PathBuf, Job<Result<LoadedModel>>)>,
     /// Training parameters for the next reset (edited in the UI).
     pub params: TrainParams,
@@ -157,6 +159,7 @@ impl Session {
             original: Arc::new(TriMesh::new(Vec::new(), Vec::new())),
             attributes: None,
             place: Arc::default(),
+            texture: None,
             loading: None,
             applied: params.clone(),
             params,
@@ -197,21 +200,24 @@ impl Session {
 
     /// Replace the model: restart training and QEM on it.
     pub fn set_model(&mut self, name: String, mesh: Arc<TriMesh>) {
-        self.set_model_with_attributes(name, mesh, None, Arc::default());
+        self.set_model_with_attributes(name, mesh, None, Arc::default(), None);
     }
 
-    /// [`Session::set_model`] for a model with `attributes` (of `mesh`'s corners) and its
-    /// materials and origin (`place`, [`engine::Loaded::place`]).
+    /// [`Session::set_model`] for a model with `attributes` (of `mesh`'s corners), its
+    /// materials and origin (`place`, [`engine::Loaded::place`]) and its decoded base-colour
+    /// `texture`.
     pub fn set_model_with_attributes(
         &mut self,
         name: String,
         mesh: Arc<TriMesh>,
         attributes: Option<Arc<Attributes>>,
         place: Arc<mesh::Model>,
+        texture: Option<Arc<metrics::Texture>>,
     ) {
         self.model_name = name;
         self.attributes = attributes;
         self.place = place;
+        self.texture = texture;
         let n = mesh.vertex_count();
         if self.options.target.is_none() {
             self.params.target_vertices = default_target(n);
@@ -233,6 +239,23 @@ impl Session {
     /// The original's attributes (`None` without any).
     pub fn attributes(&self) -> Option<&Arc<Attributes>> {
         self.attributes.as_ref()
+    }
+
+    /// The base-colour texture of the original's materials (`None` without one, or without
+    /// texture coordinates to map it by).
+    pub fn texture(&self) -> Option<&Arc<metrics::Texture>> {
+        self.texture.as_ref()
+    }
+
+    /// The attributes of the GNG3D reconstruction: the finished run's, taken from the
+    /// original's surface (a preview has none).
+    pub fn reconstruction_attributes(&self) -> Option<&Attributes> {
+        self.gng_outcome.as_ref()?.model.attributes.as_ref()
+    }
+
+    /// The attributes QEM kept through its contractions.
+    pub fn qem_attributes(&self) -> Option<&Attributes> {
+        self.qem.outcome.as_ref()?.model.attributes.as_ref()
     }
 
     /// The latest GNG3D reconstruction, if any.

@@ -47,6 +47,7 @@ impl Session {
                     model.mesh,
                     model.attributes,
                     model.place,
+                    model.texture,
                 );
             }
             Err(e) => {
