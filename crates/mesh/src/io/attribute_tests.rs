@@ -158,19 +158,13 @@ fn obj_materials_are_read_written_and_copied() {
     let warnings = save_to(&to).unwrap().dropped;
     assert!(warnings.is_empty(), "{warnings:?}");
     // The library is written under the output's name, which the output names.
+    let text = |p: std::path::PathBuf| fs::read_to_string(p).unwrap();
     assert_eq!(
-        fs::read(out.path().join("copy.mtl")).unwrap(),
-        fs::read(src.path().join("box.mtl")).unwrap()
+        text(out.path().join("copy.mtl")),
+        text(src.path().join("box.mtl"))
     );
-    assert!(
-        fs::read_to_string(&to)
-            .unwrap()
-            .contains("mtllib copy.mtl\n")
-    );
-    assert_eq!(
-        fs::read(out.path().join("tex/wood.png")).unwrap(),
-        b"not really a png"
-    );
+    assert!(text(to.clone()).contains("mtllib copy.mtl\n"));
+    assert_eq!(text(out.path().join("tex/wood.png")), "not really a png");
     let back = load(&to).unwrap();
     assert_eq!(back.materials.unwrap().names, vec!["wood", "red"]);
     assert_eq!(back.attributes.unwrap().face_material, Some(vec![0, 1]));
@@ -188,25 +182,13 @@ fn obj_materials_are_read_written_and_copied() {
         dropped[0].contains("written as tex/result-wood.png"),
         "{dropped:?}"
     );
+    let at = |name: &str| text(crowded.path().join(name));
+    assert_eq!(at("tex/result-wood.png"), "not really a png");
+    assert_eq!(at("tex/wood.png"), "someone else's");
+    assert_eq!(at("box.mtl"), "newmtl other\nKd 0 1 0\n");
+    assert!(at("result.obj").contains("mtllib result.mtl\n"));
     assert_eq!(
-        fs::read(crowded.path().join("tex/result-wood.png")).unwrap(),
-        b"not really a png"
-    );
-    assert_eq!(
-        fs::read(crowded.path().join("tex/wood.png")).unwrap(),
-        b"someone else's"
-    );
-    assert_eq!(
-        fs::read_to_string(crowded.path().join("box.mtl")).unwrap(),
-        "newmtl other\nKd 0 1 0\n"
-    );
-    assert!(
-        fs::read_to_string(&to)
-            .unwrap()
-            .contains("mtllib result.mtl\n")
-    );
-    assert_eq!(
-        fs::read_to_string(crowded.path().join("result.mtl")).unwrap(),
+        at("result.mtl"),
         "newmtl wood\nKd 1 1 1\nmap_Kd -bm 1 tex/result-wood.png\nnewmtl red\nKd 1 0 0\n"
     );
     let back = load(&to).unwrap();
