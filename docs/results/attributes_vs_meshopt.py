@@ -173,6 +173,8 @@ def wedge_buffers(pos, faces, attrs, weights):
             cols.append(a.reshape(-1, k))
             w += [weights[name]] * k
     corner_pos = pos[faces].reshape(-1, 3)
+    if not cols:  # positions only: one zero-weight channel (the call needs one)
+        cols, w = [np.zeros((len(corner_pos), 1))], [0.0]
     corner_attr = np.concatenate(cols, 1)
     key = np.concatenate([corner_pos, corner_attr], 1)
     uniq, inverse = np.unique(key, axis=0, return_inverse=True)
