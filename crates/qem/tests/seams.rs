@@ -1,7 +1,7 @@
-//! QEM on a fragmented texture atlas (`mesh::procedural::fragmented_atlas`: 150 charts on a
+//! QEM on a fragmented texture atlas (`mesh::procedural::fragmented_atlas`: 300 charts on a
 //! 20,480-face sphere, every chart border a UV seam): the seams bend instead of breaking the
 //! run, so it reaches the count the positions-only run reaches, keeps the sphere closed and
-//! manifold, and stays within 10 × the positions-only run's distance from the sphere.
+//! manifold, and stays within 15 × the positions-only run's distance from the sphere.
 
 use gng3d_qem::{QemParams, StopReason, Target, simplify};
 use mesh::procedural::{fragmented_atlas, icosphere};
@@ -40,8 +40,8 @@ fn closed_manifold(m: &TriMesh) -> bool {
 #[test]
 fn a_fragmented_atlas_reaches_the_positions_only_count_near_its_error() {
     let sphere = icosphere(5);
-    let (attributes, charts) = fragmented_atlas(&sphere, 150, 1);
-    assert_eq!(charts, 150);
+    let (attributes, charts) = fragmented_atlas(&sphere, 300, 1);
+    assert_eq!(charts, 300);
     let textured = Model {
         attributes: Some(attributes),
         ..Model::from(sphere.clone())
@@ -61,7 +61,7 @@ fn a_fragmented_atlas_reaches_the_positions_only_count_near_its_error() {
         kept.validate(&out.mesh).unwrap();
         let (ours, theirs) = (off_sphere(&out.mesh), off_sphere(&plain.mesh));
         eprintln!("{share}: off the sphere {ours:.3e} with the atlas, {theirs:.3e} without");
-        // Measured 2.3, 8.3, 7.8 × at 30, 20, 10 %: seam vertices placed on the chords of long
+        // Measured 4.1, 9.9, 5.4 × at 30, 20, 10 %: seam vertices placed on the chords of long
         // seam edges (docs/notes/attributes.md, "Seams that bend"); the bound catches a break.
         assert!(
             ours <= 10.0 * theirs,
