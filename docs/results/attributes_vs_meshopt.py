@@ -173,6 +173,8 @@ def wedge_buffers(pos, faces, attrs, weights):
             cols.append(a.reshape(-1, k))
             w += [weights[name]] * k
     corner_pos = pos[faces].reshape(-1, 3)
+    if not cols:  # positions only: one zero-weight channel (the call needs one)
+        cols, w = [np.zeros((len(corner_pos), 1))], [0.0]
     corner_attr = np.concatenate(cols, 1)
     key = np.concatenate([corner_pos, corner_attr], 1)
     uniq, inverse = np.unique(key, axis=0, return_inverse=True)
@@ -373,7 +375,12 @@ def uv_flips(orig, out, samples_unused=None):
 def gng3d_run(exe, mesh, out, faces, extra):
     cmd = [exe, "simplify", mesh, out, "--method", "qem", "--faces", str(faces), "--json"] + extra
     r = subprocess.run(cmd, capture_output=True, text=True, check=True)
-    return json.loads(r.stdout)["seconds"]
+    out = json.loads(r.stdout)
+    report = out["report"]
+    if not report.get("target_reached", True):
+        print(f"  ({os.path.basename(mesh)}: stopped, {report.get('stop_reason')}, "
+              f"{report.get('faces')} faces for {faces})", file=sys.stderr)
+    return out["seconds"]
 
 
 def main():
@@ -388,6 +395,9 @@ def main():
     ap.add_argument("--ours-weights", default=None,
                     help="gng3d's --attribute-weights when not --weights (weight experiments)")
     ap.add_argument("--only", default=None, help="comma-separated mesh file names to run")
+    ap.add_argument("--files", default=None,
+                    help="comma-separated mesh paths to run instead of the three test meshes "
+                    "(e.g. synthetic atlases from `cargo run -p gng3d-mesh --example atlas`)")
     ap.add_argument("--no-meshlab", action="store_true", help="leave MeshLab out")
     ap.add_argument("--extra", default="", help="more gng3d simplify flags")
     args = ap.parse_args()
@@ -398,6 +408,8 @@ def main():
         os.path.join(ROOT, "tests/assets/fandisk_atlas.obj"),
         os.path.join(ROOT, "tests/assets/knight_colors.ply"),
     ]
+    if args.files:
+        meshes = args.files.split(",")
     if args.only:
         meshes = [m for m in meshes if os.path.basename(m) in args.only.split(",")]
     tmp = tempfile.mkdtemp(prefix="attr_vs_meshopt_")

@@ -4,6 +4,9 @@ use crate::TriMesh;
 use glam::Vec3;
 use std::collections::HashMap;
 
+pub mod atlas;
+pub use atlas::fragmented_atlas;
+
 /// A unit-radius icosphere centred at the origin: `subdivisions` Loop-style splits of an
 /// icosahedron (0 gives 12 vertices/20 faces; each level multiplies faces by 4).
 pub fn icosphere(subdivisions: u32) -> TriMesh {

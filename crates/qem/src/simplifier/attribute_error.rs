@@ -116,6 +116,12 @@ impl AttributeError {
                 + self.residual(side(on, 1), None, p)
                 + self.residual(side(off, 0), None, p);
         }
+        if let Some(f) = seams.anchor(a, b) {
+            // Along a seam into a fixed vertex, which keeps its own values: the fit of the
+            // moving vertex's two sides at `p`.
+            let m = if f == a { b } else { a };
+            return self.residual(side(m, 0), None, p) + self.residual(side(m, 1), None, p);
+        }
         let m = seams.matching(a, b);
         let sides = if seams.seam[a] { 2 } else { 1 };
         m.iter()

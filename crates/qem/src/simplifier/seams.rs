@@ -2,11 +2,13 @@
 //! pair stays, how the sides of the two ends match, and the seams' update after a contraction.
 
 /// The attribute seams of a run that keeps attributes: a seam vertex (on exactly two seam
-/// edges; seam ends and crossings are locked) moves only along its seam, contracted with one of
-/// its two seam neighbours; a vertex off the seams is contracted with another vertex off the
-/// seams, or into a seam vertex, which then stays where it is (as meshoptimizer lets a manifold
-/// vertex collapse onto a seam vertex). So every triangle stays on one side of every seam and
-/// the seams are simplified along themselves.
+/// edges; seam ends and crossings are fixed) moves only along its seam, contracted with one of
+/// its two seam neighbours, or into a fixed one, which stays where it is (meshoptimizer's seam
+/// vertex collapsing onto a locked one along its loop); a vertex off the seams is contracted with
+/// another vertex off the seams, or into a seam vertex, which then stays where it is (as
+/// meshoptimizer lets a manifold vertex collapse onto a seam vertex). So every triangle stays on
+/// one side of every seam and the seams are simplified along themselves down to the edges between
+/// their fixed vertices.
 pub(super) struct Seams {
     /// Per vertex: on a seam.
     pub(super) seam: Vec<bool>,
@@ -20,6 +22,20 @@ impl Seams {
     pub(super) fn pair_ok(&self, a: usize, b: usize) -> bool {
         match (self.seam[a], self.seam[b]) {
             (false, false) => true,
+            (true, true) if self.is_fixed(a) || self.is_fixed(b) => {
+                // A movable seam vertex into a fixed one next to it along its seam (the fixed
+                // one stays, [`Seams::anchor`]). Without this rule each seam between two fixed
+                // vertices kept a vertex inside: a 10,000-face atlas of 190 charts stopped at
+                // 1,616 faces, `no_valid_pairs` (docs/notes/attributes.md, "Seams that bend").
+                let (m, f) = if self.is_fixed(a) { (b, a) } else { (a, b) };
+                let n = self.along[m];
+                let x = if n[0] == f as u32 { n[1] } else { n[0] };
+                !self.is_fixed(m)
+                    && n.contains(&(f as u32))
+                    && n[0] != n[1]
+                    // A seam loop of three (f, m, x) would fold onto the edge f-x.
+                    && !self.along.get(x as usize).is_some_and(|nx| nx.contains(&(f as u32)))
+            }
             (true, true) => {
                 let (na, nb) = (self.along[a], self.along[b]);
                 let other = |n: [u32; 2], v: usize| {
@@ -51,12 +67,15 @@ impl Seams {
     }
 
     /// For a pair the seams allow: the vertex that must survive and stay where it is (the seam
-    /// vertex of a pair with one end off the seams), if any.
+    /// vertex of a pair with one end off the seams, the fixed vertex of a pair along a seam), if
+    /// any.
     #[inline]
     pub(super) fn anchor(&self, a: usize, b: usize) -> Option<usize> {
         match (self.seam[a], self.seam[b]) {
             (true, false) => Some(a),
             (false, true) => Some(b),
+            (true, true) if self.is_fixed(a) => Some(a),
+            (true, true) if self.is_fixed(b) => Some(b),
             _ => None,
         }
     }

@@ -3,9 +3,10 @@
 //!
 //! The collapse order stays Garland–Heckbert's geometric one (plus the optional attribute
 //! term, [`AttributeError`]); what changes is what may be contracted (seams only along
-//! themselves, seam ends and crossings locked, [`Seams`]), the constraint planes along the seams
-//! (Garland–Heckbert 1997's boundary planes, which the paper proposes for any discontinuity),
-//! and the values, which travel with the contractions ([`wedges`](super::wedges)).
+//! themselves and into their fixed ends and crossings, which never move, [`Seams`]), the
+//! constraint planes along the seams (Garland–Heckbert 1997's boundary planes, which the paper
+//! proposes for any discontinuity), and the values, which travel with the contractions
+//! ([`wedges`](super::wedges)).
 
 use super::attribute_error::AttributeError;
 use super::checks::{check_cancel, check_pair_threshold, validate};

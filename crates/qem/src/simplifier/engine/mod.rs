@@ -401,14 +401,12 @@ impl Engine {
             (Some(_), Some(seams)) if seams.anchor(a, b) == Some(a) => self.side_of(a, b, seams),
             _ => 0,
         };
-        // Off the seams into a fixed seam vertex: the faces that move onto `a` take its input
-        // wedge on b's side (b's faces are all on one side), from a face of the edge a-b.
-        let fixed_wedge = match (&self.values, &self.seams) {
-            (Some(values), Some(seams)) if seams.is_fixed(a) => self
-                .list(b)
-                .map(|i| self.refs[i] as usize)
-                .find(|&f| self.faces[f][0] != DEAD && contains(&self.faces[f], au))
-                .map(|f| values.corner_wedge(f, au, &self.faces[f])),
+        // Into a fixed seam vertex: the faces that move onto `a` take its input wedge on their
+        // side of b's seam, from the face of the edge a-b on that side.
+        let fixed_wedges = match &self.seams {
+            Some(seams) if self.values.is_some() && seams.is_fixed(a) => {
+                self.fixed_wedges(a, b, seams)
+            }
             _ => None,
         };
         self.vx[a].p = p;
@@ -420,7 +418,7 @@ impl Engine {
         self.contracted[b] = self.generation as u16;
         self.live_vertices -= 1;
         self.scratch.clear();
-        for i in self.list(b) {
+        for (j, i) in self.list(b).enumerate() {
             let f = self.refs[i] as usize;
             let t = &mut self.faces[f];
             if t[0] == DEAD {
@@ -437,8 +435,8 @@ impl Engine {
                         *v = au;
                     }
                 }
-                if let (Some(w), Some(values)) = (fixed_wedge, self.values.as_mut()) {
-                    values.set_corner_wedge(f, au, t, w);
+                if let (Some(w), Some(values)) = (&fixed_wedges, self.values.as_mut()) {
+                    values.set_corner_wedge(f, au, t, w[usize::from(w.len() > 2 && w[2 + j] != 0)]);
                 }
                 self.scratch.push(f as u32);
             }
@@ -481,6 +479,52 @@ impl Engine {
     }
 
     /// The side of seam vertex `a` ([`fan_sides`]) that its neighbour `b`, off the seams, lies on.
+    /// For `b` contracted into the fixed seam vertex `a`: a's input wedges `[w0, w1]` for b's
+    /// faces on side 0 and 1 (from the faces of the edge a-b), then, when `b` is on a seam, the
+    /// side of each entry of b's face list (0 or 1, as `u32`); `None` without a face of a-b.
+    fn fixed_wedges(&self, a: usize, b: usize, seams: &Seams) -> Option<Vec<u32>> {
+        let values = self.values.as_ref()?;
+        let au = a as u32;
+        let wedge_of = |f: usize| values.corner_wedge(f, au, &self.faces[f]);
+        let live = |i: usize| self.faces[self.refs[i] as usize][0] != DEAD;
+        if !seams.seam[b] {
+            // Off the seams: b's faces are all on one side.
+            let f = self
+                .list(b)
+                .map(|i| self.refs[i] as usize)
+                .find(|&f| self.faces[f][0] != DEAD && contains(&self.faces[f], au))?;
+            return Some(vec![wedge_of(f); 2]);
+        }
+        let fan: Vec<u32> = self
+            .list(b)
+            .filter(|&i| live(i))
+            .map(|i| self.refs[i])
+            .collect();
+        let (mut reached, mut stack) = (Vec::new(), Vec::new());
+        let [n0, n1] = seams.along[b];
+        let faces = |f: u32| self.faces[f as usize];
+        fan_sides(&fan, faces, [b as u32, n0, n1], &mut reached, &mut stack);
+        let mut w = [None; 2];
+        for (&f, &r) in fan.iter().zip(&reached) {
+            if contains(&self.faces[f as usize], au) {
+                w[usize::from(!r)] = Some(wedge_of(f as usize));
+            }
+        }
+        let (w0, w1) = (w[0].or(w[1])?, w[1].or(w[0])?);
+        let mut out = vec![w0, w1];
+        let mut k = 0;
+        for i in self.list(b) {
+            let side = if live(i) {
+                k += 1;
+                u32::from(!reached[k - 1])
+            } else {
+                0
+            };
+            out.push(side);
+        }
+        Some(out)
+    }
+
     fn side_of(&self, a: usize, b: usize, seams: &Seams) -> usize {
         let fan: Vec<u32> = self
             .list(a)
