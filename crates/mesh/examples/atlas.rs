@@ -38,7 +38,10 @@ fn main() -> ExitCode {
         },
     };
     let (attributes, made) = fragmented_atlas(&mesh, charts, seed);
-    if let Err(e) = gng3d_mesh::io::save_with_attributes(&mesh, &attributes, None, Path::new(out)) {
+    if let Err(e) = gng3d_mesh::io::save(
+        &gng3d_mesh::Model::new(mesh.clone(), Some(attributes.clone()), None),
+        Path::new(out),
+    ) {
         eprintln!("{out}: {e}");
         return ExitCode::FAILURE;
     }

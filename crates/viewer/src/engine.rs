@@ -502,7 +502,7 @@ pub struct Loaded {
     /// outputs are saved in ([`mesh::Model::with_mesh`]), as `gng3d simplify` saves them.
     pub place: mesh::Model,
     /// The base-colour texture of its materials, decoded, when it has texture coordinates to
-    /// map it by (see [`base_color`]).
+    /// map it by (see `base_color`).
     pub texture: Option<metrics::Texture>,
 }
 

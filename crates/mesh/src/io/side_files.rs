@@ -71,11 +71,11 @@ pub(crate) fn rename_texture(text: &str, from: &str, to: &str) -> String {
 }
 
 /// Writes the material libraries of `materials` next to `output` under the names
-/// [`library_names`] gives them (replacing an earlier run's), and copies the texture files they
+/// `<output stem>.mtl`, `<stem>-2.mtl`, ... (replacing an earlier run's), and copies the texture files they
 /// name (`map_*`, `bump`, `disp`, `decal`, `refl`, `norm` lines; paths relative to the library)
 /// keeping their relative paths: a file of that name already there is used only when it holds
 /// the same bytes, otherwise the texture is written under a new name, the library names that,
-/// and a warning says so ([`contain::copy_beside`]). For a glTF input's materials, writes the
+/// and a warning says so. For a glTF input's materials, writes the
 /// material library made from them (`<output stem>.mtl`, which the OBJ of
 /// [`encode_with_attributes`](super::encode_with_attributes) names) and its texture images next
 /// to `output` instead. [`save`](super::save) calls it for an OBJ output; it is public for a
