@@ -58,14 +58,15 @@ def test_simplify_file_keeps_uvs_normals_and_material(tmp_path, method, options)
         assert result.report["vertices"] == 400
     assert len(obj.get("vt", [])) >= len(obj["v"])  # an atlas: seams split the wedges
     assert len(obj.get("vn", [])) > 0
-    assert obj["mtllib"] == [["fandisk_atlas.mtl"]] and obj["usemtl"] == [["checker"]]
+    # The library is written under the output's name (never one already in its folder).
+    assert obj["mtllib"] == [["fandisk.mtl"]] and obj["usemtl"] == [["checker"]]
     # Every corner names its texture coordinate and normal, in range.
     for face in obj["f"][:50]:
         for corner in face:
             v, t, n = (int(i) for i in corner.split("/"))
             assert 1 <= v <= len(obj["v"]) and 1 <= t <= len(obj["vt"]) and 1 <= n <= len(obj["vn"])
     # The material library and its texture are copied next to the output.
-    assert (tmp_path / "fandisk_atlas.mtl").read_text() == (ASSETS / "fandisk_atlas.mtl").read_text()
+    assert (tmp_path / "fandisk.mtl").read_text() == (ASSETS / "fandisk_atlas.mtl").read_text()
     assert (tmp_path / "checker.png").read_bytes() == (ASSETS / "checker.png").read_bytes()
     attrs = result.report["attributes"]
     assert attrs["input"] == ["normals", "uv0", "materials"]
@@ -96,7 +97,7 @@ def test_simplify_file_writes_what_the_cli_writes(tmp_path, cli_args, py_args):
     summary = json.loads(proc.stdout)
     result = gng3d.simplify_file(FANDISK, tmp_path / "py" / "out.obj", **py_args)
     assert result.report["attributes"] == summary["attributes"]
-    for name in ["out.obj", "fandisk_atlas.mtl", "checker.png"]:
+    for name in ["out.obj", "out.mtl", "checker.png"]:
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
 
 
