@@ -636,6 +636,14 @@ pub(crate) fn write_with_attributes(
     out.into_bytes()
 }
 
+/// Whether an MTL line starting with `keyword` names a texture file as its last word (`map_*`,
+/// `bump`, `disp`, `decal`, `refl`, `norm`).
+pub(crate) fn names_texture(keyword: &str) -> bool {
+    let lower = keyword.to_ascii_lowercase();
+    lower.starts_with("map_")
+        || matches!(lower.as_str(), "bump" | "disp" | "decal" | "refl" | "norm")
+}
+
 /// The texture files a material library names (the last word of its `map_*`, `bump`, `disp`,
 /// `decal`, `refl` and `norm` lines), in order.
 pub(crate) fn mtl_textures(text: &[u8]) -> Vec<String> {
@@ -646,10 +654,7 @@ pub(crate) fn mtl_textures(text: &[u8]) -> Vec<String> {
         let Some(keyword) = words.next() else {
             continue;
         };
-        let lower = keyword.to_ascii_lowercase();
-        let texture = lower.starts_with("map_")
-            || matches!(lower.as_str(), "bump" | "disp" | "decal" | "refl" | "norm");
-        if texture
+        if names_texture(keyword)
             && let Some(file) = words.last()
             && !out.iter().any(|o| o == file)
         {

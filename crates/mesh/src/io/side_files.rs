@@ -52,11 +52,10 @@ pub(crate) fn output_stem(output: &Path) -> String {
 pub(crate) fn rename_texture(text: &str, from: &str, to: &str) -> String {
     let mut out = String::with_capacity(text.len() + to.len());
     for line in text.split_inclusive('\n') {
-        let body = line.trim_end_matches(['\r', '\n']);
+        // The last word as `obj::mtl_textures` reads it (trailing blanks aside).
+        let body = line.trim_end();
         let keyword = body.split_ascii_whitespace().next().unwrap_or("");
-        let lower = keyword.to_ascii_lowercase();
-        let texture = lower.starts_with("map_")
-            || matches!(lower.as_str(), "bump" | "disp" | "decal" | "refl" | "norm");
+        let texture = obj::names_texture(keyword);
         match body.rsplit_once(char::is_whitespace) {
             Some((head, last)) if texture && last == from => {
                 out.push_str(head);
