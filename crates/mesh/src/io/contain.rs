@@ -292,6 +292,34 @@ pub(crate) fn write_beside(out_dir: &Path, name: &Path, bytes: &[u8]) -> Result<
         .map_err(|e| Refused::Io(std::io::Error::other(e.to_string())))
 }
 
+/// What stands at a side file's place beside an output ([`beside`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Beside {
+    /// Nothing.
+    Absent,
+    /// A regular file holding exactly the bytes to be written.
+    Same,
+    /// Anything else (another file, a folder, a FIFO): never read, never replaced.
+    Other,
+}
+
+/// What stands at `target` compared with `bytes`: a file is read only when it is a regular file
+/// of the same length (a FIFO or a large unrelated file is never opened).
+pub(crate) fn beside(target: &Path, bytes: &[u8]) -> std::io::Result<Beside> {
+    match std::fs::symlink_metadata(target) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Beside::Absent),
+        Err(e) => Err(e),
+        Ok(m)
+            if m.is_file()
+                && m.len() == bytes.len() as u64
+                && std::fs::read(target).is_ok_and(|b| b == bytes) =>
+        {
+            Ok(Beside::Same)
+        }
+        Ok(_) => Ok(Beside::Other),
+    }
+}
+
 /// Copies `bytes` (a file the input names, e.g. a texture) beside an output in `out_dir` under
 /// `name`, or, when a file of that name is already there with other bytes, under a new name in
 /// the same folder, `<stem>-<file name>` (then `<stem>-2-<file name>`, ...): an output never
@@ -311,17 +339,14 @@ pub(crate) fn copy_beside(
             _ => name.with_file_name(format!("{stem}-{k}-{file}")),
         };
         let target = side_file(out_dir, &candidate)?;
-        match std::fs::symlink_metadata(&target) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+        match beside(&target, bytes)? {
+            Beside::Absent => {
                 super::write_atomic(&target, bytes)
                     .map_err(|e| Refused::Io(std::io::Error::other(e.to_string())))?;
                 return Ok(candidate);
             }
-            Err(e) => return Err(Refused::Io(e)),
-            Ok(m) if m.is_file() && std::fs::read(&target).is_ok_and(|b| b == bytes) => {
-                return Ok(candidate);
-            }
-            Ok(_) => {}
+            Beside::Same => return Ok(candidate),
+            Beside::Other => {}
         }
     }
     Err(Refused::Io(std::io::Error::other(format!(

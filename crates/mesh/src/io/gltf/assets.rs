@@ -171,7 +171,7 @@ pub(in crate::io) fn image_files(assets: &GltfAssets) -> Vec<PathBuf> {
 /// `output`, keeping their relative paths ([`crate::io::contain`]'s rule on both sides); files
 /// already there are left alone.
 pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning> {
-    use crate::io::contain::{folder_of, side_file, write_beside};
+    use crate::io::contain::{Beside, beside, folder_of, side_file, write_beside};
     let out_dir = folder_of(output);
     let mut warnings = Vec::new();
     for (i, image) in assets.array("images").iter().enumerate() {
@@ -194,9 +194,9 @@ pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning
         // there is reported, never silently taken for the input's (nor replaced).
         let result = read_image_file(assets, i, uri).and_then(|(_, bytes)| {
             let target = side_file(out_dir, &relative)?;
-            match std::fs::read(&target) {
-                Ok(there) if there == bytes => Ok(()),
-                Ok(_) => {
+            match beside(&target, &bytes)? {
+                Beside::Same => Ok(()),
+                Beside::Other => {
                     warnings.push(MeshWarning::ReferenceRefused {
                         reference: format!("glTF image {i} ({uri})"),
                         reason: format!(
@@ -208,7 +208,7 @@ pub(crate) fn copy_images(assets: &GltfAssets, output: &Path) -> Vec<MeshWarning
                     });
                     Ok(())
                 }
-                Err(_) => write_beside(out_dir, &relative, &bytes),
+                Beside::Absent => write_beside(out_dir, &relative, &bytes),
             }
         });
         if let Err(reason) = result {
