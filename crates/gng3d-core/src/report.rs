@@ -86,6 +86,17 @@ pub enum GngWarning {
         /// Border loops (holes) of the output.
         boundary_loops: usize,
     },
+    /// The output's pieces or manifoldness differ from the input's: more connected
+    /// components, or more non-manifold edges or vertices (a target too coarse for a thin part
+    /// joins or splits it). Holes are [`GngWarning::OpenedHoles`].
+    TopologyChanged {
+        /// Connected components of the input and of the output.
+        components: [usize; 2],
+        /// Non-manifold edges (three or more faces) of the input and of the output.
+        non_manifold_edges: [usize; 2],
+        /// Non-manifold vertices of the input and of the output.
+        non_manifold_vertices: [usize; 2],
+    },
     /// The decimation of an oversampled run's network mesh stopped above the target: no
     /// further contraction keeps the mesh's topology (every hole and every piece keeps at
     /// least three vertices; a scan with many small holes can need more than the target).
@@ -165,6 +176,14 @@ impl fmt::Display for GngWarning {
             } => write!(
                 f,
                 "the input is closed but the output has {boundary_loops} holes ({boundary_edges} border edges)"
+            ),
+            GngWarning::TopologyChanged {
+                components: [ci, co],
+                non_manifold_edges: [ei, eo],
+                non_manifold_vertices: [vi, vo],
+            } => write!(
+                f,
+                "the output's topology differs from the input's: {co} components (input {ci}), {eo} non-manifold edges (input {ei}), {vo} non-manifold vertices (input {vi})"
             ),
             GngWarning::DecimationStopped { vertices, target } => write!(
                 f,

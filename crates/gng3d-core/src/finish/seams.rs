@@ -30,7 +30,6 @@
 
 use glam::Vec3;
 use mesh::TriMesh;
-use mesh::attributes::Attributes;
 use mesh::transfer::FaceGrid;
 use rustc_hash::FxHashMap as HashMap;
 
@@ -214,20 +213,24 @@ pub(crate) fn cut(
     }
 }
 
-/// Shortest chain of seam edges inside one chart that [`seam_sides`] separates (a pole's fan of
+/// Shortest chain of seam edges inside one chart that [`split_inner_chains`] separates (a pole's fan of
 /// one-edge seams is left alone).
 const MIN_CHAIN: usize = 3;
 
-/// Each triangle's side of the seams for the cut: its chart ([`Attributes::charts`]), except in
-/// a chart whose border meets itself (the meridian of a UV sphere, the seam of an unwrapped
-/// cylinder: the same chart on both sides of a seam). There each chain of such seam edges of at
-/// least [`MIN_CHAIN`] edges (through vertices on two of them) gets a label on its left and one
-/// on its right, and the labels grow from those triangles across the chart's other edges,
+/// Each triangle's side of the seams for the cut: its label in `sides` (one per triangle: the
+/// attribute charts, [`mesh::attributes::Attributes::charts`], or crease patches, [`crate::finish::creases`]),
+/// except where one label is on both sides of some of the `seams` (vertex pairs, smaller first,
+/// sorted; [`mesh::attributes::Attributes::seam_edges`]): the meridian of a UV sphere, the seam of an unwrapped
+/// cylinder, a crease line that ends inside a smooth patch. There each chain of such seam edges
+/// of at least [`MIN_CHAIN`] edges (through vertices on two of them) gets a label on its left
+/// and one on its right, and the labels grow from those triangles across the other edges,
 /// breadth first, until they meet (for a UV sphere: at the antipode of the meridian, where the
 /// values are continuous: a border the cut follows for nothing, but only one).
-pub(crate) fn seam_sides(mesh: &TriMesh, attributes: &Attributes) -> Vec<u32> {
-    let mut sides = attributes.charts(mesh);
-    let seams = attributes.seam_edges(mesh);
+pub(crate) fn split_inner_chains(
+    mesh: &TriMesh,
+    mut sides: Vec<u32>,
+    seams: &[[u32; 2]],
+) -> Vec<u32> {
     let mut faces_of: HashMap<[u32; 2], Vec<u32>> = HashMap::default();
     for (f, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
@@ -378,6 +381,7 @@ pub(crate) fn distance_to(grid: &FaceGrid, original: &TriMesh, mesh: &TriMesh) -
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mesh::attributes::Attributes;
 
     /// A UV sphere's meridian lies inside its one chart; its sides differ across every
     /// meridian edge, and a chart without such seams keeps its charts.
@@ -385,7 +389,7 @@ mod tests {
     fn the_two_sides_of_a_seam_inside_a_chart_differ() {
         let (sphere, uv) = mesh::procedural::textured_sphere(12, 24);
         let charts = uv.charts(&sphere);
-        let sides = seam_sides(&sphere, &uv);
+        let sides = split_inner_chains(&sphere, charts.clone(), &uv.seam_edges(&sphere));
         // The meridian: ring vertices 2 + (i - 1) * 24 for i = 1..12, j = 0.
         let meridian: Vec<u32> = (1..12).map(|i| 2 + (i - 1) * 24).collect();
         let faces_on = |a: u32, b: u32| -> Vec<usize> {
@@ -407,7 +411,10 @@ mod tests {
             face_material: Some((0..square.triangles.len() as u32).map(|f| f % 2).collect()),
             ..Attributes::per_vertex(&square)
         };
-        assert_eq!(seam_sides(&square, &plain), plain.charts(&square));
+        assert_eq!(
+            split_inner_chains(&square, plain.charts(&square), &plain.seam_edges(&square)),
+            plain.charts(&square)
+        );
     }
 
     /// A flat 1 × 1 square of 2 × 8 × 8 triangles whose charts are x < 0.375 and x > 0.375,

@@ -47,9 +47,15 @@ pub(crate) struct Input<'a> {
     /// The output count of an oversampled run or one with seams (the decimation's target).
     pub decimate_to: Option<usize>,
     /// Each original triangle's side of the seams, when the input's attributes have seams
-    /// (its chart, [`mesh::attributes::Attributes::charts`], or finer: `seams::seam_sides`):
+    /// (its chart, [`mesh::attributes::Attributes::charts`], or finer: `seams::split_inner_chains`):
     /// [`Step::CutSeams`] cuts along their borders.
     pub charts: Option<&'a [u32]>,
+    /// The original's creases, when it has some (then `charts` follow them too): the cut's and
+    /// the decimation's vertices on them are pulled onto them.
+    pub creases: Option<&'a crate::finish::creases::Creases>,
+    /// Whether `charts` follow attribute seams (else only creases: a decimation that does not
+    /// follow them is no warning).
+    pub attribute_seams: bool,
     /// Most threads the steps use, the caller's included ([`crate::parallel::threads`]).
     pub threads: usize,
 }
@@ -233,6 +239,8 @@ impl crate::Snapshot {
             params,
             decimate_to: None,
             charts: None,
+            creases: None,
+            attribute_seams: false,
             threads: crate::parallel::threads(None),
         };
         reconstruct_only(&input)

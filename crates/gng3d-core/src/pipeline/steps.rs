@@ -25,6 +25,10 @@ pub(super) struct Work<'a> {
     decimate_to: Option<usize>,
     /// The original's chart of each triangle, when it has seams.
     charts: Option<&'a [u32]>,
+    /// The original's creases, when it has some.
+    creases: Option<&'a crate::finish::creases::Creases>,
+    /// Whether `charts` follow attribute seams (not only creases).
+    attribute_seams: bool,
     /// After [`Step::CutSeams`]: the chart of each triangle of the mesh (until a decimation
     /// that could not keep the seams).
     triangle_charts: Option<Vec<u32>>,
@@ -80,6 +84,8 @@ impl<'a> Work<'a> {
             params: input.params,
             decimate_to: input.decimate_to,
             charts: input.charts,
+            creases: input.creases,
+            attribute_seams: input.attribute_seams,
             triangle_charts: None,
             uncut: None,
             grid: None,
@@ -379,6 +385,17 @@ impl<'a> Work<'a> {
         self.uncut = Some(uncut);
         self.positions = cut.positions;
         self.triangles = cut.triangles;
+        if let Some(creases) = self.creases {
+            creases.pull(
+                original,
+                grid,
+                charts,
+                &mut self.positions,
+                &self.triangles,
+                &cut.charts,
+                self.threads,
+            );
+        }
         self.triangle_charts = (cut.added + cut.snapped > 0).then_some(cut.charts);
         cut.added + cut.snapped
     }
@@ -421,7 +438,7 @@ impl<'a> Work<'a> {
         let cancel = self.cancel.as_ref();
         let out = match (self.triangle_charts.take(), self.uncut.take()) {
             (Some(charts), Some(uncut)) => {
-                let (along, charts) =
+                let (mut along, charts) =
                     crate::finish::decimate::decimate_along_seams(&mesh, &charts, n, cancel)?;
                 // The same count without the seams, from the mesh before the cut: kept when
                 // the seams would cost too much of the surface (SEAM_DISTANCE_RATIO).
@@ -434,17 +451,40 @@ impl<'a> Work<'a> {
                 let grid = self
                     .grid
                     .get_or_insert_with(|| mesh::transfer::FaceGrid::new(original));
+                // QEM placed the seams' vertices by its quadrics: back onto the creases.
+                if let (Some(creases), Some(original_charts), Some(charts)) =
+                    (self.creases, self.charts, charts.as_ref())
+                {
+                    creases.pull(
+                        original,
+                        grid,
+                        original_charts,
+                        &mut along.positions,
+                        &along.triangles,
+                        charts,
+                        self.threads,
+                    );
+                }
                 // (No charts: the decimation along the seams could not reach the count.)
-                let ratio = charts.as_ref().map(|_| {
-                    let (along_mean, _) = crate::finish::seams::distance_to(grid, original, &along);
-                    let (plain_mean, _) = crate::finish::seams::distance_to(grid, original, &plain);
-                    along_mean / plain_mean.max(f64::MIN_POSITIVE)
+                // With creases, the cut is kept only when its largest distance is not above
+                // the plain decimation's too: on real CAD parts (soft and curved creases, few
+                // vertices per line) it can be (docs/notes/creases.md).
+                let measured = charts.as_ref().map(|_| {
+                    let along = crate::finish::seams::distance_to(grid, original, &along);
+                    let plain = crate::finish::seams::distance_to(grid, original, &plain);
+                    (along.0 / plain.0.max(f64::MIN_POSITIVE), along.1 <= plain.1)
                 });
-                if ratio.is_some_and(|r| r <= SEAM_DISTANCE_RATIO) {
+                let ratio = measured.map(|m| m.0);
+                let keep = measured.is_some_and(|(r, not_farther)| {
+                    r <= SEAM_DISTANCE_RATIO && (self.creases.is_none() || not_farther)
+                });
+                if keep {
                     self.triangle_charts = charts;
                     along
                 } else {
-                    self.seams_not_followed = Some(ratio);
+                    if self.attribute_seams {
+                        self.seams_not_followed = Some(ratio);
+                    }
                     plain
                 }
             }

@@ -30,8 +30,12 @@ pub(crate) struct Run {
     /// Phase 2's tables of `original`, built on a helper thread while training runs.
     tables: Arc<BackgroundTables>,
     /// Each original triangle's side of the seams when the input's attributes have seams
-    /// ([`crate::Trainer::new`] with attributes, `seams::seam_sides`).
+    /// ([`crate::Trainer::new`] with attributes, `seams::split_inner_chains`).
     charts: Option<Arc<Vec<u32>>>,
+    /// The input's creases, when it has some (`charts` then follow them too).
+    creases: Option<Arc<crate::finish::creases::Creases>>,
+    /// Whether the input's attributes have seams (`charts` follow them).
+    attribute_seams: bool,
     /// The input's attributes, whose values the output takes at its corners
     /// ([`crate::GngResult::attributes`]).
     attributes: Option<Arc<Attributes>>,
@@ -78,13 +82,6 @@ impl Run {
     ) -> Result<(Run, GngParams, Domain), GngError> {
         let started = Instant::now();
         params.validate()?;
-        let charts = attributes
-            .filter(|a| !a.seam_edges(mesh).is_empty())
-            .map(|a| Arc::new(crate::finish::seams::seam_sides(mesh, a)));
-        // The time limit is shared between the training and the steps after it, once.
-        let time_plan =
-            crate::pipeline::plan_for_time(params, mesh.positions.len(), charts.is_some());
-        let params = time_plan.params;
         for (f, t) in mesh.triangles.iter().enumerate() {
             if t.iter().any(|&v| v as usize >= mesh.positions.len()) {
                 return Err(GngError::BadIndex { face: f });
@@ -93,6 +90,13 @@ impl Run {
         if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
             return Err(GngError::NonFinite { vertex: v });
         }
+        let creases = crate::finish::creases::detect(mesh).map(Arc::new);
+        let attribute_seams = attributes.is_some_and(|a| !a.seam_edges(mesh).is_empty());
+        let charts = seam_charts(mesh, attributes, creases.as_deref()).map(Arc::new);
+        // The time limit is shared between the training and the steps after it, once.
+        let time_plan =
+            crate::pipeline::plan_for_time(params, mesh.positions.len(), charts.is_some());
+        let params = time_plan.params;
         // Phase 2's tables start now, on the core that the set-up below leaves idle, rather
         // than during training, whose two halves keep both cores busy.
         let threads = crate::parallel::threads(params.threads);
@@ -105,6 +109,8 @@ impl Run {
             pieces,
             tables,
             charts,
+            creases,
+            attribute_seams,
             attributes: attributes.map(|a| Arc::new(a.clone())),
             plan: time_plan.plan,
             full_plan: time_plan.full,
@@ -188,6 +194,8 @@ impl Run {
             decimate_to: (params.decimates() || self.charts.is_some())
                 .then_some(params.target_vertices),
             charts: self.charts.as_deref().map(Vec::as_slice),
+            creases: self.creases.as_deref(),
+            attribute_seams: self.attribute_seams,
             threads: self.threads,
         }
     }
@@ -303,6 +311,9 @@ impl Run {
                 boundary_loops: topology.boundary_loops,
             });
         }
+        if let Some(changed) = self.topology_changed(topology) {
+            warnings.push(changed);
+        }
         let report = GngReport {
             training: stats,
             target_vertices: target,
@@ -322,6 +333,27 @@ impl Run {
         })
     }
 
+    /// [`GngWarning::TopologyChanged`] when `output` has more components, non-manifold edges
+    /// or non-manifold vertices than the input (the input is analysed only when the output has
+    /// more than one component or a non-manifold element).
+    fn topology_changed(&self, output: &mesh::topology::TopologyReport) -> Option<GngWarning> {
+        if output.components <= 1
+            && output.non_manifold_edges == 0
+            && output.non_manifold_vertices == 0
+        {
+            return None;
+        }
+        let input = mesh::topology::analyze(&self.original);
+        let worse = output.components > input.components
+            || output.non_manifold_edges > input.non_manifold_edges
+            || output.non_manifold_vertices > input.non_manifold_vertices;
+        worse.then_some(GngWarning::TopologyChanged {
+            components: [input.components, output.components],
+            non_manifold_edges: [input.non_manifold_edges, output.non_manifold_edges],
+            non_manifold_vertices: [input.non_manifold_vertices, output.non_manifold_vertices],
+        })
+    }
+
     /// Whether the input has no border edge (then an output with one has a hole the run made).
     fn input_is_closed(&self) -> bool {
         match self.tables.get() {
@@ -329,4 +361,41 @@ impl Run {
             None => mesh::topology::analyze(&self.original).boundary_edges == 0,
         }
     }
+}
+
+/// Each original triangle's side of the seams the cut follows ([`Step::CutSeams`]): the
+/// attribute charts when they have seams (`seams::split_inner_chains`) and the smooth patches between
+/// the creases, paired; `None` with neither.
+fn seam_charts(
+    mesh: &TriMesh,
+    attributes: Option<&Attributes>,
+    creases: Option<&crate::finish::creases::Creases>,
+) -> Option<Vec<u32>> {
+    let attribute = attributes
+        .map(|a| (a.charts(mesh), a.seam_edges(mesh)))
+        .filter(|(_, seams)| !seams.is_empty());
+    let (charts, seams) = match (attribute, creases) {
+        (None, None) => return None,
+        (Some(attribute), None) => attribute,
+        (attribute, Some(creases)) => {
+            let (charts, mut seams) =
+                attribute.unwrap_or_else(|| (vec![0; mesh.triangles.len()], Vec::new()));
+            seams.extend_from_slice(creases.edges());
+            seams.sort_unstable();
+            seams.dedup();
+            let mut ids: rustc_hash::FxHashMap<(u32, u32), u32> = Default::default();
+            let paired = charts
+                .iter()
+                .zip(&creases.patches)
+                .map(|(&chart, &patch)| {
+                    let next = ids.len() as u32;
+                    *ids.entry((chart, patch)).or_insert(next)
+                })
+                .collect();
+            (paired, seams)
+        }
+    };
+    Some(crate::finish::seams::split_inner_chains(
+        mesh, charts, &seams,
+    ))
 }
