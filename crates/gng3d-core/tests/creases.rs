@@ -49,8 +49,9 @@ fn cube_corners() -> Vec<DVec3> {
 }
 
 /// A unit cube of 1,538 vertices at 120: every corner of the cube has an output vertex within
-/// 1 % of its side, and every point of its 12 edges is within 1.5 % of the side from the output
-/// (before the creases were kept: corners 4-9 % and edge points up to 10 % off).
+/// 0.1 % of its side, and every point of its 12 edges is within 0.1 % of the side from the
+/// output (before the creases were cut along: a corner 0.27 % off, the symmetric Hausdorff
+/// distance 0.27 %; with them both are 0 to rounding).
 #[test]
 fn a_cube_keeps_its_corners_and_edges() {
     let cube = mesh::procedural::grid_cube(16);
@@ -64,7 +65,7 @@ fn a_cube_keeps_its_corners_and_edges() {
             .iter()
             .map(|p| p.as_dvec3().distance(c))
             .fold(f64::INFINITY, f64::min);
-        assert!(nearest < 0.01, "corner {c}: nearest vertex {nearest}");
+        assert!(nearest < 1e-3, "corner {c}: nearest vertex {nearest}");
     }
     let mut farthest: f64 = 0.0;
     for (i, &a) in corners.iter().enumerate() {
@@ -148,4 +149,8 @@ fn a_changed_topology_is_reported() {
         }
     }
     println!("cow: {changed} of 4 runs changed the topology");
+    assert!(
+        changed > 0,
+        "no run changed the topology: the check above was not exercised"
+    );
 }

@@ -6,8 +6,8 @@
 //! The network's triangulation does not know the seams: its triangles straddle them, a corner
 //! on each side, and the texture is smeared across the atlas inside them (or, after the
 //! chart-per-triangle transfer, stretched from the chart's border). The cut:
-//! 1. each vertex of the network's mesh takes the chart ([`mesh::attributes::Attributes::charts`])
-//!    of the original triangle closest to it;
+//! 1. each vertex of the network's mesh takes the chart
+//!    ([`mesh::attributes::Attributes::charts`]) of the original triangle closest to it;
 //! 2. on each edge whose ends lie in different charts, the crossing: where the chart of the
 //!    closest original triangle changes along it (bisection on the edge, to 1/4096 of its
 //!    length: on the network's mesh, so the faces stay where they were);
@@ -218,9 +218,10 @@ pub(crate) fn cut(
 const MIN_CHAIN: usize = 3;
 
 /// Each triangle's side of the seams for the cut: its label in `sides` (one per triangle: the
-/// attribute charts, [`mesh::attributes::Attributes::charts`], or crease patches, [`crate::finish::creases`]),
-/// except where one label is on both sides of some of the `seams` (vertex pairs, smaller first,
-/// sorted; [`mesh::attributes::Attributes::seam_edges`]): the meridian of a UV sphere, the seam of an unwrapped
+/// attribute charts, [`mesh::attributes::Attributes::charts`], or crease patches,
+/// [`crate::finish::creases`]), except where one label is on both sides of some of the `seams`
+/// (vertex pairs, smaller first, sorted; [`mesh::attributes::Attributes::seam_edges`]): the
+/// meridian of a UV sphere, the seam of an unwrapped
 /// cylinder, a crease line that ends inside a smooth patch. There each chain of such seam edges
 /// of at least [`MIN_CHAIN`] edges (through vertices on two of them) gets a label on its left
 /// and one on its right, and the labels grow from those triangles across the other edges,

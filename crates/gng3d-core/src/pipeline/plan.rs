@@ -23,7 +23,7 @@ use crate::params::ReconstructionParams;
 /// | [`Step::Flip`] | edges flipped toward the original surface |
 /// | [`Step::Refit`] | vertices refitted so the triangles, not only the corners, fit the surface |
 /// | [`Step::DetailRound`] | new nodes where the mesh stays farthest from the original; the build steps above run again |
-/// | [`Step::CutSeams`] | with an input whose attributes have seams: the network's mesh is cut along them |
+/// | [`Step::CutSeams`] | with an input whose attributes have seams or a CAD part's creases: the network's mesh is cut along them |
 /// | [`Step::Decimate`] | the oversampled network's mesh is decimated (QEM) to the output count |
 /// | [`Step::Relax`] | decimated vertices relax toward the original vertices they stand for |
 /// | [`Step::RepairDeviations`] | vertices standing off the original move back; edges across grooves flip |
@@ -51,8 +51,9 @@ pub enum Step {
     Refit,
     /// One round of detail nodes (option (g)); the build steps run again after it.
     DetailRound,
-    /// The network's mesh cut along the original's attribute seams, for a decimation that
-    /// keeps them (inputs with seams only: [`crate::Trainer::new`] with attributes).
+    /// The network's mesh cut along the original's attribute seams and creases, for a
+    /// decimation that keeps them (inputs with seams, [`crate::Trainer::new`] with attributes,
+    /// or with creases: docs/notes/creases.md).
     CutSeams,
     /// QEM decimation of an oversampled network's mesh to the output count.
     Decimate,
@@ -167,8 +168,8 @@ impl Plan {
         Plan::with_seams(params, decimates, false)
     }
 
-    /// [`Plan::of`], and with `seams` (the input's attributes have seams:
-    /// [`crate::Trainer::new`] with attributes) [`Step::CutSeams`] then [`Step::Decimate`] after the
+    /// [`Plan::of`], and with `seams` (the input's attributes have seams,
+    /// [`crate::Trainer::new`] with attributes, or it has creases) [`Step::CutSeams`] then [`Step::Decimate`] after the
     /// last build whether or not `decimates`: the cut adds vertices, the decimation takes the
     /// mesh back to the output count along the seams.
     pub fn with_seams(params: &ReconstructionParams, decimates: bool, seams: bool) -> Plan {

@@ -383,19 +383,12 @@ impl<'a> Work<'a> {
             self.threads,
         );
         self.uncut = Some(uncut);
-        self.positions = cut.positions;
-        self.triangles = cut.triangles;
+        let mut mesh = TriMesh::new(cut.positions, cut.triangles);
         if let Some(creases) = self.creases {
-            creases.pull(
-                original,
-                grid,
-                charts,
-                &mut self.positions,
-                &self.triangles,
-                &cut.charts,
-                self.threads,
-            );
+            creases.pull(original, grid, charts, &mut mesh, &cut.charts, self.threads);
         }
+        self.positions = mesh.positions;
+        self.triangles = mesh.triangles;
         self.triangle_charts = (cut.added + cut.snapped > 0).then_some(cut.charts);
         cut.added + cut.snapped
     }
@@ -459,8 +452,7 @@ impl<'a> Work<'a> {
                         original,
                         grid,
                         original_charts,
-                        &mut along.positions,
-                        &along.triangles,
+                        &mut along,
                         charts,
                         self.threads,
                     );
