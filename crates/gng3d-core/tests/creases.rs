@@ -1,19 +1,26 @@
-//! GNG3D-Q on CAD-like input keeps its creases and corners (the crease lines are cut and
-//! decimated along as seams, `finish::creases`), and a run whose output's topology differs
+//! GNG3D-Q with `ReconstructionParams::creases` on CAD-like input keeps its creases and
+//! corners (the crease lines are cut and decimated along as seams, `finish::creases`), and a run whose output's topology differs
 //! from a closed input's says so (`GngWarning::TopologyChanged`). Distances are computed here
 //! by brute force, independent of the crate's.
 
 use glam::DVec3;
-use gng3d_core::{GngOptions, GngResult, GngTarget, GngWarning};
+use gng3d_core::{GngOptions, GngResult, GngTarget, GngWarning, Trainer};
 use mesh::TriMesh;
 
-/// GNG3D-Q (the default options) of `m` to `n` vertices.
-fn simplify(m: &TriMesh, n: usize, seed: u64) -> GngResult {
+/// GNG3D-Q (the default options, with `ReconstructionParams::creases` when `creases`) of `m`
+/// to `n` vertices.
+fn simplify(m: &TriMesh, n: usize, seed: u64, creases: bool) -> GngResult {
     let options = GngOptions {
         seed,
         ..GngOptions::for_target(GngTarget::Vertices(n))
     };
-    gng3d_core::simplify(&mesh::Model::from(m.clone()), &options).unwrap()
+    let mut params = options.resolve(m).unwrap();
+    params.reconstruction.creases = creases;
+    let mut trainer = Trainer::new(&mesh::Model::from(m.clone()), params).unwrap();
+    while !trainer.is_finished() {
+        trainer.step(u64::MAX);
+    }
+    gng3d_core::finish(&trainer, |_| {}).unwrap()
 }
 
 /// Distance from `p` to the triangle `abc` (projection onto the plane, else onto the edges).
@@ -55,7 +62,7 @@ fn cube_corners() -> Vec<DVec3> {
 #[test]
 fn a_cube_keeps_its_corners_and_edges() {
     let cube = mesh::procedural::grid_cube(16);
-    let out = simplify(&cube, 120, 7);
+    let out = simplify(&cube, 120, 7, true);
     assert_eq!(out.mesh.vertex_count(), 120);
     let corners = cube_corners();
     for &c in &corners {
@@ -91,12 +98,12 @@ fn a_cube_keeps_its_corners_and_edges() {
     }
 }
 
-/// A smooth sphere has no crease: nothing is cut (the count is exact, no vertex is added on
+/// A smooth sphere has no crease: with the creases asked for, nothing is cut (the count is exact, no vertex is added on
 /// seams, the output is closed).
 #[test]
 fn a_sphere_has_no_creases_to_cut() {
     let sphere = mesh::procedural::icosphere(4);
-    let out = simplify(&sphere, 150, 3);
+    let out = simplify(&sphere, 150, 3, true);
     assert_eq!(out.mesh.vertex_count(), 150);
     assert!(
         !out.report
@@ -127,7 +134,7 @@ fn a_changed_topology_is_reported() {
     let input = mesh::topology::analyze(&cow);
     let mut changed = 0;
     for (n, seed) in [(29, 1), (29, 2), (29, 3), (290, 1)] {
-        let out = simplify(&cow, n, seed);
+        let out = simplify(&cow, n, seed, false);
         let t = mesh::topology::analyze(&out.mesh);
         let worse = t.components > input.components
             || t.non_manifold_edges > input.non_manifold_edges

@@ -90,7 +90,12 @@ impl Run {
         if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
             return Err(GngError::NonFinite { vertex: v });
         }
-        let creases = crate::finish::creases::detect(mesh).map(Arc::new);
+        let creases = params
+            .reconstruction
+            .creases
+            .then(|| crate::finish::creases::detect(mesh))
+            .flatten()
+            .map(Arc::new);
         let attribute_seams = attributes.is_some_and(|a| !a.seam_edges(mesh).is_empty());
         let charts = seam_charts(mesh, attributes, creases.as_deref()).map(Arc::new);
         // The time limit is shared between the training and the steps after it, once.
