@@ -6,7 +6,8 @@
 //! atomically: the partition is complete when it exists and names the same input).
 
 use crate::grid::{BYTES_PER_FACE, Grid, SAMPLE};
-use crate::ply::PlyStream;
+use crate::obj::ObjStream;
+use crate::ply::{FaceVisitor, PlyStream};
 use crate::{PartitionError, Target};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -105,6 +106,50 @@ impl Manifest {
     }
 }
 
+/// A streamed input file.
+enum Input {
+    Ply(PlyStream),
+    Obj(ObjStream),
+}
+
+impl Input {
+    /// The reader of `path`'s format (by extension).
+    fn open(path: &Path) -> Result<Input, PartitionError> {
+        match mesh::io::Format::from_path(path) {
+            Some(mesh::io::Format::Ply) => Ok(Input::Ply(PlyStream::open(path)?)),
+            Some(mesh::io::Format::Obj) => Ok(Input::Obj(ObjStream::open(path)?)),
+            _ => Err(PartitionError::UnsupportedFormat {
+                path: path.to_path_buf(),
+            }),
+        }
+    }
+
+    fn vertex_count(&self) -> usize {
+        match self {
+            Input::Ply(s) => s.vertex_count(),
+            Input::Obj(s) => s.vertex_count(),
+        }
+    }
+
+    fn face_count(&self) -> usize {
+        match self {
+            Input::Ply(s) => s.face_count(),
+            Input::Obj(s) => s.face_count(),
+        }
+    }
+
+    fn read(
+        &self,
+        vertex: &mut dyn FnMut(u32, [f64; 3]) -> Result<(), PartitionError>,
+        face: Option<FaceVisitor<'_>>,
+    ) -> Result<(), PartitionError> {
+        match self {
+            Input::Ply(s) => s.read(vertex, face),
+            Input::Obj(s) => s.read(vertex, face),
+        }
+    }
+}
+
 /// A hidden temporary name next to `path`, for a write that ends with a rename.
 pub(crate) fn temporary_sibling(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
@@ -145,14 +190,9 @@ pub(crate) fn reuse_or_partition(
     partition(input, work, budget)
 }
 
-/// Step 1: cut `input` (PLY) into the cells of a grid sized for `budget` bytes a cell, writing
+/// Step 1: cut `input` (PLY or OBJ, by extension) into the cells of a grid sized for `budget` bytes a cell, writing
 /// the chunk files and the manifest into `work` (created; earlier chunk files removed).
 pub fn partition(input: &Path, work: &Path, budget: u64) -> Result<Manifest, PartitionError> {
-    if mesh::io::Format::from_path(input) != Some(mesh::io::Format::Ply) {
-        return Err(PartitionError::UnsupportedFormat {
-            path: input.to_path_buf(),
-        });
-    }
     let identity = identity(input)?;
     let io = |path: &Path| {
         let path = path.to_path_buf();
@@ -160,7 +200,7 @@ pub fn partition(input: &Path, work: &Path, budget: u64) -> Result<Manifest, Par
     };
     std::fs::create_dir_all(work).map_err(io(work))?;
     clear(work)?;
-    let ply = PlyStream::open(input)?;
+    let ply = Input::open(input)?;
     let n = ply.vertex_count();
     // Pass 1: bounding box and a sample of the positions.
     let stride = n.div_ceil(SAMPLE).max(1);

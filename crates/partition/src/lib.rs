@@ -4,7 +4,7 @@
 //!
 //! Steps of [`simplify`] (each a public function, so that another driver, a process pool or a
 //! Dask worker, can run them apart):
-//! 1. **Partition** ([`partition`]): three streaming passes over the input PLY. Pass 1 takes the
+//! 1. **Partition** ([`partition`]): three streaming passes over the input (PLY or OBJ). Pass 1 takes the
 //!    bounding box and a sample of the positions and sizes a grid so that every cell's faces fit
 //!    the memory budget; pass 2 gives each vertex its grid cell and each face the smallest cell
 //!    of its vertices, writing the face (global vertex ids) to that cell's chunk and marking the
@@ -44,6 +44,7 @@ mod cell;
 mod chunk;
 pub mod generate;
 mod grid;
+mod obj;
 mod ply;
 mod stitch;
 
@@ -142,7 +143,8 @@ pub enum PartitionError {
         /// The system's error.
         source: std::io::Error,
     },
-    /// The input is not a PLY file this reader takes, or a record is unreadable.
+    /// The input is not a file these readers take (PLY header, OBJ line), or a record is
+    /// unreadable.
     #[error("{}: {problem}", path.display())]
     Malformed {
         /// The file.
@@ -184,8 +186,8 @@ pub enum PartitionError {
         /// What does not fit.
         problem: String,
     },
-    /// The input's format is not read by the streaming partition (PLY only for now).
-    #[error("{}: only PLY is read by the streaming partition", path.display())]
+    /// The input's format is not read by the streaming partition (PLY and OBJ for now).
+    #[error("{}: only PLY and OBJ are read by the streaming partition", path.display())]
     UnsupportedFormat {
         /// The file.
         path: PathBuf,
@@ -206,7 +208,7 @@ pub enum PartitionError {
     InvalidParameter(&'static str),
 }
 
-/// Simplify the mesh in `input` (PLY) to `params.target` without ever holding it, writing the
+/// Simplify the mesh in `input` (PLY or OBJ) to `params.target` without ever holding it, writing the
 /// result to `output` (any format `mesh::io::save` writes). See the crate's steps.
 pub fn simplify(
     input: &Path,
@@ -259,7 +261,8 @@ pub fn simplify(
     let stitched = stitch(&params.work_dir, &manifest)?;
     let stitched_faces = stitched.face_count();
     let coarse = pool.install(|| finish(stitched, params.target, &manifest, output))?;
-    mesh::io::save(&mesh::Model::from(coarse.clone()), output)?;
+    let (vertices, faces) = (coarse.vertex_count(), coarse.face_count());
+    mesh::io::save(&mesh::Model::from(coarse), output)?;
     Ok(PartitionReport {
         input_vertices: manifest.vertices as usize,
         input_faces: manifest.faces as usize,
@@ -267,8 +270,8 @@ pub fn simplify(
         cells_resumed: resumed.iter().filter(|&&r| r).count(),
         shared_vertices: manifest.shared as usize,
         stitched_faces,
-        vertices: coarse.vertex_count(),
-        faces: coarse.face_count(),
+        vertices,
+        faces,
         seconds: [
             partition_seconds,
             cells_seconds,

@@ -247,12 +247,22 @@ fn bad_input_gives_a_typed_error_naming_the_file() {
     );
     let e = run("text.ply", b"hello\n");
     assert!(matches!(e, PartitionError::Malformed { .. }), "{e}");
-    let e = run("mesh.obj", b"v 0 0 0\n");
+    let e = run("mesh.stl", b"solid x\n");
     assert!(matches!(e, PartitionError::UnsupportedFormat { .. }), "{e}");
+    // OBJ: a face naming vertex 4 of 3 (and a relative index before the first vertex).
+    let e = run("index.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+    assert!(
+        matches!(e, PartitionError::IndexOutOfRange { index: 4.0, .. }),
+        "{e}"
+    );
+    let e = run("relative.obj", b"f -1 -2 -3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    assert!(matches!(e, PartitionError::IndexOutOfRange { .. }), "{e}");
+    let e = run("words.obj", b"v 0 zero 0\n");
+    assert!(matches!(e, PartitionError::Malformed { .. }), "{e}");
 }
 
 #[test]
-fn ascii_and_binary_inputs_give_the_same_output() {
+fn ascii_binary_and_obj_inputs_give_the_same_output() {
     let dir = tempfile::tempdir().unwrap();
     let binary = dir.path().join("b.ply");
     generate::write_displaced_sphere(&binary, 20_000, 9).unwrap();
@@ -285,5 +295,19 @@ fn ascii_and_binary_inputs_give_the_same_output() {
         .unwrap();
         std::fs::read(o).unwrap()
     };
-    assert_eq!(out(&binary, "x.ply"), out(&ascii, "y.ply"));
+    // And as OBJ, with relative indices and corner attributes to skip.
+    let mut obj = String::from("# hand-written\no sphere\n");
+    for p in &m.positions {
+        obj += &format!("v {:?} {:?} {:?}\nvt 0 0\n", p.x, p.y, p.z);
+    }
+    let n = m.vertex_count() as i64;
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|v| v as i64 - n);
+        obj += &format!("f {a}/{a} {b}/{b} {c}/{c}\n");
+    }
+    let obj_path = dir.path().join("o.obj");
+    std::fs::write(&obj_path, obj).unwrap();
+    let reference = out(&binary, "x.ply");
+    assert_eq!(reference, out(&ascii, "y.ply"));
+    assert_eq!(reference, out(&obj_path, "z.ply"));
 }
