@@ -1,9 +1,10 @@
 //! Step 2: one cell simplified with its shared vertices locked, and its output chunk.
 //!
-//! Output chunk `cell-NNNNN.out`: the magic `GNG3DCL1`, `u32` vertex and face counts, the
+//! Output chunk `cell-NNNNN.out`: the magic `GNG3DCL2`, the ratio it was simplified with (`f64`:
+//! an output made for another target is not reused), `u32` vertex and face counts, the
 //! vertices (a `u32` global id for a shared vertex, `u32::MAX` for one of this cell only, then
 //! three `f32`), the triangles over those. Written to a temporary sibling and renamed, so an
-//! output that exists is complete ([`CellChunk::output_complete`] checks its length).
+//! output that exists is complete ([`CellChunk::output_complete`] checks its length and ratio).
 
 use crate::PartitionError;
 use crate::chunk::{CellChunk, VERTEX_RECORD, read_all};
@@ -13,7 +14,9 @@ use qem::{Lock, QemParams, Target};
 use rustc_hash::FxHashMap;
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"GNG3DCL1";
+const MAGIC: &[u8; 8] = b"GNG3DCL2";
+/// Bytes before the vertex records: magic, ratio, counts.
+const HEADER: usize = 24;
 /// The id of an output vertex that is not shared.
 pub(crate) const OWN: u32 = u32::MAX;
 /// A cell stops at this many times its share of the target (plus its locked band), so that the
@@ -34,9 +37,16 @@ pub struct CellReport {
 }
 
 impl CellChunk {
-    /// Whether the cell's output exists and is whole (a previous run finished this cell).
-    pub fn output_complete(&self) -> bool {
-        read_output(&self.output).is_ok()
+    /// Whether the cell's output exists, is whole and was made with `ratio` (a previous run
+    /// finished this cell for the same target). Reads its header only.
+    pub fn output_complete(&self, ratio: f64) -> bool {
+        use std::io::Read;
+        let mut header = [0u8; HEADER];
+        let Ok(mut file) = std::fs::File::open(&self.output) else {
+            return false;
+        };
+        let len = file.metadata().map_or(0, |m| m.len());
+        file.read_exact(&mut header).is_ok() && parse_header(&header, len) == Some(ratio.to_bits())
     }
 }
 
@@ -124,7 +134,7 @@ pub fn simplify_cell(chunk: &CellChunk, ratio: f64) -> Result<CellReport, Partit
             "a locked vertex is missing from QEM's output",
         )
     })?;
-    write_output(&chunk.output, &ids, &coarse)?;
+    write_output(&chunk.output, ratio, &ids, &coarse)?;
     Ok(CellReport {
         input_faces,
         locked: locked_count,
@@ -209,9 +219,27 @@ fn word(b: &[u8], i: usize) -> u32 {
     u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]])
 }
 
-fn write_output(path: &Path, ids: &[u32], mesh: &TriMesh) -> Result<(), PartitionError> {
-    let mut bytes = Vec::with_capacity(16 + ids.len() * VERTEX_RECORD + mesh.triangles.len() * 12);
+/// The ratio (as bits) of an output chunk whose first bytes are `header` and whose length is
+/// `len`, when they fit together.
+fn parse_header(header: &[u8], len: u64) -> Option<u64> {
+    if header.len() < HEADER || &header[..8] != MAGIC {
+        return None;
+    }
+    let ratio = u64::from_le_bytes(header[8..16].try_into().ok()?);
+    let (nv, nf) = (u64::from(word(header, 16)), u64::from(word(header, 20)));
+    (len == HEADER as u64 + nv * VERTEX_RECORD as u64 + nf * 12).then_some(ratio)
+}
+
+fn write_output(
+    path: &Path,
+    ratio: f64,
+    ids: &[u32],
+    mesh: &TriMesh,
+) -> Result<(), PartitionError> {
+    let mut bytes =
+        Vec::with_capacity(HEADER + ids.len() * VERTEX_RECORD + mesh.triangles.len() * 12);
     bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&ratio.to_bits().to_le_bytes());
     bytes.extend_from_slice(&(ids.len() as u32).to_le_bytes());
     bytes.extend_from_slice(&(mesh.triangles.len() as u32).to_le_bytes());
     for (&g, p) in ids.iter().zip(&mesh.positions) {
@@ -229,33 +257,37 @@ fn write_output(path: &Path, ids: &[u32], mesh: &TriMesh) -> Result<(), Partitio
     Ok(())
 }
 
-/// A cell's output: the ids ([`OWN`] or a global id) and positions of its vertices, and its
-/// triangles over them (range-checked).
-pub(crate) fn read_output(path: &Path) -> Result<(Vec<u32>, TriMesh), PartitionError> {
+/// A cell's output made with `ratio`: the ids ([`OWN`] or a global id) and positions of its
+/// vertices, and its triangles over them (range-checked).
+pub(crate) fn read_output(path: &Path, ratio: f64) -> Result<(Vec<u32>, TriMesh), PartitionError> {
     let bad = |problem: &str| PartitionError::BadChunk {
         path: path.to_path_buf(),
         problem: problem.to_string(),
     };
     let bytes = read_all(path)?;
-    if bytes.len() < 16 || &bytes[..8] != MAGIC {
-        return Err(bad("no GNG3DCL1 header"));
+    match parse_header(&bytes, bytes.len() as u64) {
+        None => {
+            return Err(bad(
+                "no GNG3DCL2 header, or a length that does not match its counts",
+            ));
+        }
+        Some(r) if r != ratio.to_bits() => return Err(bad("made for another target")),
+        Some(_) => {}
     }
-    let word = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
-    let (nv, nf) = (word(8) as usize, word(12) as usize);
-    if bytes.len() as u64 != 16 + nv as u64 * VERTEX_RECORD as u64 + nf as u64 * 12 {
-        return Err(bad("length does not match its counts"));
-    }
+    let (nv, nf) = (word(&bytes, 16) as usize, word(&bytes, 20) as usize);
     let mut ids = Vec::with_capacity(nv);
     let mut positions = Vec::with_capacity(nv);
     for i in 0..nv {
-        let at = 16 + i * VERTEX_RECORD;
-        ids.push(word(at));
-        positions.push(Vec3::from([4, 8, 12].map(|o| f32::from_bits(word(at + o)))));
+        let at = HEADER + i * VERTEX_RECORD;
+        ids.push(word(&bytes, at));
+        positions.push(Vec3::from(
+            [4, 8, 12].map(|o| f32::from_bits(word(&bytes, at + o))),
+        ));
     }
-    let base = 16 + nv * VERTEX_RECORD;
+    let base = HEADER + nv * VERTEX_RECORD;
     let mut triangles = Vec::with_capacity(nf);
     for f in 0..nf {
-        let t = [0, 4, 8].map(|o| word(base + 12 * f + o));
+        let t = [0, 4, 8].map(|o| word(&bytes, base + 12 * f + o));
         if t.iter().any(|&v| v as usize >= nv) {
             return Err(bad("a triangle names a vertex it does not hold"));
         }

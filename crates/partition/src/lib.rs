@@ -244,7 +244,7 @@ pub fn simplify(
             .par_iter()
             .map(|&k| {
                 let chunk = manifest.chunk(&params.work_dir, k);
-                let skip = chunk.output_complete();
+                let skip = chunk.output_complete(ratio);
                 if !skip {
                     simplify_cell(&chunk, ratio)?;
                 }
@@ -258,7 +258,7 @@ pub fn simplify(
     })?;
     let cells_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let stitched = stitch(&params.work_dir, &manifest)?;
+    let stitched = stitch(&params.work_dir, &manifest, ratio)?;
     let stitched_faces = stitched.face_count();
     let coarse = pool.install(|| finish(stitched, params.target, &manifest, output))?;
     let (vertices, faces) = (coarse.vertex_count(), coarse.face_count());

@@ -8,11 +8,12 @@ use qem::{QemParams, Target};
 use rustc_hash::FxHashMap;
 use std::path::Path;
 
-/// Step 3: join the outputs of the cells of `manifest` in `work`. A shared vertex (locked in
+/// Step 3: join the outputs of the cells of `manifest` in `work`, simplified with `ratio` (an
+/// output made with another is refused). A shared vertex (locked in
 /// every cell that has it, so at the same position on every side) becomes one vertex; the
 /// others are each cell's own. Cells are joined in order, so the result is the same for any
 /// order in which they were simplified.
-pub fn stitch(work: &Path, manifest: &Manifest) -> Result<TriMesh, PartitionError> {
+pub fn stitch(work: &Path, manifest: &Manifest, ratio: f64) -> Result<TriMesh, PartitionError> {
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
     let mut shared: FxHashMap<u32, u32> = FxHashMap::default();
@@ -21,7 +22,7 @@ pub fn stitch(work: &Path, manifest: &Manifest) -> Result<TriMesh, PartitionErro
             continue;
         }
         let path = manifest.chunk(work, k).output;
-        let (ids, cell) = read_output(&path)?;
+        let (ids, cell) = read_output(&path, ratio)?;
         let mut index = Vec::with_capacity(ids.len());
         for (&g, &p) in ids.iter().zip(&cell.positions) {
             let next = positions.len() as u32;

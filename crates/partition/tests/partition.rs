@@ -201,6 +201,11 @@ fn a_resumed_run_redoes_only_the_missing_cell_and_writes_the_same_bytes() {
         std::fs::read(&first).unwrap(),
         std::fs::read(&second).unwrap()
     );
+    // Another target in the same folder: the partition is reused, no cell output is.
+    let other = simplify(&input, &second, &params(Target::Ratio(0.2), &work)).unwrap();
+    assert_eq!(other.cells_resumed, 0);
+    let want = (0.2 * report.input_faces as f64).round() as usize;
+    assert_eq!(load(&second).face_count(), want);
 }
 
 #[test]
