@@ -23,6 +23,7 @@ const SHARED: u16 = u16::MAX - 1;
 
 /// What the partition wrote: the input it was made from, its counts and the faces per cell.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Manifest {
     /// Length and modification time (ns since the epoch) of the input: a work folder made from
     /// another file is not reused.
@@ -57,6 +58,20 @@ impl Manifest {
     /// The files of cell `k` in `work`.
     pub fn chunk(&self, work: &Path, k: usize) -> CellChunk {
         chunk_paths(work, k)
+    }
+
+    /// The manifest of a complete partition in `work` (for a driver that runs the cells
+    /// elsewhere: [`Manifest::chunk`] names each cell's files).
+    pub fn load(work: &Path) -> Result<Manifest, PartitionError> {
+        let path = work.join("manifest");
+        let text = std::fs::read_to_string(&path).map_err(|source| PartitionError::Io {
+            path: path.clone(),
+            source,
+        })?;
+        Manifest::from_text(&text).ok_or_else(|| PartitionError::BadChunk {
+            path,
+            problem: "not a gng3d-partition 1 manifest".to_string(),
+        })
     }
 
     /// The fraction of the input's faces that `target` keeps.
@@ -178,10 +193,7 @@ pub(crate) fn reuse_or_partition(
     work: &Path,
     budget: u64,
 ) -> Result<Manifest, PartitionError> {
-    let found = std::fs::read_to_string(work.join("manifest"))
-        .ok()
-        .and_then(|t| Manifest::from_text(&t));
-    if let Some(m) = found
+    if let Ok(m) = Manifest::load(work)
         && m.input == identity(input)?
         && m.budget == budget
     {

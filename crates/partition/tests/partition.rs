@@ -185,6 +185,9 @@ fn a_resumed_run_redoes_only_the_missing_cell_and_writes_the_same_bytes() {
         .collect();
     assert_eq!(outputs.len(), report.cells);
     std::fs::remove_file(&outputs[outputs.len() / 2]).unwrap();
+    // The cell a driver elsewhere would run, by the manifest's names.
+    let manifest = partition::Manifest::load(&work).unwrap();
+    assert_eq!(manifest.faces as usize, report.input_faces);
     let again = simplify(&input, &second, &p).unwrap();
     assert_eq!(again.cells_resumed, report.cells - 1);
     assert_eq!(
