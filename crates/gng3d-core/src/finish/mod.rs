@@ -1,7 +1,7 @@
 //! The passes that finish an oversampled run's mesh after the reconstruction (GNG3D-Q): the
 //! QEM decimation to the target count ([`decimate`]), along the original's attribute seams
 //! ([`seams`]) and a CAD part's creases ([`creases`]), the relaxation of the decimated vertices
-//! ([`relax`]) and the deviation repair ([`deviation`]). They borrow their helpers from [`crate::surface`], never from each other
+//! ([`relax`]), the triangle shape pass ([`shape`]) and the deviation repair ([`deviation`]). They borrow their helpers from [`crate::surface`], never from each other
 //! or from the reconstruction's passes.
 
 pub(crate) mod creases;
@@ -9,3 +9,4 @@ pub(crate) mod decimate;
 pub(crate) mod deviation;
 pub(crate) mod relax;
 pub(crate) mod seams;
+pub(crate) mod shape;

@@ -37,9 +37,12 @@ impl Step {
             Step::Decimate => (0.0, 0.62),
             Step::Relax => (0.03, 2.3),
             Step::RepairDeviations => (0.5, 9.2),
+            // Not fitted: the closest-point structure of the original (as the repair's) and
+            // three rounds over the output (docs/notes/shape.md).
+            Step::Shape => (0.5, 6.0),
         };
         let vertices = match self {
-            Step::Relax | Step::RepairDeviations => sizes.output,
+            Step::Relax | Step::Shape | Step::RepairDeviations => sizes.output,
             _ => network_at(sizes.network, round),
         };
         (per_original * sizes.original as f64 + per_vertex * vertices as f64) * 1e-6
@@ -62,12 +65,13 @@ impl Step {
 ///    output's triangles straddle the seams: docs/notes/attributes.md, "Seams that follow the
 ///    original's");
 /// 6. then the oversampling (72 %; ×1.60, ×2.67).
-pub(crate) const CUT_ORDER: [Cut; 9] = [
+pub(crate) const CUT_ORDER: [Cut; 10] = [
     Cut::DetailBuilds,
     Cut::Step(Step::DetailRound),
     Cut::Step(Step::Flip),
     Cut::Step(Step::Refit),
     Cut::Step(Step::RepairDeviations),
+    Cut::Step(Step::Shape),
     Cut::Step(Step::Relax),
     Cut::Step(Step::SplitBadCells),
     Cut::Step(Step::CutSeams),

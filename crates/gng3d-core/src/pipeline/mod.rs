@@ -197,6 +197,7 @@ pub(crate) fn run(
                 work.decimate()?
             }
             Step::Relax => work.relax(),
+            Step::Shape => work.shape(),
             Step::RepairDeviations => work.repair_deviations(),
         };
         let seconds = t.elapsed().as_secs_f64();

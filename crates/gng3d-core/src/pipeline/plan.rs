@@ -26,6 +26,7 @@ use crate::params::ReconstructionParams;
 /// | [`Step::CutSeams`] | with an input whose attributes have seams or a CAD part's creases: the network's mesh is cut along them |
 /// | [`Step::Decimate`] | the oversampled network's mesh is decimated (QEM) to the output count |
 /// | [`Step::Relax`] | decimated vertices relax toward the original vertices they stand for |
+/// | [`Step::Shape`] | edges flip toward valence 6, vertices slide toward their one-ring's centroid on the original |
 /// | [`Step::RepairDeviations`] | vertices standing off the original move back; edges across grooves flip |
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(Serialize))]
@@ -59,6 +60,9 @@ pub enum Step {
     Decimate,
     /// Tangential relaxation of the decimated mesh (option (h)).
     Relax,
+    /// Triangle shape of the decimated mesh (option (k)): valence flips and tangential
+    /// smoothing onto the original.
+    Shape,
     /// Deviation repair of the decimated mesh (option (i)).
     RepairDeviations,
 }
@@ -79,6 +83,7 @@ impl Step {
             Step::CutSeams => "cut_seams",
             Step::Decimate => "decimate",
             Step::Relax => "relax",
+            Step::Shape => "shape",
             Step::RepairDeviations => "repair_deviations",
         }
     }
@@ -98,6 +103,7 @@ impl Step {
             Step::CutSeams => "vertices added on seams",
             Step::Decimate => "vertices removed",
             Step::Relax => "vertices moved",
+            Step::Shape => "vertex moves and flips",
             Step::RepairDeviations => "vertex moves and flips",
         }
     }
@@ -108,7 +114,7 @@ impl Step {
     pub(super) fn after_build(self) -> bool {
         matches!(
             self,
-            Step::CutSeams | Step::Decimate | Step::Relax | Step::RepairDeviations
+            Step::CutSeams | Step::Decimate | Step::Relax | Step::Shape | Step::RepairDeviations
         )
     }
 
@@ -160,8 +166,8 @@ impl Plan {
     ///   [`Step::Attach`], [`Step::Place`], [`Step::Flip`] with `flip_edges`, [`Step::Refit`]
     ///   when [`ReconstructionParams::refits`]) once, then once more after each of the
     ///   `detail_rounds` [`Step::DetailRound`]s;
-    /// - [`Step::Decimate`], then [`Step::Relax`] and [`Step::RepairDeviations`] when asked
-    ///   for, only when `decimates`.
+    /// - [`Step::Decimate`], then [`Step::Relax`], [`Step::Shape`] and
+    ///   [`Step::RepairDeviations`] when asked for, only when `decimates`.
     ///
     /// For an input whose attributes have seams, [`Plan::with_seams`].
     pub fn of(params: &ReconstructionParams, decimates: bool) -> Plan {
@@ -207,6 +213,9 @@ impl Plan {
             let last = detail_rounds;
             if params.relax {
                 add(Step::Relax, last);
+            }
+            if params.shape {
+                add(Step::Shape, last);
             }
             if params.repair_deviations {
                 add(Step::RepairDeviations, last);

@@ -510,6 +510,24 @@ impl<'a> Work<'a> {
         relaxed.moves
     }
 
+    /// [`Step::Shape`]: rounder triangles (valence flips, tangential smoothing onto the
+    /// original).
+    pub(super) fn shape(&mut self) -> usize {
+        if !self.decimated {
+            return 0;
+        }
+        let seams = self.seam_vertices();
+        let shaped = crate::finish::shape::shape(
+            &mut self.positions,
+            &mut self.triangles,
+            self.original,
+            seams.as_deref(),
+            self.step_deadline,
+            self.threads,
+        );
+        shaped.moves + shaped.flips
+    }
+
     /// [`Step::RepairDeviations`]: then bring back what stands farthest off the original.
     pub(super) fn repair_deviations(&mut self) -> usize {
         if !self.decimated {
