@@ -75,7 +75,7 @@ fn the_shape_pass_rounds_the_triangles_at_the_exact_count() {
     );
     assert!(m1 >= m0, "median smallest angle {m0:.1}° -> {m1:.1}°");
     // Still on the torus: the vertices' largest distance to it (analytic) no more than the
-    // plain run's by a wide margin (the pass keeps each vertex's offset from the original).
+    // plain run's by more than a quarter (the pass keeps each vertex's offset from the original).
     let off = |p: DVec3| (((p.x * p.x + p.y * p.y).sqrt() - r0).hypot(p.z) - r1).abs();
     let worst = |m: &TriMesh| {
         m.positions

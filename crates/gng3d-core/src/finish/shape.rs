@@ -258,3 +258,62 @@ fn fixed_vertices(
     }
     fixed
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Smallest angle of every face, degrees (acos of the normalised edge dots).
+    fn smallest_angles(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<f64> {
+        triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| positions[v as usize].as_dvec3());
+                let angle = |p: DVec3, q: DVec3, r: DVec3| (q - p).angle_between(r - p);
+                angle(a, b, c)
+                    .min(angle(b, c, a))
+                    .min(angle(c, a, b))
+                    .to_degrees()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_jittered_plane_rounds_out_in_the_plane_and_its_border_stays() {
+        let original = mesh::procedural::unit_square_grid(24);
+        let coarse = mesh::procedural::unit_square_grid(6);
+        // Shear the interior vertices into thin triangles, inside the plane (deterministic).
+        let mut positions = coarse.positions.clone();
+        for (i, p) in positions.iter_mut().enumerate() {
+            if p.x > 0.0 && p.x < 1.0 && p.y > 0.0 && p.y < 1.0 {
+                let s = if i % 2 == 0 { 1.0 } else { -1.0 };
+                p.x += s * 0.06;
+                p.y += s * 0.05;
+            }
+        }
+        let before = positions.clone();
+        let mut triangles = coarse.triangles.clone();
+        let worst = |a: &[f64]| a.iter().copied().fold(f64::INFINITY, f64::min);
+        let a0 = smallest_angles(&positions, &triangles);
+        let stats = shape(&mut positions, &mut triangles, &original, None, None, 2);
+        let a1 = smallest_angles(&positions, &triangles);
+        assert!(stats.moves > 0);
+        assert_eq!(triangles.len(), coarse.triangles.len());
+        let mean = |a: &[f64]| a.iter().sum::<f64>() / a.len() as f64;
+        assert!(
+            worst(&a1) > worst(&a0) + 5.0 && mean(&a1) > mean(&a0),
+            "smallest {:.1}° -> {:.1}°, mean {:.1}° -> {:.1}°",
+            worst(&a0),
+            worst(&a1),
+            mean(&a0),
+            mean(&a1)
+        );
+        for (p, q) in positions.iter().zip(&before) {
+            assert!(p.z.abs() < 1e-6, "left the plane: {p:?}");
+            let border = q.x == 0.0 || q.x == 1.0 || q.y == 0.0 || q.y == 1.0;
+            if border {
+                assert_eq!(p, q);
+            }
+        }
+    }
+}
