@@ -169,6 +169,17 @@ impl From<qem::QemError> for JobError {
     }
 }
 
+impl From<partition::PartitionError> for JobError {
+    /// A mesh file's problem as [`JobError::Mesh`], the rest in the partition's words (which
+    /// name the file).
+    fn from(e: partition::PartitionError) -> JobError {
+        match e {
+            partition::PartitionError::Mesh(e) => JobError::Mesh(e),
+            e => JobError::Partition(Box::new(e)),
+        }
+    }
+}
+
 /// How a front end spells options in messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Spelling {

@@ -174,7 +174,7 @@ pub(crate) fn simplify_file(
     options: &PartitionOptions,
     observer: &mut dyn Observer,
 ) -> Result<FileOutcome, JobError> {
-    let info = partition::inspect(input).map_err(partition_error)?;
+    let info = partition::inspect(input).map_err(JobError::from)?;
     let target = partition_target(request.target, info.vertices)?;
     let mut warnings: Vec<Warning> = dropped_attributes(request, &info.ignored)
         .map(|message| Warning {
@@ -214,7 +214,7 @@ pub(crate) fn simplify_file(
         run.join()
     })
     .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-    .map_err(partition_error)?;
+    .map_err(JobError::from)?;
     let seconds = start.elapsed().as_secs_f64();
     let model = mesh::Model::from(mesh::io::load(output)?);
     if let Some(shortfall) = reached(target, &report) {
@@ -256,13 +256,4 @@ fn reached(target: qem::Target, report: &partition::PartitionReport) -> Option<S
     // A face target may end one face short (an interior collapse removes two).
     (got > asked + usize::from(what == "faces"))
         .then(|| format!("target of {asked} {what} not reached: {got} {what}"))
-}
-
-/// The partition's error as the job's: a mesh file's problems as [`JobError::Mesh`], the
-/// rest in the partition's words (which name the file).
-fn partition_error(e: partition::PartitionError) -> JobError {
-    match e {
-        partition::PartitionError::Mesh(e) => JobError::Mesh(e),
-        e => JobError::Partition(Box::new(e)),
-    }
 }

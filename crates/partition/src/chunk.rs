@@ -218,9 +218,10 @@ fn identity(path: &Path) -> Result<(u64, u128), PartitionError> {
     Ok((meta.len(), modified))
 }
 
-/// The manifest of `work` if it was made from `input` with `budget`; otherwise the folder's
-/// chunk files are removed and [`partition`] runs.
-pub(crate) fn reuse_or_partition(
+/// The manifest of `work` if it was made from `input` with `budget` (a resumed run: its cells'
+/// outputs are kept); otherwise the folder's chunk files are removed and [`partition`] runs.
+/// Step 1 of [`crate::simplify`], public for a driver that runs the cells elsewhere.
+pub fn reuse_or_partition(
     input: &Path,
     work: &Path,
     budget: u64,

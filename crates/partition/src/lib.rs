@@ -49,7 +49,7 @@ mod ply;
 mod stitch;
 
 pub use cell::{CellReport, simplify_cell};
-pub use chunk::{CellChunk, InputInfo, Manifest, inspect, partition};
+pub use chunk::{CellChunk, InputInfo, Manifest, inspect, partition, reuse_or_partition};
 pub use stitch::{finish, stitch};
 
 use qem::Target;
