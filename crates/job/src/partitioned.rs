@@ -257,3 +257,32 @@ fn reached(target: qem::Target, report: &partition::PartitionReport) -> Option<S
     (got > asked + usize::from(what == "faces"))
         .then(|| format!("target of {asked} {what} not reached: {got} {what}"))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_read_with_their_units() {
+        for (text, bytes) in [
+            ("2GB", 2_000_000_000),
+            ("512MiB", 512 << 20),
+            ("1.5 kB", 1_500),
+            ("65536", 65_536),
+            ("1GiB", 1 << 30),
+        ] {
+            assert_eq!(parse_size(text).unwrap(), bytes, "{text}");
+        }
+        for bad in ["", "GB", "2 parsecs", "1..2GB"] {
+            assert!(parse_size(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+
+    #[test]
+    fn a_share_of_the_vertices_is_rounded_to_a_count() {
+        let t = partition_target(Target::Ratio(0.1), 10_242).unwrap();
+        assert_eq!(t, qem::Target::Vertices(1_024));
+        let t = partition_target(Target::FaceRatio(0.25), 10_242).unwrap();
+        assert_eq!(t, qem::Target::Ratio(0.25));
+    }
+}
