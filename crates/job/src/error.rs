@@ -57,6 +57,16 @@ pub enum JobError {
         /// What is wrong with it.
         message: String,
     },
+    /// QEM options that the partitioned run does not take.
+    #[error("{}", not_with_partition(options, Spelling::Keywords))]
+    NotWithPartition {
+        /// The options given.
+        options: Vec<Opt>,
+    },
+    /// The partitioned run failed (the message names the file: the input, a chunk of the work
+    /// folder, the output).
+    #[error(transparent)]
+    Partition(Box<partition::PartitionError>),
     /// The run was cancelled.
     #[error("cancelled")]
     Cancelled,
@@ -106,6 +116,7 @@ impl JobError {
             JobError::NotForMethod {
                 options, method, ..
             } => not_for_method(options, *method, spelling),
+            JobError::NotWithPartition { options } => not_with_partition(options, spelling),
             e => e.to_string(),
         }
     }
@@ -118,6 +129,12 @@ impl JobError {
                 mesh::error::MeshError::Io { .. } | mesh::error::MeshError::Write { .. },
             ) => ErrorKind::Io,
             JobError::Cancelled => ErrorKind::Cancelled,
+            JobError::Partition(e) if matches!(**e, partition::PartitionError::Io { .. }) => {
+                ErrorKind::Io
+            }
+            JobError::Partition(e) if matches!(**e, partition::PartitionError::Qem { .. }) => {
+                ErrorKind::Failed
+            }
             JobError::Gng(e) if matches!(**e, G::Cancelled) => ErrorKind::Cancelled,
             JobError::Qem(e) if matches!(**e, qem::QemError::Cancelled) => ErrorKind::Cancelled,
             JobError::Gng(e)
@@ -152,6 +169,17 @@ impl From<qem::QemError> for JobError {
     }
 }
 
+impl From<partition::PartitionError> for JobError {
+    /// A mesh file's problem as [`JobError::Mesh`], the rest in the partition's words (which
+    /// name the file).
+    fn from(e: partition::PartitionError) -> JobError {
+        match e {
+            partition::PartitionError::Mesh(e) => JobError::Mesh(e),
+            e => JobError::Partition(Box::new(e)),
+        }
+    }
+}
+
 /// How a front end spells options in messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Spelling {
@@ -178,6 +206,26 @@ fn not_for_method(options: &[Opt], method: Method, spelling: Spelling) -> String
         (Spelling::Keywords, false) => "method 'gng' and 'paper' only, not 'qem'",
     };
     format!("{} {verb} to {only}", and_list(&names))
+}
+
+/// "NAMES do not apply with the partition" of `options` refused for a partitioned run.
+fn not_with_partition(options: &[Opt], spelling: Spelling) -> String {
+    let names: Vec<String> = options
+        .iter()
+        .map(|o| match spelling {
+            Spelling::Flags => o.flag().to_string(),
+            Spelling::Keywords => o.keyword().to_string(),
+        })
+        .collect();
+    let (verb, with) = match spelling {
+        Spelling::Flags => ("does", "--partition auto"),
+        Spelling::Keywords => ("does", "partition='auto'"),
+    };
+    let verb = if names.len() == 1 { verb } else { "do" };
+    format!(
+        "{} {verb} not apply with {with}: the partitioned simplification is QEM to a size target, on positions, with the default options",
+        and_list(&names)
+    )
 }
 
 /// "NAME must be ..." or "NAME: what".

@@ -84,6 +84,11 @@ pub fn save(model: &Model, path: &Path) -> Result<KeptAttributes, JobError> {
     Ok(mesh::io::save(model, path)?)
 }
 
+/// Whether `a` and `b` name the same file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+}
+
 /// A file simplified into another.
 #[derive(Debug, Clone)]
 pub struct FileOutcome {
@@ -120,6 +125,15 @@ pub fn simplify_file(
 ) -> Result<FileOutcome, JobError> {
     request.validate()?;
     check_output(output)?;
+    if let crate::Partition::Auto(options) = &request.partition {
+        if input.exists() && output.exists() && same_file(input, output) {
+            return Err(JobError::Output {
+                path: output.to_path_buf(),
+                message: "is the input; choose another output".into(),
+            });
+        }
+        return crate::partitioned::simplify_file(input, output, request, options, observer);
+    }
     let loaded = load(input, request, &[output])?;
     on_loaded(&loaded.warnings);
     let outcome = crate::run(&loaded.model, request, observer)?;

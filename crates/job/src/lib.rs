@@ -9,6 +9,8 @@
 //!   [`Outcome`] out (the output model, a [`Summary`], the warnings); [`GngRun`], GNG3D's run
 //!   for a front end that steps the training itself (the viewer).
 //! - [`load`], [`save`], [`simplify_file`]: the same on files.
+//! - [`Partition`]: a mesh larger than memory, streamed through the `partition` crate (QEM on
+//!   positions only) when the request says [`Partition::Auto`]; [`simplify_file`] runs it.
 //! - [`batch`]: many files into one folder, a status row each (`gng3d batch`, Python's
 //!   `gng3d.batch`).
 //!
@@ -27,6 +29,7 @@ pub mod batch;
 mod error;
 mod file;
 mod gng;
+mod partitioned;
 mod request;
 mod run;
 mod summary;
@@ -34,9 +37,12 @@ mod summary;
 pub use error::{ErrorKind, JobError, Spelling};
 pub use file::{FileOutcome, Loaded, check_output, load, save, simplify_file};
 pub use gng::GngRun;
+pub use partitioned::{
+    Partition, PartitionOptions, default_work_dir, dropped_attributes, parse_size, partition_target,
+};
 pub use request::{
     AttributePolicy, DEFAULT_METHOD, DEFAULT_SEED, GngVariant, MAX_THREADS, Method, Opt,
     QemOptions, Request, Target, parse_placement, parse_signals, placement_name, signals_name,
 };
 pub use run::{Job, Observer, Outcome, run};
-pub use summary::{QemSummary, Summary, Warning};
+pub use summary::{PartitionSummary, QemSummary, StepSeconds, Summary, Warning};

@@ -315,10 +315,12 @@ pub enum Opt {
     LockBorder,
     MaxError,
     AttributeWeights,
+    Partition,
+    MemoryBudget,
 }
 
 /// Every option with its command-line flag and its Python keyword.
-const SPELLINGS: [(Opt, &str, &str); 22] = [
+const SPELLINGS: [(Opt, &str, &str); 24] = [
     (Opt::Method, "--method", "method"),
     (
         Opt::Target,
@@ -353,6 +355,8 @@ const SPELLINGS: [(Opt, &str, &str); 22] = [
         "--attribute-weights",
         "attribute_weights",
     ),
+    (Opt::Partition, "--partition", "partition"),
+    (Opt::MemoryBudget, "--memory-budget", "memory_budget"),
 ];
 
 impl Opt {
@@ -406,6 +410,9 @@ pub struct Request {
     pub gng: GngVariant,
     /// QEM's options.
     pub qem: QemOptions,
+    /// Whether the mesh is held in memory or streamed through the partition
+    /// ([`crate::Partition::Auto`]: QEM on positions only, for a mesh larger than memory).
+    pub partition: crate::Partition,
 }
 
 impl Request {
@@ -421,6 +428,7 @@ impl Request {
             weld: true,
             gng: GngVariant::default(),
             qem: QemOptions::default(),
+            partition: crate::Partition::Off,
         }
     }
 
@@ -455,6 +463,9 @@ impl Request {
                 ));
             }
             _ => {}
+        }
+        if let crate::Partition::Auto(options) = &self.partition {
+            crate::partitioned::validate(self, options)?;
         }
         if self.method.is_gng() {
             let mut refused = Vec::new();

@@ -20,6 +20,8 @@ pub trait Observer: Send {
     fn step(&mut self, _record: &StepRecord) {}
     /// QEM started contracting.
     fn contracting(&mut self) {}
+    /// The partitioned run finished `done` of its `total` cells.
+    fn cells(&mut self, _done: usize, _total: usize) {}
 }
 
 impl Observer for () {}
@@ -87,6 +89,10 @@ impl Outcome {
                     .unwrap_or(gng3d_core::StopReason::Completed)
             ),
             Summary::Qem(s) => format!("{} collapses", s.report.collapses),
+            Summary::Partition(s) => format!(
+                "{} cells ({} resumed), {} stitched faces",
+                s.cells, s.cells_resumed, s.stitched_faces
+            ),
         };
         format!(
             "{}: {iv} -> {v} vertices, {ifaces} -> {f} faces, {work} in {:.3} s; closed: {}, manifold: {}, genus: {}",

@@ -30,6 +30,82 @@ pub struct QemSummary {
     pub warnings: Vec<Warning>,
 }
 
+/// The partitioned run's summary (`--partition auto`): counts, the cells, seconds per step.
+#[derive(Debug, Clone, Serialize)]
+#[non_exhaustive]
+pub struct PartitionSummary {
+    /// `qem`.
+    pub method: &'static str,
+    /// `auto`.
+    pub partition: &'static str,
+    /// Vertex records and triangles of the input (not welded).
+    pub input_vertices: usize,
+    /// Triangles of the input.
+    pub input_faces: usize,
+    /// Output vertices.
+    pub vertices: usize,
+    /// Output faces.
+    pub faces: usize,
+    /// Wall time of the whole run, seconds (the output's writing included).
+    pub seconds: f64,
+    /// Cells with faces.
+    pub cells: usize,
+    /// Cells found finished by an earlier run and not redone.
+    pub cells_resumed: usize,
+    /// Vertices on the cells' borders (locked in the cells).
+    pub shared_vertices: usize,
+    /// Faces of the stitched cells before the final pass.
+    pub stitched_faces: usize,
+    /// Seconds of each step: `partition` (0 when an earlier run's was reused), `cells`,
+    /// `finish` (stitch, final pass, writing).
+    pub step_seconds: StepSeconds,
+    /// The work folder.
+    pub work_dir: std::path::PathBuf,
+    /// Why the output differs from the request (attributes dropped, a target not reached).
+    pub warnings: Vec<Warning>,
+}
+
+/// Seconds of the partitioned run's steps.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct StepSeconds {
+    /// The streaming partition.
+    pub partition: f64,
+    /// The cells.
+    pub cells: f64,
+    /// Stitch, final pass and writing.
+    pub finish: f64,
+}
+
+impl PartitionSummary {
+    pub(crate) fn new(
+        report: &partition::PartitionReport,
+        seconds: f64,
+        work_dir: std::path::PathBuf,
+        warnings: Vec<Warning>,
+    ) -> PartitionSummary {
+        PartitionSummary {
+            method: "qem",
+            partition: "auto",
+            input_vertices: report.input_vertices,
+            input_faces: report.input_faces,
+            vertices: report.vertices,
+            faces: report.faces,
+            seconds,
+            cells: report.cells,
+            cells_resumed: report.cells_resumed,
+            shared_vertices: report.shared_vertices,
+            stitched_faces: report.stitched_faces,
+            step_seconds: StepSeconds {
+                partition: report.seconds[0],
+                cells: report.seconds[1],
+                finish: report.seconds[2],
+            },
+            work_dir,
+            warnings,
+        }
+    }
+}
+
 /// What a run did: GNG3D's summary or QEM's, serialised with their fields at the top level.
 #[derive(Debug, Clone, Serialize)]
 #[serde(untagged)]
@@ -39,6 +115,8 @@ pub enum Summary {
     Gng(Box<gng3d_core::GngSummary>),
     /// A QEM run.
     Qem(Box<QemSummary>),
+    /// A partitioned QEM run.
+    Partition(Box<PartitionSummary>),
 }
 
 impl Summary {
@@ -47,6 +125,7 @@ impl Summary {
         match self {
             Summary::Gng(s) => s.method,
             Summary::Qem(s) => s.method,
+            Summary::Partition(s) => s.method,
         }
     }
 
@@ -55,6 +134,7 @@ impl Summary {
         match self {
             Summary::Gng(s) => (s.input_vertices, s.input_faces),
             Summary::Qem(s) => (s.report.input_vertices, s.report.input_faces),
+            Summary::Partition(s) => (s.input_vertices, s.input_faces),
         }
     }
 
@@ -63,6 +143,7 @@ impl Summary {
         match self {
             Summary::Gng(s) => (s.vertices, s.faces),
             Summary::Qem(s) => (s.vertices, s.faces),
+            Summary::Partition(s) => (s.vertices, s.faces),
         }
     }
 
@@ -71,6 +152,7 @@ impl Summary {
         match self {
             Summary::Gng(s) => s.seconds,
             Summary::Qem(s) => s.seconds,
+            Summary::Partition(s) => s.seconds,
         }
     }
 

@@ -153,6 +153,13 @@ impl Input {
         }
     }
 
+    fn ignored(&self) -> Vec<String> {
+        match self {
+            Input::Ply(s) => s.ignored(),
+            Input::Obj(s) => s.ignored(),
+        }
+    }
+
     fn read(
         &self,
         vertex: &mut dyn FnMut(u32, [f64; 3]) -> Result<(), PartitionError>,
@@ -163,6 +170,31 @@ impl Input {
             Input::Obj(s) => s.read(vertex, face),
         }
     }
+}
+
+/// What [`inspect`] found in an input.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct InputInfo {
+    /// Vertex records.
+    pub vertices: u64,
+    /// Face records (PLY) or `f` lines (OBJ), before triangulation.
+    pub faces: u64,
+    /// What the file holds besides positions and faces, which the partitioned simplification
+    /// ignores ("vertex property nx", "1200 vt lines"); empty when nothing.
+    pub ignored: Vec<String>,
+}
+
+/// The counts of `input` (PLY: its header; OBJ: one pass over its lines) and what it holds
+/// that the positions-only partition ignores, for a front end to resolve a target and say what
+/// is dropped before the run.
+pub fn inspect(input: &Path) -> Result<InputInfo, PartitionError> {
+    let stream = Input::open(input)?;
+    Ok(InputInfo {
+        vertices: stream.vertex_count() as u64,
+        faces: stream.face_count() as u64,
+        ignored: stream.ignored(),
+    })
 }
 
 /// A hidden temporary name next to `path`, for a write that ends with a rename.
@@ -186,9 +218,10 @@ fn identity(path: &Path) -> Result<(u64, u128), PartitionError> {
     Ok((meta.len(), modified))
 }
 
-/// The manifest of `work` if it was made from `input` with `budget`; otherwise the folder's
-/// chunk files are removed and [`partition`] runs.
-pub(crate) fn reuse_or_partition(
+/// The manifest of `work` if it was made from `input` with `budget` (a resumed run: its cells'
+/// outputs are kept); otherwise the folder's chunk files are removed and [`partition`] runs.
+/// Step 1 of [`crate::simplify`], public for a driver that runs the cells elsewhere.
+pub fn reuse_or_partition(
     input: &Path,
     work: &Path,
     budget: u64,

@@ -21,6 +21,10 @@
 //!    target) with nothing locked, down to the exact target, so no grid of border vertices
 //!    survives.
 //!
+//! For front ends: [`inspect`] reads an input's counts and names what a positions-only run
+//! ignores (to resolve a target and warn before the run); [`reuse_or_partition`] is step 1 with
+//! the resume check, for a driver that runs the cells elsewhere (`gng3d.distributed`).
+//!
 //! Memory of the partition: the budget's cell buffers plus 4 bytes per input vertex (its cell
 //! and the cell that uses it, `u16` each); the mesh itself is never held.
 //!
@@ -49,7 +53,7 @@ mod ply;
 mod stitch;
 
 pub use cell::{CellReport, simplify_cell};
-pub use chunk::{CellChunk, Manifest, partition};
+pub use chunk::{CellChunk, InputInfo, Manifest, inspect, partition, reuse_or_partition};
 pub use stitch::{finish, stitch};
 
 use qem::Target;

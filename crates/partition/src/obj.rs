@@ -17,11 +17,17 @@ use std::path::{Path, PathBuf};
 const BUFFER: usize = 1 << 20;
 
 /// An opened OBJ file and its counts.
+/// The kinds of OBJ lines that carry attributes a positions-only run does not read.
+const IGNORED: [&str; 4] = ["vt", "vn", "usemtl", "mtllib"];
+
 #[derive(Debug)]
 pub(crate) struct ObjStream {
     path: PathBuf,
     vertices: u64,
     faces: u64,
+    /// Lines of the kinds a positions-only run ignores (`vt`, `vn`, `usemtl`, `mtllib`), with
+    /// their counts.
+    ignored: Vec<(&'static str, u64)>,
 }
 
 impl ObjStream {
@@ -31,16 +37,24 @@ impl ObjStream {
             path: path.to_path_buf(),
             vertices: 0,
             faces: 0,
+            ignored: Vec::new(),
         };
         let (mut v, mut f) = (0u64, 0u64);
+        let mut ignored = IGNORED.map(|k| (k, 0u64));
         stream.lines(&mut |_, line| {
             match line.split_ascii_whitespace().next() {
                 Some("v") => v += 1,
                 Some("f") => f += 1,
-                _ => {}
+                Some(kind) => {
+                    if let Some(slot) = ignored.iter_mut().find(|(k, _)| *k == kind) {
+                        slot.1 += 1;
+                    }
+                }
+                None => {}
             }
             Ok(())
         })?;
+        stream.ignored = ignored.into_iter().filter(|(_, n)| *n > 0).collect();
         if v > u64::from(u32::MAX) {
             return Err(PartitionError::Malformed {
                 path: path.to_path_buf(),
@@ -49,6 +63,14 @@ impl ObjStream {
         }
         (stream.vertices, stream.faces) = (v, f);
         Ok(stream)
+    }
+
+    /// The ignored kinds of lines found ("1200 vt lines").
+    pub(crate) fn ignored(&self) -> Vec<String> {
+        self.ignored
+            .iter()
+            .map(|(k, n)| format!("{n} {k} lines"))
+            .collect()
     }
 
     /// `v` lines.

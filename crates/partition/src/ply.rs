@@ -259,6 +259,29 @@ impl PlyStream {
         })
     }
 
+    /// What the header holds besides the positions and the faces' index lists ("vertex
+    /// property nx", "element edge"): what a positions-only run ignores.
+    pub(crate) fn ignored(&self) -> Vec<String> {
+        let mut ignored = Vec::new();
+        for (k, element) in self.elements.iter().enumerate() {
+            if k != self.vertex && k != self.face {
+                ignored.push(format!("element {}", element.name));
+                continue;
+            }
+            for (p, (name, _)) in element.properties.iter().enumerate() {
+                let used = if k == self.vertex {
+                    self.xyz.contains(&p)
+                } else {
+                    p == self.indices
+                };
+                if !used {
+                    ignored.push(format!("{} property {name}", element.name));
+                }
+            }
+        }
+        ignored
+    }
+
     /// Vertex records the header announces (checked against the file's length).
     pub(crate) fn vertex_count(&self) -> usize {
         self.elements[self.vertex].count as usize

@@ -319,3 +319,31 @@ fn ascii_binary_and_obj_inputs_give_the_same_output() {
     assert_eq!(reference, out(&ascii, "y.ply"));
     assert_eq!(reference, out(&obj_path, "z.ply"));
 }
+
+#[test]
+fn inspect_counts_and_names_what_a_positions_only_run_ignores() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("quad.obj");
+    std::fs::write(
+        &obj,
+        "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\nusemtl m\nf 1/1/1 2/2/1 3/3/1 4/3/1\n",
+    )
+    .unwrap();
+    let info = partition::inspect(&obj).unwrap();
+    assert_eq!((info.vertices, info.faces), (4, 1));
+    assert_eq!(
+        info.ignored,
+        [
+            "3 vt lines",
+            "1 vn lines",
+            "1 usemtl lines",
+            "1 mtllib lines"
+        ]
+    );
+    let ply = dir.path().join("sphere.ply");
+    let grid = generate::write_displaced_sphere(&ply, 2_000, 3).unwrap();
+    let info = partition::inspect(&ply).unwrap();
+    assert_eq!(info.vertices as usize, grid.vertices());
+    assert_eq!(info.faces as usize, grid.faces());
+    assert!(info.ignored.is_empty(), "{:?}", info.ignored);
+}

@@ -7,6 +7,7 @@ mod batch;
 mod convert;
 mod file;
 mod keywords;
+mod partition;
 mod run;
 mod trainer;
 
@@ -45,7 +46,10 @@ fn warn_about(
 }
 
 /// A JSON value as the Python object `json.loads` makes of it.
-fn to_python<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+pub(crate) fn to_python<'py>(
+    py: Python<'py>,
+    value: &serde_json::Value,
+) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?
         .call_method1("loads", (value.to_string(),))
 }
@@ -656,6 +660,7 @@ fn _gng3d(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<SimplifyResult>()?;
     m.add_class::<trainer::Trainer>()?;
     batch::register(m)?;
+    partition::register(m)?;
     m.add("Gng3dWarning", m.py().get_type::<Gng3dWarning>())?;
     // GNG3D's seed when none is given: the library's default, which the CLI's is too.
     m.add("DEFAULT_SEED", run::default_seed())?;

@@ -188,7 +188,9 @@ pub(crate) fn gng_request(
 /// its causes (the OS's reason behind a file that cannot be read).
 pub(crate) fn job_error(e: job::JobError) -> anyhow::Error {
     match e {
-        job::JobError::Option { .. } | job::JobError::NotForMethod { .. } => {
+        job::JobError::Option { .. }
+        | job::JobError::NotForMethod { .. }
+        | job::JobError::NotWithPartition { .. } => {
             anyhow::anyhow!(e.message(job::Spelling::Flags))
         }
         e => anyhow::Error::new(e),

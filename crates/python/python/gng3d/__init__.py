@@ -9,6 +9,7 @@
   atomic; ``load`` warns when a file holds attributes it does not return).
 - :class:`Trainer` -- GNG3D step by step (live plots in notebooks).
 - :mod:`gng3d.batch` -- many files at once, on a process pool or a Dask cluster.
+- :mod:`gng3d.distributed` -- one mesh larger than memory, its cells on a Dask cluster.
 
 The Rust libraries of the gng3d project do the work, with the same options, checks and
 reports as the ``gng3d`` command-line tool, and release the GIL while they do.

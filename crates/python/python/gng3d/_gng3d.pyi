@@ -132,6 +132,30 @@ def allow_outside_references(allowed: bool) -> None:
     """Let models read the files they name outside their own folder (process-wide; trusted
     models only)."""
 
+# The partitioned simplification's steps (`gng3d.distributed`, issue 50).
+
+def partition_plan(
+    input: _PathLike, output: _PathLike, work_dir: _PathLike, memory_budget: int, **options: Unpack[Options]
+) -> dict[str, Any]:
+    """Check the request for a partitioned run (QEM, positions only), resolve the target, cut
+    ``input`` (PLY or OBJ) into cells of ``memory_budget`` bytes in ``work_dir`` (or reuse an
+    earlier cut): ``cells``, ``ratio``, ``target``, ``input_vertices``, ``input_faces``,
+    ``shared_vertices``, ``warnings``, ``seconds``."""
+
+def partition_cell(work_dir: _PathLike, cell: int, ratio: float) -> dict[str, Any]:
+    """Simplify one cell from the work folder's files (skipped when finished earlier):
+    ``cell``, ``resumed``, ``input_faces``, ``locked``, ``faces``, ``seconds``."""
+
+def partition_finish(work_dir: _PathLike, output: _PathLike, target: str) -> dict[str, Any]:
+    """Stitch the finished cells, simplify to the plan's ``target``, write ``output``:
+    ``vertices``, ``faces``, ``stitched_faces``, ``seconds``."""
+
+def parse_size(text: str) -> int:
+    """A size such as ``"2GB"`` or ``"512MiB"`` in bytes, as the CLI's ``--memory-budget``."""
+
+def partition_work_dir(output: _PathLike) -> _PathLike:
+    """The default work folder of a partitioned run writing ``output``."""
+
 @final
 class Trainer:
     """GNG3D step by step."""

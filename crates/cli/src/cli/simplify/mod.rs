@@ -51,6 +51,17 @@ impl From<AttributesArg> for AttributePolicy {
     }
 }
 
+/// Whether the mesh is held in memory or streamed through the partition (`job::Partition`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PartitionArg {
+    /// The whole mesh in memory (the default).
+    Off,
+    /// A mesh larger than memory: cut into cells that fit --memory-budget, each simplified
+    /// with its border locked, stitched, finished to the exact target (QEM on positions only;
+    /// PLY or OBJ input).
+    Auto,
+}
+
 /// Arguments of `gng3d simplify`.
 #[derive(Debug, Args)]
 pub struct SimplifyArgs {
@@ -126,6 +137,22 @@ pub struct SimplifyArgs {
     /// GNG3D variant: placement, flips, paper protocol.
     #[command(flatten)]
     pub gng: crate::cli::GngVariantArgs,
+    /// One mesh larger than memory: `auto` streams it through the partitioned simplification
+    /// (QEM on positions only, PLY or OBJ input, never held whole; the partition does not weld).
+    #[arg(long, value_enum, default_value_t = PartitionArg::Off)]
+    pub partition: PartitionArg,
+    /// With --partition auto: memory one cell may take while it is simplified, e.g. 2GB or
+    /// 512MiB (default 1GiB; a cell takes about 200 bytes a face).
+    #[arg(long, value_name = "SIZE")]
+    pub memory_budget: Option<String>,
+    /// With --partition auto: the folder of the chunk files (default: OUT's name with
+    /// `.gng3d-work`, beside it). A run killed before the end resumes from its finished cells
+    /// when rerun with the same folder.
+    #[arg(long, value_name = "DIR")]
+    pub work_dir: Option<PathBuf>,
+    /// With --partition auto: keep the work folder after a successful run.
+    #[arg(long)]
+    pub keep_work: bool,
     /// Keep exact duplicate positions unwelded (welding is on by default).
     #[arg(long)]
     pub no_weld: bool,
@@ -172,8 +199,39 @@ fn request(args: &SimplifyArgs) -> anyhow::Result<Request> {
             .map(attribute_weights)
             .transpose()?,
     };
+    request.partition = partition(args)?;
     request.validate().map_err(crate::cli::job_error)?;
     Ok(request)
+}
+
+/// The partition of `--partition`, `--memory-budget`, `--work-dir` and `--keep-work`.
+fn partition(args: &SimplifyArgs) -> anyhow::Result<job::Partition> {
+    if args.partition == PartitionArg::Off {
+        let given: Vec<&str> = [
+            (args.memory_budget.is_some(), "--memory-budget"),
+            (args.work_dir.is_some(), "--work-dir"),
+            (args.keep_work, "--keep-work"),
+        ]
+        .into_iter()
+        .filter_map(|(given, flag)| given.then_some(flag))
+        .collect();
+        if !given.is_empty() {
+            bail!("{} applies with --partition auto only", given.join(", "));
+        }
+        return Ok(job::Partition::Off);
+    }
+    if args.lods.is_some() {
+        bail!("--lods does not apply with --partition auto: give one target");
+    }
+    let mut options = job::PartitionOptions {
+        work_dir: args.work_dir.clone(),
+        keep_work: args.keep_work,
+        ..job::PartitionOptions::default()
+    };
+    if let Some(size) = &args.memory_budget {
+        options.memory_budget = job::parse_size(size).map_err(crate::cli::job_error)?;
+    }
+    Ok(job::Partition::Auto(options))
 }
 
 /// `--attribute-weights uv=W,normal=W,color=W`: any of the three names, each at most once; the

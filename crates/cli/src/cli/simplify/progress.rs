@@ -1,6 +1,6 @@
 //! Progress of `gng3d simplify` on stderr (`job::Observer`): signals while GNG3D trains, then
 //! the steps after training, counted and named as they run (GNG3D-Q spends most of a run
-//! there); a spinner while QEM contracts.
+//! there); a spinner while QEM contracts; the cells done with `--partition auto`.
 
 use gng3d_core::{PlannedStep, Progress, StepRecord};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -94,6 +94,19 @@ impl job::Observer for JobBar {
             bar.set_position(self.next as u64);
             bar.set_message(message);
         }
+    }
+
+    fn cells(&mut self, done: usize, total: usize) {
+        let json = self.json;
+        let bar = self.bar.get_or_insert_with(|| {
+            crate::cli::progress::bar(
+                total as u64,
+                "{spinner} [{elapsed_precise}] {bar:20} {pos}/{len} cells",
+                json,
+            )
+        });
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
     }
 
     fn contracting(&mut self) {
