@@ -186,7 +186,8 @@ fn spot_keeps_its_texture_coordinates_where_they_were() {
     assert_eq!(kept.kinds(), vec![mesh::AttributeKind::Uv0]);
     assert!(!kept.seam_edges(&out).is_empty());
     // Every output vertex's texture coordinates are one of the original's at the closest point
-    // of the original surface (within 2 % of the texture on 95 % of the wedges).
+    // of the original surface (within 1.5 % of the texture on 95 % of the wedges: 1.04 %
+    // measured; with seam vertices free to leave their seam's plane it was 5.3 %).
     let uv = kept.uv0.as_ref().unwrap();
     let mut errors: Vec<f32> = (0..kept.wedge_count())
         .map(|w| {
@@ -201,7 +202,7 @@ fn spot_keeps_its_texture_coordinates_where_they_were() {
     let p95 = errors[errors.len() * 95 / 100];
     let median = errors[errors.len() / 2];
     assert!(
-        median < 2e-3 && p95 < 0.02,
+        median < 2e-3 && p95 < 0.015,
         "median {median}, 95th percentile {p95}"
     );
     let _ = DVec3::ZERO;
