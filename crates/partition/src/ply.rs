@@ -3,8 +3,9 @@
 //! types; elements other than `vertex` and `face` are skipped (seeked over when fixed-size).
 //!
 //! mesh::io has the project's PLY loader, but it parses a file held in memory and its header
-//! types are private to it; this reader reads from a file handle. (Integrator: the header
-//! parser could move to one public place in mesh::io and serve both.)
+//! types are private to it; this reader reads from a file handle, so the header's scalar types
+//! and element declarations are parsed twice (the next step: one public header parser in
+//! mesh::io serving both).
 //!
 //! Nothing in the header is trusted beyond what the file holds: the element counts are checked
 //! against the file's length (a record takes at least its binary size, or two bytes per scalar
