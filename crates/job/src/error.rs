@@ -191,13 +191,7 @@ pub enum Spelling {
 
 /// "NAMES apply to METHOD only" of `options` refused for `method`.
 fn not_for_method(options: &[Opt], method: Method, spelling: Spelling) -> String {
-    let names: Vec<String> = options
-        .iter()
-        .map(|o| match spelling {
-            Spelling::Flags => o.flag().to_string(),
-            Spelling::Keywords => o.keyword().to_string(),
-        })
-        .collect();
+    let names = spelled(options, spelling);
     let verb = if names.len() == 1 { "applies" } else { "apply" };
     let only = match (spelling, method.is_gng()) {
         (Spelling::Flags, true) => "QEM only (--method qem)",
@@ -210,22 +204,27 @@ fn not_for_method(options: &[Opt], method: Method, spelling: Spelling) -> String
 
 /// "NAMES do not apply with the partition" of `options` refused for a partitioned run.
 fn not_with_partition(options: &[Opt], spelling: Spelling) -> String {
-    let names: Vec<String> = options
+    let names = spelled(options, spelling);
+    let with = match spelling {
+        Spelling::Flags => "--partition auto",
+        Spelling::Keywords => "partition='auto'",
+    };
+    let verb = if names.len() == 1 { "does" } else { "do" };
+    format!(
+        "{} {verb} not apply with {with}: the partitioned simplification is QEM to a size target, on positions, with the default options",
+        and_list(&names)
+    )
+}
+
+/// The names of `options` as the front end spells them.
+fn spelled(options: &[Opt], spelling: Spelling) -> Vec<String> {
+    options
         .iter()
         .map(|o| match spelling {
             Spelling::Flags => o.flag().to_string(),
             Spelling::Keywords => o.keyword().to_string(),
         })
-        .collect();
-    let (verb, with) = match spelling {
-        Spelling::Flags => ("does", "--partition auto"),
-        Spelling::Keywords => ("does", "partition='auto'"),
-    };
-    let verb = if names.len() == 1 { verb } else { "do" };
-    format!(
-        "{} {verb} not apply with {with}: the partitioned simplification is QEM to a size target, on positions, with the default options",
-        and_list(&names)
-    )
+        .collect()
 }
 
 /// "NAME must be ..." or "NAME: what".

@@ -50,6 +50,18 @@ impl CellChunk {
     }
 }
 
+/// [`simplify_cell`], unless the cell's output from an earlier run with this `ratio` is
+/// complete ([`CellChunk::output_complete`]): then `None`, and the cell is not redone (resume).
+pub fn resume_or_simplify_cell(
+    chunk: &CellChunk,
+    ratio: f64,
+) -> Result<Option<CellReport>, PartitionError> {
+    if chunk.output_complete(ratio) {
+        return Ok(None);
+    }
+    simplify_cell(chunk, ratio).map(Some)
+}
+
 /// Simplify one cell: read its chunks, lock its shared vertices, reduce it to
 /// `ratio × (faces − band) × 2 + band` faces (`band`: the faces touching a locked vertex, which
 /// the cell cannot reduce) and write its output chunk atomically. A function of the chunk files

@@ -55,6 +55,13 @@ pub struct CellChunk {
 }
 
 impl Manifest {
+    /// The cells that hold faces (the others have nothing to simplify).
+    pub fn cells(&self) -> Vec<usize> {
+        (0..self.cell_faces.len())
+            .filter(|&k| self.cell_faces[k] > 0)
+            .collect()
+    }
+
     /// The files of cell `k` in `work`.
     pub fn chunk(&self, work: &Path, k: usize) -> CellChunk {
         chunk_paths(work, k)

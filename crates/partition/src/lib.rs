@@ -52,7 +52,7 @@ mod obj;
 mod ply;
 mod stitch;
 
-pub use cell::{CellReport, simplify_cell};
+pub use cell::{CellReport, resume_or_simplify_cell, simplify_cell};
 pub use chunk::{CellChunk, InputInfo, Manifest, inspect, partition, reuse_or_partition};
 pub use stitch::{finish, stitch};
 
@@ -239,19 +239,14 @@ pub fn simplify(
     let partition_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let ratio = manifest.face_ratio(params.target);
-    let cells: Vec<usize> = (0..manifest.cell_faces.len())
-        .filter(|&k| manifest.cell_faces[k] > 0)
-        .collect();
+    let cells = manifest.cells();
     let done = std::sync::atomic::AtomicUsize::new(0);
     let resumed: Vec<bool> = pool.install(|| {
         cells
             .par_iter()
             .map(|&k| {
                 let chunk = manifest.chunk(&params.work_dir, k);
-                let skip = chunk.output_complete(ratio);
-                if !skip {
-                    simplify_cell(&chunk, ratio)?;
-                }
+                let skip = resume_or_simplify_cell(&chunk, ratio)?.is_none();
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 if let Some(progress) = &params.progress {
                     progress(n, cells.len());

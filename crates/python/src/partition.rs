@@ -54,9 +54,7 @@ pub fn partition_plan<'py>(
             Ok((info, target, manifest))
         })
         .map_err(keywords::job_error)?;
-    let cells: Vec<usize> = (0..manifest.cell_faces.len())
-        .filter(|&k| manifest.cell_faces[k] > 0)
-        .collect();
+    let cells = manifest.cells();
     let warnings: Vec<String> = job::dropped_attributes(&request, &info.ignored)
         .into_iter()
         .collect();
@@ -88,10 +86,7 @@ pub fn partition_cell<'py>(
     let report = py
         .detach(|| -> Result<_, partition::PartitionError> {
             let chunk = partition::Manifest::load(&work_dir)?.chunk(&work_dir, cell);
-            if chunk.output_complete(ratio) {
-                return Ok(None);
-            }
-            partition::simplify_cell(&chunk, ratio).map(Some)
+            partition::resume_or_simplify_cell(&chunk, ratio)
         })
         .map_err(error)?;
     let value = serde_json::json!({
