@@ -264,6 +264,11 @@ pub enum StopReason {
     MaxError,
     /// No valid contraction was left (topology / flip checks blocked the rest): best effort.
     NoValidPairs,
+    /// No valid contraction was left in a run that keeps attributes, and most vertices left
+    /// are where the attributes' seams end or cross ([`QemReport::fixed_seam_vertices`]),
+    /// which such a run never contracts (nor does meshoptimizer's): the texture layout is the
+    /// floor. The same mesh without its attributes goes further.
+    Seams,
 }
 
 /// Outcome of [`simplify`].
@@ -298,6 +303,10 @@ pub struct QemReport {
     /// there); `None` without it.
     #[serde(default)]
     pub max_relative_error: Option<f64>,
+    /// Vertices of the output where the attributes' seams end or cross (a run that keeps
+    /// attributes never contracts them); 0 without attributes.
+    #[serde(default)]
+    pub fixed_seam_vertices: usize,
 }
 
 impl QemReport {
@@ -333,11 +342,20 @@ impl QemReport {
             ),
         };
         let why = match self.stop_reason {
-            StopReason::TargetReached => "target reached",
-            StopReason::MaxError => "no further contraction stays within the error bound",
+            StopReason::TargetReached => "target reached".to_string(),
+            StopReason::MaxError => {
+                "no further contraction stays within the error bound".to_string()
+            }
             StopReason::NoValidPairs => {
                 "no further contraction keeps the mesh's topology or passes the normal check"
+                    .to_string()
             }
+            StopReason::Seams => format!(
+                "{} of the vertices left are where texture or attribute seams end or cross, \
+                 which a run that keeps the attributes does not contract; with the \
+                 attributes dropped it goes further",
+                self.fixed_seam_vertices
+            ),
         };
         Some(format!("QEM stopped at {at}: {why}"))
     }

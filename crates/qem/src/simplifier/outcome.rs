@@ -26,6 +26,7 @@ pub(super) fn report(
         virtual_pairs: run.virtual_pairs,
         passes: run.passes,
         max_relative_error: run.max_relative_error,
+        fixed_seam_vertices: run.fixed_seam_vertices,
     }
 }
 
@@ -47,6 +48,8 @@ pub(super) struct Run {
     pub(super) virtual_pairs: usize,
     /// With `max_relative_error`: the largest relative error of a performed contraction.
     pub(super) max_relative_error: Option<f64>,
+    /// Output vertices that are fixed seam vertices (attribute runs; 0 otherwise).
+    pub(super) fixed_seam_vertices: usize,
 }
 
 impl Run {
@@ -61,6 +64,7 @@ impl Run {
             stop_reason: StopReason::NoValidPairs,
             virtual_pairs: 0,
             max_relative_error: None,
+            fixed_seam_vertices: 0,
         }
     }
 }
