@@ -164,3 +164,53 @@ fn qem_refuses_shape_and_creases_naming_them() {
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("--shape"), "{}", stderr(&o));
 }
+
+#[test]
+fn compare_takes_shape_and_creases_and_names_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.obj");
+    mesh::io::save(&mesh::procedural::icosphere(3).into(), &input).unwrap();
+    let compare = |extra: &[&str]| {
+        let mut args = vec![
+            "compare",
+            s(&input),
+            "--vertices",
+            "160",
+            "--samples",
+            "2000",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        json_of(&gng3d(&args))
+    };
+    let plain = compare(&[]);
+    let both = compare(&["--shape", "--creases"]);
+    let label = both["gng_variant"].as_str().unwrap();
+    assert!(
+        label.contains("shape pass") && label.contains("creases"),
+        "{label}"
+    );
+    let plain_label = plain["gng_variant"].as_str().unwrap();
+    assert!(
+        !plain_label.contains("shape") && !plain_label.contains("creases"),
+        "{plain_label}"
+    );
+    // The shape pass ran: the GNG3D-Q column's triangles changed, QEM's did not.
+    let angle = |v: &serde_json::Value, method: &str| {
+        v[method]["metrics"]["quality"]["simplified"]["median_min_angle_degrees"]
+            .as_f64()
+            .unwrap()
+    };
+    assert_ne!(angle(&plain, "gng"), angle(&both, "gng"));
+    assert_eq!(angle(&plain, "qem"), angle(&both, "qem"));
+    // `--paper` has no decimation for them to act on: refused by the parser.
+    let o = gng3d(&[
+        "compare",
+        s(&input),
+        "--vertices",
+        "160",
+        "--paper",
+        "--shape",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
