@@ -16,7 +16,8 @@ GNG_FIELDS = {
     "training_seconds",
     "target_vertices", "nodes", "oversample", "network_vertices", "placement", "signals",
     "flips", "refit", "detail_rounds", "detail_nodes", "relax", "relaxed_vertices",
-    "repair_deviations", "deviation_moves", "deviation_flips", "shape", "creases", "steps", "warnings", "closed",
+    "repair_deviations", "deviation_moves", "deviation_flips", "shape", "creases", "steps",
+    "warnings", "closed",
     "manifold", "genus", "boundary_edges", "non_manifold_edges",
 }  # fmt: skip
 # `gng3d simplify --method qem --json`, plus the warnings the CLI prints on stderr.
