@@ -131,6 +131,12 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         ""
     };
+    let shape = if options.oversample_factor() > 1.0 && r.shape {
+        ", shape pass"
+    } else {
+        ""
+    };
+    let creases = if r.creases { ", creases" } else { "" };
     let signals = match options.signal_source {
         gng3d_core::SignalSource::Vertices => "",
         gng3d_core::SignalSource::Surface => ", surface signals",
@@ -142,7 +148,7 @@ pub fn variant_label(options: &GngOptions) -> String {
         "GNG3D-Q"
     };
     format!(
-        "{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}{detail}{relax}{repair}"
+        "{name}: {placement}, {flips}{refit}, {budget}{signals}{oversample}{detail}{relax}{shape}{repair}{creases}"
     )
 }
 

@@ -282,6 +282,13 @@ pub struct GngSummary {
     pub deviation_moves: usize,
     /// Edges it flipped.
     pub deviation_flips: usize,
+    /// Whether the triangle-shape pass after the decimation is on
+    /// ([`crate::ReconstructionParams::shape`]; it runs only when the network's mesh was
+    /// decimated: step `shape`).
+    pub shape: bool,
+    /// Whether CAD creases are on ([`crate::ReconstructionParams::creases`]; they are cut along
+    /// only on a CAD part: step `cut_seams`).
+    pub creases: bool,
     /// The steps after training that ran, in order: name, build round, seconds and what each
     /// changed ([`crate::Plan`], [`crate::StepRecord`]).
     pub steps: Vec<crate::StepRecord>,
@@ -338,6 +345,8 @@ impl GngSummary {
             repair_deviations: params.reconstruction.repair_deviations,
             deviation_moves: r.deviation_moves,
             deviation_flips: r.deviation_flips,
+            shape: params.reconstruction.shape,
+            creases: params.reconstruction.creases,
             steps: result.report.steps.clone(),
             warnings: result.report.warnings.clone(),
             closed: t.closed,

@@ -219,6 +219,12 @@ pub struct GngVariant {
     pub oversample: Option<f64>,
     /// GNG3D-Q's rounds of detail nodes (`--detail-rounds`, `detail_rounds=`).
     pub detail_rounds: Option<usize>,
+    /// GNG3D-Q's triangle-shape pass after the decimation (`--shape`, `shape=`;
+    /// `ReconstructionParams::shape`, docs/notes/shape.md).
+    pub shape: Option<bool>,
+    /// GNG3D-Q's CAD creases (`--creases`, `creases=`; `ReconstructionParams::creases`,
+    /// docs/notes/creases.md).
+    pub creases: Option<bool>,
 }
 
 impl GngVariant {
@@ -234,6 +240,8 @@ impl GngVariant {
             (self.signals.is_some(), Opt::Signals),
             (self.oversample.is_some(), Opt::Oversample),
             (self.detail_rounds.is_some(), Opt::DetailRounds),
+            (self.shape.is_some(), Opt::Shape),
+            (self.creases.is_some(), Opt::Creases),
         ]
         .into_iter()
         .filter_map(|(given, opt)| given.then_some(opt))
@@ -270,6 +278,12 @@ impl GngVariant {
         }
         if self.detail_rounds.is_some() {
             options.detail_rounds = self.detail_rounds;
+        }
+        if let Some(s) = self.shape {
+            options.reconstruction.shape = s;
+        }
+        if let Some(c) = self.creases {
+            options.reconstruction.creases = c;
         }
     }
 }
@@ -311,6 +325,8 @@ pub enum Opt {
     Signals,
     Oversample,
     DetailRounds,
+    Shape,
+    Creases,
     Threshold,
     LockBorder,
     MaxError,
@@ -320,7 +336,7 @@ pub enum Opt {
 }
 
 /// Every option with its command-line flag and its Python keyword.
-const SPELLINGS: [(Opt, &str, &str); 24] = [
+const SPELLINGS: [(Opt, &str, &str); 26] = [
     (Opt::Method, "--method", "method"),
     (
         Opt::Target,
@@ -347,6 +363,8 @@ const SPELLINGS: [(Opt, &str, &str); 24] = [
     (Opt::Signals, "--signals", "signals"),
     (Opt::Oversample, "--oversample", "oversample"),
     (Opt::DetailRounds, "--detail-rounds", "detail_rounds"),
+    (Opt::Shape, "--shape", "shape"),
+    (Opt::Creases, "--creases", "creases"),
     (Opt::Threshold, "--threshold", "threshold"),
     (Opt::LockBorder, "--lock-border", "lock_border"),
     (Opt::MaxError, "--max-error", "max_error"),

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 /// Every keyword a run takes, in the order the stubs list them (`gng3d._gng3d.KEYWORDS`).
-pub const KEYWORDS: [&str; 21] = [
+pub const KEYWORDS: [&str; 23] = [
     "vertices_target",
     "faces_target",
     "ratio",
@@ -28,6 +28,8 @@ pub const KEYWORDS: [&str; 21] = [
     "signals",
     "oversample",
     "detail_rounds",
+    "shape",
+    "creases",
     "threshold",
     "lock_border",
     "max_error",
@@ -127,6 +129,8 @@ pub fn request(
         signals: named(options, "signals", job::parse_signals)?,
         oversample: get(options, "oversample")?,
         detail_rounds: get(options, "detail_rounds")?,
+        shape: get(options, "shape")?,
+        creases: get(options, "creases")?,
     };
     request.qem = job::QemOptions {
         threshold: get(options, "threshold")?.unwrap_or(0.0),

@@ -201,8 +201,11 @@ fn prepared(
 ///     weld: weld exact duplicate positions and drop degenerate faces and unreferenced
 ///         vertices first, as the CLI does (``weld=False`` is its ``--no-weld``).
 ///     placement, flips, refit, relax, deviation_repair, epochs, signals, oversample,
-///         detail_rounds: GNG3D's variant, as the CLI's flags (``flips=False`` is
-///         ``--no-flips``, ``placement="node"`` is ``--placement node``).
+///         detail_rounds, shape, creases: GNG3D's variant, as the CLI's flags (``flips=False``
+///         is ``--no-flips``, ``placement="node"`` is ``--placement node``, ``shape=True`` is
+///         ``--shape``: rounder triangles for ~1.4× the mean distance, docs/notes/shape.md;
+///         ``creases=True`` is ``--creases``: a CAD part's sharp edges kept where that is
+///         closer, docs/notes/creases.md).
 ///     attributes: "keep" (default) or "drop": :func:`simplify_file` carries the file's
 ///         normals, texture coordinates, colours and materials, or drops them (positions only).
 ///     threshold: QEM's pair distance threshold in model units (0: edges only).
@@ -294,8 +297,8 @@ pub(crate) fn naming(py: Python<'_>, e: PyErr, path: &std::path::Path) -> PyErr 
 ///     output: where the result goes (.obj, .ply, .stl, .gltf, .glb); checked before the
 ///         input is read.
 ///     vertices_target, faces_target, ratio, method, time_limit, seed, weld, placement, flips,
-///         refit, relax, deviation_repair, epochs, signals, oversample, detail_rounds,
-///         threshold, threads: as for :func:`simplify`, which this function's mesh equals for
+///         refit, relax, deviation_repair, epochs, signals, oversample, detail_rounds, shape,
+///         creases, threshold, threads: as for :func:`simplify`, which this function's mesh equals for
 ///         a file without attributes.
 ///
 /// Returns:

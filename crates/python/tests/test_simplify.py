@@ -16,7 +16,8 @@ GNG_FIELDS = {
     "training_seconds",
     "target_vertices", "nodes", "oversample", "network_vertices", "placement", "signals",
     "flips", "refit", "detail_rounds", "detail_nodes", "relax", "relaxed_vertices",
-    "repair_deviations", "deviation_moves", "deviation_flips", "steps", "warnings", "closed",
+    "repair_deviations", "deviation_moves", "deviation_flips", "shape", "creases", "steps",
+    "warnings", "closed",
     "manifold", "genus", "boundary_edges", "non_manifold_edges",
 }  # fmt: skip
 # `gng3d simplify --method qem --json`, plus the warnings the CLI prints on stderr.
@@ -33,6 +34,24 @@ def test_gng_gives_the_exact_vertex_count(small_torus, method, target):
     assert result.report["target_vertices"] == target
     assert result.faces.shape[1] == 3 and len(result.faces) > 0
     assert result.faces.min() >= 0 and result.faces.max() < target
+
+
+def test_shape_and_creases_reach_the_run(small_torus):
+    """shape=True and creases=True go through the job's one mapping (as the CLI's --shape and
+    --creases): the report names them, the shape pass runs and changes the mesh; creases change
+    nothing on a torus, which has no crease (only a CAD part is cut along its creases)."""
+    v, f = small_torus
+    plain = gng3d.simplify(v, f, method="gng", vertices_target=200)
+    shaped = gng3d.simplify(v, f, method="gng", vertices_target=200, shape=True)
+    creased = gng3d.simplify(v, f, method="gng", vertices_target=200, creases=True)
+    steps = lambda r: [s["step"] for s in r.report["steps"]]  # noqa: E731
+    assert (plain.report["shape"], shaped.report["shape"]) == (False, True)
+    assert (plain.report["creases"], creased.report["creases"]) == (False, True)
+    assert "shape" not in steps(plain) and "shape" in steps(shaped)
+    assert shaped.vertices.shape == plain.vertices.shape == (200, 3)
+    assert not np.array_equal(shaped.vertices, plain.vertices)
+    assert np.array_equal(creased.vertices, plain.vertices)
+    assert np.array_equal(creased.faces, plain.faces)
 
 
 def test_result_types_and_unpacking(small_torus):

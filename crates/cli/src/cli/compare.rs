@@ -56,7 +56,15 @@ pub struct CompareArgs {
     /// GNG3D-Q; `--epochs K` still overrides the 30.
     #[arg(
         long,
-        conflicts_with_all = ["placement", "no_flips", "no_refit", "no_relax", "no_deviation_repair"]
+        conflicts_with_all = [
+            "placement",
+            "no_flips",
+            "no_refit",
+            "no_relax",
+            "no_deviation_repair",
+            "shape",
+            "creases"
+        ]
     )]
     pub paper: bool,
     /// GNG3D variant: placement, flips, paper protocol.

@@ -72,6 +72,8 @@ class Options(TypedDict, total=False):
     signals: Optional[Literal["vertices", "surface", "curvature"]]
     oversample: Optional[float]
     detail_rounds: Optional[int]
+    shape: Optional[bool]
+    creases: Optional[bool]
     threshold: Optional[float]
     lock_border: bool
     max_error: Optional[float]
@@ -180,6 +182,8 @@ class Trainer:
         signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
         oversample: Optional[float] = None,
         detail_rounds: Optional[int] = None,
+        shape: Optional[bool] = None,
+        creases: Optional[bool] = None,
         threads: Optional[int] = None,
     ) -> "Trainer": ...
     def step(self, signals: int = 10000) -> dict[str, Any]: ...
