@@ -131,10 +131,11 @@ pub fn variant_label(options: &GngOptions) -> String {
     } else {
         ""
     };
-    let shape = if options.oversample_factor() > 1.0 && r.shape {
-        ", shape pass"
-    } else {
-        ""
+    let shape = match r.shape {
+        _ if options.oversample_factor() <= 1.0 => "",
+        gng3d_core::Shape::Off => "",
+        gng3d_core::Shape::Fit => ", shape pass (fit)",
+        gng3d_core::Shape::Round => ", shape pass (round)",
     };
     let creases = if r.creases { ", creases" } else { "" };
     let signals = match options.signal_source {

@@ -137,7 +137,7 @@ pub use glam;
 pub use mesh::cancel::Cancel;
 pub use options::{GngOptions, GngTarget};
 pub use params::{
-    GngParams, OppositeFaces, Placement, ReconstructionParams, SearchStrategy, SignalSource,
+    GngParams, OppositeFaces, Placement, ReconstructionParams, SearchStrategy, Shape, SignalSource,
 };
 pub use pipeline::{Plan, PlannedStep, Step, StepRecord};
 pub use reconstruct::{Reconstruction, ReconstructionReport};

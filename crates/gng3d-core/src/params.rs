@@ -149,13 +149,33 @@ pub struct ReconstructionParams {
     /// [`crate::Step::Shape`]): edges flip toward valence 6 and vertices slide toward the
     /// centroid of their one-ring, along their tangent plane and back onto the original
     /// surface (keeping its offset from it), so that the decimation's slivers round out.
-    /// Default `false`: measured on armadillo, igea and the bunny at 2 and 10 %
-    /// (docs/notes/shape.md) it raises the median smallest angle from 37-41° to 43-47° and
-    /// cuts the share of triangles under 20° from 2-6 % to 0.04-1.8 %, but it spreads the
-    /// vertices evenly where the decimation had put them by curvature, for 1.35-1.45× the mean
-    /// surface distance. It does nothing without a decimation.
+    /// [`Shape::Off`] by default; [`Shape`] gives the measured trade-off of each setting. It
+    /// does nothing without a decimation.
     #[cfg_attr(feature = "serde", serde(default))]
-    pub shape: bool,
+    pub shape: Shape,
+}
+
+/// The triangle-shape pass after the decimation ([`ReconstructionParams::shape`]): the one
+/// knob along the trade-off between the remeshers' triangles and the surface distance.
+/// Measured on armadillo, igea and the bunny at 2 and 10 % of the vertices, one run each
+/// (docs/results.md, 2026-12-08 "GNG3D-Q, ACVD and Instant Meshes"; docs/notes/shape.md), as
+/// median smallest angle / share of triangles under 20° / mean distance × QEM's: `Off` 37-41° /
+/// 1.7-5.6 % / 0.83-1.02; `Fit` 39.5-43.4° / 0.6-2.7 % / 0.86-1.08 at the same Hausdorff
+/// distance except igea (1.48 → 1.67 × QEM's at 10 %); `Round` 43-47° / 0.0-1.6 % / 1.05-1.52,
+/// Hausdorff up to 2.8 × QEM's. ACVD: 47-51° / 0 %, at 2.2-3.6 × GNG3D-Q's mean distance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Shape {
+    /// No pass: the decimation's triangles (default).
+    #[default]
+    Off,
+    /// Rounder triangles where that keeps the surface: a smoothing move is taken only when the
+    /// faces around the vertex stay about as close to the original as they were.
+    Fit,
+    /// The remeshers' triangles: every smoothing move the triangles allow, at a cost in
+    /// surface distance.
+    Round,
 }
 
 /// Serde default of fields added after `true`-defaulted files were written.
@@ -223,7 +243,7 @@ impl Default for ReconstructionParams {
             relax: true,
             repair_deviations: true,
             creases: false,
-            shape: false,
+            shape: Shape::Off,
         }
     }
 }

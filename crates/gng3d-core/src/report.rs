@@ -282,10 +282,9 @@ pub struct GngSummary {
     pub deviation_moves: usize,
     /// Edges it flipped.
     pub deviation_flips: usize,
-    /// Whether the triangle-shape pass after the decimation is on
-    /// ([`crate::ReconstructionParams::shape`]; it runs only when the network's mesh was
-    /// decimated: step `shape`).
-    pub shape: bool,
+    /// The triangle-shape pass after the decimation ([`crate::ReconstructionParams::shape`];
+    /// it runs only when the network's mesh was decimated: step `shape`).
+    pub shape: crate::Shape,
     /// Whether CAD creases are on ([`crate::ReconstructionParams::creases`]; they are cut along
     /// only on a CAD part: step `cut_seams`).
     pub creases: bool,

@@ -42,7 +42,8 @@ pub use partitioned::{
 };
 pub use request::{
     AttributePolicy, DEFAULT_METHOD, DEFAULT_SEED, GngVariant, MAX_THREADS, Method, Opt,
-    QemOptions, Request, Target, parse_placement, parse_signals, placement_name, signals_name,
+    QemOptions, Request, Target, parse_placement, parse_shape, parse_signals, placement_name,
+    shape_name, signals_name,
 };
 pub use run::{Job, Observer, Outcome, run};
 pub use summary::{PartitionSummary, QemSummary, StepSeconds, Summary, Warning};

@@ -3,7 +3,7 @@
 //! keywords, the batch from its own flags, the facade and the viewer from their settings.
 
 use crate::JobError;
-use gng3d_core::{GngOptions, GngTarget, Placement, SignalSource};
+use gng3d_core::{GngOptions, GngTarget, Placement, Shape, SignalSource};
 use std::fmt;
 use std::str::FromStr;
 
@@ -155,6 +155,25 @@ pub fn parse_signals(s: &str) -> Result<SignalSource, JobError> {
     )
 }
 
+/// The names of GNG3D-Q's triangle-shape settings (`off`, `fit`, `round`).
+pub fn shape_name(s: Shape) -> &'static str {
+    match s {
+        Shape::Off => "off",
+        Shape::Fit => "fit",
+        Shape::Round => "round",
+    }
+}
+
+/// The triangle-shape setting named `s` (`off`, `fit`, `round`).
+pub fn parse_shape(s: &str) -> Result<Shape, JobError> {
+    parse_name(
+        "shape",
+        s,
+        &[Shape::Off, Shape::Fit, Shape::Round],
+        shape_name,
+    )
+}
+
 /// The value of `option` named `s` among `all`, or an error listing the names.
 fn parse_name<T: Copy>(
     option: &'static str,
@@ -219,9 +238,9 @@ pub struct GngVariant {
     pub oversample: Option<f64>,
     /// GNG3D-Q's rounds of detail nodes (`--detail-rounds`, `detail_rounds=`).
     pub detail_rounds: Option<usize>,
-    /// GNG3D-Q's triangle-shape pass after the decimation (`--shape`, `shape=`;
-    /// `ReconstructionParams::shape`, docs/notes/shape.md).
-    pub shape: Option<bool>,
+    /// GNG3D-Q's triangle-shape pass after the decimation (`--shape[=fit|round|off]`,
+    /// `shape="fit"`; `ReconstructionParams::shape`, docs/notes/shape.md).
+    pub shape: Option<Shape>,
     /// GNG3D-Q's CAD creases (`--creases`, `creases=`; `ReconstructionParams::creases`,
     /// docs/notes/creases.md).
     pub creases: Option<bool>,

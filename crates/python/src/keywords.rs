@@ -129,7 +129,7 @@ pub fn request(
         signals: named(options, "signals", job::parse_signals)?,
         oversample: get(options, "oversample")?,
         detail_rounds: get(options, "detail_rounds")?,
-        shape: get(options, "shape")?,
+        shape: named(options, "shape", job::parse_shape)?,
         creases: get(options, "creases")?,
     };
     request.qem = job::QemOptions {

@@ -202,8 +202,9 @@ fn prepared(
 ///         vertices first, as the CLI does (``weld=False`` is its ``--no-weld``).
 ///     placement, flips, refit, relax, deviation_repair, epochs, signals, oversample,
 ///         detail_rounds, shape, creases: GNG3D's variant, as the CLI's flags (``flips=False``
-///         is ``--no-flips``, ``placement="node"`` is ``--placement node``, ``shape=True`` is
-///         ``--shape``: rounder triangles for ~1.4× the mean distance, docs/notes/shape.md;
+///         is ``--no-flips``, ``placement="node"`` is ``--placement node``, ``shape="fit"`` is
+///         ``--shape``: rounder triangles at about the same distance, ``shape="round"``
+///         rounder still for 1.05-1.5× QEM's mean distance, docs/notes/shape.md;
 ///         ``creases=True`` is ``--creases``: a CAD part's sharp edges kept where that is
 ///         closer, docs/notes/creases.md).
 ///     attributes: "keep" (default) or "drop": :func:`simplify_file` carries the file's

@@ -97,7 +97,7 @@ BAD_OPTIONS = [
     (dict(faces_target=100, method="gng"), r"^faces_target applies to method 'qem' only"),
     (dict(ratio=0.1, method="qem", flips=False, time_limit=1.0),
      r"^time_limit and flips apply to method 'gng' and 'paper' only, not 'qem'$"),
-    (dict(ratio=0.1, method="qem", shape=True, creases=True),
+    (dict(ratio=0.1, method="qem", shape="fit", creases=True),
      r"^shape and creases apply to method 'gng' and 'paper' only, not 'qem'$"),
     (dict(ratio=0.1, method="gng", threshold=0.1), r"^threshold applies to method 'qem' only$"),
     (dict(ratio=0.1, method="qem", threshold=-1.0),

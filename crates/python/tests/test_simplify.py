@@ -37,15 +37,20 @@ def test_gng_gives_the_exact_vertex_count(small_torus, method, target):
 
 
 def test_shape_and_creases_reach_the_run(small_torus):
-    """shape=True and creases=True go through the job's one mapping (as the CLI's --shape and
-    --creases): the report names them, the shape pass runs and changes the mesh; creases change
-    nothing on a torus, which has no crease (only a CAD part is cut along its creases)."""
+    """shape="round" / "fit" and creases=True go through the job's one mapping (as the CLI's
+    --shape=round and --creases): the report names them, the shape pass runs and changes the
+    mesh; creases change nothing on a torus, which has no crease (only a CAD part is cut along
+    its creases); an unknown shape is a ValueError naming the three settings."""
     v, f = small_torus
     plain = gng3d.simplify(v, f, method="gng", vertices_target=200)
-    shaped = gng3d.simplify(v, f, method="gng", vertices_target=200, shape=True)
+    shaped = gng3d.simplify(v, f, method="gng", vertices_target=200, shape="round")
+    fit = gng3d.simplify(v, f, method="gng", vertices_target=200, shape="fit")
     creased = gng3d.simplify(v, f, method="gng", vertices_target=200, creases=True)
     steps = lambda r: [s["step"] for s in r.report["steps"]]  # noqa: E731
-    assert (plain.report["shape"], shaped.report["shape"]) == (False, True)
+    assert [r.report["shape"] for r in (plain, fit, shaped)] == ["off", "fit", "round"]
+    assert "shape" in steps(fit)
+    with pytest.raises(ValueError, match=r"shape.*'off', 'fit' or 'round'"):
+        gng3d.simplify(v, f, method="gng", vertices_target=200, shape="square")
     assert (plain.report["creases"], creased.report["creases"]) == (False, True)
     assert "shape" not in steps(plain) and "shape" in steps(shaped)
     assert shaped.vertices.shape == plain.vertices.shape == (200, 3)

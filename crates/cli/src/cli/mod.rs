@@ -70,6 +70,27 @@ impl From<PlacementArg> for gng3d_core::Placement {
     }
 }
 
+/// GNG3D-Q's triangle-shape pass after the decimation (`gng3d_core::Shape`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum ShapeArg {
+    /// No pass (the default without the flag).
+    Off,
+    /// Rounder triangles where that keeps the distance to the original (`--shape` alone).
+    Fit,
+    /// The remeshers' triangles, at a cost in distance.
+    Round,
+}
+
+impl From<ShapeArg> for gng3d_core::Shape {
+    fn from(s: ShapeArg) -> Self {
+        match s {
+            ShapeArg::Off => gng3d_core::Shape::Off,
+            ShapeArg::Fit => gng3d_core::Shape::Fit,
+            ShapeArg::Round => gng3d_core::Shape::Round,
+        }
+    }
+}
+
 /// Where GNG3D's training signals come from (`gng3d_core::SignalSource`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub(crate) enum SignalsArg {
@@ -128,8 +149,15 @@ pub(crate) struct GngVariantArgs {
     #[arg(long, help = help::detail_rounds())]
     pub detail_rounds: Option<usize>,
     /// GNG3D-Q: the triangle-shape pass after the decimation (help text: [`help::shape`]).
-    #[arg(long, help = help::shape())]
-    pub shape: bool,
+    #[arg(
+        long,
+        value_enum,
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "fit",
+        help = help::shape()
+    )]
+    pub shape: Option<ShapeArg>,
     /// GNG3D-Q: CAD creases kept as output edges (help text: [`help::creases`]).
     #[arg(long, help = help::creases())]
     pub creases: bool,
@@ -151,7 +179,7 @@ impl GngVariantArgs {
             signals: self.signals.map(Into::into),
             oversample: self.oversample,
             detail_rounds: self.detail_rounds,
-            shape: on(self.shape),
+            shape: self.shape.map(Into::into),
             creases: on(self.creases),
         }
     }
@@ -367,9 +395,10 @@ mod help {
     // docs/notes/creases.md), not constants of the code: quoted here as measured.
     pub(super) fn shape() -> String {
         "GNG3D-Q: even out the triangles after the decimation (flips toward valence 6, \
-         tangential smoothing); measured: median smallest angle 37-41° → 43-47°, triangles \
-         under 20° 2-6 % → 0.04-1.8 %, for 1.35-1.45× the mean distance and ~8 % more time \
-         (docs/notes/shape.md)"
+         tangential smoothing). `--shape` (fit): only where the faces stay as close to the \
+         original, median smallest angle 37-41° → 40-43°, triangles under 20° 2-6 % → 0.6-2.7 \
+         %, mean distance 0.86-1.08× QEM's, ~25 % more time; `--shape=round`: 43-47° and \
+         0-1.6 % for 1.05-1.5× QEM's mean distance (docs/notes/shape.md)"
             .to_string()
     }
 

@@ -214,7 +214,7 @@ impl Plan {
             if params.relax {
                 add(Step::Relax, last);
             }
-            if params.shape {
+            if params.shape != crate::Shape::Off {
                 add(Step::Shape, last);
             }
             if params.repair_deviations {

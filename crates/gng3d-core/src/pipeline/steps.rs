@@ -518,6 +518,7 @@ impl<'a> Work<'a> {
         }
         let seams = self.seam_vertices();
         let shaped = crate::finish::shape::shape(
+            self.params.shape == crate::Shape::Fit,
             &mut self.positions,
             &mut self.triangles,
             self.original,

@@ -72,7 +72,7 @@ class Options(TypedDict, total=False):
     signals: Optional[Literal["vertices", "surface", "curvature"]]
     oversample: Optional[float]
     detail_rounds: Optional[int]
-    shape: Optional[bool]
+    shape: Optional[Literal["off", "fit", "round"]]
     creases: Optional[bool]
     threshold: Optional[float]
     lock_border: bool
@@ -182,7 +182,7 @@ class Trainer:
         signals: Optional[Literal["vertices", "surface", "curvature"]] = None,
         oversample: Optional[float] = None,
         detail_rounds: Optional[int] = None,
-        shape: Optional[bool] = None,
+        shape: Optional[Literal["off", "fit", "round"]] = None,
         creases: Optional[bool] = None,
         threads: Optional[int] = None,
     ) -> "Trainer": ...
