@@ -22,7 +22,7 @@ mod encode;
 mod gltf;
 mod matconv;
 mod obj;
-mod ply;
+pub mod ply;
 mod save;
 mod side_files;
 mod stl;
