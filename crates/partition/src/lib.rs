@@ -4,7 +4,8 @@
 //!
 //! Steps of [`simplify`] (each a public function, so that another driver, a process pool or a
 //! Dask worker, can run them apart):
-//! 1. **Partition** ([`partition`]): three streaming passes over the input (PLY or OBJ). Pass 1 takes the
+//! 1. **Partition** ([`partition`]): three streaming passes over the input (PLY or OBJ; STL,
+//!    which has no shared vertices, is welded per cell: see `stl.rs`). Pass 1 takes the
 //!    bounding box and a sample of the positions and sizes a grid so that every cell's faces fit
 //!    the memory budget; pass 2 gives each vertex its grid cell and each face the smallest cell
 //!    of its vertices, writing the face (global vertex ids) to that cell's chunk and marking the
@@ -51,6 +52,7 @@ mod grid;
 mod obj;
 mod ply;
 mod stitch;
+mod stl;
 
 pub use cell::{CellReport, resume_or_simplify_cell, simplify_cell};
 pub use chunk::{CellChunk, InputInfo, Manifest, inspect, partition, reuse_or_partition};
@@ -190,8 +192,8 @@ pub enum PartitionError {
         /// What does not fit.
         problem: String,
     },
-    /// The input's format is not read by the streaming partition (PLY and OBJ for now).
-    #[error("{}: only PLY and OBJ are read by the streaming partition", path.display())]
+    /// The input's format is not read by the streaming partition (PLY, OBJ and STL).
+    #[error("{}: only PLY, OBJ and STL are read by the streaming partition", path.display())]
     UnsupportedFormat {
         /// The file.
         path: PathBuf,
@@ -212,7 +214,7 @@ pub enum PartitionError {
     InvalidParameter(&'static str),
 }
 
-/// Simplify the mesh in `input` (PLY or OBJ) to `params.target` without ever holding it, writing the
+/// Simplify the mesh in `input` (PLY, OBJ or STL) to `params.target` without ever holding it, writing the
 /// result to `output` (any format `mesh::io::save` writes). See the crate's steps.
 pub fn simplify(
     input: &Path,

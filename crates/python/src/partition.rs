@@ -22,7 +22,7 @@ fn error(e: partition::PartitionError) -> PyErr {
 
 /// Check the request of ``options`` (``vertices_target``, ``faces_target``, ``ratio``,
 /// ``attributes``, ``threads``, ... as for :func:`gng3d.simplify_file`) for a partitioned run,
-/// check ``output``, then cut ``input`` (PLY or OBJ) into the cells of ``memory_budget`` bytes
+/// check ``output``, then cut ``input`` (PLY, OBJ or STL) into the cells of ``memory_budget`` bytes
 /// in ``work_dir`` (reused when it holds a cut of the same input and budget). Returns a dict:
 /// ``cells`` (the cells with faces), ``ratio`` (each cell's share of its faces), ``target``
 /// (for :func:`partition_finish`), ``input_vertices``, ``input_faces``, ``shared_vertices``,

@@ -25,7 +25,7 @@ mod obj;
 pub mod ply;
 mod save;
 mod side_files;
-mod stl;
+pub mod stl;
 mod validate;
 
 pub use apart::written_files;

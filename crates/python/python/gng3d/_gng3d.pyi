@@ -138,7 +138,7 @@ def partition_plan(
     input: _PathLike, output: _PathLike, work_dir: _PathLike, memory_budget: int, **options: Unpack[Options]
 ) -> dict[str, Any]:
     """Check the request for a partitioned run (QEM, positions only), resolve the target, cut
-    ``input`` (PLY or OBJ) into cells of ``memory_budget`` bytes in ``work_dir`` (or reuse an
+    ``input`` (PLY, OBJ or STL) into cells of ``memory_budget`` bytes in ``work_dir`` (or reuse an
     earlier cut): ``cells``, ``ratio``, ``target``, ``input_vertices``, ``input_faces``,
     ``shared_vertices``, ``warnings``, ``seconds``."""
 

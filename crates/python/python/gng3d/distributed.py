@@ -5,7 +5,7 @@ The steps are those of ``gng3d simplify BIG OUT --partition auto`` (the ``partit
 through ``gng3d._gng3d``), the cells run apart:
 
 1. **Plan** (here): the request checked as the CLI checks it, the target resolved, the input
-   (PLY or OBJ) cut in a streaming pass into cells of ``memory_per_worker`` bytes in the work
+   (PLY, OBJ or STL) cut in a streaming pass into cells of ``memory_per_worker`` bytes in the work
    folder -- or an earlier cut of the same input reused.
 2. **Cells** (on the workers, one task each, ``retries=2`` so a lost worker's cell is run
    again): each worker reads its cell's chunk files from the work folder and writes the cell's
@@ -67,7 +67,7 @@ def simplify(
     """Simplify the mesh file ``path`` into ``out`` without holding it (see the module).
 
     Args:
-        path: the input, PLY or OBJ.
+        path: the input, PLY, OBJ or STL.
         out: the output (.obj, .ply, .stl, .gltf, .glb), written atomically.
         ratio, vertices, faces: the target, one of them: a share of the input's vertex
             records (rounded to a count of them), a vertex count or a face count, as the CLI's
