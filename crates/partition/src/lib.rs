@@ -22,6 +22,9 @@
 //!    target) with nothing locked, down to the exact target, so no grid of border vertices
 //!    survives.
 //!
+//! One run at a time per work folder: [`simplify`] holds a [`WorkLock`] on it (a driver running
+//! the steps apart takes one itself); the lock of a killed run is released by the system.
+//!
 //! For front ends: [`inspect`] reads an input's counts and names what a positions-only run
 //! ignores (to resolve a target and warn before the run); [`reuse_or_partition`] is step 1 with
 //! the resume check, for a driver that runs the cells elsewhere (`gng3d.distributed`).
@@ -49,6 +52,7 @@ mod cell;
 mod chunk;
 pub mod generate;
 mod grid;
+mod lock;
 mod obj;
 mod ply;
 mod stitch;
@@ -56,6 +60,7 @@ mod stl;
 
 pub use cell::{CellReport, resume_or_simplify_cell, simplify_cell};
 pub use chunk::{CellChunk, InputInfo, Manifest, inspect, partition, reuse_or_partition};
+pub use lock::WorkLock;
 pub use stitch::{finish, stitch};
 
 use qem::Target;
@@ -209,6 +214,17 @@ pub enum PartitionError {
     /// Writing the output mesh failed.
     #[error(transparent)]
     Mesh(#[from] mesh::error::MeshError),
+    /// Another run holds the work folder ([`WorkLock`]).
+    #[error(
+        "{}: the work folder is in use by another run ({holder}); wait for it to end, or give another work folder",
+        path.display()
+    )]
+    Locked {
+        /// The work folder.
+        path: PathBuf,
+        /// Who holds it ("process 1234"), as its lock file says.
+        holder: String,
+    },
     /// A parameter is out of range.
     #[error("invalid parameter: {0}")]
     InvalidParameter(&'static str),
@@ -236,6 +252,8 @@ pub fn simplify(
         .num_threads(params.threads)
         .build()
         .map_err(|_| PartitionError::InvalidParameter("threads: no thread pool"))?;
+    // Held to the end: a second run on this folder is refused, not interleaved with this one.
+    let _lock = WorkLock::acquire(&params.work_dir)?;
     let start = Instant::now();
     let manifest = chunk::reuse_or_partition(input, &params.work_dir, params.memory_budget)?;
     let partition_seconds = start.elapsed().as_secs_f64();
