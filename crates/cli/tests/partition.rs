@@ -154,8 +154,8 @@ fn partitioned_run_names_dropped_attributes_and_refuses_bad_combinations() {
         "{}",
         stderr(&o)
     );
-    // STL is not read by the streaming partition.
-    let stl = dir.path().join("sphere.stl");
+    // glTF is not read by the streaming partition (PLY, OBJ and STL are).
+    let stl = dir.path().join("sphere.glb");
     gng3d::mesh::io::save(&gng3d::mesh::Model::from(mesh), &stl).unwrap();
     let o = gng3d(&[
         "simplify",
@@ -167,5 +167,9 @@ fn partitioned_run_names_dropped_attributes_and_refuses_bad_combinations() {
         "auto",
     ]);
     assert!(!o.status.success());
-    assert!(stderr(&o).contains("only PLY and OBJ"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("only PLY, OBJ and STL"),
+        "{}",
+        stderr(&o)
+    );
 }

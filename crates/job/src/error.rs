@@ -129,7 +129,13 @@ impl JobError {
                 mesh::error::MeshError::Io { .. } | mesh::error::MeshError::Write { .. },
             ) => ErrorKind::Io,
             JobError::Cancelled => ErrorKind::Cancelled,
-            JobError::Partition(e) if matches!(**e, partition::PartitionError::Io { .. }) => {
+            // A busy work folder is a file in use (OSError in Python).
+            JobError::Partition(e)
+                if matches!(
+                    **e,
+                    partition::PartitionError::Io { .. } | partition::PartitionError::Locked { .. }
+                ) =>
+            {
                 ErrorKind::Io
             }
             JobError::Partition(e) if matches!(**e, partition::PartitionError::Qem { .. }) => {

@@ -1,6 +1,6 @@
 //! The partitioned run (issue 50, `--partition auto`): one mesh larger than memory simplified
 //! by the `partition` crate without ever being held — QEM on positions only, the input read
-//! in a streaming pass (PLY or OBJ), cut into cells that fit [`PartitionOptions::memory_budget`],
+//! in a streaming pass (PLY, OBJ or STL), cut into cells that fit [`PartitionOptions::memory_budget`],
 //! each cell simplified, the cells stitched and finished to the exact target.
 //!
 //! Steps of [`simplify_file`]:
@@ -23,7 +23,7 @@ pub enum Partition {
     /// The whole mesh in memory: `off`.
     #[default]
     Off,
-    /// The partitioned simplification (QEM, positions only, PLY or OBJ input): `auto`.
+    /// The partitioned simplification (QEM, positions only, PLY, OBJ or STL input): `auto`.
     Auto(PartitionOptions),
 }
 
@@ -138,13 +138,18 @@ pub(crate) fn validate(request: &Request, options: &PartitionOptions) -> Result<
 
 /// QEM's target of `target` on an input with `vertices` vertex records: a share of the
 /// vertices is rounded to a count of them (the file's records: the partition does not weld),
-/// a share of the faces stays a share. The one mapping of the CLI and of Python's distributed
-/// driver, so both reach the same mesh.
-pub fn partition_target(target: Target, vertices: u64) -> Result<qem::Target, JobError> {
+/// a share of the faces stays a share. An STL has no vertex records (`None`: its corners are
+/// welded during the partition), so a share of its vertices is taken as the same share of its
+/// faces (equal on a closed mesh, where V ≈ F/2). The one mapping of the CLI and of Python's
+/// distributed driver, so both reach the same mesh.
+pub fn partition_target(target: Target, vertices: Option<u64>) -> Result<qem::Target, JobError> {
     Ok(match target {
         Target::Vertices(n) => qem::Target::Vertices(n),
         Target::Faces(n) => qem::Target::Faces(n),
-        Target::Ratio(r) => qem::Target::Vertices((r * vertices as f64).round() as usize),
+        Target::Ratio(r) => match vertices {
+            Some(v) => qem::Target::Vertices((r * v as f64).round() as usize),
+            None => qem::Target::Ratio(r),
+        },
         Target::FaceRatio(r) => qem::Target::Ratio(r),
         _ => return Err(JobError::NoTarget),
     })
@@ -237,7 +242,10 @@ pub(crate) fn simplify_file(
             training_stop: None,
         },
         kept: mesh::io::KeptAttributes::default(),
-        file_counts: (info.vertices as usize, report.input_faces),
+        file_counts: (
+            info.vertices.map_or(report.input_vertices, |v| v as usize),
+            report.input_faces,
+        ),
     })
 }
 
@@ -280,9 +288,12 @@ mod tests {
 
     #[test]
     fn a_share_of_the_vertices_is_rounded_to_a_count() {
-        let t = partition_target(Target::Ratio(0.1), 10_242).unwrap();
+        let t = partition_target(Target::Ratio(0.1), Some(10_242)).unwrap();
         assert_eq!(t, qem::Target::Vertices(1_024));
-        let t = partition_target(Target::FaceRatio(0.25), 10_242).unwrap();
+        let t = partition_target(Target::FaceRatio(0.25), Some(10_242)).unwrap();
         assert_eq!(t, qem::Target::Ratio(0.25));
+        // STL: no vertex records, a share of the faces.
+        let t = partition_target(Target::Ratio(0.1), None).unwrap();
+        assert_eq!(t, qem::Target::Ratio(0.1));
     }
 }

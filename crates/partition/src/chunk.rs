@@ -8,6 +8,7 @@
 use crate::grid::{BYTES_PER_FACE, Grid, SAMPLE};
 use crate::obj::ObjStream;
 use crate::ply::{FaceVisitor, PlyStream};
+use crate::stl::StlStream;
 use crate::{PartitionError, Target};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -132,6 +133,8 @@ impl Manifest {
 enum Input {
     Ply(PlyStream),
     Obj(ObjStream),
+    /// Not indexed: partitioned by [`crate::stl`] (which welds), never read by [`Input::read`].
+    Stl(StlStream),
 }
 
 impl Input {
@@ -140,16 +143,19 @@ impl Input {
         match mesh::io::Format::from_path(path) {
             Some(mesh::io::Format::Ply) => Ok(Input::Ply(PlyStream::open(path)?)),
             Some(mesh::io::Format::Obj) => Ok(Input::Obj(ObjStream::open(path)?)),
+            Some(mesh::io::Format::Stl) => Ok(Input::Stl(StlStream::open(path)?)),
             _ => Err(PartitionError::UnsupportedFormat {
                 path: path.to_path_buf(),
             }),
         }
     }
 
-    fn vertex_count(&self) -> usize {
+    /// Vertex records (`None` for STL, which has none: its corners are welded).
+    fn vertex_count(&self) -> Option<usize> {
         match self {
-            Input::Ply(s) => s.vertex_count(),
-            Input::Obj(s) => s.vertex_count(),
+            Input::Ply(s) => Some(s.vertex_count()),
+            Input::Obj(s) => Some(s.vertex_count()),
+            Input::Stl(_) => None,
         }
     }
 
@@ -157,6 +163,7 @@ impl Input {
         match self {
             Input::Ply(s) => s.face_count(),
             Input::Obj(s) => s.face_count(),
+            Input::Stl(s) => s.face_count(),
         }
     }
 
@@ -164,6 +171,7 @@ impl Input {
         match self {
             Input::Ply(s) => s.ignored(),
             Input::Obj(s) => s.ignored(),
+            Input::Stl(_) => Vec::new(),
         }
     }
 
@@ -175,6 +183,7 @@ impl Input {
         match self {
             Input::Ply(s) => s.read(vertex, face),
             Input::Obj(s) => s.read(vertex, face),
+            Input::Stl(_) => unreachable!("STL is partitioned by crate::stl"),
         }
     }
 }
@@ -183,9 +192,10 @@ impl Input {
 #[derive(Debug, Clone, PartialEq, Eq)]
 #[non_exhaustive]
 pub struct InputInfo {
-    /// Vertex records.
-    pub vertices: u64,
-    /// Face records (PLY) or `f` lines (OBJ), before triangulation.
+    /// Vertex records; `None` for STL, which has none (its corners are welded into vertices
+    /// during the partition: [`Manifest::vertices`] has their count).
+    pub vertices: Option<u64>,
+    /// Face records (PLY), `f` lines (OBJ) or triangles (STL), before triangulation.
     pub faces: u64,
     /// What the file holds besides positions and faces, which the partitioned simplification
     /// ignores ("vertex property nx", "1200 vt lines"); empty when nothing.
@@ -198,7 +208,7 @@ pub struct InputInfo {
 pub fn inspect(input: &Path) -> Result<InputInfo, PartitionError> {
     let stream = Input::open(input)?;
     Ok(InputInfo {
-        vertices: stream.vertex_count() as u64,
+        vertices: stream.vertex_count().map(|n| n as u64),
         faces: stream.face_count() as u64,
         ignored: stream.ignored(),
     })
@@ -242,7 +252,7 @@ pub fn reuse_or_partition(
     partition(input, work, budget)
 }
 
-/// Step 1: cut `input` (PLY or OBJ, by extension) into the cells of a grid sized for `budget` bytes a cell, writing
+/// Step 1: cut `input` (PLY, OBJ or STL, by extension) into the cells of a grid sized for `budget` bytes a cell, writing
 /// the chunk files and the manifest into `work` (created; earlier chunk files removed).
 pub fn partition(input: &Path, work: &Path, budget: u64) -> Result<Manifest, PartitionError> {
     let identity = identity(input)?;
@@ -253,7 +263,22 @@ pub fn partition(input: &Path, work: &Path, budget: u64) -> Result<Manifest, Par
     std::fs::create_dir_all(work).map_err(io(work))?;
     clear(work)?;
     let ply = Input::open(input)?;
-    let n = ply.vertex_count();
+    let n = match &ply {
+        Input::Stl(stl) => {
+            let written = crate::stl::partition(stl, work, budget)?;
+            let manifest = Manifest {
+                input: identity,
+                budget,
+                vertices: written.vertices,
+                faces: written.cell_faces.iter().sum(),
+                shared: written.shared,
+                cell_faces: written.cell_faces,
+            };
+            mesh::io::write_atomic(&work.join("manifest"), manifest.to_text().as_bytes())?;
+            return Ok(manifest);
+        }
+        _ => ply.vertex_count().unwrap_or(0),
+    };
     // Pass 1: bounding box and a sample of the positions.
     let stride = n.div_ceil(SAMPLE).max(1);
     let (mut min, mut max) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -386,7 +411,7 @@ pub fn partition(input: &Path, work: &Path, budget: u64) -> Result<Manifest, Par
 }
 
 /// The files of cell `k` in `work` ([`Manifest::chunk`]).
-fn chunk_paths(work: &Path, k: usize) -> CellChunk {
+pub(crate) fn chunk_paths(work: &Path, k: usize) -> CellChunk {
     CellChunk {
         faces: work.join(format!("cell-{k:05}.faces")),
         vertices: work.join(format!("cell-{k:05}.verts")),
@@ -410,10 +435,11 @@ fn clear(work: &Path) -> Result<(), PartitionError> {
         let path = entry.map_err(io)?.path();
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         let ours = (name.starts_with("cell-")
-            && [".faces", ".verts", ".out"]
+            && [".faces", ".verts", ".out", ".corners"]
                 .iter()
                 .any(|e| name.ends_with(e)))
-            || name == "shared.verts";
+            || name == "shared.verts"
+            || name == "border.corners";
         if ours {
             std::fs::remove_file(&path).map_err(io)?;
         }

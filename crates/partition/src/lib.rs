@@ -4,7 +4,8 @@
 //!
 //! Steps of [`simplify`] (each a public function, so that another driver, a process pool or a
 //! Dask worker, can run them apart):
-//! 1. **Partition** ([`partition`]): three streaming passes over the input (PLY or OBJ). Pass 1 takes the
+//! 1. **Partition** ([`partition`]): three streaming passes over the input (PLY or OBJ; STL,
+//!    which has no shared vertices, is welded per cell: see `stl.rs`). Pass 1 takes the
 //!    bounding box and a sample of the positions and sizes a grid so that every cell's faces fit
 //!    the memory budget; pass 2 gives each vertex its grid cell and each face the smallest cell
 //!    of its vertices, writing the face (global vertex ids) to that cell's chunk and marking the
@@ -20,6 +21,9 @@
 //! 4. **Final pass** ([`finish`]): `qem::simplify` over the stitched mesh (about twice the
 //!    target) with nothing locked, down to the exact target, so no grid of border vertices
 //!    survives.
+//!
+//! One run at a time per work folder: [`simplify`] holds a [`WorkLock`] on it (a driver running
+//! the steps apart takes one itself); the lock of a killed run is released by the system.
 //!
 //! For front ends: [`inspect`] reads an input's counts and names what a positions-only run
 //! ignores (to resolve a target and warn before the run); [`reuse_or_partition`] is step 1 with
@@ -48,12 +52,15 @@ mod cell;
 mod chunk;
 pub mod generate;
 mod grid;
+mod lock;
 mod obj;
 mod ply;
 mod stitch;
+mod stl;
 
 pub use cell::{CellReport, resume_or_simplify_cell, simplify_cell};
 pub use chunk::{CellChunk, InputInfo, Manifest, inspect, partition, reuse_or_partition};
+pub use lock::WorkLock;
 pub use stitch::{finish, stitch};
 
 use qem::Target;
@@ -190,8 +197,8 @@ pub enum PartitionError {
         /// What does not fit.
         problem: String,
     },
-    /// The input's format is not read by the streaming partition (PLY and OBJ for now).
-    #[error("{}: only PLY and OBJ are read by the streaming partition", path.display())]
+    /// The input's format is not read by the streaming partition (PLY, OBJ and STL).
+    #[error("{}: only PLY, OBJ and STL are read by the streaming partition", path.display())]
     UnsupportedFormat {
         /// The file.
         path: PathBuf,
@@ -207,12 +214,23 @@ pub enum PartitionError {
     /// Writing the output mesh failed.
     #[error(transparent)]
     Mesh(#[from] mesh::error::MeshError),
+    /// Another run holds the work folder ([`WorkLock`]).
+    #[error(
+        "{}: the work folder is in use by another run ({holder}); wait for it to end, or give another work folder",
+        path.display()
+    )]
+    Locked {
+        /// The work folder.
+        path: PathBuf,
+        /// Who holds it ("process 1234"), as its lock file says.
+        holder: String,
+    },
     /// A parameter is out of range.
     #[error("invalid parameter: {0}")]
     InvalidParameter(&'static str),
 }
 
-/// Simplify the mesh in `input` (PLY or OBJ) to `params.target` without ever holding it, writing the
+/// Simplify the mesh in `input` (PLY, OBJ or STL) to `params.target` without ever holding it, writing the
 /// result to `output` (any format `mesh::io::save` writes). See the crate's steps.
 pub fn simplify(
     input: &Path,
@@ -234,6 +252,8 @@ pub fn simplify(
         .num_threads(params.threads)
         .build()
         .map_err(|_| PartitionError::InvalidParameter("threads: no thread pool"))?;
+    // Held to the end: a second run on this folder is refused, not interleaved with this one.
+    let _lock = WorkLock::acquire(&params.work_dir)?;
     let start = Instant::now();
     let manifest = chunk::reuse_or_partition(input, &params.work_dir, params.memory_budget)?;
     let partition_seconds = start.elapsed().as_secs_f64();

@@ -2,10 +2,9 @@
 //! callbacks record by record, never held. ASCII, binary little- and big-endian; any scalar
 //! types; elements other than `vertex` and `face` are skipped (seeked over when fixed-size).
 //!
-//! mesh::io has the project's PLY loader, but it parses a file held in memory and its header
-//! types are private to it; this reader reads from a file handle, so the header's scalar types
-//! and element declarations are parsed twice (the next step: one public header parser in
-//! mesh::io serving both).
+//! The header is read by mesh::io's PLY header parser ([`mesh::io::ply::read_header`], the
+//! project's one), with its limit (1 MiB); the body is read here from a file handle, since the
+//! loader's body readers take a file held in memory.
 //!
 //! Nothing in the header is trusted beyond what the file holds: the element counts are checked
 //! against the file's length (a record takes at least its binary size, or two bytes per scalar
@@ -14,95 +13,37 @@
 //! [`PartitionError::IndexOutOfRange`].
 
 use crate::PartitionError;
+use mesh::io::ply::{Element, Encoding, Property, Scalar};
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-/// Header lines beyond this many bytes: not a PLY file.
-const MAX_HEADER_BYTES: u64 = 1 << 20;
 /// Read buffer of a pass.
 const BUFFER: usize = 1 << 20;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Encoding {
-    Ascii,
-    BinaryLe,
-    BinaryBe,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Scalar {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    F32,
-    F64,
-}
-
-impl Scalar {
-    fn parse(name: &str) -> Option<Scalar> {
-        Some(match name {
-            "char" | "int8" => Scalar::I8,
-            "uchar" | "uint8" => Scalar::U8,
-            "short" | "int16" => Scalar::I16,
-            "ushort" | "uint16" => Scalar::U16,
-            "int" | "int32" => Scalar::I32,
-            "uint" | "uint32" => Scalar::U32,
-            "float" | "float32" => Scalar::F32,
-            "double" | "float64" => Scalar::F64,
-            _ => return None,
+/// Bytes of one binary record of `element` when it has no list.
+fn fixed_size(element: &Element) -> Option<usize> {
+    element
+        .properties
+        .iter()
+        .map(|p| match p {
+            Property::Scalar(_, s) => Some(s.size()),
+            Property::List(..) => None,
         })
-    }
-
-    fn size(self) -> usize {
-        match self {
-            Scalar::I8 | Scalar::U8 => 1,
-            Scalar::I16 | Scalar::U16 => 2,
-            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
-            Scalar::F64 => 8,
-        }
-    }
+        .sum()
 }
 
-#[derive(Debug, Clone, Copy)]
-enum Property {
-    Scalar(Scalar),
-    List { count: Scalar, item: Scalar },
-}
-
-#[derive(Debug)]
-struct Element {
-    name: String,
-    count: u64,
-    properties: Vec<(String, Property)>,
-}
-
-impl Element {
-    /// Bytes of one binary record when it has no list.
-    fn fixed_size(&self) -> Option<usize> {
-        self.properties
-            .iter()
-            .map(|(_, p)| match p {
-                Property::Scalar(s) => Some(s.size()),
-                Property::List { .. } => None,
-            })
-            .sum()
-    }
-
-    /// The fewest bytes a record can take.
-    fn min_size(&self, encoding: Encoding) -> u64 {
-        self.properties
-            .iter()
-            .map(|(_, p)| match (encoding, p) {
-                (Encoding::Ascii, _) => 2,
-                (_, Property::Scalar(s)) => s.size() as u64,
-                (_, Property::List { count, .. }) => count.size() as u64,
-            })
-            .sum()
-    }
+/// The fewest bytes a record of `element` can take.
+fn min_size(element: &Element, encoding: Encoding) -> u64 {
+    element
+        .properties
+        .iter()
+        .map(|p| match (encoding, p) {
+            (Encoding::Ascii, _) => 2,
+            (_, Property::Scalar(_, s)) => s.size() as u64,
+            (_, Property::List(_, count, _)) => count.size() as u64,
+        })
+        .sum()
 }
 
 /// What a pass hands each face's index list to.
@@ -133,79 +74,18 @@ impl PlyStream {
             source,
         })?;
         let len = file.metadata().map(|m| m.len()).unwrap_or(0);
-        let mut reader = BufReader::new(file).take(MAX_HEADER_BYTES);
-        let mut line = String::new();
-        let mut body = 0u64;
-        let mut encoding = None;
-        let mut elements: Vec<Element> = Vec::new();
-        let mut first = true;
-        loop {
-            line.clear();
-            let n = reader
-                .read_line(&mut line)
-                .map_err(|_| malformed("the header is not text (or not a PLY file)".to_string()))?;
-            if n == 0 {
-                return Err(malformed("no end_header line".to_string()));
-            }
-            body += n as u64;
-            let words: Vec<&str> = line.split_ascii_whitespace().collect();
-            if first {
-                if words != ["ply"] {
-                    return Err(malformed("does not start with 'ply'".to_string()));
-                }
-                first = false;
-                continue;
-            }
-            match words.as_slice() {
-                ["format", f, _] => {
-                    encoding = Some(match *f {
-                        "ascii" => Encoding::Ascii,
-                        "binary_little_endian" => Encoding::BinaryLe,
-                        "binary_big_endian" => Encoding::BinaryBe,
-                        other => return Err(malformed(format!("unknown format '{other}'"))),
-                    })
-                }
-                ["element", name, count] => elements.push(Element {
-                    name: name.to_string(),
-                    count: count
-                        .parse()
-                        .map_err(|_| malformed(format!("element {name}: bad count '{count}'")))?,
-                    properties: Vec::new(),
-                }),
-                ["property", "list", count, item, name] => {
-                    let (Some(count), Some(item)) = (Scalar::parse(count), Scalar::parse(item))
-                    else {
-                        return Err(malformed(format!("property {name}: unknown type")));
-                    };
-                    let element = elements
-                        .last_mut()
-                        .ok_or_else(|| malformed(format!("property {name} before any element")))?;
-                    element
-                        .properties
-                        .push((name.to_string(), Property::List { count, item }));
-                }
-                ["property", ty, name] => {
-                    let ty = Scalar::parse(ty).ok_or_else(|| {
-                        malformed(format!("property {name}: unknown type '{ty}'"))
-                    })?;
-                    let element = elements
-                        .last_mut()
-                        .ok_or_else(|| malformed(format!("property {name} before any element")))?;
-                    element
-                        .properties
-                        .push((name.to_string(), Property::Scalar(ty)));
-                }
-                ["end_header"] => break,
-                ["comment", ..] | ["obj_info", ..] | [] => {}
-                _ => {
-                    return Err(malformed(format!(
-                        "unexpected header line '{}'",
-                        line.trim()
-                    )));
-                }
-            }
-        }
-        let encoding = encoding.ok_or_else(|| malformed("no format line".to_string()))?;
+        let header =
+            mesh::io::ply::read_header(&mut BufReader::new(file), path).map_err(|e| match e {
+                mesh::error::MeshError::Parse {
+                    location, message, ..
+                } => malformed(format!("{location}: {message}")),
+                mesh::error::MeshError::Io { source, .. } => PartitionError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                },
+                other => PartitionError::Mesh(other),
+            })?;
+        let (encoding, elements, body) = (header.encoding, header.elements, header.body as u64);
         let find = |name: &str| elements.iter().position(|e| e.name == name);
         let vertex = find("vertex").ok_or_else(|| malformed("no vertex element".to_string()))?;
         let face = find("face").ok_or_else(|| malformed("no face element".to_string()))?;
@@ -219,22 +99,24 @@ impl PlyStream {
             elements[vertex]
                 .properties
                 .iter()
-                .position(|(n, p)| n == name && matches!(p, Property::Scalar(_)))
+                .position(|p| matches!(p, Property::Scalar(n, _) if n == name))
                 .ok_or_else(|| malformed(format!("the vertices have no scalar '{name}'")))
         };
         let xyz = [scalar("x")?, scalar("y")?, scalar("z")?];
         let indices = elements[face]
             .properties
             .iter()
-            .position(|(n, p)| {
-                (n == "vertex_indices" || n == "vertex_index")
-                    && matches!(p, Property::List { item, .. } if !matches!(item, Scalar::F32 | Scalar::F64))
+            .position(|p| {
+                matches!(p, Property::List(n, _, item)
+                    if (n == "vertex_indices" || n == "vertex_index") && item.is_integer())
             })
-            .ok_or_else(|| malformed("the faces have no integer list 'vertex_indices'".to_string()))?;
+            .ok_or_else(|| {
+                malformed("the faces have no integer list 'vertex_indices'".to_string())
+            })?;
         // Counts are claims: the body must be able to hold them.
         let mut need = 0u64;
         for e in &elements {
-            need = need.saturating_add(e.count.saturating_mul(e.min_size(encoding)));
+            need = need.saturating_add((e.count as u64).saturating_mul(min_size(e, encoding)));
         }
         if need > len.saturating_sub(body) {
             return Err(PartitionError::Truncated {
@@ -245,7 +127,7 @@ impl PlyStream {
                 ),
             });
         }
-        if elements[vertex].count > u64::from(u32::MAX) {
+        if elements[vertex].count as u64 > u64::from(u32::MAX) {
             return Err(malformed("more than 2³² vertices".to_string()));
         }
         Ok(PlyStream {
@@ -269,7 +151,7 @@ impl PlyStream {
                 ignored.push(format!("element {}", element.name));
                 continue;
             }
-            for (p, (name, _)) in element.properties.iter().enumerate() {
+            for (p, name) in element.properties.iter().map(Property::name).enumerate() {
                 let used = if k == self.vertex {
                     self.xyz.contains(&p)
                 } else {
@@ -285,12 +167,12 @@ impl PlyStream {
 
     /// Vertex records the header announces (checked against the file's length).
     pub(crate) fn vertex_count(&self) -> usize {
-        self.elements[self.vertex].count as usize
+        self.elements[self.vertex].count
     }
 
     /// Face records the header announces (checked against the file's length).
     pub(crate) fn face_count(&self) -> usize {
-        self.elements[self.face].count as usize
+        self.elements[self.face].count
     }
 
     /// One pass over the body: every vertex position to `vertex` (index, position); with
@@ -323,19 +205,19 @@ impl PlyStream {
             let wanted = k == self.vertex || k == self.face;
             if !wanted
                 && self.encoding != Encoding::Ascii
-                && let Some(size) = element.fixed_size()
+                && let Some(size) = fixed_size(element)
             {
-                let skip = (size as u64).saturating_mul(element.count);
+                let skip = (size as u64).saturating_mul(element.count as u64);
                 src.reader.seek_relative(skip as i64).map_err(io)?;
                 continue;
             }
-            for record in 0..element.count {
+            for record in 0..element.count as u64 {
                 let truncated = |e: std::io::Error| self.record_error(e, element, record);
                 values.clear();
-                for (p, (_, property)) in element.properties.iter().enumerate() {
+                for (p, property) in element.properties.iter().enumerate() {
                     match *property {
-                        Property::Scalar(ty) => values.push(src.scalar(ty).map_err(truncated)?),
-                        Property::List { count, item } => {
+                        Property::Scalar(_, ty) => values.push(src.scalar(ty).map_err(truncated)?),
+                        Property::List(_, count, item) => {
                             let n = src.scalar(count).map_err(truncated)?;
                             if !(0.0..=1e6).contains(&n) || n.fract() != 0.0 {
                                 return Err(self.malformed(element, record, "bad list length"));

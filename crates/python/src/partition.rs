@@ -4,7 +4,8 @@
 //! cells or an earlier cut reused), [`partition_cell`] (one cell, from the work folder's
 //! files only, skipped when an earlier run finished it) and [`partition_finish`] (stitch,
 //! final pass, write). The same calls in the same order as `partition::simplify`, so the
-//! output is the CLI's, byte for byte. The GIL is released in each.
+//! output is the CLI's, byte for byte. The GIL is released in each. [`partition_lock`] holds
+//! the work folder for the driver's run, as `partition::simplify` holds it for the CLI's.
 
 use crate::keywords;
 use job::{JobError, Partition, PartitionOptions};
@@ -22,7 +23,7 @@ fn error(e: partition::PartitionError) -> PyErr {
 
 /// Check the request of ``options`` (``vertices_target``, ``faces_target``, ``ratio``,
 /// ``attributes``, ``threads``, ... as for :func:`gng3d.simplify_file`) for a partitioned run,
-/// check ``output``, then cut ``input`` (PLY or OBJ) into the cells of ``memory_budget`` bytes
+/// check ``output``, then cut ``input`` (PLY, OBJ or STL) into the cells of ``memory_budget`` bytes
 /// in ``work_dir`` (reused when it holds a cut of the same input and budget). Returns a dict:
 /// ``cells`` (the cells with faces), ``ratio`` (each cell's share of its faces), ``target``
 /// (for :func:`partition_finish`), ``input_vertices``, ``input_faces``, ``shared_vertices``,
@@ -133,6 +134,32 @@ pub fn partition_finish<'py>(
     crate::to_python(py, &value)
 }
 
+/// The lock of a work folder for one run (``partition::WorkLock``: an operating-system lock,
+/// dropped when its process ends, killed or not), from :func:`partition_lock` until
+/// :meth:`release` (or until it is collected).
+#[pyclass(module = "gng3d")]
+pub struct PartitionLock {
+    lock: Option<partition::WorkLock>,
+}
+
+#[pymethods]
+impl PartitionLock {
+    /// Release the lock (again: nothing).
+    fn release(&mut self) {
+        self.lock = None;
+    }
+}
+
+/// Lock ``work_dir`` (created if missing) for this run: another run on it is refused with
+/// ``OSError`` naming the folder and the process holding it.
+#[pyfunction]
+pub fn partition_lock(py: Python<'_>, work_dir: PathBuf) -> PyResult<PartitionLock> {
+    let lock = py
+        .detach(|| partition::WorkLock::acquire(&work_dir))
+        .map_err(error)?;
+    Ok(PartitionLock { lock: Some(lock) })
+}
+
 /// The size ``text`` (``"2GB"``, ``"512MiB"``, a number of bytes) in bytes, as the CLI's
 /// ``--memory-budget`` reads it.
 #[pyfunction]
@@ -148,6 +175,8 @@ pub fn partition_work_dir(output: PathBuf) -> PathBuf {
 
 /// Adds the functions to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PartitionLock>()?;
+    m.add_function(wrap_pyfunction!(partition_lock, m)?)?;
     m.add_function(wrap_pyfunction!(partition_plan, m)?)?;
     m.add_function(wrap_pyfunction!(partition_cell, m)?)?;
     m.add_function(wrap_pyfunction!(partition_finish, m)?)?;

@@ -90,3 +90,24 @@ def test_distributed_refuses_what_the_cli_refuses(big_torus, tmp_path):
         warnings.simplefilter("error")
         report = distributed.simplify(big_torus, out, ratio=0.1, memory_per_worker="256KiB")
     assert report["vertices"] == 960
+
+
+def test_a_second_run_on_a_work_folder_in_use_is_refused(big_torus, tmp_path):
+    out, work = tmp_path / "out.ply", tmp_path / "work"
+    # Another run (here: its lock, as a driver holds it from plan to finish) has the folder.
+    held = gng3d._gng3d.partition_lock(str(work))
+    with pytest.raises(OSError, match="in use by another run") as refused:
+        distributed.simplify(big_torus, out, faces=2000, memory_per_worker="256KiB", work_dir=work)
+    assert str(work) in str(refused.value)
+    assert not out.exists()
+    held.release()
+    # Released (as the system releases a killed run's lock): the run goes through.
+    report = distributed.simplify(
+        big_torus, out, faces=2000, memory_per_worker="256KiB", work_dir=work
+    )
+    assert 1999 <= report["faces"] <= 2000
+    # A refused request does not leave the folder its lock made.
+    fresh = tmp_path / "fresh-work"
+    with pytest.raises(ValueError):
+        distributed.simplify(big_torus, out, faces=100, lock_border=True, work_dir=fresh)
+    assert not fresh.exists()

@@ -22,10 +22,10 @@ mod encode;
 mod gltf;
 mod matconv;
 mod obj;
-mod ply;
+pub mod ply;
 mod save;
 mod side_files;
-mod stl;
+pub mod stl;
 mod validate;
 
 pub use apart::written_files;

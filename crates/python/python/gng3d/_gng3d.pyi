@@ -136,11 +136,21 @@ def allow_outside_references(allowed: bool) -> None:
 
 # The partitioned simplification's steps (`gng3d.distributed`, issue 50).
 
+@final
+class PartitionLock:
+    """The lock of a work folder for one run, from :func:`partition_lock`."""
+    def release(self) -> None:
+        """Release the lock (again: nothing)."""
+
+def partition_lock(work_dir: _PathLike) -> PartitionLock:
+    """Lock ``work_dir`` (created if missing) for this run; ``OSError`` naming the folder when
+    another run holds it. A killed run's lock is released by the system."""
+
 def partition_plan(
     input: _PathLike, output: _PathLike, work_dir: _PathLike, memory_budget: int, **options: Unpack[Options]
 ) -> dict[str, Any]:
     """Check the request for a partitioned run (QEM, positions only), resolve the target, cut
-    ``input`` (PLY or OBJ) into cells of ``memory_budget`` bytes in ``work_dir`` (or reuse an
+    ``input`` (PLY, OBJ or STL) into cells of ``memory_budget`` bytes in ``work_dir`` (or reuse an
     earlier cut): ``cells``, ``ratio``, ``target``, ``input_vertices``, ``input_faces``,
     ``shared_vertices``, ``warnings``, ``seconds``."""
 

@@ -5,7 +5,7 @@ The steps are those of ``gng3d simplify BIG OUT --partition auto`` (the ``partit
 through ``gng3d._gng3d``), the cells run apart:
 
 1. **Plan** (here): the request checked as the CLI checks it, the target resolved, the input
-   (PLY or OBJ) cut in a streaming pass into cells of ``memory_per_worker`` bytes in the work
+   (PLY, OBJ or STL) cut in a streaming pass into cells of ``memory_per_worker`` bytes in the work
    folder -- or an earlier cut of the same input reused.
 2. **Cells** (on the workers, one task each, ``retries=2`` so a lost worker's cell is run
    again): each worker reads its cell's chunk files from the work folder and writes the cell's
@@ -13,6 +13,9 @@ through ``gng3d._gng3d``), the cells run apart:
    same ``work_dir`` resumes a killed run.
 3. **Finish** (here): the cells stitched and simplified to the exact target, written to
    ``out``.
+
+The work folder is locked from the plan to the finish: a second run on it is refused with an
+``OSError`` naming it (a killed run's lock is released by the system).
 
 QEM on positions only for now: an input's normals, texture coordinates, colours and materials
 are dropped, with a :class:`gng3d.Gng3dWarning` naming them (``attributes="drop"`` to say so).
@@ -67,7 +70,7 @@ def simplify(
     """Simplify the mesh file ``path`` into ``out`` without holding it (see the module).
 
     Args:
-        path: the input, PLY or OBJ.
+        path: the input, PLY, OBJ or STL.
         out: the output (.obj, .ply, .stl, .gltf, .glb), written atomically.
         ratio, vertices, faces: the target, one of them: a share of the input's vertex
             records (rounded to a count of them), a vertex count or a face count, as the CLI's
@@ -107,33 +110,46 @@ def simplify(
     work = Path(work_dir) if work_dir is not None else Path(_gng3d.partition_work_dir(str(out)))
     # Removed at the end only when it is the partition's: new, or an earlier run's.
     removable = not work.exists() or (work / "manifest").is_file()
-    plan = _gng3d.partition_plan(str(path), str(out), str(work), budget, **options)
-    for message in plan["warnings"]:
-        warnings.warn(f"{path}: {message}", _gng3d.Gng3dWarning, stacklevel=2)
-    cells, cell_ratio = plan["cells"], plan["ratio"]
-    total = len(cells)
-    cells_start = time.perf_counter()
-    done = []
-    if client is None:
-        workers = max(1, min(total, os.cpu_count() or 1))
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(_cell, str(work), k, cell_ratio) for k in cells]
-            for future in as_completed(futures):
+    # One run per work folder: another run on it is refused (OSError naming it); the lock of a
+    # killed run is released by the system, so a rerun resumes.
+    existed = work.exists()
+    lock = _gng3d.partition_lock(str(work))
+    try:
+        plan = _gng3d.partition_plan(str(path), str(out), str(work), budget, **options)
+        for message in plan["warnings"]:
+            warnings.warn(f"{path}: {message}", _gng3d.Gng3dWarning, stacklevel=2)
+        cells, cell_ratio = plan["cells"], plan["ratio"]
+        total = len(cells)
+        cells_start = time.perf_counter()
+        done = []
+        if client is None:
+            workers = max(1, min(total, os.cpu_count() or 1))
+            with ThreadPoolExecutor(max_workers=workers) as pool:
+                futures = [pool.submit(_cell, str(work), k, cell_ratio) for k in cells]
+                for future in as_completed(futures):
+                    done.append(future.result())
+                    if progress is not None:
+                        progress(len(done), total)
+        else:
+            from dask.distributed import as_completed as dask_completed
+
+            futures = [
+                client.submit(_cell, str(work), k, cell_ratio, pure=False, retries=2) for k in cells
+            ]
+            for future in dask_completed(futures):
                 done.append(future.result())
                 if progress is not None:
                     progress(len(done), total)
-    else:
-        from dask.distributed import as_completed as dask_completed
-
-        futures = [
-            client.submit(_cell, str(work), k, cell_ratio, pure=False, retries=2) for k in cells
-        ]
-        for future in dask_completed(futures):
-            done.append(future.result())
-            if progress is not None:
-                progress(len(done), total)
-    cells_seconds = time.perf_counter() - cells_start
-    finished = _gng3d.partition_finish(str(work), str(out), plan["target"])
+        cells_seconds = time.perf_counter() - cells_start
+        finished = _gng3d.partition_finish(str(work), str(out), plan["target"])
+    except BaseException:
+        lock.release()
+        # A refused request leaves no folder behind (a failed run's chunks stay, to resume).
+        if not existed and [p.name for p in work.iterdir()] == ["lock"]:
+            shutil.rmtree(work, ignore_errors=True)
+        raise
+    finally:
+        lock.release()
     if not keep_work and removable:
         shutil.rmtree(work, ignore_errors=True)
     return {

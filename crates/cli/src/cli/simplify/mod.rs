@@ -58,7 +58,7 @@ pub enum PartitionArg {
     Off,
     /// A mesh larger than memory: cut into cells that fit --memory-budget, each simplified
     /// with its border locked, stitched, finished to the exact target (QEM on positions only;
-    /// PLY or OBJ input).
+    /// PLY, OBJ or STL input).
     Auto,
 }
 
@@ -138,7 +138,8 @@ pub struct SimplifyArgs {
     #[command(flatten)]
     pub gng: crate::cli::GngVariantArgs,
     /// One mesh larger than memory: `auto` streams it through the partitioned simplification
-    /// (QEM on positions only, PLY or OBJ input, never held whole; the partition does not weld).
+    /// (QEM on positions only, PLY, OBJ or STL input, never held whole; PLY/OBJ vertices are
+    /// not welded, STL corners are welded by exact position as the loader welds them).
     #[arg(long, value_enum, default_value_t = PartitionArg::Off)]
     pub partition: PartitionArg,
     /// With --partition auto: memory one cell may take while it is simplified, e.g. 2GB or

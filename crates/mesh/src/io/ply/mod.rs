@@ -6,6 +6,9 @@
 //! element with a warning naming them, and
 //! takes the face list property `vertex_indices` / `vertex_index` with any integer count and
 //! index types; polygons are fan-triangulated. Header counts are never trusted for allocation.
+//!
+//! Public: the header parser ([`parse_header`], [`read_header`] and its types), the one PLY
+//! header parser of the project (the partition's streaming reader uses it).
 
 use super::RawMesh;
 use crate::error::{MeshError, MeshWarning};
@@ -15,7 +18,10 @@ use std::path::Path;
 mod header;
 mod layout;
 mod write;
-use header::*;
+use header::type_name;
+pub use header::{
+    Element, Encoding, Header, MAX_HEADER_BYTES, Property, Scalar, parse_header, read_header,
+};
 use layout::*;
 pub(crate) use write::{write, write_with_attributes};
 
