@@ -143,7 +143,7 @@ struct FoundSeams {
 /// Two passes over the vertices, as the seams are a small part of a mesh:
 /// 1. Each vertex's corners: its distinct sets of values (`same_values` once per input wedge,
 ///    not per corner pair), so that later comparisons are of set numbers, and whether it has
-///    more than one.
+///    more than one (faces in order, then the fans of the vertices with more than one).
 /// 2. The edges `u`–`v` (`u < v`), only around vertices where a seam can pass (`u` or a
 ///    higher-numbered neighbour with several sets, or materials that differ): `u`'s edges to
 ///    higher-numbered neighbours gathered from its fan into a short list and matched there, in
@@ -162,11 +162,34 @@ fn find_seams(view: &View, n: usize) -> FoundSeams {
     };
     let corner_of = |t: [u32; 3], u: u32| usize::from(t[1] == u) + 2 * usize::from(t[2] == u);
 
-    // 1. Each input wedge's set: the first wedge of its prepared vertex with the same values.
+    // 1. Each input wedge's set: a wedge of its prepared vertex with the same values (which one
+    // does not matter: only whether two sets are the same is asked, and values are finite, so
+    // `same_values` is an equivalence). Faces in order, each corner's wedge against its vertex's
+    // first wedge; a wedge with other values flags its vertex, whose other wedges are then
+    // sorted into sets from its fan. By the fans of every vertex, the seam search was 51.6 M
+    // instructions on the 268k-face igea atlas at 10 %, in face order 32.7 M (callgrind).
     let mut set = vec![u32::MAX; a.wedge_count()];
+    let mut first_wedge = vec![u32::MAX; n];
+    for (t, c) in view.faces.iter().zip(&view.corners) {
+        for (&v, &w) in t.iter().zip(c) {
+            let (v, w) = (v as usize, w as usize);
+            if set[w] != u32::MAX {
+                continue;
+            }
+            match first_wedge[v] {
+                u32::MAX => {
+                    first_wedge[v] = w as u32;
+                    set[w] = w as u32;
+                }
+                r if a.same_values(r, w as u32) => set[w] = r,
+                _ => found.multi[v] = true,
+            }
+        }
+    }
     let mut sets: Vec<u32> = Vec::new();
-    for u in 0..n {
+    for u in (0..n).filter(|&u| found.multi[u]) {
         sets.clear();
+        sets.push(first_wedge[u]);
         for &f in view.fan(u) {
             let w = view.wedge(f as usize, corner_of(view.faces[f as usize], u as u32));
             if set[w as usize] == u32::MAX {
@@ -177,7 +200,6 @@ fn find_seams(view: &View, n: usize) -> FoundSeams {
                 }
             }
         }
-        found.multi[u] = sets.len() > 1;
     }
     let materials_vary = a
         .face_material
