@@ -17,9 +17,17 @@ pub(super) struct Seams {
 }
 
 impl Seams {
-    /// Whether `a` and `b` may be contracted.
-    #[inline]
+    /// Whether `a` and `b` may be contracted. The test of two seam vertices out of line: most
+    /// pairs have an end off the seams, and the whole test as a call was 14.0 M instructions on
+    /// the 268k-face igea atlas at 10 % (1.0 M calls; 2.4 M now, callgrind).
+    #[inline(always)]
     pub(super) fn pair_ok(&self, a: usize, b: usize) -> bool {
+        !(self.seam[a] && self.seam[b]) || self.seam_pair_ok(a, b)
+    }
+
+    /// [`Seams::pair_ok`] for two seam vertices.
+    #[inline(never)]
+    fn seam_pair_ok(&self, a: usize, b: usize) -> bool {
         match (self.seam[a], self.seam[b]) {
             (false, false) => true,
             (true, true) if self.is_fixed(a) || self.is_fixed(b) => {
