@@ -84,10 +84,18 @@ pub fn partition_cell<'py>(
     ratio: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let start = Instant::now();
+    // One thread a cell: a Dask worker runs as many cells at once as it has threads
+    // (`threads_per_worker`), and a cell whose QEM set-up spread over rayon's global pool (a
+    // thread per core) made two workers on two cores run four threads. The output is the same
+    // on any thread count (a run with locked vertices is QEM's sequential engine).
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("no thread: {e}")))?;
     let report = py
         .detach(|| -> Result<_, partition::PartitionError> {
             let chunk = partition::Manifest::load(&work_dir)?.chunk(&work_dir, cell);
-            partition::resume_or_simplify_cell(&chunk, ratio)
+            pool.install(|| partition::resume_or_simplify_cell(&chunk, ratio))
         })
         .map_err(error)?;
     let value = serde_json::json!({
