@@ -21,9 +21,12 @@ extern crate gng3d_qem as qem;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesh::Model;
+#[path = "../examples/common/wedge_buffers.rs"]
+mod wedge_buffers;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
+use wedge_buffers::{WedgeBuffers, wedge_buffers};
 
 /// One input: ours (the model with its attributes, and its mesh alone) and meshoptimizer's
 /// (wedge positions, wedge attributes, stride in floats, corner indices).
@@ -70,22 +73,12 @@ fn inputs() -> Vec<Input> {
                 model.mesh,
                 model.attributes.expect("the asset has attributes"),
             );
-            let mut values = Vec::new();
-            let mut positions = Vec::new();
-            for (w, &v) in attributes.wedge_vertex.iter().enumerate() {
-                positions.extend(mesh.positions[v as usize].to_array());
-                if let Some(n) = &attributes.normals {
-                    values.extend(n[w].to_array());
-                }
-                for uv in [&attributes.uv0, &attributes.uv1].into_iter().flatten() {
-                    values.extend(uv[w].to_array());
-                }
-                if let Some(c) = &attributes.colors {
-                    values.extend(c[w].to_array());
-                }
-            }
-            let stride = values.len() / attributes.wedge_count();
-            let indices = attributes.corners.iter().flatten().copied().collect();
+            let WedgeBuffers {
+                positions,
+                values,
+                stride,
+                indices,
+            } = wedge_buffers(&mesh, &attributes);
             Input {
                 name,
                 large,

@@ -15,6 +15,9 @@
 extern crate gng3d_qem as qem;
 
 use mesh::Model;
+#[path = "common/wedge_buffers.rs"]
+mod wedge_buffers;
+use wedge_buffers::{WedgeBuffers, wedge_buffers};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -46,21 +49,12 @@ fn main() {
 /// meshoptimizer's call on one vertex per wedge (position and attributes, f32), weights 0.
 fn meshopt_call(model: &Model, faces: usize) -> usize {
     let a = model.attributes.as_ref().expect("the model has attributes");
-    let (mut positions, mut values) = (Vec::new(), Vec::new());
-    for (w, &v) in a.wedge_vertex.iter().enumerate() {
-        positions.extend(model.mesh.positions[v as usize].to_array());
-        if let Some(n) = &a.normals {
-            values.extend(n[w].to_array());
-        }
-        for uv in [&a.uv0, &a.uv1].into_iter().flatten() {
-            values.extend(uv[w].to_array());
-        }
-        if let Some(c) = &a.colors {
-            values.extend(c[w].to_array());
-        }
-    }
-    let stride = values.len() / a.wedge_count();
-    let indices: Vec<u32> = a.corners.iter().flatten().copied().collect();
+    let WedgeBuffers {
+        positions,
+        values,
+        stride,
+        indices,
+    } = wedge_buffers(&model.mesh, a);
     let weights = vec![0.0f32; stride];
     let mut dest = vec![0u32; indices.len()];
     // SAFETY: every pointer covers the counts passed with it; no lock array (null).
