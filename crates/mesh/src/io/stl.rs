@@ -3,7 +3,7 @@
 //! ([`weld_key`], [`Welder`]: stl_io's rule, first occurrence first).
 //!
 //! Public for the partition's streaming reader (`gng3d-partition`), so that both read STL by one
-//! set of rules: [`Triangles`] streams a file's triangles from a file handle with the loader's
+//! set of rules: [`StlFile`] streams a file's triangles from a file handle with the loader's
 //! choice of encoding, size check and ASCII normalisation, and [`weld_key`] is the weld.
 //!
 //! Which of the two encodings a file uses is decided here, not by stl_io's probe (which wants
