@@ -35,6 +35,13 @@ pub const PLACEMENTS: [(gng3d_core::Placement, &str); 3] = [
     (gng3d_core::Placement::Quadric, "quadric (GNG3D-Q)"),
 ];
 
+/// Every setting of GNG3D-Q's triangle-shape pass, in menu order, with its label.
+pub const SHAPES: [(gng3d_core::Shape, &str); 3] = [
+    (gng3d_core::Shape::Off, "off"),
+    (gng3d_core::Shape::Fit, "fit (same distance)"),
+    (gng3d_core::Shape::Round, "round (remeshers')"),
+];
+
 /// Which method a run's parameters train: the paper's GNG3D, GNG3D-Q (the library's default),
 /// or neither (steps switched one by one in the panel).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

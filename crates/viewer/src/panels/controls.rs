@@ -210,6 +210,15 @@ impl ViewerApp {
                      and edges spanning a groove of it flip (Hausdorff)",
                 );
             ui.end_row();
+            // The CLI's `--shape[=fit|round]` and `--creases` (docs/notes/shape.md, creases.md).
+            choice_row(ui, "triangle shape", &mut rec.shape, &crate::engine::SHAPES);
+            ui.label("CAD creases");
+            ui.checkbox(&mut rec.creases, "kept as edges (GNG3D-Q)")
+                .on_hover_text(
+                    "on a CAD part (sharp edges at least 2 % of its edges): cut and decimate \
+                     along its creases, kept only where no farther from the original",
+                );
+            ui.end_row();
         });
         ui.separator();
         ui.heading("Display");

@@ -280,7 +280,10 @@ impl StepStrip {
         let passed_over = |row: &StepRow, failed: bool| {
             let build = !matches!(
                 row.step,
-                PipelineStep::Decimate | PipelineStep::Relax | PipelineStep::RepairDeviations
+                PipelineStep::Decimate
+                    | PipelineStep::Relax
+                    | PipelineStep::Shape
+                    | PipelineStep::RepairDeviations
             );
             let nothing_to_do = build
                 && empty_round.is_some_and(|q| {
@@ -347,6 +350,7 @@ impl StepStrip {
                 | PipelineStep::CutSeams
                 | PipelineStep::Decimate
                 | PipelineStep::Relax
+                | PipelineStep::Shape
                 | PipelineStep::RepairDeviations => short_name(row.step).to_string(),
                 _ if row.round == 0 => "build".to_string(),
                 _ => format!("detail {}", row.round),
@@ -431,6 +435,26 @@ mod tests {
         assert_eq!(rows[1].status, StepStatus::Running);
         assert!(rows[2..].iter().all(|r| r.status == StepStatus::Pending));
         assert_eq!(strip.total_seconds(), None);
+    }
+
+    #[test]
+    fn the_shape_pass_is_a_step_of_its_own_in_the_strip() {
+        let params = ReconstructionParams {
+            shape: gng3d_core::Shape::Fit,
+            ..ReconstructionParams::default()
+        };
+        let plan = Plan::of(&params, true).steps().to_vec();
+        let mut strip = StepStrip::default();
+        strip.start(1, &plan, &plan, None);
+        strip.pipeline_started(1, 1.0, 0.1, 1);
+        for p in &plan {
+            strip.step_done(1, record(p.step, p.round, 0.01, 1));
+        }
+        strip.pipeline_done(1, 0.5, 1.5, false, false);
+        let groups = strip.groups();
+        let labels: Vec<&str> = groups.iter().map(|g| g.label.as_str()).collect();
+        let tail = &labels[labels.len() - 4..];
+        assert_eq!(tail, ["decimate", "relax", "shape", "repair"], "{labels:?}");
     }
 
     #[test]
