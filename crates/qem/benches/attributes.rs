@@ -29,7 +29,7 @@ use std::time::{Duration, Instant};
 use wedge_buffers::{WedgeBuffers, wedge_buffers};
 
 /// One input: ours (the model with its attributes, and its mesh alone) and meshoptimizer's
-/// (wedge positions, wedge attributes, stride in floats, corner indices).
+/// (its wedge buffers).
 struct Input {
     name: String,
     /// From `GNG3D_ATTRIBUTE_MESHES`: compared in fewer calls, and left out of the criterion
@@ -37,10 +37,7 @@ struct Input {
     large: bool,
     model: Model,
     plain: Model,
-    positions: Vec<f32>,
-    values: Vec<f32>,
-    stride: usize,
-    indices: Vec<u32>,
+    meshopt: WedgeBuffers,
 }
 
 fn inputs() -> Vec<Input> {
@@ -73,12 +70,7 @@ fn inputs() -> Vec<Input> {
                 model.mesh,
                 model.attributes.expect("the asset has attributes"),
             );
-            let WedgeBuffers {
-                positions,
-                values,
-                stride,
-                indices,
-            } = wedge_buffers(&mesh, &attributes);
+            let meshopt = wedge_buffers(&mesh, &attributes);
             Input {
                 name,
                 large,
@@ -87,10 +79,7 @@ fn inputs() -> Vec<Input> {
                     attributes: Some(attributes),
                     ..Model::from(mesh)
                 },
-                positions,
-                values,
-                stride,
-                indices,
+                meshopt,
             }
         })
         .collect()
@@ -113,30 +102,7 @@ fn run_qem_positions(input: &Input, faces: usize) -> usize {
 }
 
 fn run_meshopt(input: &Input, faces: usize) -> usize {
-    let weights = vec![0.0f32; input.stride];
-    let mut dest = vec![0u32; input.indices.len()];
-    // SAFETY: every pointer covers the counts passed with it; no lock array (null), as the
-    // Python wrapper's callers pass.
-    let n = unsafe {
-        meshopt::ffi::meshopt_simplifyWithAttributes(
-            dest.as_mut_ptr(),
-            input.indices.as_ptr(),
-            input.indices.len(),
-            input.positions.as_ptr(),
-            input.positions.len() / 3,
-            12,
-            input.values.as_ptr(),
-            input.stride * 4,
-            weights.as_ptr(),
-            weights.len(),
-            std::ptr::null(),
-            faces * 3,
-            f32::MAX,
-            0,
-            std::ptr::null_mut(),
-        )
-    };
-    n / 3
+    input.meshopt.simplify(faces)
 }
 
 /// Best of `runs` alternating calls of `f` and `g`.

@@ -17,7 +17,7 @@ extern crate gng3d_qem as qem;
 use mesh::Model;
 #[path = "common/wedge_buffers.rs"]
 mod wedge_buffers;
-use wedge_buffers::{WedgeBuffers, wedge_buffers};
+use wedge_buffers::wedge_buffers;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -49,33 +49,5 @@ fn main() {
 /// meshoptimizer's call on one vertex per wedge (position and attributes, f32), weights 0.
 fn meshopt_call(model: &Model, faces: usize) -> usize {
     let a = model.attributes.as_ref().expect("the model has attributes");
-    let WedgeBuffers {
-        positions,
-        values,
-        stride,
-        indices,
-    } = wedge_buffers(&model.mesh, a);
-    let weights = vec![0.0f32; stride];
-    let mut dest = vec![0u32; indices.len()];
-    // SAFETY: every pointer covers the counts passed with it; no lock array (null).
-    let n = unsafe {
-        meshopt::ffi::meshopt_simplifyWithAttributes(
-            dest.as_mut_ptr(),
-            indices.as_ptr(),
-            indices.len(),
-            positions.as_ptr(),
-            positions.len() / 3,
-            12,
-            values.as_ptr(),
-            stride * 4,
-            weights.as_ptr(),
-            weights.len(),
-            std::ptr::null(),
-            faces * 3,
-            f32::MAX,
-            0,
-            std::ptr::null_mut(),
-        )
-    };
-    n / 3
+    wedge_buffers(&model.mesh, a).simplify(faces)
 }

@@ -1,7 +1,7 @@
 //! meshoptimizer's input for a model with attributes, shared by the `attributes` bench and the
 //! `attr_call` example (each includes this file by `#[path]`): one vertex per wedge (position
 //! and attribute values, f32, normals then texture coordinates then colours) and the corners as
-//! indices.
+//! indices, and meshoptimizer's `simplifyWithAttributes` on them.
 
 /// The wedge vertex buffers of a model with attributes.
 pub struct WedgeBuffers {
@@ -35,5 +35,36 @@ pub fn wedge_buffers(mesh: &mesh::TriMesh, a: &mesh::attributes::Attributes) -> 
         indices: a.corners.iter().flatten().copied().collect(),
         positions,
         values,
+    }
+}
+
+impl WedgeBuffers {
+    /// meshoptimizer's `simplifyWithAttributes` of these buffers down to `faces` faces: every
+    /// attribute weight 0, no lock array, no error bound, no options; returns the faces kept.
+    pub fn simplify(&self, faces: usize) -> usize {
+        let weights = vec![0.0f32; self.stride];
+        let mut dest = vec![0u32; self.indices.len()];
+        // SAFETY: every pointer covers the counts passed with it; no lock array (null), as the
+        // Python wrapper's callers pass.
+        let n = unsafe {
+            meshopt::ffi::meshopt_simplifyWithAttributes(
+                dest.as_mut_ptr(),
+                self.indices.as_ptr(),
+                self.indices.len(),
+                self.positions.as_ptr(),
+                self.positions.len() / 3,
+                12,
+                self.values.as_ptr(),
+                self.stride * 4,
+                weights.as_ptr(),
+                weights.len(),
+                std::ptr::null(),
+                faces * 3,
+                f32::MAX,
+                0,
+                std::ptr::null_mut(),
+            )
+        };
+        n / 3
     }
 }
