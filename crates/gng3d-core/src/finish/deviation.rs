@@ -46,8 +46,8 @@
 use crate::surface::soundness::min_angle_sin2;
 use crate::surface::{Surface, apply_flip, faces_on_edge, has_edge, oriented};
 use glam::{DVec3, Vec3};
+#[cfg(test)]
 use mesh::TriMesh;
-use std::num::NonZeroUsize;
 
 /// Rounds of measure, choose and repair. Over the survey's 42 runs below igea-1m (GNG3D-Q / QEM
 /// Hausdorff, geometric mean of the paired ratios to no repair; these constants were chosen
@@ -376,10 +376,14 @@ fn repair(
     triangles: &mut [[u32; 3]],
     original: &TriMesh,
 ) -> DeviationStats {
-    repair_until(positions, triangles, original, None, None, 2)
+    match super::surface(original) {
+        Some(surface) => repair_until(positions, triangles, &surface, None, None, 2),
+        None => DeviationStats::default(),
+    }
 }
 
-/// [`repair`] that starts no new round after `deadline` (a time-limited run shortens the step
+/// [`repair`] against the original's `surface` ([`super::surface`], shared with the shape
+/// pass) that starts no new round after `deadline` (a time-limited run shortens the step
 /// rather than overrunning: a round costs up to 40 µs per output vertex on CAD-like meshes at
 /// 10 %). Edges between two vertices flagged in `seams` (on an attribute seam the decimation
 /// kept) are not flipped, so the seams stay where they are; their vertices may move (onto the
@@ -388,22 +392,16 @@ fn repair(
 pub(crate) fn repair_until(
     positions: &mut [Vec3],
     triangles: &mut [[u32; 3]],
-    original: &TriMesh,
+    surface: &Surface,
     seams: Option<&[bool]>,
     deadline: Option<std::time::Instant>,
     threads: usize,
 ) -> DeviationStats {
     let n = positions.len();
     let mut stats = DeviationStats::default();
-    if n == 0 || triangles.is_empty() || original.triangles.is_empty() {
+    if n == 0 || triangles.is_empty() {
         return stats;
     }
-    let Some(surface) = Surface::new(
-        original,
-        NonZeroUsize::new(NEIGHBOURS).expect("NEIGHBOURS > 0"),
-    ) else {
-        return stats;
-    };
     let fan = crate::surface::fans(triangles, n);
     // Vertices on open borders and on edges with more than two faces stay (no repair adds
     // or removes either kind of edge).
@@ -476,10 +474,10 @@ pub(crate) fn repair_until(
             match items[i] {
                 Item::Vertex(v) => {
                     let before = work.pos[v as usize];
-                    stats.moves += work.repair_vertex(&surface, v as usize, &fixed) as usize;
+                    stats.moves += work.repair_vertex(surface, v as usize, &fixed) as usize;
                     moved[v as usize] |= work.pos[v as usize] != before;
                 }
-                Item::Edge(a, b) => stats.flips += work.repair_edge(&surface, a, b) as usize,
+                Item::Edge(a, b) => stats.flips += work.repair_edge(surface, a, b) as usize,
             }
         }
         if stats == taken_before {

@@ -10,3 +10,16 @@ pub(crate) mod deviation;
 pub(crate) mod relax;
 pub(crate) mod seams;
 pub(crate) mod shape;
+
+/// The original's closest-point structure that the shape pass and the deviation repair query
+/// ([`deviation::NEIGHBOURS`] original vertices' faces a query), built once for both; `None`
+/// for an original without faces (then neither has anything to do).
+pub(crate) fn surface(original: &mesh::TriMesh) -> Option<crate::surface::Surface<'_>> {
+    if original.triangles.is_empty() {
+        return None;
+    }
+    crate::surface::Surface::new(
+        original,
+        std::num::NonZeroUsize::new(deviation::NEIGHBOURS).expect("NEIGHBOURS > 0"),
+    )
+}

@@ -36,8 +36,6 @@ use crate::surface::{
     Surface, apply_flip, faces_on_edge, fans, has_edge, move_fits, oriented, output_boundary,
 };
 use glam::{DVec3, Vec3};
-use mesh::TriMesh;
-use std::num::NonZeroUsize;
 use std::time::Instant;
 
 /// Rounds of flips and smoothing (not swept).
@@ -76,9 +74,6 @@ pub const FLIP_FOLD_COS: f64 = 0.94;
 /// and with the flips it reaches 46.9° instead of 45.2° at a full step.
 pub const FLIP_SLACK: f64 = 0.01;
 
-/// Original vertices whose faces a closest-point query searches (as the deviation repair).
-const NEIGHBOURS: usize = 8;
-
 /// What [`shape`] did.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ShapeStats {
@@ -94,7 +89,8 @@ fn face_normal(t: [u32; 3], pos: &[DVec3]) -> DVec3 {
 }
 
 /// Improves the shape of the output's triangles (`positions`, `triangles`) by valence flips
-/// and tangential smoothing projected onto the `original` (module docs), each move under the
+/// and tangential smoothing projected onto the original (`surface`, [`super::surface`]: the
+/// deviation repair's, built once for both; module docs), each move under the
 /// distance guard ([`GUARD`]) when `guarded` ([`crate::Shape::Fit`]; without:
 /// [`crate::Shape::Round`]). Vertices flagged in `seams` stay and edges between two of them
 /// are not flipped. No round starts after `deadline`.
@@ -102,22 +98,16 @@ pub(crate) fn shape(
     guarded: bool,
     positions: &mut [Vec3],
     triangles: &mut [[u32; 3]],
-    original: &TriMesh,
+    surface: &Surface,
     seams: Option<&[bool]>,
     deadline: Option<Instant>,
     threads: usize,
 ) -> ShapeStats {
     let n = positions.len();
     let mut stats = ShapeStats::default();
-    if n == 0 || triangles.is_empty() || original.triangles.is_empty() {
+    if n == 0 || triangles.is_empty() {
         return stats;
     }
-    let Some(surface) = Surface::new(
-        original,
-        NonZeroUsize::new(NEIGHBOURS).expect("NEIGHBOURS > 0"),
-    ) else {
-        return stats;
-    };
     let mut pos: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
     let mut fan = fans(triangles, n);
     let border: Vec<bool> = output_boundary(triangles, n)
@@ -196,7 +186,7 @@ pub(crate) fn shape(
             }
         }
         // Step 2: tangential smoothing, proposals from this round's positions.
-        let before = guarded.then(|| gaps(&surface, &fan, triangles, &pos, threads));
+        let before = guarded.then(|| gaps(surface, &fan, triangles, &pos, threads));
         let proposals = crate::parallel::map_indexed(n, threads, 1024, |v| {
             if fixed[v] {
                 return None;
@@ -227,7 +217,7 @@ pub(crate) fn shape(
                 return Some(onto);
             };
             let (sum, worst) = before[v];
-            let (new_sum, new_worst) = local_gap(&surface, &fan[v], triangles, &pos, v, onto);
+            let (new_sum, new_worst) = local_gap(surface, &fan[v], triangles, &pos, v, onto);
             // A millionth of the move's length per face of slack, so that on a plane (every
             // distance 0 up to rounding) the guard does not refuse the move for the rounding.
             let slack = 1e-6 * (onto - pos[v]).length();
@@ -375,7 +365,7 @@ mod tests {
             guarded,
             &mut positions,
             &mut triangles,
-            &original,
+            &crate::finish::surface(&original).expect("the grid has faces"),
             None,
             None,
             2,

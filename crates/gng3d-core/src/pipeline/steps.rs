@@ -37,6 +37,9 @@ pub(super) struct Work<'a> {
     uncut: Option<TriMesh>,
     /// The original's closest-point grid, once built ([`Step::CutSeams`]).
     grid: Option<mesh::transfer::FaceGrid<'a>>,
+    /// The original's closest-point structure of the shape pass and the deviation repair
+    /// ([`crate::finish::surface`]), built by the first of them that runs.
+    surface: Option<crate::surface::Surface<'a>>,
     /// The decimation did not follow the seams: the ratio of [`GngWarning::SeamsNotFollowed`].
     seams_not_followed: Option<Option<f64>>,
     /// Most threads the steps use, the caller's included.
@@ -89,6 +92,7 @@ impl<'a> Work<'a> {
             triangle_charts: None,
             uncut: None,
             grid: None,
+            surface: None,
             seams_not_followed: None,
             threads: input.threads,
             labels: Vec::new(),
@@ -510,6 +514,14 @@ impl<'a> Work<'a> {
         relaxed.moves
     }
 
+    /// Builds the finishing steps' closest-point structure on first use; `None` for an
+    /// original without faces.
+    fn build_surface(&mut self) {
+        if self.surface.is_none() {
+            self.surface = crate::finish::surface(self.original);
+        }
+    }
+
     /// [`Step::Shape`]: rounder triangles (valence flips, tangential smoothing onto the
     /// original).
     pub(super) fn shape(&mut self) -> usize {
@@ -517,11 +529,15 @@ impl<'a> Work<'a> {
             return 0;
         }
         let seams = self.seam_vertices();
+        self.build_surface();
+        let Some(surface) = &self.surface else {
+            return 0;
+        };
         let shaped = crate::finish::shape::shape(
             self.params.shape == crate::Shape::Fit,
             &mut self.positions,
             &mut self.triangles,
-            self.original,
+            surface,
             seams.as_deref(),
             self.step_deadline,
             self.threads,
@@ -535,10 +551,14 @@ impl<'a> Work<'a> {
             return 0;
         }
         let seams = self.seam_vertices();
+        self.build_surface();
+        let Some(surface) = &self.surface else {
+            return 0;
+        };
         let repaired = crate::finish::deviation::repair_until(
             &mut self.positions,
             &mut self.triangles,
-            self.original,
+            surface,
             seams.as_deref(),
             self.step_deadline,
             self.threads,
